@@ -1,0 +1,127 @@
+/* cmd_matrix.c -- `pencil matrix`: the system matrix calculator (Eqs. 1 and 2).
+ * Its stdout is a contract: {"T": [[...], [...], [...], [...]]}, rows and columns ordered
+ * x1, x2, xi1, xi2; on any error nothing is printed on stdout. */
+#include <math.h>
+#include <string.h>
+
+#include "cli.h"
+#include "paraxial/paraxial.h"
+
+static void help(FILE *f) {
+  fprintf(f,
+          "usage: pencil matrix refract --theta-deg T --n1 N1 --n2 N2 [--radius R] [--variant V]\n"
+          "       pencil matrix reflect --theta-deg T [--radius R] [--variant V]\n"
+          "       pencil matrix transfer --distance D\n\n"
+          "Prints the 4x4 system matrix as JSON {\"T\": [[...], ...]}; rows and columns are\n"
+          "ordered x1, x2, xi1, xi2 (position, then direction; Eq. 1 and Eq. 2).\n\n"
+          "Frames (paper, Fig. 3): x2 = x2' = the unit normal of the plane of incidence,\n"
+          "x1 = x2 x z and x1' = x2' x z' (right-handed, also after a reflection), so that\n"
+          "Theta = diag(cos theta, 1) and Theta' = diag(cos theta', 1).\n\n"
+          "options:\n"
+          "  --theta-deg T   angle of incidence in degrees, 0 <= T < 90\n"
+          "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
+          "  --n2 N2         index of the far medium (> 0)\n"
+          "  --radius R      radius of curvature of a spherical surface (non-zero). R > 0 when\n"
+          "                  the centre of curvature is on the far side of the surface from the\n"
+          "                  incoming light (a glass ball entered from outside, a convex mirror);\n"
+          "                  R < 0 otherwise (a ball left from inside, a concave mirror).\n"
+          "                  Without --radius the surface is a plane.\n"
+          "  --distance D    transfer length along the axial ray\n"
+          "  --variant V     corrected (default: confirmed by exact tracing) or printed\n"
+          "                  (Eq. 2 verbatim from the paper; see docs/errata.md)\n\n"
+          "Exit codes: 0 matrix printed; 1 no matrix exists (total internal reflection,\n"
+          "grazing incidence or exit; reason on stderr); 2 usage error.\n");
+}
+
+int cmd_matrix(int argc, char **argv) {
+  if (argc < 2 || cli_is_help(argv[1])) {
+    help(argc < 2 ? stderr : stdout);
+    return argc < 2 ? CLI_USAGE : CLI_OK;
+  }
+  const char *kind = argv[1];
+  int is_transfer = strcmp(kind, "transfer") == 0, is_reflect = strcmp(kind, "reflect") == 0;
+  if (!is_transfer && !is_reflect && strcmp(kind, "refract") != 0) {
+    fprintf(stderr, "pencil matrix: unknown element '%s' (refract, reflect or transfer)\n", kind);
+    return CLI_USAGE;
+  }
+  double theta = NAN, n1 = NAN, n2 = NAN, radius = INFINITY, distance = NAN;
+  px_variant_t variant = PX_VARIANT_CORRECTED;
+  for (int i = 2; i < argc; i++) {
+    int err = 0;
+    const char *v, *opt = argv[i];
+    if (cli_is_help(argv[i])) {
+      help(stdout);
+      return CLI_OK;
+    } else if ((v = cli_option(argc, argv, &i, "--theta-deg", &err)) && !is_transfer) {
+      if (!cli_parse_double("--theta-deg", v, &theta))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--n1", &err)) && !is_transfer) {
+      if (!cli_parse_double("--n1", v, &n1))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--n2", &err)) && !is_transfer && !is_reflect) {
+      if (!cli_parse_double("--n2", v, &n2))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--radius", &err)) && !is_transfer) {
+      if (!cli_parse_double("--radius", v, &radius))
+        return CLI_USAGE;
+      if (radius == 0.0) {
+        fprintf(stderr, "pencil matrix: --radius must be non-zero (omit it for a plane)\n");
+        return CLI_USAGE;
+      }
+    } else if ((v = cli_option(argc, argv, &i, "--distance", &err)) && is_transfer) {
+      if (!cli_parse_double("--distance", v, &distance))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--variant", &err)) && !is_transfer) {
+      if (px_variant_parse(v, &variant) != PX_OK) {
+        fprintf(stderr, "pencil matrix: --variant: expected corrected or printed, got '%s'\n", v);
+        return CLI_USAGE;
+      }
+    } else {
+      if (!err)
+        fprintf(stderr, "pencil matrix %s: unknown or misplaced option '%s'\n", kind, opt);
+      return CLI_USAGE;
+    }
+    if (err)
+      return CLI_USAGE;
+  }
+
+  px_mat4_t t;
+  if (is_transfer) {
+    if (isnan(distance)) {
+      fprintf(stderr, "pencil matrix transfer: --distance is required\n");
+      return CLI_USAGE;
+    }
+    t = px_transfer_matrix(distance);
+  } else {
+    if (isnan(theta)) {
+      fprintf(stderr, "pencil matrix %s: --theta-deg is required\n", kind);
+      return CLI_USAGE;
+    }
+    if (theta < 0.0 || theta > 90.0) {
+      fprintf(stderr, "pencil matrix %s: --theta-deg must be in [0, 90), got %g\n", kind, theta);
+      return CLI_USAGE;
+    }
+    if (is_reflect && isnan(n1))
+      n1 = 1.0; /* a reflection does not depend on the index */
+    if (is_reflect)
+      n2 = n1;
+    if (isnan(n1) || isnan(n2)) {
+      fprintf(stderr, "pencil matrix refract: --n1 and --n2 are required\n");
+      return CLI_USAGE;
+    }
+    if (!(n1 > 0.0) || !(n2 > 0.0)) {
+      fprintf(stderr, "pencil matrix %s: indices must be positive (got n1=%g, n2=%g)\n", kind, n1,
+              n2);
+      return CLI_USAGE;
+    }
+    px_event_t ev = is_reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT;
+    px_status_t st = px_element_matrix(ev, theta * M_PI / 180.0, n1, n2, radius, variant, &t);
+    if (st != PX_OK) {
+      fprintf(stderr, "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n",
+              kind, theta, n1, n2, px_strerror(st));
+      return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
+    }
+  }
+  cli_print_matrix_json(stdout, "T", t.m);
+  return CLI_OK;
+}

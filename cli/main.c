@@ -1,0 +1,47 @@
+/* main.c -- the pencil command: dispatch to subcommands. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+typedef struct {
+  const char *name;
+  int (*run)(int argc, char **argv);
+  const char *summary;
+} command_t;
+
+static const command_t commands[] = {
+    {"matrix", cmd_matrix, "system matrix calculator (transfer, refraction, reflection)"},
+    {"verify", cmd_verify, "verify the paper's formulas against exact tracing"},
+};
+
+static void usage(FILE *f) {
+  fprintf(f, "usage: pencil COMMAND [OPTIONS]\n\n"
+             "Pencil tracing (Shinya, Takahashi, Naito, SIGGRAPH 1987): system matrices,\n"
+             "error bounds, and their verification against exact Snell-law tracing.\n\n"
+             "commands:\n");
+  for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+    fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
+  fprintf(f, "\n'pencil COMMAND --help' describes each command.\n"
+             "Exit codes: 0 success, 1 computation or verification failure, 2 usage error.\n");
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    usage(stderr);
+    return CLI_USAGE;
+  }
+  if (cli_is_help(argv[1])) {
+    usage(stdout);
+    return CLI_OK;
+  }
+  if (strcmp(argv[1], "--version") == 0) {
+    printf("pencil %s\n", PENCIL_VERSION);
+    return CLI_OK;
+  }
+  for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+    if (strcmp(argv[1], commands[i].name) == 0)
+      return commands[i].run(argc - 1, argv + 1);
+  fprintf(stderr, "pencil: unknown command '%s' (try 'pencil --help')\n", argv[1]);
+  return CLI_USAGE;
+}

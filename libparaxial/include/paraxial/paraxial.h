@@ -1,0 +1,12 @@
+/* paraxial.h -- umbrella header of libparaxial, the pure math of pencil tracing
+ * (Shinya, Takahashi, Naito, SIGGRAPH 1987). No I/O, no scene, no globals. */
+#ifndef PARAXIAL_PARAXIAL_H
+#define PARAXIAL_PARAXIAL_H
+
+#include "paraxial/cascade.h"
+#include "paraxial/frame.h"
+#include "paraxial/linalg.h"
+#include "paraxial/status.h"
+#include "paraxial/system.h"
+
+#endif

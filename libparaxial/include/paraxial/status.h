@@ -1,0 +1,30 @@
+/* status.h -- result codes of libparaxial.
+ *
+ * Every fallible function returns a px_status_t and writes its results through pointers. A
+ * non-zero status means the outputs were not written (unless the function's comment says
+ * otherwise), so no NaN or Inf escapes without a status that explains it.
+ */
+#ifndef PARAXIAL_STATUS_H
+#define PARAXIAL_STATUS_H
+
+typedef enum {
+  PX_OK = 0,        /**< success */
+  PX_EINVAL,        /**< a parameter is out of range or not finite (the message names which) */
+  PX_ETIR,          /**< total internal reflection: there is no refracted ray */
+  PX_EGRAZING,      /**< grazing incidence or exit: cos(theta) or cos(theta') <= PX_COS_MIN */
+  PX_ESINGULAR,     /**< a 2x2 block (Theta, Theta', a frame) is singular */
+  PX_EMISS,         /**< the ray does not meet the surface */
+  PX_ECAPACITY,     /**< a caller-owned buffer is full */
+  PX_ENONFINITE,    /**< an intermediate result overflowed; nothing was written */
+  PX_ENOCONVERGE    /**< an iteration did not converge */
+} px_status_t;
+
+/** Static, human-readable message for a status; never NULL, thread-safe. */
+const char *px_strerror(px_status_t status);
+
+/** Smallest |cos| of an incidence or exit angle for which a system matrix is returned.
+ *  Below it the matrix entries grow like 1/cos and the paraxial region is narrower than
+ *  double precision can resolve, so PX_EGRAZING is returned instead. */
+#define PX_COS_MIN 1e-10
+
+#endif

@@ -1,0 +1,94 @@
+/* system.h -- element system matrices: transfer (Eq. 1), refraction (Eq. 2) and reflection
+ * (section 2.2 (3)) for a smooth surface with a general curvature matrix Q and general frames.
+ *
+ * Conventions (docs/conventions.md has the derivation):
+ *  - nu is the unit surface normal at the hit point O oriented along the incident ray,
+ *    nu . s > 0. For a refraction it points into the second medium.
+ *  - (u1, u2, nu) is right-handed: u1 = u2 x nu. Near O the surface is the set of points
+ *    O + u1*t1 + u2*t2 + w nu with w = (1/2) t^t Q t + O(|t|^3).
+ *  - Hence Q = I/R for a sphere of radius R, with R > 0 when the centre of curvature lies on
+ *    the far side of the surface from the incoming light (a glass ball entered from outside, a
+ *    convex mirror) and R < 0 otherwise (a ball left from inside, a concave mirror). A plane
+ *    has Q = 0.
+ *  - cos(theta) = nu . s and cos(theta') = nu . s'; after a reflection cos(theta') < 0,
+ *    which is the paper's "replace theta' by pi - theta".
+ */
+#ifndef PARAXIAL_SYSTEM_H
+#define PARAXIAL_SYSTEM_H
+
+#include "paraxial/frame.h"
+#include "paraxial/linalg.h"
+
+/** Which form of Eq. (2) to evaluate. */
+typedef enum {
+  /** Derived by the project and confirmed by exact Snell-law tracing (default). */
+  PX_VARIANT_CORRECTED = 0,
+  /** Eq. (2) verbatim as printed in the seed text, with Q = diag(1/R) read in the project's
+   *  convention for R. Kept to reproduce the paper; see docs/errata.md, E1-E3. */
+  PX_VARIANT_PRINTED = 1
+} px_variant_t;
+
+/** Parse "corrected" / "printed"; PX_EINVAL otherwise. */
+px_status_t px_variant_parse(const char *name, px_variant_t *out);
+const char *px_variant_name(px_variant_t v);
+
+typedef enum {
+  PX_EVENT_REFRACT = 0, /**< light passes into the medium of index n2 */
+  PX_EVENT_REFLECT = 1  /**< light stays in the medium of index n1 */
+} px_event_t;
+
+/** The local geometry of a surface where the axial ray meets it. */
+typedef struct {
+  px_vec3_t s;  /**< incident axial direction, unit */
+  px_vec3_t nu; /**< unit normal at O with nu . s > 0 */
+  px_vec3_t u1; /**< tangent basis vector, u1 = u2 x nu */
+  px_vec3_t u2; /**< tangent basis vector */
+  px_mat2_t q;  /**< curvature matrix in (u1, u2), symmetric, units 1/length */
+  double n1;    /**< refractive index on the incident side, > 0 */
+  double n2;    /**< refractive index on the far side, > 0 (unused for a reflection) */
+} px_interface_t;
+
+/** Interface with the paper's tangent basis: u2 = normalised (nu x s), the normal of the plane
+ *  of incidence, and u1 = u2 x nu. At normal incidence (plane of incidence undefined) u2 is
+ *  taken from `hint` projected onto the tangent plane, or a fixed world axis when the hint is
+ *  parallel to nu, so the choice is deterministic. `q_in_u` is given in the resulting (u1, u2)
+ *  basis when `q_world` is NULL; otherwise q_world (a 3x3 symmetric shape operator in world
+ *  coordinates, row-major) is projected onto (u1, u2). */
+px_status_t px_interface_make(px_vec3_t s, px_vec3_t nu, px_vec3_t hint, px_mat2_t q_in_u,
+                              const double *q_world, double n1, double n2, px_interface_t *out);
+
+/** Interface in a canonical world position for the calculator: nu = +z, incidence angle
+ *  theta (radians, in [0, pi/2)) in the x-z plane, sphere of radius R (0 or +-Inf = plane). */
+px_status_t px_interface_canonical(double theta, double radius, double n1, double n2,
+                                   px_interface_t *out);
+
+/** Direction of the outgoing axial ray (Snell's law / mirror law) and cos(theta').
+ *  PX_ETIR when the refracted ray does not exist. */
+px_status_t px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_vec3_t *s_out,
+                                  double *cos_out);
+
+/** The paper's frames for this interface: x2 = x2' = u2 (normal of the plane of incidence),
+ *  x1 = x2 x s, x1' = x2' x s' (right-handed, also after a reflection). With them Theta and
+ *  Theta' are diag(cos theta, 1) and diag(cos theta', 1). */
+px_status_t px_interface_frames(const px_interface_t *ifc, px_event_t ev, px_frame_t *in,
+                                px_frame_t *out);
+
+/** Eq. (1): transfer by distance z0 along the axial ray: [[1, z0], [0, 1]]. */
+px_mat4_t px_transfer_matrix(double z0);
+
+/** Eq. (2) for a refraction (ev = PX_EVENT_REFRACT) or a reflection, from the incident ray
+ *  frame `in` (in.z must equal ifc->s) to the outgoing frame `out` (out.z must equal s').
+ *  Corrected form, with h = cos(theta') - (n1/n2) cos(theta) (n2 := n1 for a reflection):
+ *      A = Theta' Theta^-1            B = 0
+ *      C = -h Theta'^-t Q Theta^-1    D = (n1/n2) Theta'^-t Theta^t
+ *  Returns PX_ETIR, PX_EGRAZING (|cos| <= PX_COS_MIN), PX_EINVAL (frames not matching the
+ *  rays, bad indices), PX_ENONFINITE; on error *t is untouched. */
+px_status_t px_interface_matrix(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
+                                px_frame_t out, px_variant_t variant, px_mat4_t *t);
+
+/** Convenience for the calculator: the matrix in the paper's frames for a sphere of radius R
+ *  (0 or +-Inf = plane) at incidence theta (radians). ev selects refraction or reflection. */
+px_status_t px_element_matrix(px_event_t ev, double theta, double n1, double n2, double radius,
+                              px_variant_t variant, px_mat4_t *t);
+
+#endif

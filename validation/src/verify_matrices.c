@@ -1,0 +1,210 @@
+/* verify_matrices.c -- `pencil verify matrices`: each system matrix (Eqs. 1-2 and cascades)
+ * against the Jacobian of the exact Snell-law map, in both variants (corrected, printed).
+ *
+ * The comparison is made on the scaled matrix S = diag(1/L, 1/L, 1, 1) T diag(L, L, 1, 1),
+ * which is dimensionless (A, D unchanged, B/L, C L) and invariant when the whole system is
+ * scaled together with L; the error of a block is max |S - S_exact| over the block divided by
+ * max |S_exact| over the matrix (docs/verification.md). */
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "validation/verify.h"
+
+static px_mat4_t scaled(px_mat4_t t, double L) {
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      if (i < 2 && j >= 2)
+        t.m[i][j] /= L;
+      else if (i >= 2 && j < 2)
+        t.m[i][j] *= L;
+    }
+  return t;
+}
+
+static void block_errors(px_mat4_t t, px_mat4_t j, double norm, double out[4], double *worst) {
+  *worst = 0.0;
+  for (int b = 0; b < 4; b++) {
+    double e = 0.0;
+    for (int r = 0; r < 2; r++)
+      for (int c = 0; c < 2; c++) {
+        int i = 2 * (b / 2) + r, k = 2 * (b % 2) + c;
+        e = fmax(e, fabs(t.m[i][k] - j.m[i][k]));
+      }
+    out[b] = e / norm;
+    *worst = fmax(*worst, out[b]);
+  }
+}
+
+void val_verify_matrix(const val_system_t *v, val_matrix_result_t *r) {
+  memset(r, 0, sizeof *r);
+  ex_system_t sys = val_system_bind(v);
+  ex_axial_t ax;
+  px_status_t st = ex_trace_axial(&sys, &ax);
+  if (v->expect_tir) { /* both the paraxial library and the exact tracer must refuse */
+    px_mat4_t t;
+    px_status_t sm = px_element_matrix(v->event, v->theta_deg * M_PI / 180, v->n1, v->n2,
+                                       v->radius, PX_VARIANT_CORRECTED, &t);
+    r->status = st;
+    r->pass = st == PX_ETIR && sm == PX_ETIR;
+    return;
+  }
+  px_element_t buf[2 * EX_MAX_STAGES + 2];
+  px_cascade_t c, cp;
+  px_mat4_t jac;
+  if (st == PX_OK)
+    st = ex_axial_cascade(&sys, &ax, PX_VARIANT_CORRECTED, buf, 2 * EX_MAX_STAGES + 2, &c);
+  if (st == PX_OK)
+    st = ex_jacobian_q(&sys, &ax, v->length, &jac);
+  r->status = st;
+  if (st != PX_OK)
+    return;
+  px_mat4_t js = scaled(jac, v->length);
+  r->jac_norm = px_mat4_maxabs(js);
+  block_errors(scaled(px_cascade_product(&c), v->length), js, r->jac_norm, r->block_err,
+               &r->rel_err);
+  if (ex_axial_cascade(&sys, &ax, PX_VARIANT_PRINTED, buf, 2 * EX_MAX_STAGES + 2, &cp) == PX_OK)
+    block_errors(scaled(px_cascade_product(&cp), v->length), js, r->jac_norm, r->printed_block,
+                 &r->printed_err);
+  r->pass = r->rel_err <= VAL_MATRIX_TOL;
+}
+
+typedef struct {
+  size_t count, failures, tir;
+  double worst;
+  size_t printed_fail;
+  double printed_worst[4];
+  size_t printed_block_fail[4];
+} family_stats_t;
+
+static json_t *stats_json(const family_stats_t *s) {
+  json_t *pb = json_object();
+  static const char *blk[4] = {"A", "B", "C", "D"};
+  for (int b = 0; b < 4; b++)
+    json_object_set_new(pb, blk[b], json_pack("{s:f, s:I}", "worst", s->printed_worst[b],
+                                              "failures", (json_int_t)s->printed_block_fail[b]));
+  return json_pack("{s:I, s:f, s:I, s:I, s:{s:I, s:o}}", "systems", (json_int_t)s->count,
+                   "worst_relative_error", s->worst, "failures", (json_int_t)s->failures,
+                   "tir_checked", (json_int_t)s->tir, "printed", "failures",
+                   (json_int_t)s->printed_fail, "blocks", pb);
+}
+
+static void accumulate(family_stats_t *s, const val_system_t *v, const val_matrix_result_t *r) {
+  s->count++;
+  if (!r->pass)
+    s->failures++;
+  if (v->expect_tir) {
+    s->tir++;
+    return;
+  }
+  if (r->status != PX_OK)
+    return;
+  s->worst = fmax(s->worst, r->rel_err);
+  if (r->printed_err > VAL_MATRIX_TOL)
+    s->printed_fail++;
+  for (int b = 0; b < 4; b++) {
+    s->printed_worst[b] = fmax(s->printed_worst[b], r->printed_block[b]);
+    if (r->printed_block[b] > VAL_MATRIX_TOL)
+      s->printed_block_fail[b]++;
+  }
+}
+
+static void csv_row(FILE *f, size_t id, const val_system_t *v, const val_matrix_result_t *r) {
+  fprintf(f, "%zu,%s,%s,\"%s\",%.17g,%.17g,%.17g,%.17g,%d,%.17g,%s,%d", id,
+          val_family_name(v->family), v->event == PX_EVENT_REFLECT ? "reflect" : "refract",
+          v->label, v->theta_deg, v->n1, v->n2, v->radius, v->rotated, v->length,
+          r->status == PX_OK ? "ok" : px_strerror(r->status), r->pass);
+  fprintf(f, ",%.6e", r->rel_err);
+  for (int b = 0; b < 4; b++)
+    fprintf(f, ",%.6e", r->block_err[b]);
+  fprintf(f, ",%.6e", r->printed_err);
+  for (int b = 0; b < 4; b++)
+    fprintf(f, ",%.6e", r->printed_block[b]);
+  fprintf(f, "\n");
+}
+
+static void report(FILE *f, const family_stats_t *fam, const family_stats_t *all) {
+  fprintf(f, "pencil verify matrices: system matrices vs. the Jacobian of exact Snell-law tracing\n"
+             "(__float128 Richardson differences; tolerance %.0e on the scaled relative error)\n\n",
+          VAL_MATRIX_TOL);
+  fprintf(f, "%-10s %8s %8s %6s %14s | %-28s\n", "family", "systems", "failures", "TIR",
+          "worst rel err", "printed Eq.(2): failing A/B/C/D");
+  for (int i = 0; i <= VAL_FAMILY_COUNT; i++) {
+    const family_stats_t *s = i < VAL_FAMILY_COUNT ? &fam[i] : all;
+    if (i == VAL_FAMILY_COUNT)
+      fprintf(f, "%.*s\n", 82, "----------------------------------------------------------------"
+                               "------------------------------------");
+    fprintf(f, "%-10s %8zu %8zu %6zu %14.3e | %6zu/%zu/%zu/%zu\n",
+            i < VAL_FAMILY_COUNT ? val_family_name((val_family_t)i) : "all", s->count, s->failures,
+            s->tir, s->worst, s->printed_block_fail[0], s->printed_block_fail[1],
+            s->printed_block_fail[2], s->printed_block_fail[3]);
+  }
+  fprintf(f, "\nprinted Eq. (2), worst block errors: A %.3g  B %.3g  C %.3g  D %.3g "
+             "(docs/errata.md)\n",
+          all->printed_worst[0], all->printed_worst[1], all->printed_worst[2],
+          all->printed_worst[3]);
+}
+
+int val_verify_matrices(const val_matrices_opts_t *o) {
+  size_t n = 0;
+  val_system_t *sw = val_sweep_build(1, o->quick, &n);
+  if (!sw) {
+    fprintf(stderr, "pencil verify matrices: out of memory building the sweep\n");
+    return -1;
+  }
+  FILE *csv = NULL;
+  if (o->csv && !(csv = fopen(o->csv, "w"))) {
+    fprintf(stderr, "pencil verify matrices: cannot write '%s': ", o->csv);
+    perror(NULL);
+    free(sw);
+    return -1;
+  }
+  if (csv)
+    fprintf(csv, "id,family,event,label,theta_deg,n1,n2,radius,rotated,length,status,pass,"
+                 "rel_err,err_A,err_B,err_C,err_D,printed_rel_err,printed_A,printed_B,"
+                 "printed_C,printed_D\n");
+  family_stats_t fam[VAL_FAMILY_COUNT], all;
+  memset(fam, 0, sizeof fam);
+  memset(&all, 0, sizeof all);
+  size_t worst_id = 0;
+  for (size_t i = 0; i < n; i++) {
+    val_matrix_result_t r;
+    val_verify_matrix(&sw[i], &r);
+    accumulate(&fam[sw[i].family], &sw[i], &r);
+    if (r.rel_err > all.worst)
+      worst_id = i;
+    accumulate(&all, &sw[i], &r);
+    if (csv)
+      csv_row(csv, i, &sw[i], &r);
+    if (!r.pass && o->report)
+      fprintf(o->report, "FAIL #%zu %s: %s, rel err %.3e\n", i, sw[i].label,
+              px_strerror(r.status), r.rel_err);
+  }
+  int io_err = csv && fclose(csv) != 0;
+  if (o->report) {
+    report(o->report, fam, &all);
+    fprintf(o->report, "worst system: #%zu %s\n", worst_id, sw[worst_id].label);
+  }
+  if (o->json) {
+    json_t *root = json_pack("{s:I, s:f, s:I, s:f, s:s}", "systems", (json_int_t)all.count,
+                             "worst_relative_error", all.worst, "failures",
+                             (json_int_t)all.failures, "tolerance", VAL_MATRIX_TOL,
+                             "worst_system", sw[worst_id].label);
+    json_t *fj = json_object();
+    for (int i = 0; i < VAL_FAMILY_COUNT; i++)
+      json_object_set_new(fj, val_family_name((val_family_t)i), stats_json(&fam[i]));
+    json_object_set_new(root, "families", fj);
+    json_object_set_new(root, "all", stats_json(&all));
+    if (json_dump_file(root, o->json, JSON_INDENT(2) | JSON_SORT_KEYS) != 0) {
+      fprintf(stderr, "pencil verify matrices: cannot write '%s'\n", o->json);
+      io_err = 1;
+    }
+    json_decref(root);
+  }
+  size_t failures = all.failures;
+  free(sw);
+  if (io_err)
+    return -1;
+  return failures ? 1 : 0;
+}
