@@ -6,14 +6,16 @@
 
 #include <math.h>
 
+#include "vec.h"
+
 #include "shade_impl.h"
 
 void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *ray,
                       rt_surface_t *out) {
-  double dn = px_vec3_dot(hit->n, ray->d);
+  double dn = v3_dot(hit->n, ray->d);
   out->hit = *hit;
   out->entering = dn < 0.0;
-  out->nf = dn < 0.0 ? hit->n : px_vec3_scale(hit->n, -1.0);
+  out->nf = dn < 0.0 ? hit->n : v3_scale(hit->n, -1.0);
   out->mat = rt_scene_material_at(s, hit->prim, hit->p, &out->texel);
   out->n1 = ray->ior;
   out->n2 = out->entering ? out->mat->ior : s->ior;
@@ -22,7 +24,7 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side) {
   px_vec3_t p = sf->hit.p;
   double scale = 1.0 + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
-  return px_vec3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
+  return v3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
 }
 
 static int planar_prim(const rt_scene_t *s, int prim) {
@@ -33,12 +35,12 @@ static int planar_prim(const rt_scene_t *s, int prim) {
 static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
   if (l->kind == RT_LIGHT_PARALLEL) {
     *dist = INFINITY;
-    return px_vec3_scale(l->v, -1.0);
+    return v3_scale(l->v, -1.0);
   }
-  px_vec3_t d = px_vec3_sub(l->v, p), u;
-  *dist = px_vec3_norm(d);
+  px_vec3_t d = v3_sub(l->v, p), u;
+  *dist = v3_norm(d);
   if (px_vec3_normalize(d, &u) != PX_OK)
-    return px_vec3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
+    return v3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
   return u;
 }
 
@@ -53,7 +55,7 @@ static rt_rgb_t shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surf
   q.light = l;
   q.ray = (rt_ray_t){o, dir, 0.0, dist, ray->ior, planar_prim(s, sf->hit.prim) ? sf->hit.prim : -1};
   if (isfinite(dist))
-    q.ray.tmax = px_vec3_dot(px_vec3_sub(s->light[l].v, o), dir);
+    q.ray.tmax = v3_dot(v3_sub(s->light[l].v, o), dir);
   q.through = rt_rgb(1, 1, 1);
   tr->shadow(tr->ctx, &q);
   return q.through;
@@ -69,7 +71,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
   for (int l = 0; l < s->nlight; l++) {
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
-    double ndl = px_vec3_dot(sf->nf, L);
+    double ndl = v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue; /* the surface faces away from the light */
     rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, tr);
@@ -77,8 +79,8 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
       continue;
     rt_rgb_t term = rt_rgb_scale(m->color, m->kd * ndl);
     if (spec) { /* Phong: (R.V)^n with R the mirror image of L, V = -d; R.V = L.reflect(d) */
-      px_vec3_t rd = px_vec3_axpy(-2.0 * px_vec3_dot(ray->d, sf->nf), sf->nf, ray->d);
-      double rv = px_vec3_dot(rd, L);
+      px_vec3_t rd = v3_axpy(-2.0 * v3_dot(ray->d, sf->nf), sf->nf, ray->d);
+      double rv = v3_dot(rd, L);
       if (rv > 0.0)
         term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * pow(rv, m->phong)));
     }
@@ -90,7 +92,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
 /* The mirror child (px_interface_outgoing with PX_EVENT_REFLECT: s' = s - 2 (nu.s) nu). */
 static int reflect_child(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w, int tir, rt_child_t *out) {
-  px_interface_t ifc = {.s = ray->d, .nu = px_vec3_scale(sf->nf, -1.0), .n1 = sf->n1,
+  px_interface_t ifc = {.s = ray->d, .nu = v3_scale(sf->nf, -1.0), .n1 = sf->n1,
                         .n2 = sf->n1};
   px_vec3_t dir;
   double co;
