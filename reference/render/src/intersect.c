@@ -29,8 +29,10 @@ int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p) {
   const rt_prim_t *pr = &s->prim[prim];
   switch (pr->kind) {
-  case RT_PRIM_SPHERE:
-    return v3_scale(v3_sub(p, pr->sphere.c), 1.0 / pr->sphere.r);
+  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
+    px_vec3_t d = v3_sub(p, pr->sphere.c);
+    return v3_scale(d, 1.0 / v3_norm(d));
+  }
   case RT_PRIM_PLANE:
     return pr->plane.n;
   case RT_PRIM_POLYGON:
