@@ -89,6 +89,21 @@ static size_t angles(double n1, double n2, double *out) {
 
 static const double radii[] = {1e-3, 1e-1, 1.0, 1e1, 1e3};
 
+/* Surface number r of the single-element families through O = 0 with normal +z: r = -1 is the
+ * plane z = 0, r >= 0 the sphere of radius +-radii[r / 2] (odd r negative), centre (0, 0, R). */
+static ex_quadric_t plane_or_sphere(val_system_t *v, int r) {
+  if (r < 0) {
+    v->family = VAL_FAMILY_PLANE;
+    v->length = 1.0;
+    return ex_quadric_plane(px_vec3(0, 0, 0), px_vec3(0, 0, 1));
+  }
+  double R = radii[r / 2] * (r % 2 ? -1.0 : 1.0);
+  v->family = VAL_FAMILY_SPHERE;
+  v->radius = R;
+  v->length = fabs(R);
+  return ex_quadric_sphere(px_vec3(0, 0, R), fabs(R));
+}
+
 static int add_spheres_and_planes(sweep_t *w, int quick) {
   double th[20];
   for (int p = 0; p < NPAIRS; p++) {
@@ -109,19 +124,7 @@ static int add_spheres_and_planes(sweep_t *w, int quick) {
           v->n1 = n1;
           v->n2 = n2;
           v->rotated = rot;
-          ex_quadric_t q;
-          if (r < 0) {
-            v->family = VAL_FAMILY_PLANE;
-            v->length = 1.0;
-            q = ex_quadric_plane(px_vec3(0, 0, 0), px_vec3(0, 0, 1));
-          } else {
-            double R = radii[r / 2] * (r % 2 ? -1.0 : 1.0);
-            v->family = VAL_FAMILY_SPHERE;
-            v->radius = R;
-            v->length = fabs(R);
-            q = ex_quadric_sphere(px_vec3(0, 0, R), fabs(R));
-          }
-          single(w, v, q, rot ? uniform(w, 0, 2 * M_PI) : 0.0);
+          single(w, v, plane_or_sphere(v, r), rot ? uniform(w, 0, 2 * M_PI) : 0.0);
           snprintf(v->label, sizeof v->label, "refract %s n %.3g->%.3g theta %.6g R %.3g%s",
                    val_family_name(v->family), n1, n2, th[a], v->radius, rot ? " rotated" : "");
         }
@@ -143,19 +146,7 @@ static int add_mirrors(sweep_t *w, int quick) {
         v->theta_deg = th[a];
         v->n1 = v->n2 = 1.0;
         v->rotated = rot;
-        ex_quadric_t q;
-        if (r < 0) {
-          v->family = VAL_FAMILY_PLANE;
-          v->length = 1.0;
-          q = ex_quadric_plane(px_vec3(0, 0, 0), px_vec3(0, 0, 1));
-        } else {
-          double R = radii[r / 2] * (r % 2 ? -1.0 : 1.0);
-          v->family = VAL_FAMILY_SPHERE;
-          v->radius = R;
-          v->length = fabs(R);
-          q = ex_quadric_sphere(px_vec3(0, 0, R), fabs(R));
-        }
-        single(w, v, q, rot ? uniform(w, 0, 2 * M_PI) : 0.0);
+        single(w, v, plane_or_sphere(v, r), rot ? uniform(w, 0, 2 * M_PI) : 0.0);
         snprintf(v->label, sizeof v->label, "reflect %s theta %.6g R %.3g%s",
                  val_family_name(v->family), th[a], v->radius, rot ? " rotated" : "");
       }

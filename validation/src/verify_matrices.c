@@ -146,6 +146,63 @@ static void report(FILE *f, const family_stats_t *fam, const family_stats_t *all
           all->printed_worst[3]);
 }
 
+/* Evidence for docs/errata.md: three systems with the exact Jacobian beside both variants. */
+typedef struct {
+  const char *name;
+  px_event_t ev;
+  double theta_deg, n1, n2, radius, phi_in, phi_out;
+} evidence_t;
+
+static const evidence_t evidence[] = {
+    {"E1/E2: glass ball entered from outside, theta 30, n 1->1.5, R 2, paper frames",
+     PX_EVENT_REFRACT, 30, 1.0, 1.5, 2.0, 0.0, 0.0},
+    {"E3: the same surface, frames rotated about the rays by 0.7 and -0.4 rad", PX_EVENT_REFRACT,
+     30, 1.0, 1.5, 2.0, 0.7, -0.4},
+    {"E2 (reflection): concave mirror, theta 20, R -3, paper frames", PX_EVENT_REFLECT, 20, 1.0,
+     1.0, -3.0, 0.0, 0.0},
+};
+
+static void print_matrix(FILE *f, const char *name, px_mat4_t t) {
+  for (int i = 0; i < 4; i++)
+    fprintf(f, "  %-10s [% .10f % .10f % .10f % .10f]\n", i ? "" : name, t.m[i][0], t.m[i][1],
+            t.m[i][2], t.m[i][3]);
+}
+
+static json_t *matrix_json(px_mat4_t t) {
+  json_t *a = json_array();
+  for (int i = 0; i < 4; i++)
+    json_array_append_new(a, json_pack("[f, f, f, f]", t.m[i][0], t.m[i][1], t.m[i][2], t.m[i][3]));
+  return a;
+}
+
+/* One evidence system: exact Jacobian, corrected and printed matrices; NULL on failure. */
+static json_t *run_evidence(const evidence_t *e, FILE *report) {
+  double th = e->theta_deg * M_PI / 180;
+  px_vec3_t s = px_vec3(sin(th), 0, cos(th));
+  ex_stage_t st = {ex_quadric_sphere(px_vec3(0, 0, e->radius), fabs(e->radius)), e->ev, e->n2, 1};
+  px_frame_t f;
+  px_frame_from_z(s, px_vec3(0, 1, 0), &f);
+  ex_system_t sys = {px_vec3(0, 0, 0), px_frame_rotate(f, e->phi_in), e->n1, &st, 1, 0.0,
+                     e->phi_out};
+  ex_axial_t ax;
+  px_element_t buf[4];
+  px_cascade_t c, p;
+  px_mat4_t j;
+  if (ex_trace_axial(&sys, &ax) != PX_OK || ex_jacobian_q(&sys, &ax, fabs(e->radius), &j) != PX_OK ||
+      ex_axial_cascade(&sys, &ax, PX_VARIANT_CORRECTED, buf, 2, &c) != PX_OK ||
+      ex_axial_cascade(&sys, &ax, PX_VARIANT_PRINTED, buf + 2, 2, &p) != PX_OK)
+    return NULL;
+  px_mat4_t tc = px_cascade_product(&c), tp = px_cascade_product(&p);
+  if (report) {
+    fprintf(report, "\n%s\n", e->name);
+    print_matrix(report, "exact", j);
+    print_matrix(report, "corrected", tc);
+    print_matrix(report, "printed", tp);
+  }
+  return json_pack("{s:s, s:o, s:o, s:o}", "system", e->name, "exact", matrix_json(j), "corrected",
+                   matrix_json(tc), "printed", matrix_json(tp));
+}
+
 int val_verify_matrices(const val_matrices_opts_t *o) {
   size_t n = 0;
   val_system_t *sw = val_sweep_build(1, o->quick, &n);
@@ -185,6 +242,11 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
   if (o->report) {
     report(o->report, fam, &all);
     fprintf(o->report, "worst system: #%zu %s\n", worst_id, sw[worst_id].label);
+    fprintf(o->report, "\nErrata evidence (rows x1 x2 xi1 xi2; docs/errata.md):");
+    for (size_t i = 0; i < sizeof evidence / sizeof evidence[0]; i++)
+      if (!run_evidence(&evidence[i], o->report))
+        fprintf(o->report, "\n(evidence system %zu could not be traced)\n", i);
+    fprintf(o->report, "\n");
   }
   if (o->json) {
     json_t *root = json_pack("{s:I, s:f, s:I, s:f, s:s}", "systems", (json_int_t)all.count,
@@ -196,6 +258,13 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
       json_object_set_new(fj, val_family_name((val_family_t)i), stats_json(&fam[i]));
     json_object_set_new(root, "families", fj);
     json_object_set_new(root, "all", stats_json(&all));
+    json_t *ev = json_array();
+    for (size_t i = 0; i < sizeof evidence / sizeof evidence[0]; i++) {
+      json_t *e = run_evidence(&evidence[i], NULL);
+      if (e)
+        json_array_append_new(ev, e);
+    }
+    json_object_set_new(root, "errata_evidence", ev);
     if (json_dump_file(root, o->json, JSON_INDENT(2) | JSON_SORT_KEYS) != 0) {
       fprintf(stderr, "pencil verify matrices: cannot write '%s'\n", o->json);
       io_err = 1;

@@ -5,6 +5,7 @@
 
 #include "paraxial/cascade.h"
 #include "paraxial/frame.h"
+#include "paraxial/interp.h"
 #include "paraxial/linalg.h"
 #include "paraxial/status.h"
 #include "paraxial/system.h"
