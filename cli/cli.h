@@ -27,6 +27,8 @@ void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]);
 int cmd_matrix(int argc, char **argv);
 int cmd_verify(int argc, char **argv);
 int cmd_render(int argc, char **argv);
+/** `pencil render --method pencil` (cmd_render_pencil.c). */
+int cmd_render_pencil(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 
 #endif

@@ -23,7 +23,8 @@ static void help(FILE *f) {
           "where its paths meet the checkerboard: pathT.*, pathR.*) and a PNG preview beside it.\n\n"
           "options:\n"
           "  -o, --output OUT.exr  output image (required unless --explain is given alone)\n"
-          "  --method M            exact (default); pencil is not implemented yet\n"
+          "  --method M            exact (default) or pencil ('pencil render --method pencil\n"
+          "                        --help' lists the pencil tracer's options)\n"
           "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
           "                        (default: the scene's, 9 for the built-in scene)\n"
           "  --threads N           OpenMP threads (default: all cores)\n"
@@ -63,11 +64,7 @@ static int parse_spp(const char *v, long *spp) {
 static int parse_method(const char *v) {
   if (strcmp(v, "exact") == 0)
     return 1;
-  if (strcmp(v, "pencil") == 0)
-    fprintf(stderr, "pencil render: --method pencil is not implemented yet (a later issue adds "
-                    "the pencil tracer); use --method exact\n");
-  else
-    fprintf(stderr, "pencil render: --method: expected exact or pencil, got '%s'\n", v);
+  fprintf(stderr, "pencil render: --method: expected exact or pencil, got '%s'\n", v);
   return 0;
 }
 
@@ -208,6 +205,10 @@ static int render(const args_t *a, rt_scene_t *s) {
 }
 
 int cmd_render(int argc, char **argv) {
+  for (int i = 1; i < argc; i++) /* the pencil tracer has its own options (cmd_render_pencil.c) */
+    if (strcmp(argv[i], "--method=pencil") == 0 ||
+        (strcmp(argv[i], "--method") == 0 && i + 1 < argc && strcmp(argv[i + 1], "pencil") == 0))
+      return cmd_render_pencil(argc, argv);
   args_t a = {NULL, NULL, 0, 0, 0, 0, 0};
   int p = parse_args(argc, argv, &a);
   if (p <= 0)

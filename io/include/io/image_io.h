@@ -23,6 +23,17 @@ int io_exr_write(const char *path, const rt_image_t *img, const char *const (*me
 int io_exr_read_channel(const char *path, const char *name, float *out, int *width, int *height,
                         char *err, size_t cap);
 
+/** A named float32 channel of width x height values (caller-owned) beside an image's own. */
+typedef struct {
+  const char *name;
+  const float *data;
+} io_exr_channel_t;
+
+/** io_exr_write() plus `nextra` extra channels (names must differ from the image's). */
+int io_exr_write_extra(const char *path, const rt_image_t *img, const io_exr_channel_t *extra,
+                       int nextra, const char *const (*meta)[2], int nmeta, char *err,
+                       size_t cap);
+
 /** Write R, G, B clamped to [0, 1] and sRGB-encoded, 8 bits per channel. */
 int io_png_write(const char *path, const rt_image_t *img, char *err, size_t cap);
 

@@ -1,0 +1,63 @@
+/* edge.h -- the smoothness condition of the pencil tracer (paper section 4.1 (1), step 3): "the
+ * smoothness condition is roughly checked by comparing the ray trees among the neighboring
+ * domains", and a guard against "an object smaller than the initial domain area ... vanish[ing]
+ * from the image" by "estimating the distances between an axial ray and object surfaces, as in
+ * the case of ray tracing with cones".
+ *
+ * Trees are compared on what bends or blocks rays: shape, surfaces (object and primitive), flags
+ * and light visibility. Checker squares are not compared (rt_tree_same() does compare them): a
+ * texture changes colour, not the path of a ray, so a pencil stays valid across it; the colour is
+ * looked up at each sample's own hit point (docs/pencil.md).
+ *
+ * Corner trees are kept in a compact form (pt_ctree_t) so that a domain can cache the trees of
+ * its corner lattice. Nothing allocates.
+ */
+#ifndef PENCIL_EDGE_H
+#define PENCIL_EDGE_H
+
+#include <stdint.h>
+
+#include "render/raytree.h"
+#include "render/scene.h"
+
+/** What the comparison looks at, per node. */
+typedef struct {
+  int32_t parent, object, prim;
+  uint32_t lit, blocked;
+  uint8_t kind, flags;
+} pt_cnode_t;
+
+/** A compact ray tree over a caller-owned node array. */
+typedef struct {
+  pt_cnode_t *node;
+  int cap, n;
+  int valid; /**< 0: not traced yet, or the tree overflowed (never equal to anything) */
+} pt_ctree_t;
+
+/** Copy the comparison fields of `t` into c (c->cap must be >= t->n; else c->valid = 0). */
+void pt_ctree_from(pt_ctree_t *c, const rt_tree_t *t);
+
+/** 1 when the trees have the same shape, surfaces, flags and light visibility (checker squares
+ *  ignored); 0 when they differ or either overflowed. */
+int pt_tree_same_paths(const rt_tree_t *a, const rt_tree_t *b);
+/** The same between a full tree and a compact one. */
+int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b);
+
+/** A bounding sphere of a bounded object. */
+typedef struct {
+  px_vec3_t c;
+  double r;
+  int object;
+} pt_bsphere_t;
+
+/** Bounding spheres of the scene's bounded objects (spheres exactly; polygons and polyhedra
+ *  around their bounding boxes) into out[cap]; returns how many were written. */
+int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap);
+
+/** The small-object guard for primary rays: 1 when the silhouette of some bounding sphere may
+ *  cross the cone of directions from `eye` with unit axis `axis` and half-angle `half` (radians),
+ *  i.e. the sphere's angular disk neither misses the cone nor contains it. Such a cone may hold
+ *  an object, or part of one, that none of its traced rays met. */
+int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half);
+
+#endif

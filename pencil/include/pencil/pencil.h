@@ -1,0 +1,112 @@
+/* pencil.h -- the pencil renderer: ray tracing with a system matrix and ray interpolation
+ * (Shinya, Takahashi, Naito 1987, section 4.1 (1) and (2)), measured against exact tracing as in
+ * section 5 (Figs. 8-10).
+ *
+ * The screen is cut into initial domains of N x N pixels (step 1). Each domain's axial ray (its
+ * centre) is traced exactly with its ray tree, and every node of that tree gets the system matrix
+ * of its path from the eye (step 2, pencil/path.h). The trees of the domain's corners and the
+ * projected bounding spheres of the objects decide whether the domain is smooth (step 3); the
+ * tolerance of Eq. (3) and the spread limit of Eqs. (4)-(6) decide between matrices for the whole
+ * domain, exact tracing, and subdivision (steps 4a-4c). Samples in accepted domains are traced by
+ * their matrices, or interpolated (4.1 (2)) from matrix-traced samples at the pixel corners when
+ * the e_int estimate allows; shading is the reference renderer's shade.h, so the two renderers
+ * differ only in how rays find surfaces. docs/pencil.md describes every choice.
+ *
+ * The image is an rt_image_t (same channels as the reference renderer) plus the per-pixel
+ * channels of pt_extra_t. The scene must be prepared; nothing is allocated per ray.
+ */
+#ifndef PENCIL_PENCIL_H
+#define PENCIL_PENCIL_H
+
+#include <stdint.h>
+
+#include "render/render.h"
+
+/** Where the constant C of the error function e_x (Eq. 4) comes from. */
+typedef enum {
+  /** Appendix coefficients as corrected by the project (libparaxial bounds, the default). */
+  PT_BOUND_CORRECTED = 0,
+  /** Appendix coefficients as printed (libparaxial bounds, PX_VARIANT_PRINTED). */
+  PT_BOUND_PRINTED = 1,
+  /** Not a bound: the worst second-order error of the path measured by exact tracing of eight
+   *  rays on the domain's spread circle (ex_map), scaled to C = e / xi^2. For comparison. */
+  PT_BOUND_PROBE = 2
+} pt_bound_t;
+
+/** Parse "corrected" / "printed" / "probe"; returns 0 for an unknown name. */
+int pt_bound_parse(const char *name, pt_bound_t *out);
+const char *pt_bound_name(pt_bound_t b);
+
+/** How a sample (or, in the method channel, most samples of a pixel) was traced. */
+typedef enum {
+  PT_METHOD_EXACT = 0,  /**< the exact tracer (edges, step 4b, failed checks) */
+  PT_METHOD_MATRIX = 1, /**< system matrices of the domain's paths (step 4a) */
+  PT_METHOD_INTERP = 2  /**< ray interpolation from matrix-traced pixel corners (4.1 (2)) */
+} pt_method_t;
+
+typedef struct {
+  int spp_side;    /**< s: s x s samples per pixel, 1..7 */
+  int threads;     /**< OpenMP threads; 0 = the OpenMP default */
+  int domain;      /**< initial domain size N in pixels, 1..32 (paper: 5) */
+  double rho;      /**< tolerance ratio of Eq. (3), > 0 (paper: 1/2) */
+  pt_bound_t bound;
+  int certified;   /**< 1: also require an a-posteriori exact check of every path at the
+                        domain's corners and edge midpoints to agree within tau */
+  int interp;      /**< 1: ray interpolation for s >= 2 (0: every sample by matrices) */
+  int measure;     /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
+  int aux;         /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
+  /** Called after each finished row of domains with (rows done, rows total), serialised. */
+  void (*progress)(void *ctx, int done, int total);
+  void *progress_ctx;
+} pt_options_t;
+
+#define PT_OPTIONS_DEFAULT {1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, NULL, NULL}
+
+/** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
+typedef struct {
+  float *error;  /**< largest Fig. 10 error of the pixel's samples (measure only; NaN when no
+                      sample has a pencil-traced checkerboard point, or when not measured) */
+  float *method; /**< pt_method_t used for most of the pixel's samples */
+} pt_extra_t;
+
+/** Number of bins of the error histogram; bin k holds errors in [k, k+1) * PT_HIST_STEP, the
+ *  last bin everything above (including path mismatches, which count as infinite error). */
+#define PT_HIST_BINS 256
+#define PT_HIST_STEP 0.01
+
+/** Counters of one render (summed over threads). */
+typedef struct {
+  uint64_t cells;          /**< domains and sub-domains examined */
+  uint64_t cells_edge;     /**< ... found to contain an edge (trees differ, or the guard) */
+  uint64_t cells_guard;    /**< ... of which only the small-object guard fired */
+  uint64_t cells_accepted; /**< ... traced with matrices (step 4a) */
+  uint64_t cells_narrow;   /**< ... traced exactly because the pencil is narrower than a
+                                pixel (step 4b) */
+  uint64_t cells_split;    /**< ... subdivided for the spread limit (step 4c) */
+  uint64_t cells_check_failed; /**< certified mode: the a-posteriori check rejected the cell */
+  uint64_t exact_traces;   /**< exact primary traces for axial and corner rays */
+  uint64_t samples[3];     /**< samples by pt_method_t */
+  uint64_t fallbacks;      /**< samples that needed an exact trace of part of their tree */
+  uint64_t lerp_samples;   /**< interpolated samples whose brightness was interpolated too */
+  /* Fig. 10 measurement (measure only) */
+  uint64_t measured;       /**< samples measured (all samples of the image) */
+  uint64_t with_board;     /**< ... with at least one pencil-traced checkerboard point */
+  uint64_t within;         /**< ... whose error is <= rho (samples without such a point count) */
+  uint64_t mismatches;     /**< ... whose exact ray tree lacks a path the pencil used */
+  double max_error;        /**< largest finite error */
+  double max_error_t;      /**< largest error on the transmission-first path only */
+  uint64_t within_t;       /**< samples within rho on the transmission-first path */
+  uint64_t hist[PT_HIST_BINS];
+  rt_stats_t rays;         /**< rays traced by the exact tracer (axial, corner, edge, fallback,
+                                measurement) and shadow rays, as the reference renderer counts */
+} pt_stats_t;
+
+/** Render the prepared scene `s` with `plan` by pencil tracing into img (allocated by the
+ *  caller at the camera's size); `extra` may be NULL. `sample_error`, when not NULL, receives
+ *  the Fig. 10 error of every sample (width * height * s * s floats, pixel-major, INFINITY for a
+ *  path mismatch, 0 for exactly traced samples and samples without a checkerboard point); it
+ *  needs opt->measure. RT_EINVAL for a bad option or image, RT_ENOTREADY, RT_ENOMEM. */
+rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_options_t *opt,
+                      rt_image_t *img, pt_extra_t *extra, float *sample_error, pt_stats_t *stats);
+
+#endif

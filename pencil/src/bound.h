@@ -1,0 +1,13 @@
+/* bound.h -- private: the constant C of Eq. (4) for a path's cascade, from libparaxial's error
+ * bounds (Appendix, issue 3). */
+#ifndef PENCIL_BOUND_H
+#define PENCIL_BOUND_H
+
+#include "paraxial/cascade.h"
+#include "pencil/pencil.h"
+
+/** C of e_x (Eq. 4) for a pinhole pencil entering cascade `c`: PT_BOUND_CORRECTED or
+ *  PT_BOUND_PRINTED. PX_EINVAL when the variant is not available. */
+px_status_t pt__bound_c(const px_cascade_t *c, pt_bound_t b, double *out);
+
+#endif

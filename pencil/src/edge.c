@@ -1,0 +1,90 @@
+/* edge.c -- the smoothness condition (paper section 4.1 (1), step 3): ray-tree comparison without
+ * checker squares, and the cone guard against small objects vanishing (the paper's suggestion:
+ * "estimating the distances between an axial ray and object surfaces, as in ... ray tracing with
+ * cones"; here with bounding spheres). */
+#include "pencil/edge.h"
+
+#include <math.h>
+
+#include "pvec.h"
+#include "render/intersect.h"
+
+static pt_cnode_t compact(const rt_tree_node_t *a) {
+  return (pt_cnode_t){a->parent, a->object, a->prim, a->lit, a->blocked, a->kind, a->flags};
+}
+
+static int same(const pt_cnode_t *a, const pt_cnode_t *b) {
+  return a->parent == b->parent && a->kind == b->kind && a->flags == b->flags &&
+         a->object == b->object && a->prim == b->prim && a->lit == b->lit &&
+         a->blocked == b->blocked;
+}
+
+void pt_ctree_from(pt_ctree_t *c, const rt_tree_t *t) {
+  c->valid = !t->overflow && t->n <= c->cap;
+  c->n = c->valid ? t->n : 0;
+  for (int k = 0; k < c->n; k++)
+    c->node[k] = compact(&t->node[k]);
+}
+
+int pt_tree_same_paths(const rt_tree_t *a, const rt_tree_t *b) {
+  if (a->n != b->n || a->overflow || b->overflow)
+    return 0;
+  for (int k = 0; k < a->n; k++) {
+    pt_cnode_t x = compact(&a->node[k]), y = compact(&b->node[k]);
+    if (!same(&x, &y))
+      return 0;
+  }
+  return 1;
+}
+
+int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b) {
+  if (!b->valid || a->overflow || a->n != b->n)
+    return 0;
+  for (int k = 0; k < a->n; k++) {
+    pt_cnode_t x = compact(&a->node[k]);
+    if (!same(&x, &b->node[k]))
+      return 0;
+  }
+  return 1;
+}
+
+int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
+  int n = 0;
+  for (int o = 0; o < s->nobject && n < cap; o++) {
+    const rt_object_t *ob = &s->object[o];
+    if (ob->kind == RT_OBJ_PLANE)
+      continue;
+    if (ob->kind == RT_OBJ_SPHERE) {
+      const rt_sphere_t *sp = &s->prim[ob->first_prim].sphere;
+      out[n++] = (pt_bsphere_t){sp->c, sp->r, o};
+      continue;
+    }
+    px_vec3_t lo = pv(INFINITY, INFINITY, INFINITY), hi = pv(-INFINITY, -INFINITY, -INFINITY);
+    for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
+      px_vec3_t a, b;
+      if (!rt_prim_bounds(s, p, &a, &b))
+        continue;
+      lo = pv(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
+      hi = pv(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
+    }
+    if (!(lo.x <= hi.x))
+      continue;
+    px_vec3_t c = pv_scale(pv_add(lo, hi), 0.5);
+    out[n++] = (pt_bsphere_t){c, 0.5 * pv_norm(pv_sub(hi, lo)), o};
+  }
+  return n;
+}
+
+int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half) {
+  for (int i = 0; i < n; i++) {
+    px_vec3_t v = pv_sub(b[i].c, eye);
+    double dist = pv_norm(v);
+    if (dist <= b[i].r)
+      continue; /* the eye is inside: the object surrounds every cone */
+    double gamma = asin(b[i].r / dist);
+    double ang = acos(fmax(-1.0, fmin(1.0, pv_dot(v, axis) / dist)));
+    if (ang < gamma + half && ang + half > gamma)
+      return 1; /* intersects the cone without containing it */
+  }
+  return 0;
+}

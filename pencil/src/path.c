@@ -1,0 +1,258 @@
+/* path.c -- the paths of the axial ray's tree and their system matrices (paper section 4.1 (1),
+ * step 2), the tolerance of Eq. (3) carried onto each node's surface, the constant C of Eq. (4)
+ * and the spread limit of Eq. (6).
+ *
+ * A node's path is handed to reference/ as an exact optical system, so that the matrices come
+ * from the verified ex_trace_axial() + ex_axial_cascade() rather than from a second
+ * implementation of Eqs. (1)-(2). */
+#include "pencil/path.h"
+
+#include <math.h>
+
+#include "bound.h"
+#include "pvec.h"
+#include "render/intersect.h"
+
+/* The quadric of a primitive: sphere, or the plane of a plane or polygon. */
+static ex_quadric_t prim_quadric(const rt_scene_t *s, int prim) {
+  const rt_prim_t *p = &s->prim[prim];
+  if (p->kind == RT_PRIM_SPHERE)
+    return ex_quadric_sphere(p->sphere.c, p->sphere.r);
+  if (p->kind == RT_PRIM_PLANE)
+    return ex_quadric_plane(p->plane.p, p->plane.n);
+  return ex_quadric_plane(pv_scale(p->polygon.n, p->polygon.d), p->polygon.n);
+}
+
+/* Index after a refraction at tree node a, by rt_shade_surface()'s rule: the object's index when
+ * the ray enters it (meets the outward side), the scene's when it leaves. */
+static double index_after(const rt_scene_t *s, const rt_tree_node_t *a) {
+  px_vec3_t n = rt_prim_normal(s, a->prim, a->point);
+  int entering = pv_dot(n, a->dir) < 0.0;
+  return entering ? rt_scene_material_at(s, a->prim, a->point, NULL)->ior : s->ior;
+}
+
+double pt_surface_interval(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
+                           px_vec3_t ez, px_vec3_t n) {
+  double cz = pv_dot(n, ez), best = INFINITY;
+  for (int i = 0; i < 2; i++) {
+    double x1 = b.m[0][0] * delta[i][0] + b.m[0][1] * delta[i][1];
+    double x2 = b.m[1][0] * delta[i][0] + b.m[1][1] * delta[i][1];
+    px_vec3_t v = pv_add(pv_scale(e1, x1), pv_scale(e2, x2));
+    /* slide along ez onto the tangent plane: v - (n.v / n.ez) ez */
+    px_vec3_t w = cz != 0.0 ? pv_axpy(-pv_dot(n, v) / cz, ez, v) : v;
+    double len = pv_norm(w);
+    if (len < best)
+      best = len;
+  }
+  return best;
+}
+
+double pt_spread_limit(double c, double tau, double cos_in) {
+  if (!(tau > 0.0) || !(cos_in > 0.0))
+    return 0.0;
+  if (!(c > 0.0))
+    return INFINITY;
+  return sqrt(tau * cos_in / c);
+}
+
+int pt_node_ray(const pt_node_t *n, const double xi[2], px_vec3_t *p, px_vec3_t *d) {
+  double x1 = n->b.m[0][0] * xi[0] + n->b.m[0][1] * xi[1];
+  double x2 = n->b.m[1][0] * xi[0] + n->b.m[1][1] * xi[1];
+  double s1 = n->d.m[0][0] * xi[0] + n->d.m[0][1] * xi[1];
+  double s2 = n->d.m[1][0] * xi[0] + n->d.m[1][1] * xi[1];
+  double c2 = 1.0 - s1 * s1 - s2 * s2;
+  if (!(c2 > 0.0))
+    return 0;
+  *p = pv_axpy(x1, n->e1, pv_axpy(x2, n->e2, n->o));
+  *d = pv_axpy(s1, n->e1, pv_axpy(s2, n->e2, pv_scale(n->ez, sqrt(c2))));
+  return 1;
+}
+
+int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t d,
+                px_vec3_t *hit) {
+  const rt_prim_t *pr = &s->prim[n->prim];
+  if (pr->kind == RT_PRIM_SPHERE) { /* |p + t d - c|^2 = r^2, the root nearest t = 0 */
+    px_vec3_t oc = pv_sub(p, pr->sphere.c);
+    double b = pv_dot(oc, d);
+    double c = (pv_norm(oc) - pr->sphere.r) * (pv_norm(oc) + pr->sphere.r);
+    double disc = b * b - c;
+    if (disc < 0.0)
+      return 0;
+    double q = -b - copysign(sqrt(disc), b); /* larger-magnitude root; the other is c / q */
+    double t = q != 0.0 ? c / q : 0.0;
+    if (fabs(q) < fabs(t))
+      t = q;
+    *hit = pv_axpy(t, d, p);
+    return 1;
+  }
+  px_vec3_t nn = pr->kind == RT_PRIM_PLANE ? pr->plane.n : pr->polygon.n;
+  double off = pr->kind == RT_PRIM_PLANE ? pv_dot(nn, pr->plane.p) : pr->polygon.d;
+  double den = pv_dot(nn, d);
+  if (den == 0.0)
+    return 0;
+  double t = (off - pv_dot(nn, p)) / den;
+  *hit = pv_axpy(t, d, p);
+  if (pr->kind == RT_PRIM_POLYGON) { /* inside test: a short segment straddling the plane */
+    double h = 1e-6 * (1.0 + fabs(hit->x) + fabs(hit->y) + fabs(hit->z));
+    rt_ray_t seg = {pv_axpy(-h, d, *hit), d, 0.0, 2.0 * h, 1.0, -1};
+    double tt;
+    if (!rt_prim_intersect(s, n->prim, &seg, 2.0 * h, &tt))
+      return 0;
+  }
+  return 1;
+}
+
+/* Exact error of the linear map in the plane normal to the output axis at the eye direction xi
+ * (the x part of ex_map(psi) - T psi). */
+static px_status_t exact_error(const pt_path_scratch_t *w, const pt_node_t *n, const double xi[2],
+                               double e[2]) {
+  double psi[4] = {0.0, 0.0, xi[0], xi[1]}, out[4];
+  px_status_t st = ex_map(&w->sys, &w->ax, psi, out);
+  if (st != PX_OK)
+    return st;
+  e[0] = out[0] - (n->b.m[0][0] * xi[0] + n->b.m[0][1] * xi[1]);
+  e[1] = out[1] - (n->b.m[1][0] * xi[0] + n->b.m[1][1] * xi[1]);
+  return PX_OK;
+}
+
+/* The probe "constant": the worst exact error on the spread circle |xi| = xi_cell over
+ * xi_cell^2 (not a bound; for comparison with the Appendix bounds). */
+static px_status_t probe_c(const pt_path_scratch_t *w, const pt_node_t *n, double xi_cell,
+                           double *c) {
+  double worst = 0.0;
+  if (!(xi_cell > 0.0)) {
+    *c = 0.0;
+    return PX_OK;
+  }
+  for (int j = 0; j < 8; j++) {
+    double xi[2] = {xi_cell * cos(j * M_PI / 4), xi_cell * sin(j * M_PI / 4)}, e[2];
+    px_status_t st = exact_error(w, n, xi, e);
+    if (st != PX_OK)
+      return st;
+    worst = fmax(worst, hypot(e[0], e[1]));
+  }
+  *c = worst / (xi_cell * xi_cell);
+  return PX_OK;
+}
+
+/* Certified mode: the exact error at the 8 boundary points, each edge's error interpolated by
+ * the quadratic through its corner, midpoint and corner (exact for a second-order error), and
+ * the largest magnitude along the four edges, carried onto the surface (/ cos). */
+static px_status_t check_boundary(const pt_path_scratch_t *w, const pt_node_t *n,
+                                  const double (*pts)[2], double *out) {
+  double e[8][2], worst = 0.0;
+  for (int j = 0; j < 8; j++) {
+    px_status_t st = exact_error(w, n, pts[j], e[j]);
+    if (st != PX_OK)
+      return st;
+  }
+  for (int edge = 0; edge < 4; edge++) {
+    const double *a = e[2 * edge], *m = e[2 * edge + 1], *b = e[(2 * edge + 2) % 8];
+    for (int k = 0; k <= 16; k++) {
+      double t = k / 16.0, la = (1 - t) * (1 - 2 * t), lm = 4 * t * (1 - t), lb = t * (2 * t - 1);
+      worst = fmax(worst, hypot(la * a[0] + lm * m[0] + lb * b[0], la * a[1] + lm * m[1] + lb * b[1]));
+    }
+  }
+  *out = worst / n->cos_in;
+  return PX_OK;
+}
+
+/* Stages for the surfaces met before node k; returns how many, or -1 when the path is too
+ * long. *ior gets the index of the medium the node's ray travels in. */
+static int path_stages(const rt_scene_t *s, const rt_tree_t *tree, int k, ex_stage_t *stage,
+                       double *ior) {
+  int chain[EX_MAX_STAGES + 1], m = 0;
+  for (int a = k; a >= 0; a = tree->node[a].parent) {
+    if (m > EX_MAX_STAGES)
+      return -1;
+    chain[m++] = a;
+  }
+  double n = s->ior;
+  for (int j = m - 1; j >= 1; j--) {
+    const rt_tree_node_t *a = &tree->node[chain[j]], *next = &tree->node[chain[j - 1]];
+    ex_stage_t *st = &stage[m - 1 - j];
+    st->surface = prim_quadric(s, a->prim);
+    st->at_origin = 0;
+    if (next->kind == RT_RAY_REFRACT) {
+      st->event = PX_EVENT_REFRACT;
+      n = index_after(s, a);
+    } else {
+      st->event = PX_EVENT_REFLECT;
+    }
+    st->n_after = n;
+  }
+  *ior = n;
+  return m - 1;
+}
+
+static void fill_topology(const rt_tree_t *tree, int k, pt_node_t *out) {
+  const rt_tree_node_t *nd = &tree->node[k];
+  out->parent = nd->parent;
+  out->kind = nd->kind;
+  out->depth = nd->depth;
+  out->miss = (nd->flags & RT_NODE_MISS) != 0;
+  out->object = nd->object;
+  out->prim = nd->prim;
+  out->textured = nd->texel >= 0;
+  out->child[0] = out->child[1] = -1;
+  out->child_kind[0] = out->child_kind[1] = -1;
+  for (int j = k + 1, c = 0; j < tree->n && c < 2; j++)
+    if (tree->node[j].parent == k) {
+      out->child[c] = j;
+      out->child_kind[c++] = tree->node[j].kind;
+    }
+  out->known = 0;
+  out->c = 0.0;
+  out->xi_max = INFINITY;
+  out->tau = INFINITY;
+  out->interval = INFINITY;
+  out->e_check = -1.0;
+}
+
+px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_pencil_t *p,
+                          pt_path_scratch_t *w, pt_node_t *out) {
+  const rt_tree_node_t *nd = &tree->node[k];
+  fill_topology(tree, k, out);
+  int nstage = path_stages(s, tree, k, w->stage, &out->ior);
+  if (nstage < 0)
+    return PX_EINVAL;
+  if (out->miss)
+    return PX_OK;
+  w->sys = (ex_system_t){p->eye, p->frame, s->ior, w->stage, (size_t)nstage, nd->t, 0.0};
+  px_status_t st = ex_trace_axial(&w->sys, &w->ax);
+  if (st != PX_OK)
+    return st;
+  /* the re-traced axial ray must end where the renderer's did */
+  if (pv_norm(pv_sub(w->ax.out_origin, nd->point)) > 1e-7 * (1.0 + w->ax.length))
+    return PX_EMISS;
+  px_cascade_t cas;
+  st = ex_axial_cascade(&w->sys, &w->ax, PX_VARIANT_CORRECTED, w->elem,
+                        sizeof w->elem / sizeof w->elem[0], &cas);
+  if (st != PX_OK)
+    return st;
+  px_mat4_t t = px_cascade_product(&cas);
+  if (!px_mat4_isfinite(t))
+    return PX_ENONFINITE;
+  out->b = px_mat4_block(t, 0, 1);
+  out->d = px_mat4_block(t, 1, 1);
+  out->o = w->ax.out_origin;
+  out->e1 = w->ax.out_frame.x1;
+  out->e2 = w->ax.out_frame.x2;
+  out->ez = w->ax.out_frame.z;
+  out->n = nd->normal;
+  out->cos_in = fabs(pv_dot(out->n, out->ez));
+  if (!(out->cos_in > PX_COS_MIN))
+    return PX_EGRAZING;
+  out->interval = pt_surface_interval(out->b, p->delta, out->e1, out->e2, out->ez, out->n);
+  out->tau = p->rho * out->interval;
+  if (p->bound == PT_BOUND_PROBE)
+    st = probe_c(w, out, p->xi_cell, &out->c);
+  else
+    st = pt__bound_c(&cas, p->bound, &out->c);
+  if (st != PX_OK)
+    return st;
+  out->xi_max = pt_spread_limit(out->c, out->tau, out->cos_in);
+  if (p->check)
+    st = check_boundary(w, out, p->check, &out->e_check);
+  return st;
+}

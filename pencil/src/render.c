@@ -1,0 +1,177 @@
+/* render.c -- the screen loop of the pencil renderer (paper section 4.1 (1), step 1: "divide the
+ * screen into n x m initial domains"), domains shared among OpenMP threads. Each thread owns its
+ * scratch (trees, paths, lattice), allocated before the loop, so that no ray allocates. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "internal.h"
+
+#define PT_MAX_GUARD 4096
+
+static int thread_count(const pt_options_t *opt) {
+#ifdef _OPENMP
+  return opt->threads > 0 ? opt->threads : omp_get_max_threads();
+#else
+  (void)opt;
+  return 1;
+#endif
+}
+
+static void ctx_free(pt_ctx_t *C) {
+  free(C->tree.node);
+  free(C->tree2.node);
+  if (C->corner)
+    free(C->corner[0].node);
+  free(C->corner);
+  free(C->node);
+  free(C->lat);
+  free(C->latc);
+  free(C->latok);
+  free(C->rec);
+  free(C->sw);
+}
+
+/* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
+static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
+  size_t side = (size_t)n + 1, corners = side * side;
+  int s = C->opt->spp_side;
+  C->cap = cap;
+  C->tree = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
+  C->tree2 = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
+  C->corner = calloc(corners, sizeof *C->corner);
+  pt_cnode_t *cn = malloc(corners * (size_t)cap * sizeof *cn);
+  C->node = malloc((size_t)cap * sizeof *C->node);
+  C->lat = malloc(corners * (size_t)cap * sizeof *C->lat);
+  C->latc = malloc(corners * sizeof *C->latc);
+  C->latok = malloc(corners);
+  C->rec = calloc((size_t)cap, sizeof *C->rec);
+  C->sw = malloc((size_t)(s * s) * sizeof *C->sw);
+  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->latc ||
+      !C->latok || !C->rec || !C->sw) {
+    if (C->corner)
+      C->corner[0].node = cn;
+    else
+      free(cn);
+    return 0;
+  }
+  for (size_t i = 0; i < corners; i++)
+    C->corner[i] = (pt_ctree_t){cn + i * (size_t)cap, cap, -1, 0};
+  for (int b = 0; b < s; b++)
+    for (int a = 0; a < s; a++) {
+      double u = (a + 0.5) / s, v = (b + 0.5) / s;
+      double *w = C->sw[b * s + a];
+      w[0] = (1 - u) * (1 - v);
+      w[1] = u * (1 - v);
+      w[2] = (1 - u) * v;
+      w[3] = u * v;
+    }
+  return 1;
+}
+
+static void domain(pt_ctx_t *C, int dx, int dy) {
+  int n = C->opt->domain, side = n + 1;
+  C->dom_x0 = dx * n;
+  C->dom_y0 = dy * n;
+  for (int i = 0; i < side * side; i++)
+    C->corner[i].n = -1;
+  int x1 = C->dom_x0 + n, y1 = C->dom_y0 + n;
+  if (x1 > C->img->width)
+    x1 = C->img->width;
+  if (y1 > C->img->height)
+    y1 = C->img->height;
+  pt__cell(C, C->dom_x0, C->dom_y0, x1, y1);
+}
+
+static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
+  a->cells += b->cells;
+  a->cells_edge += b->cells_edge;
+  a->cells_guard += b->cells_guard;
+  a->cells_accepted += b->cells_accepted;
+  a->cells_narrow += b->cells_narrow;
+  a->cells_split += b->cells_split;
+  a->cells_check_failed += b->cells_check_failed;
+  a->exact_traces += b->exact_traces;
+  for (int m = 0; m < 3; m++)
+    a->samples[m] += b->samples[m];
+  a->fallbacks += b->fallbacks;
+  a->lerp_samples += b->lerp_samples;
+  a->measured += b->measured;
+  a->with_board += b->with_board;
+  a->within += b->within;
+  a->within_t += b->within_t;
+  a->mismatches += b->mismatches;
+  a->max_error = fmax(a->max_error, b->max_error);
+  a->max_error_t = fmax(a->max_error_t, b->max_error_t);
+  for (int k = 0; k < PT_HIST_BINS; k++)
+    a->hist[k] += b->hist[k];
+}
+
+static int options_ok(const pt_options_t *o) {
+  return o->spp_side >= 1 && o->spp_side <= 7 && o->threads >= 0 && o->domain >= 1 &&
+         o->domain <= 32 && o->rho > 0.0 && isfinite(o->rho) && (unsigned)o->bound <= 2u;
+}
+
+rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_options_t *opt,
+                      rt_image_t *img, pt_extra_t *extra, float *sample_error, pt_stats_t *stats) {
+  rt_view_t view;
+  if (!s->bvh)
+    return RT_ENOTREADY;
+  if (!options_ok(opt) || (sample_error && !opt->measure) ||
+      rt_view_make(&s->camera, &view) != RT_OK || img->width != s->camera.width ||
+      img->height != s->camera.height)
+    return RT_EINVAL;
+  int nt = thread_count(opt), n = opt->domain;
+  int nx = (img->width + n - 1) / n, ny = (img->height + n - 1) / n;
+  pt_bsphere_t *guard = malloc(PT_MAX_GUARD * sizeof *guard);
+  pt_ctx_t *ctx = calloc((size_t)nt, sizeof *ctx);
+  rt_status_t st = guard && ctx ? RT_OK : RT_ENOMEM;
+  int nguard = guard ? pt_guard_spheres(s, guard, PT_MAX_GUARD) : 0;
+  for (int t = 0; t < nt && st == RT_OK; t++) {
+    ctx[t] = (pt_ctx_t){.s = s, .plan = plan, .view = &view, .opt = opt, .img = img,
+                        .extra = extra, .sample_error = sample_error, .guard = guard,
+                        .nguard = nguard, .ex = rt_exact_make(s, plan, NULL)};
+    if (!ctx_alloc(&ctx[t], plan->tree_nodes, n))
+      st = RT_ENOMEM;
+  }
+  pt_stats_t total;
+  memset(&total, 0, sizeof total);
+  rt_stats_t *rays = &total.rays;
+  if (st == RT_OK) {
+    int done = 0;
+#pragma omp parallel num_threads(nt)
+    {
+      int me = 0;
+#ifdef _OPENMP
+      me = omp_get_thread_num();
+#endif
+      pt_ctx_t *C = &ctx[me];
+#pragma omp for schedule(dynamic, 1)
+      for (int dy = 0; dy < ny; dy++) {
+        for (int dx = 0; dx < nx; dx++)
+          domain(C, dx, dy);
+        if (opt->progress) {
+#pragma omp critical(pt_progress)
+          opt->progress(opt->progress_ctx, ++done, ny);
+        }
+      }
+    }
+    for (int t = 0; t < nt; t++) {
+      stats_add(&total, &ctx[t].st);
+      rays->primary += ctx[t].ex.stats.primary;
+      rays->reflect += ctx[t].ex.stats.reflect;
+      rays->refract += ctx[t].ex.stats.refract;
+      rays->shadow += ctx[t].ex.stats.shadow;
+    }
+  }
+  for (int t = 0; ctx && t < nt; t++)
+    ctx_free(&ctx[t]);
+  free(ctx);
+  free(guard);
+  if (stats)
+    *stats = total;
+  return st;
+}
