@@ -28,7 +28,8 @@ static void help(FILE *f) {
           "subdivision; sub-pixel samples by ray interpolation where e_int allows.\n"
           "Writes OUT.exr (the exact renderer's channels, plus pencil.error: largest Fig. 10 error\n"
           "of the pixel's samples when --measure is given, and pencil.method: 0 exact, 1 matrix,\n"
-          "2 interpolated) and a PNG preview beside it.\n\n"
+          "2 interpolated; pencil.rays: exact rays traced for the pixel's samples) and a PNG\n"
+          "preview beside it.\n\n"
           "options:\n"
           "  -o, --output OUT.exr  output image\n"
           "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
@@ -180,8 +181,9 @@ static int write_outputs(const args_t *a, const rt_image_t *img, const pt_extra_
                            {"pencil:rho", rho},
                            {"pencil:bounds", pt_bound_name(a->opt.bound)},
                            {"pencil:certified", a->opt.certified ? "yes" : "no"}};
-  io_exr_channel_t ch[2] = {{"pencil.error", x->error}, {"pencil.method", x->method}};
-  if (io_exr_write_extra(a->out, img, ch, 2, meta, 6, err, sizeof err) != 0 ||
+  io_exr_channel_t ch[3] = {{"pencil.error", x->error}, {"pencil.method", x->method},
+                            {"pencil.rays", x->rays}};
+  if (io_exr_write_extra(a->out, img, ch, 3, meta, 6, err, sizeof err) != 0 ||
       (io_png_path_for(a->out, png, sizeof png) && io_png_write(png, img, err, sizeof err) != 0))
     return fprintf(stderr, "pencil render: %s\n", err), 0;
   return 1;
@@ -191,20 +193,27 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
                    const args_t *a) {
   uint64_t n = st->samples[0] + st->samples[1] + st->samples[2];
   printf("pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
-         "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu edge, %llu split, "
-         "%llu narrow, %llu check failed); %llu exact rays -> %s\n",
+         "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu partly exact, %llu edge, "
+         "%llu split), %llu paths exact; %llu exact rays -> %s\n",
          s->camera.width, s->camera.height, spp, dt, a->opt.rho, pt_bound_name(a->opt.bound),
          a->opt.certified ? ", certified" : "", 100.0 * st->samples[1] / n,
          100.0 * st->samples[2] / n, 100.0 * st->samples[0] / n,
          (unsigned long long)st->cells, (unsigned long long)st->cells_accepted,
-         (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
-         (unsigned long long)st->cells_narrow, (unsigned long long)st->cells_check_failed,
+         (unsigned long long)st->cells_partial, (unsigned long long)st->cells_edge,
+         (unsigned long long)st->cells_split, (unsigned long long)st->paths_exact,
          (unsigned long long)rt_stats_total(&st->rays), a->out);
+  printf("matrix pixels: %llu small cell, %llu corner left the paths, %llu reach, %llu e_int; "
+         "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
+         (unsigned long long)st->matrix_pixels[0], (unsigned long long)st->matrix_pixels[1],
+         (unsigned long long)st->matrix_pixels[2], (unsigned long long)st->matrix_pixels[3],
+         (unsigned long long)st->fallbacks, (unsigned long long)st->partial,
+         (unsigned long long)st->lerp_samples);
   if (a->opt.measure)
     printf("Fig. 10 error: %llu samples, %.4f%% within rho = %g, max %.4g (transmission path: "
-           "%.4f%% within, max %.4g), %llu path mismatches\n",
+           "%.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), %llu path mismatches\n",
            (unsigned long long)st->measured, 100.0 * st->within / st->measured, a->opt.rho,
            st->max_error, 100.0 * st->within_t / st->measured, st->max_error_t,
+           100.0 * st->within_strict / st->measured, st->max_error_strict,
            (unsigned long long)st->mismatches);
 }
 
@@ -221,14 +230,16 @@ static int render(args_t *a, rt_scene_t *s) {
   rt_image_t img;
   size_t np = (size_t)s->camera.width * (size_t)s->camera.height;
   float *err = malloc(np * sizeof *err), *meth = malloc(np * sizeof *meth);
-  if (!err || !meth || rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK) {
+  float *rays = malloc(np * sizeof *rays);
+  if (!err || !meth || !rays || rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK) {
     free(err);
     free(meth);
+    free(rays);
     fprintf(stderr, "pencil render: cannot allocate a %dx%d image\n", s->camera.width,
             s->camera.height);
     return CLI_FAIL;
   }
-  pt_extra_t x = {err, meth};
+  pt_extra_t x = {err, meth, rays};
   a->opt.spp_side = side;
   a->opt.threads = (int)a->threads;
   a->opt.progress = isatty(2) ? progress : NULL;
@@ -241,9 +252,19 @@ static int render(args_t *a, rt_scene_t *s) {
     fprintf(stderr, "pencil render: %s\n", rt_strerror(rs));
   if (ok)
     report(s, spp, dt, &st, a);
+  if (ok && getenv("PT_DUMP")) {
+    FILE *f = fopen(getenv("PT_DUMP"), "wb");
+    if (f) {
+      fwrite(rays, sizeof *rays, np, f);
+      fwrite(meth, sizeof *meth, np, f);
+      fwrite(err, sizeof *err, np, f);
+      fclose(f);
+    }
+  }
   rt_image_free(&img);
   free(err);
   free(meth);
+  free(rays);
   return ok ? CLI_OK : CLI_FAIL;
 }
 

@@ -5,8 +5,9 @@
 
 #include <string.h>
 
-px_status_t pt__bound_c(const px_cascade_t *c, pt_bound_t b, double *out) {
-  (void)c;
+px_status_t pt__bound_c(const pt_node_t *nodes, int k, pt_bound_t b, double *out) {
+  (void)nodes;
+  (void)k;
   (void)b;
   (void)out;
   return PX_EINVAL;

@@ -48,6 +48,38 @@ int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b) {
   return 1;
 }
 
+/* The child of node m of c whose ray is of `kind`, or -1. */
+static int child_of(const pt_ctree_t *c, int m, int kind) {
+  for (int j = m + 1; j < c->n; j++)
+    if (c->node[j].parent == m && c->node[j].kind == kind)
+      return j;
+  return -1;
+}
+
+int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map,
+                  uint8_t *agree, uint32_t *light) {
+  int all = !a->overflow;
+  for (int i = 0; i < nc; i++)
+    all = all && c[i]->valid && c[i]->n == a->n;
+  for (int k = 0; k < a->n; k++) {
+    const rt_tree_node_t *x = &a->node[k];
+    int p = x->parent, ok = !a->overflow && (p < 0 || agree[p]);
+    uint32_t lt = ~0u;
+    for (int i = 0; i < nc && ok; i++) {
+      int m = !c[i]->valid || c[i]->n == 0 ? -1 : p < 0 ? 0 : child_of(c[i], map[i * a->n + p], x->kind);
+      map[i * a->n + k] = m;
+      const pt_cnode_t *y = m >= 0 ? &c[i]->node[m] : NULL;
+      ok = y && y->object == x->object && y->prim == x->prim && y->flags == x->flags;
+      if (ok)
+        lt &= ~((y->lit ^ x->lit) | (y->blocked ^ x->blocked));
+    }
+    agree[k] = (uint8_t)ok;
+    light[k] = ok ? lt : 0u;
+    all = all && ok && lt == ~0u;
+  }
+  return all;
+}
+
 int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
   int n = 0;
   for (int o = 0; o < s->nobject && n < cap; o++) {

@@ -1,20 +1,26 @@
 /* eval.c -- one sample through the domain's paths (paper section 4.1 (1): "paraxial rays are
  * traced by a system matrix"; 4.1 (2): ray interpolation), shaded by the reference renderer's
- * shade.h through an rt_tracer_t whose callbacks use the domain's data:
- *  - a child ray's radiance is the radiance of the matching node of the domain's tree, evaluated
- *    for the same sample (no scene search: the node's own primitive only);
- *  - a shadow query returns the transmittance recorded once per domain at the axial ray's node.
- *    This is valid because the cell was accepted only when the trees of its centre and corners
- *    agree on every light's visibility (rt_tree_node_t lit/blocked), docs/pencil.md.
- * Whenever a sample leaves its domain's paths (its paraxial ray misses the node's primitive, or
- * shading asks for a child the tree does not have) that part of its tree is traced exactly. */
+ * shade.h, so that the two renderers differ only in how rays find surfaces.
+ *
+ * The Whitted recursion of rt_shade_hit() is evaluated in its unrolled form: the radiance of a
+ * sample is the sum over the nodes k of its tree of W_k * direct_k, where direct_k is
+ * rt_shade_direct() at node k's hit and W_k the product of the rt_shade_children() weights along
+ * the path from the eye. The children's hits come from the cell's paths, not from a scene
+ * search: each node's paraxial ray psi' = T psi meets the node's own primitive (MATRIX mode), or
+ * its hit point and direction are interpolated from four lattice points (INTERP mode). Keeping
+ * W_k and W_k * direct_k per node lets ray interpolation interpolate the brightness of every
+ * node on which it is linear and shade only the others (cell.c).
+ *
+ * Shadow queries return the transmittance recorded once per cell at the axial ray's node for the
+ * lights whose visibility agrees at the cell's centre and corners (rt_tree_node_t lit/blocked);
+ * for the other lights a shadow ray is traced per sample. Whenever a sample leaves the cell's
+ * paths (its paraxial ray misses the node's primitive, or shading asks for a child the tree does
+ * not have) or reaches a subtree where the corners' trees differ, that part is traced exactly. */
 #include <math.h>
 
 #include "internal.h"
 #include "pvec.h"
 #include "render/intersect.h"
-
-static rt_rgb_t eval_node(pt_eval_t *E, int k, const rt_child_t *from);
 
 static void mark_exact(pt_eval_t *E, int k) {
   if (!E->rec)
@@ -26,26 +32,12 @@ static void mark_exact(pt_eval_t *E, int k) {
       mark_exact(E, n->child[c]);
 }
 
-static rt_rgb_t child_cb(void *ctx, const rt_child_t *child, int depth) {
-  pt_eval_t *E = ctx;
-  const pt_node_t *p = &E->C->node[E->cur];
-  for (int c = 0; c < 2; c++)
-    if (p->child[c] >= 0 && p->child_kind[c] == (int)child->kind)
-      return eval_node(E, p->child[c], child);
-  /* a child the domain's tree does not have: trace it exactly */
-  E->fallback = 1;
-  if (E->rec)
-    E->rec[E->cur].fb |= (uint8_t)(1u << child->kind);
-  rt_tracer_t ex = rt_exact_tracer(&E->C->ex);
-  return ex.child(ex.ctx, child, depth);
-}
-
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
   pt_eval_t *E = ctx;
   pt_node_t *n = &E->C->node[E->cur];
   if (q->light < PT_MAX_LIGHTS) {
     unsigned bit = 1u << q->light;
-    if (E->record_shadow) {
+    if (E->record_shadow && (n->light_agree & bit)) {
       q->through = rt_transmittance(E->C->s, &q->ray);
       n->through[q->light] = q->through;
       n->known |= bit;
@@ -57,22 +49,16 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
       return;
     }
   }
-  /* a light the axial ray's surface faced away from, or beyond PT_MAX_LIGHTS */
+  /* a light whose visibility differs across the cell, one the axial ray's surface faced away
+   * from, or one beyond PT_MAX_LIGHTS: a shadow ray per sample */
   E->C->ex.stats.shadow++;
   q->through = rt_transmittance(E->C->s, &q->ray);
 }
 
-/* The exact radiance for the part of the tree that starts at node k. */
-static rt_rgb_t exact_from(pt_eval_t *E, int k, const rt_child_t *from) {
-  E->fallback = 1;
-  mark_exact(E, k);
-  if (!E->shade)
-    return E->C->s->background;
-  if (from) {
-    rt_tracer_t ex = rt_exact_tracer(&E->C->ex);
-    return ex.child(ex.ctx, from, E->C->node[k].depth);
-  }
-  return rt_exact_primary(&E->C->ex, &E->primary);
+/* Radiance along a child ray by the exact tracer (unweighted). */
+static rt_rgb_t exact_child(pt_eval_t *E, const rt_child_t *c, int depth) {
+  rt_tracer_t ex = rt_exact_tracer(&E->C->ex);
+  return ex.child(ex.ctx, c, depth);
 }
 
 /* Checker square of a hit on a textured plane. */
@@ -84,29 +70,86 @@ static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, int32_t *su, i
   *sv = (int32_t)floor(v / pl->check);
 }
 
-static rt_rgb_t eval_node(pt_eval_t *E, int k, const rt_child_t *from) {
-  pt_ctx_t *C = E->C;
-  const pt_node_t *n = &C->node[k];
-  if (n->miss) {
-    if (E->rec)
-      E->rec[k].ok = 1;
-    return C->s->background;
-  }
-  px_vec3_t hit, d;
+/* Node k's hit point and arriving direction for this sample; 0 when the paraxial ray misses
+ * the node's primitive. */
+static int node_geometry(const pt_eval_t *E, int k, px_vec3_t *hit, px_vec3_t *d) {
+  const pt_node_t *n = &E->C->node[k];
   if (E->mode == PT_EV_MATRIX) {
     px_vec3_t p;
-    if (!pt_node_ray(n, E->xi, &p, &d) || !pt_node_hit(C->s, n, p, d, &hit))
-      return exact_from(E, k, from);
-  } else {
-    const double *w = E->w;
-    const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
-    hit = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
-    d = pv_unit(pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
+    return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
   }
-  if (E->rec) {
-    pt_geom_t *g = &E->rec[k];
+  const double *w = E->w;
+  const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
+  *hit = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+  *d = pv_unit(pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
+  return 1;
+}
+
+/* The surface record of node k at (hit, d) for shade.h. */
+static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,
+                         rt_surface_t *sf) {
+  const pt_node_t *n = &E->C->node[k];
+  rt_hit_t h = {0.0, hit, rt_prim_normal(E->C->s, n->prim, hit), n->prim, n->object};
+  *ray = (rt_ray_t){hit, d, 0.0, INFINITY, n->ior, -1};
+  rt_shade_surface(E->C->s, &h, ray, sf);
+}
+
+static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from);
+
+/* The children of node k at surface sf: those the cell's paths cover by eval_node(), the others
+ * by the exact tracer; `only_exact` skips the former (the caller interpolates them). */
+static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
+                         rt_rgb_t w, int only_exact) {
+  const pt_node_t *n = &E->C->node[k];
+  rt_child_t ch[2];
+  int nc = rt_shade_children(E->C->s, E->C->plan, sf, ray, n->depth, ch);
+  rt_rgb_t sum = rt_rgb(0, 0, 0);
+  for (int i = 0; i < nc; i++) {
+    rt_rgb_t wc = rt_rgb_mul(w, ch[i].weight);
+    int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
+             : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
+                                                   : -1;
+    if (kc >= 0 && E->C->node[kc].pencil) {
+      if (!only_exact)
+        sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));
+      continue;
+    }
+    if (kc >= 0) { /* the corners' trees differ below here: traced exactly */
+      E->partial = 1;
+      mark_exact(E, kc);
+    } else { /* a child the cell's tree does not have: the sample left the cell's paths */
+      E->fallback = 1;
+      if (E->rec)
+        E->rec[k].fb |= (uint8_t)(1u << ch[i].kind);
+    }
+    sum = rt_rgb_add(sum, rt_rgb_mul(wc, exact_child(E, &ch[i], n->depth + 1)));
+  }
+  return sum;
+}
+
+static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from) {
+  pt_ctx_t *C = E->C;
+  const pt_node_t *n = &C->node[k];
+  pt_geom_t *g = E->rec ? &E->rec[k] : NULL;
+  if (n->miss) {
+    rt_rgb_t l = rt_rgb_mul(w, C->s->background);
+    if (g)
+      *g = (pt_geom_t){.w = w, .l = l, .ok = 1};
+    return l;
+  }
+  px_vec3_t hit, d;
+  if (!node_geometry(E, k, &hit, &d)) { /* left the cell's paths: exact from here */
+    E->fallback = 1;
+    mark_exact(E, k);
+    if (!E->shade)
+      return rt_rgb(0, 0, 0);
+    return from ? rt_rgb_mul(w, exact_child(E, from, n->depth))
+                : rt_exact_primary(&C->ex, &E->primary);
+  }
+  if (g) {
     g->p = hit;
     g->d = d;
+    g->w = w;
     g->ok = 1;
     g->fb = 0;
     g->su = g->sv = 0;
@@ -115,20 +158,24 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, const rt_child_t *from) {
   }
   if (!E->shade) {
     for (int c = 0; c < 2; c++)
-      if (n->child[c] >= 0)
-        eval_node(E, n->child[c], NULL);
-    return C->s->background;
+      if (n->child[c] >= 0 && C->node[n->child[c]].pencil)
+        eval_node(E, n->child[c], w, NULL);
+      else if (n->child[c] >= 0)
+        mark_exact(E, n->child[c]);
+    return rt_rgb(0, 0, 0);
   }
-  rt_hit_t h = {0.0, hit, rt_prim_normal(C->s, n->prim, hit), n->prim, n->object};
-  rt_ray_t ray = {hit, d, 0.0, INFINITY, n->ior, -1};
+  rt_ray_t ray;
   rt_surface_t sf;
-  rt_shade_surface(C->s, &h, &ray, &sf);
+  node_surface(E, k, hit, d, &ray, &sf);
   int saved = E->cur;
   E->cur = k;
-  rt_tracer_t tr = {child_cb, shadow_cb, E};
-  rt_rgb_t col = rt_shade_hit(C->s, C->plan, &sf, &ray, n->depth, &tr);
+  rt_tracer_t tr = {NULL, shadow_cb, E};
+  rt_rgb_t l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
+  if (g)
+    g->l = l;
+  rt_rgb_t sum = rt_rgb_add(l, children(E, k, &sf, &ray, w, 0));
   E->cur = saved;
-  return col;
+  return sum;
 }
 
 rt_rgb_t pt__eval(pt_eval_t *E) {
@@ -137,7 +184,27 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
       E->rec[k].ok = E->rec[k].fb = 0;
   E->cur = -1;
   E->fallback = 0;
-  return eval_node(E, 0, NULL);
+  E->partial = 0;
+  return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);
+}
+
+rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children) {
+  px_vec3_t hit, d;
+  node_geometry(E, k, &hit, &d); /* INTERP mode: always succeeds */
+  rt_ray_t ray;
+  rt_surface_t sf;
+  node_surface(E, k, hit, d, &ray, &sf);
+  int saved = E->cur;
+  E->cur = k;
+  rt_rgb_t sum = rt_rgb(0, 0, 0);
+  if (direct) {
+    rt_tracer_t tr = {NULL, shadow_cb, E};
+    sum = rt_rgb_mul(w, rt_shade_direct(E->C->s, E->C->plan, &sf, &ray, &tr));
+  }
+  if (exact_children)
+    sum = rt_rgb_add(sum, children(E, k, &sf, &ray, w, 1));
+  E->cur = saved;
+  return sum;
 }
 
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]) {

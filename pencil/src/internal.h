@@ -10,10 +10,13 @@
 #include "pencil/path.h"
 #include "pencil/pencil.h"
 
-/** Where one node of one sample met its surface, as computed by the pencil. */
+/** Where one node of one sample met its surface, as computed by the pencil, and what it
+ *  contributes to the sample's radiance. */
 typedef struct {
   px_vec3_t p;     /**< hit point */
   px_vec3_t d;     /**< unit direction of the arriving ray */
+  rt_rgb_t w;      /**< W_k: product of the shade.h child weights from the eye to the node */
+  rt_rgb_t l;      /**< W_k * direct_k (W_k * background for a miss); shading only */
   int32_t su, sv;  /**< checker square of the hit (textured nodes), else 0 */
   uint8_t ok;      /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
   uint8_t fb;      /**< bit k: the child of rt_ray_kind_t k was traced exactly */
@@ -37,14 +40,19 @@ typedef struct {
   pt_ctree_t *corner;     /**< corner tree cache of the current domain, (N+1)^2 */
   int dom_x0, dom_y0;     /**< the current domain's top-left pixel */
   pt_node_t *node;        /**< the current cell's paths, one per tree node */
+  int *map;               /**< pt_tree_agree() scratch, 4 x cap */
+  uint8_t *agree;         /**< pt_tree_agree() output, cap */
+  uint32_t *light;        /**< pt_tree_agree() output, cap */
   int nnode;
   px_frame_t frame;       /**< the current cell's input frame at the eye */
   int kt, kr;             /**< nodes on the transmission-first / reflection-first paths to the
                                checkerboard, or -1 */
   pt_path_scratch_t path;
   pt_geom_t *lat;         /**< lattice geometry, (N+1)^2 points x cap nodes */
-  rt_rgb_t *latc;         /**< lattice colours */
-  uint8_t *latok;         /**< lattice point evaluated without exact fallback */
+  uint8_t *latok;         /**< lattice point evaluated without leaving the cell's paths */
+  double *latxi2;         /**< |xi|^2 of the lattice points */
+  int *loc;               /**< per-pixel plan: nodes shaded per sample (cap) */
+  uint8_t *locd, *loce;   /**< ... with their direct term / with exactly traced children */
   pt_geom_t *rec;         /**< one sample's geometry, cap nodes */
   double (*sw)[4];        /**< bilinear weights of the s x s sample pattern */
   pt_stats_t st;
@@ -64,11 +72,17 @@ typedef struct {
   int shade;              /**< 0: geometry only */
   int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
   int cur;                /**< node being shaded */
-  int fallback;           /**< set when part of the tree was traced exactly */
+  int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
+  int partial;            /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;
 
-/** Radiance of the sample (background when shade = 0 is not asked for). */
+/** Radiance of the sample (black when shade = 0). */
 rt_rgb_t pt__eval(pt_eval_t *E);
+
+/** INTERP mode, one node of one sample: with `direct`, W * direct at node k's interpolated hit;
+ *  with `exact_children`, plus the weighted radiance of those of its children that are traced
+ *  exactly (children the corners' trees disagree on). */
+rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children);
 
 /** xi of the primary ray through continuous pixel coordinates (x, y) in the cell frame. */
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
@@ -76,10 +90,12 @@ void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 /** Steps 2-4 for the cell [x0, x1) x [y0, y1) of the current domain (recursive). */
 void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
-/** Fig. 10 error of one sample with pencil geometry rec (see pencil.h); traces it exactly. */
-double pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double *err_t);
+/** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h), tracing it exactly:
+ *  e[0] the largest over its checkerboard points in pixels (|J+ e|), e[1] the same on the
+ *  transmission-first path only, e[2] the largest |e| / sigma_min (strict). */
+void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]);
 
-/** Record a finished sample error in the statistics (and the caller's buffer). */
-void pt__account(pt_ctx_t *C, double err, double err_t, int has_board, float *slot);
+/** Record a finished sample's errors in the statistics (and e[0] in the caller's buffer). */
+void pt__account(pt_ctx_t *C, const double e[3], int has_board, float *slot);
 
 #endif

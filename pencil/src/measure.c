@@ -5,9 +5,12 @@
  * For a sample, every checkerboard point the pencil computed (any node of its tree on a textured
  * plane, matrix-traced or interpolated) is compared with the point of the same path in the exact
  * tracer's tree of the same ray (paths matched by their sequence of reflections/refractions):
- * error = |p_pencil - p_exact| / interval, where interval is one pixel interval on the board along
- * that path (pt_node_t.interval: the smaller of the two screen directions, from the path's system
- * matrix at the cell's axial ray). The sample's error is the largest over its board points; a
+ * error = |J+ (p_pencil - p_exact)|, the distance in pixel intervals on the board: J is the pixel
+ * footprint of that path on the board (one pixel step along screen x and y, from the path's
+ * system matrix at the cell's axial ray, pt_node_t.j), so that where the footprint is stretched
+ * (a board seen at a grazing angle) a distance along the stretch counts in the stretched
+ * interval. The strict variant divides |p_pencil - p_exact| by the smallest pixel interval over
+ * all directions instead. The sample's error is the largest over its board points; a
  * board point of either tree without a counterpart in the other (the pencil missed an edge) is an
  * infinite error. Parts of a tree the pencil traced exactly have no error. */
 #include <math.h>
@@ -43,57 +46,62 @@ static int follow(const rt_tree_t *a, int k, const rt_tree_t *b, int *last, int 
   return cur;
 }
 
-double pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double *err_t) {
+void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]) {
   C->ex.tree = &C->tree2;
   rt_exact_primary(&C->ex, ray);
   C->ex.tree = NULL;
   const rt_tree_t *A = &C->tree, *X = &C->tree2;
-  double err = 0.0;
-  *err_t = 0.0;
+  e[0] = e[1] = e[2] = 0.0;
   int last, next;
   /* pencil -> exact */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
     if (!n->textured || rec[k].ok != 1)
       continue;
-    int e = follow(A, k, X, &last, &next);
-    double d = INFINITY;
-    if (e >= 0 && X->node[e].prim == n->prim)
-      d = pv_norm(pv_sub(rec[k].p, X->node[e].point)) / n->interval;
-    err = fmax(err, d);
+    int x = follow(A, k, X, &last, &next);
+    double d = INFINITY, strict = INFINITY;
+    if (x >= 0 && X->node[x].prim == n->prim) {
+      px_vec3_t v = pv_sub(rec[k].p, X->node[x].point);
+      d = pt_pixels(n, v);
+      strict = pv_norm(v) / n->interval;
+    }
+    e[0] = fmax(e[0], d);
+    e[2] = fmax(e[2], strict);
     if (k == C->kt)
-      *err_t = d;
+      e[1] = d;
   }
   /* exact -> pencil: board points the pencil did not compute and did not trace exactly */
-  for (int e = 0; e < X->n; e++) {
-    if (X->node[e].texel < 0)
+  for (int x = 0; x < X->n; x++) {
+    if (X->node[x].texel < 0)
       continue;
-    int k = follow(X, e, A, &last, &next);
-    if (k >= 0) {
-      if (rec[k].ok == 0 || (C->node[k].prim != X->node[e].prim && rec[k].ok != 2))
-        err = INFINITY;
-    } else if (last < 0 || !(rec[last].ok == 2 || (next >= 0 && (rec[last].fb >> next) & 1u))) {
-      err = INFINITY;
-    }
+    int k = follow(X, x, A, &last, &next), lost = 0;
+    if (k >= 0)
+      lost = rec[k].ok == 0 || (C->node[k].prim != X->node[x].prim && rec[k].ok != 2);
+    else
+      lost = last < 0 || !(rec[last].ok == 2 || (next >= 0 && (rec[last].fb >> next) & 1u));
+    if (lost)
+      e[0] = e[2] = INFINITY;
   }
-  return err;
 }
 
-void pt__account(pt_ctx_t *C, double err, double err_t, int has_board, float *slot) {
+void pt__account(pt_ctx_t *C, const double e[3], int has_board, float *slot) {
   pt_stats_t *st = &C->st;
   double rho = C->opt->rho;
   st->measured++;
   st->with_board += (uint64_t)(has_board != 0);
-  st->within += (uint64_t)(err <= rho);
-  st->within_t += (uint64_t)(err_t <= rho);
-  if (isinf(err))
+  st->within += (uint64_t)(e[0] <= rho);
+  st->within_t += (uint64_t)(e[1] <= rho);
+  st->within_strict += (uint64_t)(e[2] <= rho);
+  if (isinf(e[0]))
     st->mismatches++;
-  else if (err > st->max_error)
-    st->max_error = err;
-  if (isfinite(err_t) && err_t > st->max_error_t)
-    st->max_error_t = err_t;
-  double bin = err / PT_HIST_STEP;
+  else if (e[0] > st->max_error)
+    st->max_error = e[0];
+  if (isfinite(e[1]) && e[1] > st->max_error_t)
+    st->max_error_t = e[1];
+  if (isfinite(e[2]) && e[2] > st->max_error_strict)
+    st->max_error_strict = e[2];
+  double bin = e[0] / PT_HIST_STEP;
   st->hist[bin < PT_HIST_BINS - 1 ? (int)bin : PT_HIST_BINS - 1]++;
   if (slot)
-    *slot = (float)err;
+    *slot = (float)e[0];
 }

@@ -31,20 +31,33 @@ static double index_after(const rt_scene_t *s, const rt_tree_node_t *a) {
   return entering ? rt_scene_material_at(s, a->prim, a->point, NULL)->ior : s->ior;
 }
 
-double pt_surface_interval(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
-                           px_vec3_t ez, px_vec3_t n) {
-  double cz = pv_dot(n, ez), best = INFINITY;
+double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
+                    px_vec3_t ez, px_vec3_t n, px_vec3_t j[2], double ginv[3]) {
+  double cz = pv_dot(n, ez);
   for (int i = 0; i < 2; i++) {
     double x1 = b.m[0][0] * delta[i][0] + b.m[0][1] * delta[i][1];
     double x2 = b.m[1][0] * delta[i][0] + b.m[1][1] * delta[i][1];
     px_vec3_t v = pv_add(pv_scale(e1, x1), pv_scale(e2, x2));
     /* slide along ez onto the tangent plane: v - (n.v / n.ez) ez */
-    px_vec3_t w = cz != 0.0 ? pv_axpy(-pv_dot(n, v) / cz, ez, v) : v;
-    double len = pv_norm(w);
-    if (len < best)
-      best = len;
+    j[i] = cz != 0.0 ? pv_axpy(-pv_dot(n, v) / cz, ez, v) : v;
   }
-  return best;
+  double g00 = pv_dot(j[0], j[0]), g01 = pv_dot(j[0], j[1]), g11 = pv_dot(j[1], j[1]);
+  double det = g00 * g11 - g01 * g01;
+  double lmin = 0.5 * (g00 + g11 - hypot(g00 - g11, 2.0 * g01));
+  if (!(det > 1e-24 * (g00 + g11) * (g00 + g11)) || !(lmin > 0.0)) {
+    ginv[0] = ginv[1] = ginv[2] = INFINITY;
+    return 0.0;
+  }
+  ginv[0] = g11 / det;
+  ginv[1] = -g01 / det;
+  ginv[2] = g00 / det;
+  return sqrt(lmin);
+}
+
+double pt_pixels(const pt_node_t *n, px_vec3_t e) {
+  double r0 = pv_dot(n->j[0], e), r1 = pv_dot(n->j[1], e);
+  double a0 = n->ginv[0] * r0 + n->ginv[1] * r1, a1 = n->ginv[1] * r0 + n->ginv[2] * r1;
+  return hypot(a0, a1);
 }
 
 double pt_spread_limit(double c, double tau, double cos_in) {
@@ -185,7 +198,8 @@ static int path_stages(const rt_scene_t *s, const rt_tree_t *tree, int k, ex_sta
   return m - 1;
 }
 
-static void fill_topology(const rt_tree_t *tree, int k, pt_node_t *out) {
+void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
+                      pt_node_t *out) {
   const rt_tree_node_t *nd = &tree->node[k];
   out->parent = nd->parent;
   out->kind = nd->kind;
@@ -201,24 +215,72 @@ static void fill_topology(const rt_tree_t *tree, int k, pt_node_t *out) {
       out->child[c] = j;
       out->child_kind[c++] = tree->node[j].kind;
     }
+  if (!parent)
+    out->ior = s->ior;
+  else if (nd->kind == RT_RAY_REFRACT)
+    out->ior = index_after(s, &tree->node[nd->parent]);
+  else
+    out->ior = parent->ior;
+  out->pencil = 0;
+  out->light_agree = 0;
   out->known = 0;
   out->c = 0.0;
   out->xi_max = INFINITY;
   out->tau = INFINITY;
   out->interval = INFINITY;
   out->e_check = -1.0;
+  out->nstep = 0;
 }
 
-px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_pencil_t *p,
-                          pt_path_scratch_t *w, pt_node_t *out) {
+/* The step from the parent's hit to node k as a one-stage system in w (the root: a transfer
+ * from the eye). */
+static void step_system(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
+                        const pt_pencil_t *p, const pt_node_t *out, pt_path_scratch_t *w) {
   const rt_tree_node_t *nd = &tree->node[k];
-  fill_topology(tree, k, out);
-  int nstage = path_stages(s, tree, k, w->stage, &out->ior);
+  if (!parent) {
+    w->sys = (ex_system_t){p->eye, p->frame, s->ior, w->stage, 0, nd->t, 0.0};
+    return;
+  }
+  ex_stage_t *st = &w->stage[0];
+  st->surface = prim_quadric(s, parent->prim);
+  st->at_origin = 1;
+  st->event = nd->kind == RT_RAY_REFRACT ? PX_EVENT_REFRACT : PX_EVENT_REFLECT;
+  st->n_after = out->ior;
+  px_frame_t f = {parent->e1, parent->e2, parent->ez};
+  w->sys = (ex_system_t){parent->o, f, parent->ior, w->stage, 1, nd->t, 0.0};
+}
+
+px_status_t pt_path_full(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_pencil_t *p,
+                         pt_path_scratch_t *w) {
+  double ior;
+  int nstage = path_stages(s, tree, k, w->stage, &ior);
   if (nstage < 0)
     return PX_EINVAL;
+  w->sys = (ex_system_t){p->eye, p->frame, s->ior, w->stage, (size_t)nstage, tree->node[k].t, 0.0};
+  return ex_trace_axial(&w->sys, &w->ax);
+}
+
+/* [B; D] of T_k = S [B_p; D_p] (only the columns acting on xi are needed for a pinhole). */
+static void chain(px_mat4_t sm, const pt_node_t *parent, pt_node_t *out) {
+  px_mat2_t sa = px_mat4_block(sm, 0, 0), sb = px_mat4_block(sm, 0, 1);
+  px_mat2_t sc = px_mat4_block(sm, 1, 0), sd = px_mat4_block(sm, 1, 1);
+  if (!parent) {
+    out->b = sb;
+    out->d = sd;
+    return;
+  }
+  out->b = px_mat2_add(px_mat2_mul(sa, parent->b), px_mat2_mul(sb, parent->d));
+  out->d = px_mat2_add(px_mat2_mul(sc, parent->b), px_mat2_mul(sd, parent->d));
+}
+
+px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_node_t *nodes,
+                          const pt_pencil_t *p, pt_path_scratch_t *w) {
+  const rt_tree_node_t *nd = &tree->node[k];
+  pt_node_t *out = &nodes[k];
+  const pt_node_t *parent = nd->parent >= 0 ? &nodes[nd->parent] : NULL;
   if (out->miss)
     return PX_OK;
-  w->sys = (ex_system_t){p->eye, p->frame, s->ior, w->stage, (size_t)nstage, nd->t, 0.0};
+  step_system(s, tree, k, parent, p, out, w);
   px_status_t st = ex_trace_axial(&w->sys, &w->ax);
   if (st != PX_OK)
     return st;
@@ -226,15 +288,13 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, con
   if (pv_norm(pv_sub(w->ax.out_origin, nd->point)) > 1e-7 * (1.0 + w->ax.length))
     return PX_EMISS;
   px_cascade_t cas;
-  st = ex_axial_cascade(&w->sys, &w->ax, PX_VARIANT_CORRECTED, w->elem,
-                        sizeof w->elem / sizeof w->elem[0], &cas);
+  st = ex_axial_cascade(&w->sys, &w->ax, PX_VARIANT_CORRECTED, out->step, 3, &cas);
   if (st != PX_OK)
     return st;
-  px_mat4_t t = px_cascade_product(&cas);
-  if (!px_mat4_isfinite(t))
+  out->nstep = (int)cas.n;
+  chain(px_cascade_product(&cas), parent, out);
+  if (!px_mat4_isfinite(px_mat4_blocks(out->b, out->b, out->d, out->d)))
     return PX_ENONFINITE;
-  out->b = px_mat4_block(t, 0, 1);
-  out->d = px_mat4_block(t, 1, 1);
   out->o = w->ax.out_origin;
   out->e1 = w->ax.out_frame.x1;
   out->e2 = w->ax.out_frame.x2;
@@ -243,12 +303,18 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, con
   out->cos_in = fabs(pv_dot(out->n, out->ez));
   if (!(out->cos_in > PX_COS_MIN))
     return PX_EGRAZING;
-  out->interval = pt_surface_interval(out->b, p->delta, out->e1, out->e2, out->ez, out->n);
+  out->interval = pt_footprint(out->b, p->delta, out->e1, out->e2, out->ez, out->n, out->j,
+                               out->ginv);
   out->tau = p->rho * out->interval;
+  if (p->bound == PT_BOUND_PROBE || p->check) {
+    st = pt_path_full(s, tree, k, p, w);
+    if (st != PX_OK)
+      return st;
+  }
   if (p->bound == PT_BOUND_PROBE)
     st = probe_c(w, out, p->xi_cell, &out->c);
   else
-    st = pt__bound_c(&cas, p->bound, &out->c);
+    st = pt__bound_c(nodes, k, p->bound, &out->c);
   if (st != PX_OK)
     return st;
   out->xi_max = pt_spread_limit(out->c, out->tau, out->cos_in);

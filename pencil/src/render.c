@@ -28,9 +28,15 @@ static void ctx_free(pt_ctx_t *C) {
     free(C->corner[0].node);
   free(C->corner);
   free(C->node);
+  free(C->map);
+  free(C->agree);
+  free(C->light);
   free(C->lat);
-  free(C->latc);
   free(C->latok);
+  free(C->latxi2);
+  free(C->loc);
+  free(C->locd);
+  free(C->loce);
   free(C->rec);
   free(C->sw);
 }
@@ -38,6 +44,7 @@ static void ctx_free(pt_ctx_t *C) {
 /* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
 static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   size_t side = (size_t)n + 1, corners = side * side;
+  size_t lattice = corners + 3 * side + 9; /* half-pixel steps along 1-pixel-wide cells */
   int s = C->opt->spp_side;
   C->cap = cap;
   C->tree = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
@@ -45,13 +52,20 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->corner = calloc(corners, sizeof *C->corner);
   pt_cnode_t *cn = malloc(corners * (size_t)cap * sizeof *cn);
   C->node = malloc((size_t)cap * sizeof *C->node);
-  C->lat = malloc(corners * (size_t)cap * sizeof *C->lat);
-  C->latc = malloc(corners * sizeof *C->latc);
-  C->latok = malloc(corners);
+  C->map = malloc(4 * (size_t)cap * sizeof *C->map);
+  C->agree = malloc((size_t)cap);
+  C->light = malloc((size_t)cap * sizeof *C->light);
+  C->lat = malloc(lattice * (size_t)cap * sizeof *C->lat);
+  C->latok = malloc(lattice);
+  C->latxi2 = malloc(lattice * sizeof *C->latxi2);
+  C->loc = malloc((size_t)cap * sizeof *C->loc);
+  C->locd = malloc((size_t)cap);
+  C->loce = malloc((size_t)cap);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->sw = malloc((size_t)(s * s) * sizeof *C->sw);
-  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->latc ||
-      !C->latok || !C->rec || !C->sw) {
+  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat ||
+      !C->latok || !C->rec || !C->sw || !C->map || !C->agree || !C->light ||
+      !C->latxi2 || !C->loc || !C->locd || !C->loce) {
     if (C->corner)
       C->corner[0].node = cn;
     else
@@ -91,14 +105,17 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->cells_edge += b->cells_edge;
   a->cells_guard += b->cells_guard;
   a->cells_accepted += b->cells_accepted;
-  a->cells_narrow += b->cells_narrow;
   a->cells_split += b->cells_split;
-  a->cells_check_failed += b->cells_check_failed;
+  a->paths_exact += b->paths_exact;
+  a->cells_partial += b->cells_partial;
+  a->partial += b->partial;
   a->exact_traces += b->exact_traces;
   for (int m = 0; m < 3; m++)
     a->samples[m] += b->samples[m];
   a->fallbacks += b->fallbacks;
   a->lerp_samples += b->lerp_samples;
+  for (int r = 0; r < 4; r++)
+    a->matrix_pixels[r] += b->matrix_pixels[r];
   a->measured += b->measured;
   a->with_board += b->with_board;
   a->within += b->within;
@@ -106,6 +123,8 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->mismatches += b->mismatches;
   a->max_error = fmax(a->max_error, b->max_error);
   a->max_error_t = fmax(a->max_error_t, b->max_error_t);
+  a->max_error_strict = fmax(a->max_error_strict, b->max_error_strict);
+  a->within_strict += b->within_strict;
   for (int k = 0; k < PT_HIST_BINS; k++)
     a->hist[k] += b->hist[k];
 }

@@ -43,6 +43,16 @@ int pt_tree_same_paths(const rt_tree_t *a, const rt_tree_t *b);
 /** The same between a full tree and a compact one. */
 int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b);
 
+/** Node-by-node agreement of tree `a` (the cell's axial tree) with `nc` compact trees (its
+ *  corners), each node of a followed in them along its path (the kinds of rays from the root):
+ *  agree[k] = 1 when node k and all its ancestors met the same object and primitive with the
+ *  same flags in every tree; light[k] = the lights (bit l, l < 32) whose visibility bits at node
+ *  k are the same in every tree (0 where agree[k] is 0). Returns 1 when every node agrees with
+ *  all its lights and the trees have the same size (the cell is free of edges). `map` is
+ *  scratch for nc * a->n ints. A tree that overflowed agrees nowhere. */
+int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map,
+                  uint8_t *agree, uint32_t *light);
+
 /** A bounding sphere of a bounded object. */
 typedef struct {
   px_vec3_t c;

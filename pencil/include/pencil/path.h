@@ -3,16 +3,23 @@
  * the tolerance of Eq. (3) and the spread limit of Eqs. (4)-(6).
  *
  * Every node of the axial ray's tree (rt_tree_t from the exact tracer) is reached from the eye by
- * a path of refractions and reflections. For each node, pt_path_build() describes that path as
- * an exact optical system (ex_system_t: origin = the eye, input frame = the axial primary ray's
- * frame, one stage per surface met before the node, tail = the distance to the node's hit) and
- * lets reference/ trace its axial ray and build its cascade (ex_trace_axial, ex_axial_cascade:
- * products verified against exact tracing to 1e-11). The product T maps a ray vector at the eye,
- * psi = (0, 0, xi1, xi2) (a pinhole pencil), to psi' = T psi in the ray frame at the node's hit.
+ * a path of refractions and reflections. pt_path_build() describes each edge of the tree (the
+ * parent's surface and the transfer to the node's hit) as a one-stage exact optical system
+ * (ex_system_t: origin = the parent's hit, input frame = the parent's output frame, the parent's
+ * surface with at_origin set, tail = the distance to the node's hit) and lets reference/ trace
+ * it and build its cascade (ex_trace_axial, ex_axial_cascade: verified against exact tracing to
+ * 1e-11); the node's system matrix is that step times its parent's, T_k = S_k T_parent, i.e. the
+ * cascade of the whole path (section 2.2). pt_path_full() builds the same path as one system
+ * (one stage per surface), whose exact map (ex_map) the probe and the certified check use; the
+ * tests check that both give the same T. T maps a ray vector at the eye, psi = (0, 0, xi1, xi2)
+ * (a pinhole pencil), to psi' = T psi in the ray frame at the node's hit.
  *
  * Tolerances are taken on the node's surface (the tangent plane at the axial hit), where Fig. 10
- * measures: the pixel interval there is |(t1 t2) delta| of Eq. (3) carried along the ray onto the
- * tangent plane, and an error e in the plane normal to the ray becomes at most e / |cos| on it.
+ * measures. The pixel footprint there is J = [j1 j2], j_i = |(t1 t2) delta_i| of Eq. (3) for a
+ * one-pixel step delta_i along screen axis i, carried along the ray onto the tangent plane. An
+ * error e on the surface is |J+ e| pixels (J+ the pseudo-inverse); the smallest pixel interval
+ * over all screen directions is sigma_min(J), so |e| <= rho sigma_min guarantees |J+ e| <= rho,
+ * and an error e in the plane normal to the ray is at most e / |cos| on the surface.
  * Nothing here allocates; all buffers are caller-owned.
  */
 #ifndef PENCIL_PATH_H
@@ -37,6 +44,10 @@ typedef struct {
   int textured;    /**< 1 when the surface is a checkerboard (texel >= 0) */
   int child[2];    /**< tree indices of the children, -1 when absent */
   int child_kind[2]; /**< their rt_ray_kind_t */
+  int pencil;      /**< 1 when the node is traced with its matrix: it and its ancestors met the
+                        same surfaces at the cell's corners (edge.h) and satisfy the spread limit
+                        (and the certified check); else its subtree is traced exactly */
+  uint32_t light_agree; /**< bit l: light l's visibility is the same at the centre and corners */
   double ior;      /**< index of the medium the arriving ray travels in */
   /* psi' = T psi for psi = (0, 0, xi) at the eye: x' = B xi, xi' = D xi (Eqs. 1-2 cascaded) */
   px_mat2_t b;     /**< upper right block of T, scene units per unit of xi */
@@ -45,8 +56,9 @@ typedef struct {
   px_vec3_t e1, e2, ez; /**< output ray frame (world), ez along the arriving axial ray */
   px_vec3_t n;     /**< unit surface normal at O', facing the arriving ray */
   double cos_in;   /**< |n . ez|, cosine of the incidence angle of the axial ray */
-  double interval; /**< one pixel interval on the surface (Eq. 3's |(t1 t2) delta| carried onto
-                        the tangent plane; the smaller of the two screen directions), scene units */
+  px_vec3_t j[2];  /**< pixel footprint on the surface: displacement per pixel along screen x, y */
+  double ginv[3];  /**< (J^T J)^-1 as (00, 01, 11), for pt_pixels() */
+  double interval; /**< sigma_min(J): the smallest pixel interval on the surface, scene units */
   double tau;      /**< rho * interval: the tolerance of Eq. (3) on the surface */
   double c;        /**< C of Eq. (4) for this path (x0 = 0), scene units; 0 for a transfer */
   double xi_max;   /**< spread limit of Eq. (6) on the surface: sqrt(tau cos / C), INFINITY
@@ -55,6 +67,9 @@ typedef struct {
                         from ex_map at the corners and edge midpoints), else -1 */
   unsigned known;  /**< bit l: through[l] recorded for light l */
   rt_rgb_t through[PT_MAX_LIGHTS]; /**< shadow transmittance of the axial hit, per light */
+  int nstep;       /**< elements of the step from the parent (transfer; interface + transfer) */
+  px_element_t step[3]; /**< the step's cascade elements (the path's cascade is the chain of
+                             its nodes' steps) */
 } pt_node_t;
 
 /** Scratch for pt_path_build() (large: keep one per thread). */
@@ -78,17 +93,33 @@ typedef struct {
                                  NULL */
 } pt_pencil_t;
 
-/** Describe node k of `tree` (from the exact tracer, traced from p->eye along p->frame.z) as a
- *  path: fills *out except `known`/`through`. PX_EMISS, PX_ETIR, PX_EGRAZING when the path's
- *  axial ray cannot be re-traced through its quadrics (the cell is then treated as an edge);
- *  PX_EINVAL for a tree deeper than EX_MAX_STAGES or a non-quadric surface. */
-px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_pencil_t *p,
-                          pt_path_scratch_t *w, pt_node_t *out);
+/** Topology of node k of `tree` (parent, children, surface, medium) into *out, with no matrix
+ *  yet (pencil = 0, tau = xi_max = INFINITY). `parent` is the already filled parent node (NULL
+ *  for the root). */
+void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
+                      pt_node_t *out);
 
-/** Eq. (3) on the surface: one pixel interval = min over i of |proj(B delta_i)|, where proj
- *  carries a displacement v of the plane normal to ez along ez onto the plane normal to n. */
-double pt_surface_interval(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
-                           px_vec3_t ez, px_vec3_t n);
+/** The system matrix of node k (traced from p->eye along p->frame.z) from its parent's, its
+ *  tolerance, C and spread limit, into nodes[k]; nodes[] must hold the topology of k and its
+ *  ancestors and the matrices of its ancestors. PX_EMISS, PX_ETIR, PX_EGRAZING when the path's
+ *  axial ray cannot be re-traced through its quadrics (the node is then treated as an edge). */
+px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_node_t *nodes,
+                          const pt_pencil_t *p, pt_path_scratch_t *w);
+
+/** The whole path of node k as one exact system in w->sys / w->ax (stages for every surface met
+ *  before the node, traced from p->eye), for ex_map(). PX_EINVAL for a path longer than
+ *  EX_MAX_STAGES. */
+px_status_t pt_path_full(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_pencil_t *p,
+                         pt_path_scratch_t *w);
+
+/** Eq. (3) on the surface: the footprint j_i = proj(B delta_i) for the pixel steps delta_i,
+ *  where proj carries a displacement of the plane normal to ez along ez onto the plane normal
+ *  to n; writes j[2] and ginv and returns sigma_min(J) (0 for a degenerate footprint). */
+double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
+                    px_vec3_t ez, px_vec3_t n, px_vec3_t j[2], double ginv[3]);
+
+/** A surface displacement e in pixels: |J+ e| with the node's footprint. */
+double pt_pixels(const pt_node_t *n, px_vec3_t e);
 
 /** Eq. (6) on the surface: the largest xi0 with C xi0^2 / cos <= tau (INFINITY for C = 0, 0 for
  *  tau <= 0). */

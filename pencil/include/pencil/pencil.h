@@ -67,6 +67,8 @@ typedef struct {
   float *error;  /**< largest Fig. 10 error of the pixel's samples (measure only; NaN when no
                       sample has a pencil-traced checkerboard point, or when not measured) */
   float *method; /**< pt_method_t used for most of the pixel's samples */
+  float *rays;   /**< exact rays traced for the pixel's samples (exact pixels, exactly traced
+                      subtrees, per-sample shadow rays; not the cells' axial and corner rays) */
 } pt_extra_t;
 
 /** Number of bins of the error histogram; bin k holds errors in [k, k+1) * PT_HIST_STEP, the
@@ -79,15 +81,22 @@ typedef struct {
   uint64_t cells;          /**< domains and sub-domains examined */
   uint64_t cells_edge;     /**< ... found to contain an edge (trees differ, or the guard) */
   uint64_t cells_guard;    /**< ... of which only the small-object guard fired */
-  uint64_t cells_accepted; /**< ... traced with matrices (step 4a) */
-  uint64_t cells_narrow;   /**< ... traced exactly because the pencil is narrower than a
-                                pixel (step 4b) */
+  uint64_t cells_accepted; /**< ... traced with matrices (step 4a, possibly with some paths
+                                traced exactly: 4b per path) */
   uint64_t cells_split;    /**< ... subdivided for the spread limit (step 4c) */
-  uint64_t cells_check_failed; /**< certified mode: the a-posteriori check rejected the cell */
+  uint64_t paths_exact;    /**< paths of accepted or split cells over their spread limit or
+                                failing the certified check (traced exactly, or split) */
+  uint64_t cells_partial;  /**< accepted cells whose corner trees differ below the primary ray:
+                                those subtrees (or shadow rays) are traced exactly per sample */
   uint64_t exact_traces;   /**< exact primary traces for axial and corner rays */
   uint64_t samples[3];     /**< samples by pt_method_t */
-  uint64_t fallbacks;      /**< samples that needed an exact trace of part of their tree */
+  uint64_t fallbacks;      /**< samples that left their cell's paths (an unforeseen exact trace) */
+  uint64_t partial;        /**< samples with a subtree traced exactly where the corners differ */
   uint64_t lerp_samples;   /**< interpolated samples whose brightness was interpolated too */
+  uint64_t matrix_pixels[4]; /**< pixels of accepted cells traced by matrices because: 0 the cell
+                                  is under 2 x 2 pixels or interpolation is off, 1 a corner left
+                                  the cell's paths, 2 the corners reached different nodes, 3 e_int
+                                  plus the matrix error exceeds tau */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_board;     /**< ... with at least one pencil-traced checkerboard point */
@@ -96,6 +105,9 @@ typedef struct {
   double max_error;        /**< largest finite error */
   double max_error_t;      /**< largest error on the transmission-first path only */
   uint64_t within_t;       /**< samples within rho on the transmission-first path */
+  double max_error_strict; /**< largest finite error measured as |e| / sigma_min (the smallest
+                                pixel interval over all screen directions) instead of |J+ e| */
+  uint64_t within_strict;  /**< samples within rho by that measure */
   uint64_t hist[PT_HIST_BINS];
   rt_stats_t rays;         /**< rays traced by the exact tracer (axial, corner, edge, fallback,
                                 measurement) and shadow rays, as the reference renderer counts */
