@@ -154,6 +154,8 @@ static int number_in(io_parse_t *P, json_t *v, double lo, double hi, int lo_stri
   if (!isfinite(x) || x < lo || (lo_strict && x == lo) || x > hi) {
     if (isinf(hi))
       return io_fail(P, "expected a number %s %g, got %g", lo_strict ? ">" : ">=", lo, x);
+    if (lo_strict)
+      return io_fail(P, "expected a number > %g and <= %g, got %g", lo, hi, x);
     return io_fail(P, "expected a number from %g to %g, got %g", lo, hi, x);
   }
   *out = x;
@@ -182,11 +184,17 @@ int io_get_int(io_parse_t *P, json_t *o, const char *key, int required, int def,
   }
   io_push_key(P, key);
   int ok = 1;
-  if (!json_is_integer(v) || json_integer_value(v) < lo || json_integer_value(v) > hi)
-    ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi,
-                 json_is_number(v) ? "a fraction or out-of-range number" : type_name(v));
-  else
+  if (!json_is_integer(v)) {
+    if (json_is_number(v))
+      ok = io_fail(P, "expected an integer from %d to %d, got %g", lo, hi, json_number_value(v));
+    else
+      ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi, type_name(v));
+  } else if (json_integer_value(v) < lo || json_integer_value(v) > hi) {
+    ok = io_fail(P, "expected an integer from %d to %d, got %lld", lo, hi,
+                 (long long)json_integer_value(v));
+  } else {
     *out = (int)json_integer_value(v);
+  }
   io_pop(P);
   return ok;
 }
