@@ -106,7 +106,7 @@ static void quad_jacobian_matches_matrix_on_ellipsoid(void **state) {
 
 static void too_many_stages_rejected(void **state) {
   (void)state;
-  ex_stage_t st[EX_MAX_STAGES + 1];
+  ex_stage_t st[EX_MAX_STAGES + 1] = {0};
   ex_system_t sys = single_system(st, 0.0, 1.0);
   sys.nstage = EX_MAX_STAGES + 1;
   ex_axial_t ax;
