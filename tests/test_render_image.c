@@ -177,6 +177,46 @@ static void aux_channels_match_exact_tracer(void **state) {
   rt_scene_free(&s);
 }
 
+typedef struct {
+  int calls[6 * 5];     /* per pixel: each pixel is rendered by one thread, so no race */
+  int nodes[6 * 5];     /* total tree nodes handed over */
+  double green[6 * 5];  /* sum of the samples' green radiance (grid samples only) */
+} samples_t;
+
+static void on_sample(void *ctx, int i, int j, int a, int b, const rt_tree_t *t, rt_rgb_t c) {
+  samples_t *S = ctx;
+  S->calls[j * 6 + i]++;
+  S->nodes[j * 6 + i] += t->n;
+  if (a >= 0 && b >= 0)
+    S->green[j * 6 + i] += c.g;
+}
+
+/* With on_sample the caller receives every sample's tree (plus the extra centre ray of even s),
+ * from several threads, and the samples average to the pixel. */
+static void every_sample_tree_reaches_the_caller(void **state) {
+  (void)state;
+  rt_scene_t s;
+  fig8(&s, 6, 5);
+  rt_plan_t plan = rt_plan_make(&s, 4);
+  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  samples_t S;
+  memset(&S, 0, sizeof S);
+  opt.spp_side = 2;
+  opt.threads = 2;
+  opt.on_sample = on_sample;
+  opt.sample_ctx = &S;
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 6, 5), RT_OK);
+  assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_OK);
+  for (int k = 0; k < 30; k++) {
+    assert_int_equal(S.calls[k], 4 + 1);
+    assert_true(S.nodes[k] >= 5);
+    assert_close(img.ch[RT_CH_G][k], S.green[k] / 4, 1e-6, 1e-7);
+  }
+  rt_image_free(&img);
+  rt_scene_free(&s);
+}
+
 static void bad_options_rejected(void **state) {
   (void)state;
   rt_scene_t s;
@@ -207,6 +247,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(box_filter_is_the_mean_of_samples),
       cmocka_unit_test(ray_trees_are_free_and_discriminating),
       cmocka_unit_test(aux_channels_match_exact_tracer),
+      cmocka_unit_test(every_sample_tree_reaches_the_caller),
       cmocka_unit_test(bad_options_rejected),
   };
   if (argc > 1)

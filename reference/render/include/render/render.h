@@ -79,9 +79,15 @@ typedef struct {
   /** Called after each finished row with (rows done, rows total), serialised; may be NULL. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
+  /** When not NULL, every sample's ray tree is recorded and handed over: pixel (i, j),
+   *  sub-sample (a, b) of the s x s grid (a = b = -1 for the extra centre ray of even s), the
+   *  sample's radiance. Called from the rendering threads, concurrently: the callee must only
+   *  touch per-pixel state or synchronise itself. The tree is valid during the call only. */
+  void (*on_sample)(void *ctx, int i, int j, int a, int b, const rt_tree_t *tree, rt_rgb_t c);
+  void *sample_ctx;
 } rt_render_options_t;
 
-#define RT_RENDER_OPTIONS_DEFAULT {1, 0, 1, NULL, NULL}
+#define RT_RENDER_OPTIONS_DEFAULT {1, 0, 1, NULL, NULL, NULL, NULL}
 
 /** Render the prepared scene with `plan` into img (allocated by the caller at the camera's
  *  size). Pixels are independent, so the image does not depend on the thread count.
