@@ -85,20 +85,22 @@ static void print_table(const result_t *r, int n, int w, int h, int spp, int run
            (unsigned long long)r[k].rays, r[k].median_s, r[k].median_rps);
 }
 
-static int write_json(const char *path, const result_t *r, int n, int w, int h, int spp,
-                      int runs) {
+static int write_json(const char *path, const result_t *r, int n, int w, int h, int spp, int runs) {
   FILE *f = fopen(path, "w");
   if (!f) {
     fprintf(stderr, "pencil bench: cannot write %s\n", path);
     return 0;
   }
-  fprintf(f, "{\"benchmark\": \"render\", \"method\": \"exact\", \"width\": %d, \"height\": %d, "
-             "\"spp\": %d, \"runs\": %d, \"results\": [", w, h, spp, runs);
+  fprintf(f,
+          "{\"benchmark\": \"render\", \"method\": \"exact\", \"width\": %d, \"height\": %d, "
+          "\"spp\": %d, \"runs\": %d, \"results\": [",
+          w, h, spp, runs);
   for (int k = 0; k < n; k++)
-    fprintf(f, "%s\n  {\"scene\": \"%s\", \"primitives\": %d, \"threads\": %d, \"rays\": %llu, "
-               "\"median_seconds\": %.6g, \"rays_per_second\": %.6g}", k ? "," : "", r[k].scene,
-            r[k].primitives, r[k].threads, (unsigned long long)r[k].rays, r[k].median_s,
-            r[k].median_rps);
+    fprintf(f,
+            "%s\n  {\"scene\": \"%s\", \"primitives\": %d, \"threads\": %d, \"rays\": %llu, "
+            "\"median_seconds\": %.6g, \"rays_per_second\": %.6g}",
+            k ? "," : "", r[k].scene, r[k].primitives, r[k].threads, (unsigned long long)r[k].rays,
+            r[k].median_s, r[k].median_rps);
   fprintf(f, "\n]}\n");
   return fclose(f) == 0;
 }
@@ -154,8 +156,7 @@ int cmd_bench(int argc, char **argv) {
         return CLI_USAGE;
     } else if ((v = cli_option(argc, argv, &i, "--size", &err))) {
       if (sscanf(v, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 4096 || h > 4096) {
-        fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n",
-                v);
+        fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n", v);
         return CLI_USAGE;
       }
     } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {

@@ -9,11 +9,11 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "../io/src/json_locate.h"
 #include "cmocka_main.h"
 #include "io/image_io.h"
 #include "io/scene_json.h"
 #include "render/builtin.h"
-#include "../io/src/json_locate.h"
 
 #ifndef PENCIL_SOURCE_DIR
 #error "PENCIL_SOURCE_DIR must name the source tree (tests/CMakeLists.txt)"
@@ -58,9 +58,9 @@ static void exr_round_trip(void **state) {
   float back[7 * 19];
   for (int c = 0; c < RT_CH_COUNT; c++) {
     int w = 0, h = 0;
-    assert_int_equal(io_exr_read_channel(path, rt_channel_name((rt_channel_t)c), back, &w, &h, err,
-                                         sizeof err),
-                     0);
+    assert_int_equal(
+        io_exr_read_channel(path, rt_channel_name((rt_channel_t)c), back, &w, &h, err, sizeof err),
+        0);
     assert_int_equal(w, 7);
     assert_int_equal(h, 19);
     assert_memory_equal(back, img.ch[c], sizeof back);

@@ -135,8 +135,9 @@ static void ray_trees_are_free_and_discriminating(void **state) {
 
 /* The auxiliary channels of a pixel on the upper half of the ball: the transmission path enters
  * and leaves the ball (pathT.k = 2) and lands on the board where reference/'s exact tracer,
- * through the same sphere and plane as exact quadrics, lands. Tolerance: float32 channels (relative 6e-8 of |u| < 10)
- * plus the renderer's 2e-9 surface offsets magnified along the path: 2e-6 absolute. */
+ * through the same sphere and plane as exact quadrics, lands. Tolerance: float32 channels (relative
+ * 6e-8 of |u| < 10) plus the renderer's 2e-9 surface offsets magnified along the path: 2e-6
+ * absolute. */
 static void aux_channels_match_exact_tracer(void **state) {
   (void)state;
   rt_scene_t s;
@@ -154,10 +155,10 @@ static void aux_channels_match_exact_tracer(void **state) {
   rt_view_make(&s.camera, &v);
   rt_ray_t r = rt_view_ray(&v, 4.5, 3.5, 1.0);
   ex_quadric_t ball = ex_quadric_sphere(px_vec3(0, 1.5, 0), 1.0);
-  ex_stage_t stg[3] = {{ball, PX_EVENT_REFRACT, 1.5, 0},
-                       {ball, PX_EVENT_REFRACT, 1.0, 0},
-                       {ex_quadric_plane(px_vec3(0, 0, 0), px_vec3(0, 1, 0)), PX_EVENT_REFLECT,
-                        1.0, 0}};
+  ex_stage_t stg[3] = {
+      {ball, PX_EVENT_REFRACT, 1.5, 0},
+      {ball, PX_EVENT_REFRACT, 1.0, 0},
+      {ex_quadric_plane(px_vec3(0, 0, 0), px_vec3(0, 1, 0)), PX_EVENT_REFLECT, 1.0, 0}};
   px_frame_t f;
   px_frame_from_z(r.d, px_vec3(0, 1, 0), &f);
   ex_system_t sys = {r.o, f, 1.0, stg, 3, 0.0, 0.0};
@@ -178,9 +179,9 @@ static void aux_channels_match_exact_tracer(void **state) {
 }
 
 typedef struct {
-  int calls[6 * 5];     /* per pixel: each pixel is rendered by one thread, so no race */
-  int nodes[6 * 5];     /* total tree nodes handed over */
-  double green[6 * 5];  /* sum of the samples' green radiance (grid samples only) */
+  int calls[6 * 5];    /* per pixel: each pixel is rendered by one thread, so no race */
+  int nodes[6 * 5];    /* total tree nodes handed over */
+  double green[6 * 5]; /* sum of the samples' green radiance (grid samples only) */
 } samples_t;
 
 static void on_sample(void *ctx, int i, int j, int a, int b, const rt_tree_t *t, rt_rgb_t c) {

@@ -124,14 +124,13 @@ static void refraction_through_polyhedron_matches_exact(void **state) {
   (void)state;
   static const px_vec3_t v[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                  {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  static const int f[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4,
-                            1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+  static const int f[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
   static const int len[6] = {4, 4, 4, 4, 4, 4};
   rt_scene_t s;
   rt_scene_init(&s);
-  assert_int_equal(rt_scene_add_polyhedron(&s, v, 8, f, len, 6, add_mat(&s, "g", 0.0, 1.0, 1.7),
-                                           NULL, NULL, 0),
-                   RT_OK);
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, v, 8, f, len, 6, add_mat(&s, "g", 0.0, 1.0, 1.7), NULL, NULL, 0),
+      RT_OK);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
   rt_ray_t r = ray_to(px_vec3(-0.8, 0.5, -4), px_vec3(0.1, 0.2, -1)); /* enters z = -1 */
@@ -140,10 +139,9 @@ static void refraction_through_polyhedron_matches_exact(void **state) {
   trace_tree(&s, &plan, &r, buf, 64, &t);
   int in = child_of(&t, 0, RT_RAY_REFRACT);
   assert_true(in > 0);
-  ex_stage_t st[2] = {{ex_quadric_plane(px_vec3(0, 0, -1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT,
-                       1.7, 0},
-                      {ex_quadric_plane(px_vec3(0, 0, 1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT,
-                       1.0, 0}};
+  ex_stage_t st[2] = {
+      {ex_quadric_plane(px_vec3(0, 0, -1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.7, 0},
+      {ex_quadric_plane(px_vec3(0, 0, 1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.0, 0}};
   ex_axial_t ax = exact_path(&r, st, 2);
   vec_close(t.node[0].point, ax.hit[0], 1e-12);
   vec_close(t.node[in].dir, ax.out[0].z, DIR_TOL);

@@ -15,8 +15,8 @@ typedef struct {
 static void on_error(exr_const_context_t ctx, exr_result_t code, const char *msg) {
   void *ud = NULL;
   if (exr_get_user_data(ctx, &ud) == EXR_ERR_SUCCESS && ud)
-    snprintf(((exr_err_t *)ud)->msg, sizeof((exr_err_t *)ud)->msg, "%s (%s)",
-             msg ? msg : "error", exr_get_error_code_as_string(code));
+    snprintf(((exr_err_t *)ud)->msg, sizeof((exr_err_t *)ud)->msg, "%s (%s)", msg ? msg : "error",
+             exr_get_error_code_as_string(code));
 }
 
 static exr_context_initializer_t initializer(exr_err_t *e) {
@@ -66,8 +66,8 @@ static exr_result_t write_chunks(exr_context_t ctx, const rt_image_t *img) {
     rv = exr_write_scanline_chunk_info(ctx, 0, y, &ci);
     if (rv == EXR_ERR_SUCCESS && started)
       rv = exr_encoding_update(ctx, 0, &ci, &enc);
-    else if (rv == EXR_ERR_SUCCESS && (rv = exr_encoding_initialize(ctx, 0, &ci, &enc)) ==
-                                          EXR_ERR_SUCCESS)
+    else if (rv == EXR_ERR_SUCCESS &&
+             (rv = exr_encoding_initialize(ctx, 0, &ci, &enc)) == EXR_ERR_SUCCESS)
       started = 1; /* from here on the pipeline owns buffers: destroy it on every path */
     if (rv != EXR_ERR_SUCCESS)
       break;
@@ -122,8 +122,8 @@ static exr_result_t read_chunks(exr_context_t ctx, const char *name, float *out,
     int first = !started;
     if (rv == EXR_ERR_SUCCESS && started)
       rv = exr_decoding_update(ctx, 0, &ci, &dec);
-    else if (rv == EXR_ERR_SUCCESS && (rv = exr_decoding_initialize(ctx, 0, &ci, &dec)) ==
-                                          EXR_ERR_SUCCESS)
+    else if (rv == EXR_ERR_SUCCESS &&
+             (rv = exr_decoding_initialize(ctx, 0, &ci, &dec)) == EXR_ERR_SUCCESS)
       started = 1;
     if (rv != EXR_ERR_SUCCESS)
       break;

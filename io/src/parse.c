@@ -20,7 +20,9 @@ void io_push_index(io_parse_t *P, int index) {
   P->depth++;
 }
 
-void io_pop(io_parse_t *P) { P->depth--; }
+void io_pop(io_parse_t *P) {
+  P->depth--;
+}
 
 /* The whole file, for locating lines after an error; NULL when it cannot be read again. */
 static char *slurp(const char *path, size_t *len) {
@@ -101,14 +103,20 @@ int io_check_keys(io_parse_t *P, json_t *o, const char *const *allowed) {
 
 static const char *type_name(json_t *v) {
   switch (json_typeof(v)) {
-  case JSON_OBJECT: return "an object";
-  case JSON_ARRAY: return "an array";
-  case JSON_STRING: return "a string";
+  case JSON_OBJECT:
+    return "an object";
+  case JSON_ARRAY:
+    return "an array";
+  case JSON_STRING:
+    return "a string";
   case JSON_INTEGER:
-  case JSON_REAL: return "a number";
+  case JSON_REAL:
+    return "a number";
   case JSON_TRUE:
-  case JSON_FALSE: return "a boolean";
-  case JSON_NULL: return "null";
+  case JSON_FALSE:
+    return "a boolean";
+  case JSON_NULL:
+    return "null";
   }
   return "something else";
 }
@@ -162,8 +170,8 @@ static int number_in(io_parse_t *P, json_t *v, double lo, double hi, int lo_stri
   return 1;
 }
 
-int io_get_number(io_parse_t *P, json_t *o, const char *key, int required, double def,
-                  double lo, double hi, int lo_strict, double *out) {
+int io_get_number(io_parse_t *P, json_t *o, const char *key, int required, double def, double lo,
+                  double hi, int lo_strict, double *out) {
   json_t *v;
   if (!member(P, o, key, required, &v)) {
     *out = def;

@@ -13,12 +13,18 @@
 
 const char *rt_strerror(rt_status_t s) {
   switch (s) {
-  case RT_OK: return "success";
-  case RT_ENOMEM: return "out of memory";
-  case RT_EINVAL: return "invalid parameter";
-  case RT_EGEOMETRY: return "degenerate geometry";
-  case RT_ENOTREADY: return "scene not prepared (call rt_scene_prepare after the last change)";
-  case RT_ECAPACITY: return "buffer full";
+  case RT_OK:
+    return "success";
+  case RT_ENOMEM:
+    return "out of memory";
+  case RT_EINVAL:
+    return "invalid parameter";
+  case RT_EGEOMETRY:
+    return "degenerate geometry";
+  case RT_ENOTREADY:
+    return "scene not prepared (call rt_scene_prepare after the last change)";
+  case RT_ECAPACITY:
+    return "buffer full";
   }
   return "unknown status";
 }
@@ -127,7 +133,9 @@ rt_status_t rt__scene_new_object(rt_scene_t *s, rt_object_kind_t kind, int mater
   return RT_OK;
 }
 
-static int vec_finite(px_vec3_t v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+static int vec_finite(px_vec3_t v) {
+  return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
 
 rt_status_t rt_scene_add_sphere(rt_scene_t *s, px_vec3_t c, double r, int material, int *object) {
   if (!(r > 0.0) || !isfinite(r) || !vec_finite(c))
