@@ -241,6 +241,32 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_scene_free(&s);
 }
 
+/* A parallel light: the same N.L everywhere on a plane, an unbounded shadow ray (an opaque ball
+ * far above still shadows), and the ball's shadow is exactly below it. */
+static void parallel_light_and_its_shadow(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m = rt_material_default("m");
+  m.ka = 0.0;
+  m.kd = 1.0;
+  int mi;
+  rt_scene_add_material(&s, &m, &mi);
+  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
+  rt_scene_add_sphere(&s, px_vec3(0, 100, 0), 1.0, mi, NULL);
+  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}}; /* normalised on adding */
+  rt_scene_add_light(&s, &l);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_exact_t ex = rt_exact_make(&s, &plan, NULL);
+  rt_ray_t lit = ray_to(px_vec3(5, 3, -4), px_vec3(3, 0, 2));
+  rt_ray_t dark = ray_to(px_vec3(5, 3, -4), px_vec3(0.2, 0, -0.3));
+  assert_close(rt_exact_primary(&ex, &lit).r, 0.5, 1e-15, 0); /* kd C I N.L = 1 * 1 * 0.5 * 1 */
+  assert_true(rt_exact_primary(&ex, &dark).r == 0.0);
+  assert_int_equal(ex.stats.shadow, 2);
+  rt_scene_free(&s);
+}
+
 static void fresnel_limits(void **state) {
   (void)state;
   assert_close(rt_fresnel(1, 1, 1.0, 1.5), 0.04, 1e-15, 0); /* ((n1 - n2)/(n1 + n2))^2 */
@@ -334,6 +360,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(refraction_through_polyhedron_matches_exact),
       cmocka_unit_test(shadow_attenuation_is_product_of_kt),
       cmocka_unit_test(direct_light_follows_illumination_equation),
+      cmocka_unit_test(parallel_light_and_its_shadow),
       cmocka_unit_test(fresnel_limits),
       cmocka_unit_test(children_weights_fresnel_and_tir),
       cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),
