@@ -33,14 +33,12 @@ static char *slurp(const char *path, size_t *len) {
   char *buf = malloc(cap);
   while (buf && (got = fread(buf + n, 1, cap - n, f)) > 0) {
     n += got;
-    if (n == cap) {
-      char *nb = realloc(buf, cap *= 2);
-      if (!nb) {
-        free(buf);
-        buf = NULL;
-      }
-      buf = nb;
-    }
+    if (n < cap)
+      continue;
+    char *bigger = realloc(buf, cap *= 2);
+    if (!bigger)
+      free(buf);
+    buf = bigger;
   }
   fclose(f);
   *len = n;

@@ -218,6 +218,9 @@ rt_status_t rt_scene_prepare(rt_scene_t *s) {
   if (!(c->fov_deg > 0.0 && c->fov_deg < 180.0) || c->width < 1 || c->height < 1 ||
       s->max_depth < 0 || s->max_depth > 64 || s->spp < 1 || s->spp > 49 || !(s->ior > 0.0))
     return RT_EINVAL;
+  int side = (int)lrint(sqrt((double)s->spp));
+  if (side * side != s->spp) /* s x s sub-pixel grids only */
+    return RT_EINVAL;
   drop_accel(s);
   return rt_bvh_build(s, &s->bvh, &s->unbounded, &s->nunbounded);
 }
