@@ -14,25 +14,25 @@
 #include "render/render.h"
 
 static void help(FILE *f) {
-  fprintf(f,
-          "usage: pencil render [SCENE.json] -o OUT.exr [--method exact] [--spp N] [--threads N]\n"
-          "                     [--size WxH] [--explain]\n\n"
-          "Renders SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene\n"
-          "(a glass sphere over a checkerboard; scenes/README.md) by exact recursive ray tracing.\n"
-          "Writes OUT.exr (float R, G, B and, for each pixel's centre ray, Z, id and the points\n"
-          "where its paths meet the checkerboard: pathT.*, pathR.*) and a PNG preview beside it.\n\n"
-          "options:\n"
-          "  -o, --output OUT.exr  output image (required unless --explain is given alone)\n"
-          "  --method M            exact (default) or pencil ('pencil render --method pencil\n"
-          "                        --help' lists the pencil tracer's options)\n"
-          "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
-          "                        (default: the scene's, 9 for the built-in scene)\n"
-          "  --threads N           OpenMP threads (default: all cores)\n"
-          "  --size WxH            override the scene's image size\n"
-          "  --explain             print the effects plan (which effects run and why)\n\n"
-          "A progress bar is drawn on stderr when it is a terminal; the closing line gives the\n"
-          "time, rays traced and rays per second.\n"
-          "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
+  fprintf(
+      f, "usage: pencil render [SCENE.json] -o OUT.exr [--method exact] [--spp N] [--threads N]\n"
+         "                     [--size WxH] [--explain]\n\n"
+         "Renders SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene\n"
+         "(a glass sphere over a checkerboard; scenes/README.md) by exact recursive ray tracing.\n"
+         "Writes OUT.exr (float R, G, B and, for each pixel's centre ray, Z, id and the points\n"
+         "where its paths meet the checkerboard: pathT.*, pathR.*) and a PNG preview beside it.\n\n"
+         "options:\n"
+         "  -o, --output OUT.exr  output image (required unless --explain is given alone)\n"
+         "  --method M            exact (default) or pencil ('pencil render --method pencil\n"
+         "                        --help' lists the pencil tracer's options)\n"
+         "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
+         "                        (default: the scene's, 9 for the built-in scene)\n"
+         "  --threads N           OpenMP threads (default: all cores)\n"
+         "  --size WxH            override the scene's image size\n"
+         "  --explain             print the effects plan (which effects run and why)\n\n"
+         "A progress bar is drawn on stderr when it is a terminal; the closing line gives the\n"
+         "time, rays traced and rays per second.\n"
+         "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
 }
 
 typedef struct {

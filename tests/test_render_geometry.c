@@ -87,8 +87,8 @@ static void plane_hits_match_exact_quadric(void **state) {
   ex_quadric_t q = ex_quadric_plane(p, n);
   unsigned seed = 7;
   for (int k = 0; k < 200; k++) {
-    rt_ray_t r = ray_to(px_vec3(rnd(&seed), 3.0, rnd(&seed)),
-                        px_vec3(5 * rnd(&seed), -0.5, 5 * rnd(&seed)));
+    rt_ray_t r =
+        ray_to(px_vec3(rnd(&seed), 3.0, rnd(&seed)), px_vec3(5 * rnd(&seed), -0.5, 5 * rnd(&seed)));
     rt_hit_t h;
     assert_true(rt_intersect(&s, &r, &h));
     assert_vec_close(h.p, exact_hit(&q, &r), 1e-11); /* |p| up to ~6: a few ulps of that */
@@ -167,23 +167,23 @@ static void open_or_inconsistent_polyhedron_rejected(void **state) {
   int m = mat_add(&s);
   char why[200];
   /* five faces: the top edges are used once */
-  assert_int_equal(rt_scene_add_polyhedron(&s, cube_v, 8, cube_in, quad_len, 5, m, NULL, why,
-                                           sizeof why),
-                   RT_EGEOMETRY);
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, cube_v, 8, cube_in, quad_len, 5, m, NULL, why, sizeof why),
+      RT_EGEOMETRY);
   assert_non_null(strstr(why, "exactly twice"));
   int flipped[24];
   memcpy(flipped, cube_in, sizeof flipped);
   flipped[4] = 4, flipped[5] = 5, flipped[6] = 6, flipped[7] = 7; /* one face reversed */
-  assert_int_equal(rt_scene_add_polyhedron(&s, cube_v, 8, flipped, quad_len, 6, m, NULL, why,
-                                           sizeof why),
-                   RT_EGEOMETRY);
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, cube_v, 8, flipped, quad_len, 6, m, NULL, why, sizeof why),
+      RT_EGEOMETRY);
   assert_non_null(strstr(why, "same direction"));
   int bad[24];
   memcpy(bad, cube_in, sizeof bad);
   bad[0] = 8;
-  assert_int_equal(rt_scene_add_polyhedron(&s, cube_v, 8, bad, quad_len, 6, m, NULL, why,
-                                           sizeof why),
-                   RT_EINVAL);
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, cube_v, 8, bad, quad_len, 6, m, NULL, why, sizeof why),
+      RT_EINVAL);
   assert_int_equal(s.nobject, 0);
   rt_scene_free(&s);
 }

@@ -124,14 +124,13 @@ static void refraction_through_polyhedron_matches_exact(void **state) {
   (void)state;
   static const px_vec3_t v[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                  {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  static const int f[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4,
-                            1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+  static const int f[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
   static const int len[6] = {4, 4, 4, 4, 4, 4};
   rt_scene_t s;
   rt_scene_init(&s);
-  assert_int_equal(rt_scene_add_polyhedron(&s, v, 8, f, len, 6, add_mat(&s, "g", 0.0, 1.0, 1.7),
-                                           NULL, NULL, 0),
-                   RT_OK);
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, v, 8, f, len, 6, add_mat(&s, "g", 0.0, 1.0, 1.7), NULL, NULL, 0),
+      RT_OK);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
   rt_ray_t r = ray_to(px_vec3(-0.8, 0.5, -4), px_vec3(0.1, 0.2, -1)); /* enters z = -1 */
@@ -140,10 +139,9 @@ static void refraction_through_polyhedron_matches_exact(void **state) {
   trace_tree(&s, &plan, &r, buf, 64, &t);
   int in = child_of(&t, 0, RT_RAY_REFRACT);
   assert_true(in > 0);
-  ex_stage_t st[2] = {{ex_quadric_plane(px_vec3(0, 0, -1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT,
-                       1.7, 0},
-                      {ex_quadric_plane(px_vec3(0, 0, 1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT,
-                       1.0, 0}};
+  ex_stage_t st[2] = {
+      {ex_quadric_plane(px_vec3(0, 0, -1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.7, 0},
+      {ex_quadric_plane(px_vec3(0, 0, 1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.0, 0}};
   ex_axial_t ax = exact_path(&r, st, 2);
   vec_close(t.node[0].point, ax.hit[0], 1e-12);
   vec_close(t.node[in].dir, ax.out[0].z, DIR_TOL);
@@ -243,6 +241,32 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_scene_free(&s);
 }
 
+/* A parallel light: the same N.L everywhere on a plane, an unbounded shadow ray (an opaque ball
+ * far above still shadows), and the ball's shadow is exactly below it. */
+static void parallel_light_and_its_shadow(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m = rt_material_default("m");
+  m.ka = 0.0;
+  m.kd = 1.0;
+  int mi;
+  rt_scene_add_material(&s, &m, &mi);
+  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
+  rt_scene_add_sphere(&s, px_vec3(0, 100, 0), 1.0, mi, NULL);
+  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}}; /* normalised on adding */
+  rt_scene_add_light(&s, &l);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_exact_t ex = rt_exact_make(&s, &plan, NULL);
+  rt_ray_t lit = ray_to(px_vec3(5, 3, -4), px_vec3(3, 0, 2));
+  rt_ray_t dark = ray_to(px_vec3(5, 3, -4), px_vec3(0.2, 0, -0.3));
+  assert_close(rt_exact_primary(&ex, &lit).r, 0.5, 1e-15, 0); /* kd C I N.L = 1 * 1 * 0.5 * 1 */
+  assert_true(rt_exact_primary(&ex, &dark).r == 0.0);
+  assert_int_equal(ex.stats.shadow, 2);
+  rt_scene_free(&s);
+}
+
 static void fresnel_limits(void **state) {
   (void)state;
   assert_close(rt_fresnel(1, 1, 1.0, 1.5), 0.04, 1e-15, 0); /* ((n1 - n2)/(n1 + n2))^2 */
@@ -336,6 +360,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(refraction_through_polyhedron_matches_exact),
       cmocka_unit_test(shadow_attenuation_is_product_of_kt),
       cmocka_unit_test(direct_light_follows_illumination_equation),
+      cmocka_unit_test(parallel_light_and_its_shadow),
       cmocka_unit_test(fresnel_limits),
       cmocka_unit_test(children_weights_fresnel_and_tir),
       cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),

@@ -15,8 +15,8 @@ typedef struct {
 static void on_error(exr_const_context_t ctx, exr_result_t code, const char *msg) {
   void *ud = NULL;
   if (exr_get_user_data(ctx, &ud) == EXR_ERR_SUCCESS && ud)
-    snprintf(((exr_err_t *)ud)->msg, sizeof((exr_err_t *)ud)->msg, "%s (%s)",
-             msg ? msg : "error", exr_get_error_code_as_string(code));
+    snprintf(((exr_err_t *)ud)->msg, sizeof((exr_err_t *)ud)->msg, "%s (%s)", msg ? msg : "error",
+             exr_get_error_code_as_string(code));
 }
 
 static exr_context_initializer_t initializer(exr_err_t *e) {
@@ -64,9 +64,11 @@ static exr_result_t write_chunks(exr_context_t ctx, const rt_image_t *img) {
   for (int y = 0; y < img->height && rv == EXR_ERR_SUCCESS; y += lines) {
     exr_chunk_info_t ci;
     rv = exr_write_scanline_chunk_info(ctx, 0, y, &ci);
-    if (rv == EXR_ERR_SUCCESS)
-      rv = started ? exr_encoding_update(ctx, 0, &ci, &enc)
-                   : exr_encoding_initialize(ctx, 0, &ci, &enc);
+    if (rv == EXR_ERR_SUCCESS && started)
+      rv = exr_encoding_update(ctx, 0, &ci, &enc);
+    else if (rv == EXR_ERR_SUCCESS &&
+             (rv = exr_encoding_initialize(ctx, 0, &ci, &enc)) == EXR_ERR_SUCCESS)
+      started = 1; /* from here on the pipeline owns buffers: destroy it on every path */
     if (rv != EXR_ERR_SUCCESS)
       break;
     for (int c = 0; c < enc.channel_count; c++) {
@@ -78,9 +80,8 @@ static exr_result_t write_chunks(exr_context_t ctx, const rt_image_t *img) {
       ch->encode_from_ptr =
           (const uint8_t *)(channel_named(img, ch->channel_name) + (size_t)y * img->width);
     }
-    if (!started)
+    if (y == 0)
       rv = exr_encoding_choose_default_routines(ctx, 0, &enc);
-    started = 1;
     if (rv == EXR_ERR_SUCCESS)
       rv = exr_encoding_run(ctx, 0, &enc);
   }
@@ -118,9 +119,12 @@ static exr_result_t read_chunks(exr_context_t ctx, const char *name, float *out,
   for (int y = dw.min.y; y <= dw.max.y && rv == EXR_ERR_SUCCESS; y += lines) {
     exr_chunk_info_t ci;
     rv = exr_read_scanline_chunk_info(ctx, 0, y, &ci);
-    if (rv == EXR_ERR_SUCCESS)
-      rv = started ? exr_decoding_update(ctx, 0, &ci, &dec)
-                   : exr_decoding_initialize(ctx, 0, &ci, &dec);
+    int first = !started;
+    if (rv == EXR_ERR_SUCCESS && started)
+      rv = exr_decoding_update(ctx, 0, &ci, &dec);
+    else if (rv == EXR_ERR_SUCCESS &&
+             (rv = exr_decoding_initialize(ctx, 0, &ci, &dec)) == EXR_ERR_SUCCESS)
+      started = 1;
     if (rv != EXR_ERR_SUCCESS)
       break;
     for (int c = 0; c < dec.channel_count; c++) {
@@ -135,9 +139,8 @@ static exr_result_t read_chunks(exr_context_t ctx, const char *name, float *out,
     }
     if (!*found)
       break;
-    if (!started)
+    if (first)
       rv = exr_decoding_choose_default_routines(ctx, 0, &dec);
-    started = 1;
     if (rv == EXR_ERR_SUCCESS)
       rv = exr_decoding_run(ctx, 0, &dec);
   }

@@ -20,7 +20,9 @@ void io_push_index(io_parse_t *P, int index) {
   P->depth++;
 }
 
-void io_pop(io_parse_t *P) { P->depth--; }
+void io_pop(io_parse_t *P) {
+  P->depth--;
+}
 
 /* The whole file, for locating lines after an error; NULL when it cannot be read again. */
 static char *slurp(const char *path, size_t *len) {
@@ -31,14 +33,12 @@ static char *slurp(const char *path, size_t *len) {
   char *buf = malloc(cap);
   while (buf && (got = fread(buf + n, 1, cap - n, f)) > 0) {
     n += got;
-    if (n == cap) {
-      char *nb = realloc(buf, cap *= 2);
-      if (!nb) {
-        free(buf);
-        buf = NULL;
-      }
-      buf = nb;
-    }
+    if (n < cap)
+      continue;
+    char *bigger = realloc(buf, cap *= 2);
+    if (!bigger)
+      free(buf);
+    buf = bigger;
   }
   fclose(f);
   *len = n;
@@ -101,14 +101,20 @@ int io_check_keys(io_parse_t *P, json_t *o, const char *const *allowed) {
 
 static const char *type_name(json_t *v) {
   switch (json_typeof(v)) {
-  case JSON_OBJECT: return "an object";
-  case JSON_ARRAY: return "an array";
-  case JSON_STRING: return "a string";
+  case JSON_OBJECT:
+    return "an object";
+  case JSON_ARRAY:
+    return "an array";
+  case JSON_STRING:
+    return "a string";
   case JSON_INTEGER:
-  case JSON_REAL: return "a number";
+  case JSON_REAL:
+    return "a number";
   case JSON_TRUE:
-  case JSON_FALSE: return "a boolean";
-  case JSON_NULL: return "null";
+  case JSON_FALSE:
+    return "a boolean";
+  case JSON_NULL:
+    return "null";
   }
   return "something else";
 }
@@ -154,14 +160,16 @@ static int number_in(io_parse_t *P, json_t *v, double lo, double hi, int lo_stri
   if (!isfinite(x) || x < lo || (lo_strict && x == lo) || x > hi) {
     if (isinf(hi))
       return io_fail(P, "expected a number %s %g, got %g", lo_strict ? ">" : ">=", lo, x);
+    if (lo_strict)
+      return io_fail(P, "expected a number > %g and <= %g, got %g", lo, hi, x);
     return io_fail(P, "expected a number from %g to %g, got %g", lo, hi, x);
   }
   *out = x;
   return 1;
 }
 
-int io_get_number(io_parse_t *P, json_t *o, const char *key, int required, double def,
-                  double lo, double hi, int lo_strict, double *out) {
+int io_get_number(io_parse_t *P, json_t *o, const char *key, int required, double def, double lo,
+                  double hi, int lo_strict, double *out) {
   json_t *v;
   if (!member(P, o, key, required, &v)) {
     *out = def;
@@ -182,11 +190,17 @@ int io_get_int(io_parse_t *P, json_t *o, const char *key, int required, int def,
   }
   io_push_key(P, key);
   int ok = 1;
-  if (!json_is_integer(v) || json_integer_value(v) < lo || json_integer_value(v) > hi)
-    ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi,
-                 json_is_number(v) ? "a fraction or out-of-range number" : type_name(v));
-  else
+  if (!json_is_integer(v)) {
+    if (json_is_number(v))
+      ok = io_fail(P, "expected an integer from %d to %d, got %g", lo, hi, json_number_value(v));
+    else
+      ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi, type_name(v));
+  } else if (json_integer_value(v) < lo || json_integer_value(v) > hi) {
+    ok = io_fail(P, "expected an integer from %d to %d, got %lld", lo, hi,
+                 (long long)json_integer_value(v));
+  } else {
     *out = (int)json_integer_value(v);
+  }
   io_pop(P);
   return ok;
 }

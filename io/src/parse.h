@@ -12,10 +12,10 @@
 #define IO_PATH_MAX 16
 
 typedef struct {
-  const char *file;  /**< path as given, for messages */
-  char *err;         /**< message buffer (caller-owned) */
+  const char *file; /**< path as given, for messages */
+  char *err;        /**< message buffer (caller-owned) */
   size_t cap;
-  int failed;        /**< 1 after the first error; later errors are not reported */
+  int failed; /**< 1 after the first error; later errors are not reported */
   io_json_step_t step[IO_PATH_MAX];
   int depth;
   rt_scene_t *scene;
@@ -38,8 +38,8 @@ int io_get_array(io_parse_t *P, json_t *o, const char *key, int required, json_t
 
 /** Number member in [lo, hi] (strict bounds when the flags say so); `def` when absent and not
  *  required. */
-int io_get_number(io_parse_t *P, json_t *o, const char *key, int required, double def,
-                  double lo, double hi, int lo_strict, double *out);
+int io_get_number(io_parse_t *P, json_t *o, const char *key, int required, double def, double lo,
+                  double hi, int lo_strict, double *out);
 int io_get_int(io_parse_t *P, json_t *o, const char *key, int required, int def, int lo, int hi,
                int *out);
 int io_get_bool(io_parse_t *P, json_t *o, const char *key, int def, int *out);

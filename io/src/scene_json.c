@@ -50,8 +50,8 @@ static int parse_settings(io_parse_t *P, json_t *o) {
 }
 
 static int parse_material(io_parse_t *P, const char *name, json_t *o) {
-  static const char *const keys[] = {"color", "ka", "kd",      "ks",            "phong", "kr",
-                                     "kt",    "ior", "fresnel", "transmittance", NULL};
+  static const char *const keys[] = {
+      "color", "ka", "kd", "ks", "phong", "kr", "kt", "ior", "fresnel", "transmittance", NULL};
   rt_material_t m = rt_material_default(name);
   if (strlen(name) >= RT_NAME_MAX || !name[0])
     return io_fail(P, "material names must have 1 to %d characters", RT_NAME_MAX - 1);

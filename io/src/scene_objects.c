@@ -20,8 +20,8 @@ static int parse_sphere(io_parse_t *P, json_t *o, int mat, int *obj) {
 }
 
 static int parse_plane(io_parse_t *P, json_t *o, int mat, int *obj) {
-  static const char *const keys[] = {"type", "name", "material", "point", "normal", "checker",
-                                     NULL};
+  static const char *const keys[] = {"type",   "name",    "material", "point",
+                                     "normal", "checker", NULL};
   static const char *const ckeys[] = {"size", "material", "u", NULL};
   px_vec3_t p, n, u = px_vec3(1, 0, 0);
   json_t *chk;
@@ -125,8 +125,8 @@ static int parse_polyhedron(io_parse_t *P, json_t *o, int mat, int *obj) {
   int ok = io_check_keys(P, o, keys) && get_points(P, o, "vertices", 4, &v, &nv) &&
            get_faces(P, o, nv, &idx, &len, &nf);
   char why[200];
-  if (ok && rt_scene_add_polyhedron(P->scene, v, nv, idx, len, nf, mat, obj, why, sizeof why) !=
-                RT_OK) {
+  if (ok &&
+      rt_scene_add_polyhedron(P->scene, v, nv, idx, len, nf, mat, obj, why, sizeof why) != RT_OK) {
     io_push_key(P, "faces");
     ok = io_fail(P, "not a closed polyhedron: %s", why);
     io_pop(P);
@@ -157,8 +157,10 @@ typedef int (*object_parser_t)(io_parse_t *, json_t *, int, int *);
 static const struct {
   const char *type;
   object_parser_t parse;
-} parsers[] = {{"sphere", parse_sphere},         {"plane", parse_plane},
-               {"polygon", parse_polygon},       {"polyhedron", parse_polyhedron},
+} parsers[] = {{"sphere", parse_sphere},
+               {"plane", parse_plane},
+               {"polygon", parse_polygon},
+               {"polyhedron", parse_polyhedron},
                {"faceted_sphere", parse_faceted}};
 
 static int parse_object(io_parse_t *P, json_t *o) {
@@ -178,8 +180,10 @@ static int parse_object(io_parse_t *P, json_t *o) {
       return 1;
     }
   io_push_key(P, "type");
-  io_fail(P, "unknown object type '%s'; expected sphere, plane, polygon, polyhedron or "
-             "faceted_sphere", type);
+  io_fail(P,
+          "unknown object type '%s'; expected sphere, plane, polygon, polyhedron or "
+          "faceted_sphere",
+          type);
   io_pop(P);
   return 0;
 }

@@ -66,7 +66,9 @@ rt_status_t rt_builtin_fig8(rt_scene_t *s) {
 }
 
 /* Vertex index of ring k (1..stacks-1), slice i; 0 and nv-1 are the poles. */
-static int ring_vertex(int k, int i, int slices) { return 1 + (k - 1) * slices + i % slices; }
+static int ring_vertex(int k, int i, int slices) {
+  return 1 + (k - 1) * slices + i % slices;
+}
 
 static void fill_faces(int stacks, int slices, int nv, int *idx, int *len) {
   int f = 0, o = 0;
@@ -106,8 +108,8 @@ rt_status_t rt_scene_add_faceted_sphere(rt_scene_t *s, px_vec3_t c, double r, in
     for (int k = 1; k < stacks; k++)
       for (int i = 0; i < slices; i++) {
         double th = M_PI * k / stacks, ph = 2.0 * M_PI * i / slices;
-        v[ring_vertex(k, i, slices)] = px_vec3(c.x + r * sin(th) * cos(ph), c.y + r * cos(th),
-                                               c.z + r * sin(th) * sin(ph));
+        v[ring_vertex(k, i, slices)] =
+            px_vec3(c.x + r * sin(th) * cos(ph), c.y + r * cos(th), c.z + r * sin(th) * sin(ph));
       }
     fill_faces(stacks, slices, nv, idx, len);
     st = rt_scene_add_polyhedron(s, v, nv, idx, len, nf, material, object, NULL, 0);

@@ -23,7 +23,9 @@ typedef struct {
   double (*ct)[3]; /* centroids */
 } build_t;
 
-static box_t box_empty(void) { return (box_t){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}}; }
+static box_t box_empty(void) {
+  return (box_t){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+}
 
 static void box_grow(box_t *a, const box_t *b) {
   for (int k = 0; k < 3; k++) {

@@ -7,9 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const names[RT_EFFECT_COUNT] = {
-    "shadows",        "specular", "reflection", "refraction", "fresnel",
-    "supersampling",  "caustics", "dispersion", "star-filter"};
+static const char *const names[RT_EFFECT_COUNT] = {"shadows",    "specular",   "reflection",
+                                                   "refraction", "fresnel",    "supersampling",
+                                                   "caustics",   "dispersion", "star-filter"};
 
 const char *rt_effect_name(rt_effect_t e) {
   return (unsigned)e < RT_EFFECT_COUNT ? names[e] : "unknown";
@@ -27,10 +27,18 @@ static const rt_material_t *used(const rt_scene_t *s, int (*pred)(const rt_mater
   return NULL;
 }
 
-static int is_specular(const rt_material_t *m) { return m->ks > 0.0; }
-static int is_mirror(const rt_material_t *m) { return m->kr > 0.0; }
-static int is_transparent(const rt_material_t *m) { return m->kt > 0.0; }
-static int is_fresnel(const rt_material_t *m) { return m->kt > 0.0 && m->fresnel; }
+static int is_specular(const rt_material_t *m) {
+  return m->ks > 0.0;
+}
+static int is_mirror(const rt_material_t *m) {
+  return m->kr > 0.0;
+}
+static int is_transparent(const rt_material_t *m) {
+  return m->kt > 0.0;
+}
+static int is_fresnel(const rt_material_t *m) {
+  return m->kt > 0.0 && m->fresnel;
+}
 
 __attribute__((format(printf, 4, 5))) static void set(rt_plan_t *p, rt_effect_t e, int on,
                                                       const char *fmt, ...) {
@@ -65,8 +73,8 @@ static void plan_secondary(rt_plan_t *p, const rt_scene_t *s) {
   else if (mr)
     set(p, RT_EFFECT_REFLECTION, 1, "on: material '%s' has kr = %g", mr->name, mr->kr);
   else if (mt)
-    set(p, RT_EFFECT_REFLECTION, 1,
-        "on: material '%s' is transparent (total internal reflection)", mt->name);
+    set(p, RT_EFFECT_REFLECTION, 1, "on: material '%s' is transparent (total internal reflection)",
+        mt->name);
   else
     set(p, RT_EFFECT_REFLECTION, 0, "off: no material has kr > 0 or kt > 0");
   if (!depth_ok)

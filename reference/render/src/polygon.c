@@ -130,12 +130,16 @@ static int check_closed(const int *idx, const int *len, int nface, int nidx, cha
       snprintf(why, cap, "face %d repeats vertex %d", e[i].face, e[i].lo);
       ok = 0;
     } else if (j - i != 2) {
-      snprintf(why, cap, "edge %d-%d is used by %d face(s); a closed polyhedron uses every edge "
-               "exactly twice", e[i].lo, e[i].hi, j - i);
+      snprintf(why, cap,
+               "edge %d-%d is used by %d face(s); a closed polyhedron uses every edge "
+               "exactly twice",
+               e[i].lo, e[i].hi, j - i);
       ok = 0;
     } else if (e[i].forward == e[i + 1].forward) {
-      snprintf(why, cap, "faces %d and %d traverse edge %d-%d in the same direction; faces must "
-               "be ordered consistently", e[i].face, e[i + 1].face, e[i].lo, e[i].hi);
+      snprintf(why, cap,
+               "faces %d and %d traverse edge %d-%d in the same direction; faces must "
+               "be ordered consistently",
+               e[i].face, e[i + 1].face, e[i].lo, e[i].hi);
       ok = 0;
     }
     i = j;

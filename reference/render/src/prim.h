@@ -36,10 +36,13 @@ static inline int polygon_inside(const rt_scene_t *s, const rt_polygon_t *pg, px
   double px = v3_at(p, ia), py = v3_at(p, ib);
   const px_vec3_t *v = s->vertex + pg->first;
   int inside = 0;
-  for (int i = 0, j = pg->count - 1; i < pg->count; j = i++) {
-    double xi = v3_at(v[i], ia), yi = v3_at(v[i], ib), xj = v3_at(v[j], ia), yj = v3_at(v[j], ib);
+  double xj = v3_at(v[pg->count - 1], ia), yj = v3_at(v[pg->count - 1], ib);
+  for (int i = 0; i < pg->count; i++) { /* edge from vertex j = i - 1 to vertex i */
+    double xi = v3_at(v[i], ia), yi = v3_at(v[i], ib);
     if ((yi > py) != (yj > py) && px < (xj - xi) * (py - yi) / (yj - yi) + xi)
       inside = !inside;
+    xj = xi;
+    yj = yi;
   }
   return inside;
 }

@@ -19,8 +19,7 @@ int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_
                       rt_child_t *child, rt_rgb_t *extra_reflect, int *tir) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t wt = rt_rgb_scale(m->transmittance, m->kt);
-  px_interface_t ifc = {.s = ray->d, .nu = px_vec3_scale(sf->nf, -1.0), .n1 = sf->n1,
-                        .n2 = sf->n2};
+  px_interface_t ifc = {.s = ray->d, .nu = px_vec3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = sf->n2};
   px_vec3_t dir;
   double co;
   px_status_t st = px_interface_outgoing(&ifc, PX_EVENT_REFRACT, &dir, &co);

@@ -39,30 +39,42 @@ static void write_aux(const job_t *J, const rt_tree_t *t, size_t k) {
   }
 }
 
-static void render_pixel(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int i, int j) {
+/* One sample; records its tree when the centre ray's aux channels or the caller want it. */
+static rt_rgb_t sample(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int record, int i, int j,
+                       int a, int b) {
   int s = J->opt->spp_side;
+  double x = a < 0 ? i + 0.5 : i + (a + 0.5) / s, y = b < 0 ? j + 0.5 : j + (b + 0.5) / s;
+  rt_ray_t r = rt_view_ray(J->view, x, y, J->s->ior);
+  ex->tree = record ? tree : NULL;
+  rt_rgb_t c = rt_exact_primary(ex, &r);
+  ex->tree = NULL;
+  if (record && J->opt->on_sample)
+    J->opt->on_sample(J->opt->sample_ctx, i, j, a, b, tree, c);
+  return c;
+}
+
+static void render_pixel(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int i, int j) {
+  int s = J->opt->spp_side, aux = J->opt->aux && tree, every = J->opt->on_sample && tree;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
-  int want_tree = tree != NULL;
+  int have_centre = 0;
   for (int b = 0; b < s; b++)
     for (int a = 0; a < s; a++) {
       int centre = (s & 1) && a == s / 2 && b == s / 2;
-      rt_ray_t r = rt_view_ray(J->view, i + (a + 0.5) / s, j + (b + 0.5) / s, J->s->ior);
-      ex->tree = centre && want_tree ? tree : NULL;
-      sum = rt_rgb_add(sum, rt_exact_primary(ex, &r));
+      sum = rt_rgb_add(sum, sample(J, ex, tree, every || (centre && aux), i, j, a, b));
+      if (centre && aux) {
+        write_aux(J, tree, (size_t)j * J->img->width + i);
+        have_centre = 1;
+      }
     }
-  if (want_tree && !(s & 1)) { /* even s: no sample at the centre; trace one for the record */
-    rt_ray_t r = rt_view_ray(J->view, i + 0.5, j + 0.5, J->s->ior);
-    ex->tree = tree;
-    rt_exact_primary(ex, &r);
+  if (aux && !have_centre) { /* even s: no sample at the centre; trace one for the record */
+    sample(J, ex, tree, 1, i, j, -1, -1);
+    write_aux(J, tree, (size_t)j * J->img->width + i);
   }
-  ex->tree = NULL;
   size_t k = (size_t)j * (size_t)J->img->width + (size_t)i;
   double w = 1.0 / (s * s);
   J->img->ch[RT_CH_R][k] = (float)(sum.r * w);
   J->img->ch[RT_CH_G][k] = (float)(sum.g * w);
   J->img->ch[RT_CH_B][k] = (float)(sum.b * w);
-  if (want_tree)
-    write_aux(J, tree, k);
 }
 
 static int thread_count(const rt_render_options_t *opt) {
@@ -117,7 +129,7 @@ rt_status_t rt_render(const rt_scene_t *s, const rt_plan_t *plan, const rt_rende
   int nt = thread_count(opt);
   rt_tree_node_t **buf = calloc((size_t)nt, sizeof *buf);
   rt_status_t st = buf ? RT_OK : RT_ENOMEM;
-  for (int t = 0; t < nt && st == RT_OK && opt->aux; t++)
+  for (int t = 0; t < nt && st == RT_OK && (opt->aux || opt->on_sample); t++)
     if (!(buf[t] = malloc((size_t)plan->tree_nodes * sizeof **buf)))
       st = RT_ENOMEM;
   rt_stats_t total = {0, 0, 0, 0};

@@ -13,12 +13,18 @@
 
 const char *rt_strerror(rt_status_t s) {
   switch (s) {
-  case RT_OK: return "success";
-  case RT_ENOMEM: return "out of memory";
-  case RT_EINVAL: return "invalid parameter";
-  case RT_EGEOMETRY: return "degenerate geometry";
-  case RT_ENOTREADY: return "scene not prepared (call rt_scene_prepare after the last change)";
-  case RT_ECAPACITY: return "buffer full";
+  case RT_OK:
+    return "success";
+  case RT_ENOMEM:
+    return "out of memory";
+  case RT_EINVAL:
+    return "invalid parameter";
+  case RT_EGEOMETRY:
+    return "degenerate geometry";
+  case RT_ENOTREADY:
+    return "scene not prepared (call rt_scene_prepare after the last change)";
+  case RT_ECAPACITY:
+    return "buffer full";
   }
   return "unknown status";
 }
@@ -127,7 +133,9 @@ rt_status_t rt__scene_new_object(rt_scene_t *s, rt_object_kind_t kind, int mater
   return RT_OK;
 }
 
-static int vec_finite(px_vec3_t v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+static int vec_finite(px_vec3_t v) {
+  return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
 
 rt_status_t rt_scene_add_sphere(rt_scene_t *s, px_vec3_t c, double r, int material, int *object) {
   if (!(r > 0.0) || !isfinite(r) || !vec_finite(c))
@@ -209,6 +217,9 @@ rt_status_t rt_scene_prepare(rt_scene_t *s) {
   const rt_camera_t *c = &s->camera;
   if (!(c->fov_deg > 0.0 && c->fov_deg < 180.0) || c->width < 1 || c->height < 1 ||
       s->max_depth < 0 || s->max_depth > 64 || s->spp < 1 || s->spp > 49 || !(s->ior > 0.0))
+    return RT_EINVAL;
+  int side = (int)lrint(sqrt((double)s->spp));
+  if (side * side != s->spp) /* s x s sub-pixel grids only */
     return RT_EINVAL;
   drop_accel(s);
   return rt_bvh_build(s, &s->bvh, &s->unbounded, &s->nunbounded);

@@ -92,8 +92,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
 /* The mirror child (px_interface_outgoing with PX_EVENT_REFLECT: s' = s - 2 (nu.s) nu). */
 static int reflect_child(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w, int tir, rt_child_t *out) {
-  px_interface_t ifc = {.s = ray->d, .nu = v3_scale(sf->nf, -1.0), .n1 = sf->n1,
-                        .n2 = sf->n1};
+  px_interface_t ifc = {.s = ray->d, .nu = v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = sf->n1};
   px_vec3_t dir;
   double co;
   if (!(rt_rgb_max(w) > 0.0) || px_interface_outgoing(&ifc, PX_EVENT_REFLECT, &dir, &co) != PX_OK)

@@ -25,7 +25,9 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
   }
 }
 
-rt_tracer_t rt_exact_tracer(rt_exact_t *ex) { return (rt_tracer_t){child_cb, shadow_cb, ex}; }
+rt_tracer_t rt_exact_tracer(rt_exact_t *ex) {
+  return (rt_tracer_t){child_cb, shadow_cb, ex};
+}
 
 rt_exact_t rt_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
   return (rt_exact_t){s, plan, tree, -1, {0, 0, 0, 0}};
@@ -44,8 +46,12 @@ static int record(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child
                          .kind = (uint8_t)(from ? from->kind : RT_RAY_PRIMARY),
                          .depth = (uint8_t)depth,
                          .flags = (uint8_t)(from && from->tir ? RT_NODE_TIR : 0),
-                         .object = -1, .prim = -1, .texel = -1,
-                         .origin = ray->o, .dir = ray->d, .t = INFINITY,
+                         .object = -1,
+                         .prim = -1,
+                         .texel = -1,
+                         .origin = ray->o,
+                         .dir = ray->d,
+                         .t = INFINITY,
                          .weight = rt_rgb(1, 1, 1)};
   if (from)
     nd->weight = rt_rgb_mul(t->node[ex->node].weight, from->weight);

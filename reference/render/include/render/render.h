@@ -20,13 +20,17 @@
 
 /** Image channels, float32 each. Names are the OpenEXR channel names. */
 typedef enum {
-  RT_CH_R = 0, RT_CH_G, RT_CH_B, /**< box-filtered linear radiance */
-  RT_CH_Z,         /**< centre ray: distance from the eye to the first hit (INFINITY on a miss) */
-  RT_CH_ID,        /**< centre ray: object index of the first hit, -1 on a miss */
-  RT_CH_T_U, RT_CH_T_V, /**< centre ray, transmission-first path: checkerboard (u, v) */
-  RT_CH_T_K,       /**< ... number of reflections/refractions before the board (-1: never) */
-  RT_CH_R_U, RT_CH_R_V, /**< reflection-first path: checkerboard (u, v) */
-  RT_CH_R_K,       /**< ... events before the board (-1: never) */
+  RT_CH_R = 0, /**< box-filtered linear radiance, red */
+  RT_CH_G,     /**< green */
+  RT_CH_B,     /**< blue */
+  RT_CH_Z,     /**< centre ray: distance from the eye to the first hit (INFINITY on a miss) */
+  RT_CH_ID,    /**< centre ray: object index of the first hit, -1 on a miss */
+  RT_CH_T_U,   /**< centre ray, transmission-first path: checkerboard u (NaN: never met) */
+  RT_CH_T_V,   /**< ... checkerboard v */
+  RT_CH_T_K,   /**< ... reflections/refractions before the board (-1: never met) */
+  RT_CH_R_U,   /**< reflection-first path: checkerboard u */
+  RT_CH_R_V,   /**< ... checkerboard v */
+  RT_CH_R_K,   /**< ... reflections/refractions before the board (-1: never met) */
   RT_CH_COUNT
 } rt_channel_t;
 
@@ -73,15 +77,22 @@ rt_rgb_t rt_exact_primary(rt_exact_t *ex, const rt_ray_t *ray);
 rt_tracer_t rt_exact_tracer(rt_exact_t *ex);
 
 typedef struct {
-  int spp_side;   /**< s: s x s samples per pixel, 1..7 */
-  int threads;    /**< OpenMP threads; 0 = the OpenMP default */
-  int aux;        /**< 1: fill the auxiliary channels (traces trees of centre rays) */
+  int spp_side; /**< s: s x s samples per pixel, 1..7 */
+  int threads;  /**< OpenMP threads; 0 = the OpenMP default */
+  int aux;      /**< 1: fill the auxiliary channels (traces trees of centre rays) */
   /** Called after each finished row with (rows done, rows total), serialised; may be NULL. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
+  /** When not NULL, every sample's ray tree is recorded and handed over: pixel (i, j),
+   *  sub-sample (a, b) of the s x s grid (a = b = -1 for the extra centre ray of even s), the
+   *  sample's radiance. Called from the rendering threads, concurrently: the callee must only
+   *  touch per-pixel state or synchronise itself. The tree is valid during the call only. */
+  void (*on_sample)(void *ctx, int i, int j, int a, int b, const rt_tree_t *tree, rt_rgb_t c);
+  void *sample_ctx;
 } rt_render_options_t;
 
-#define RT_RENDER_OPTIONS_DEFAULT {1, 0, 1, NULL, NULL}
+#define RT_RENDER_OPTIONS_DEFAULT                                                                  \
+  { 1, 0, 1, NULL, NULL, NULL, NULL }
 
 /** Render the prepared scene with `plan` into img (allocated by the caller at the camera's
  *  size). Pixels are independent, so the image does not depend on the thread count.

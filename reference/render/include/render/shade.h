@@ -31,28 +31,28 @@
  *  texture lookup and the two media. */
 typedef struct {
   rt_hit_t hit;
-  px_vec3_t nf;              /**< unit normal facing the incoming ray: nf . d < 0 */
-  const rt_material_t *mat;  /**< material at the point (checker square resolved) */
-  int texel;                 /**< checker square parity 0/1, or -1 without texture */
-  int entering;              /**< 1 when the ray enters the object (hits the outward side) */
-  double n1;                 /**< index on the incoming side (the ray's medium) */
-  double n2;                 /**< index on the far side (object's ior entering, scene's leaving) */
+  px_vec3_t nf;             /**< unit normal facing the incoming ray: nf . d < 0 */
+  const rt_material_t *mat; /**< material at the point (checker square resolved) */
+  int texel;                /**< checker square parity 0/1, or -1 without texture */
+  int entering;             /**< 1 when the ray enters the object (hits the outward side) */
+  double n1;                /**< index on the incoming side (the ray's medium) */
+  double n2;                /**< index on the far side (object's ior entering, scene's leaving) */
 } rt_surface_t;
 
 /** A secondary ray spawned at a surface with the weight its radiance carries. */
 typedef struct {
-  rt_ray_t ray;         /**< origin offset off the surface, unit direction, medium */
-  rt_rgb_t weight;      /**< kr, kt T, or the Fresnel-weighted split */
-  rt_ray_kind_t kind;   /**< RT_RAY_REFLECT or RT_RAY_REFRACT */
-  int tir;              /**< 1 for a reflection that carries refracted weight after total
-                             internal reflection */
+  rt_ray_t ray;       /**< origin offset off the surface, unit direction, medium */
+  rt_rgb_t weight;    /**< kr, kt T, or the Fresnel-weighted split */
+  rt_ray_kind_t kind; /**< RT_RAY_REFLECT or RT_RAY_REFRACT */
+  int tir;            /**< 1 for a reflection that carries refracted weight after total
+                           internal reflection */
 } rt_child_t;
 
 /** Result of one shadow query, reported to the tracer for its ray tree. */
 typedef struct {
-  int light;         /**< light index */
-  rt_ray_t ray;      /**< the shadow segment: from the point towards the light */
-  rt_rgb_t through;  /**< transmittance the tracer found (white = unoccluded) */
+  int light;        /**< light index */
+  rt_ray_t ray;     /**< the shadow segment: from the point towards the light */
+  rt_rgb_t through; /**< transmittance the tracer found (white = unoccluded) */
 } rt_shadow_t;
 
 /** How a renderer finds surfaces. Both callbacks are called from the thread that shades. */

@@ -10,12 +10,12 @@
 
 /** Result codes of the renderer. Static messages from rt_strerror(). */
 typedef enum {
-  RT_OK = 0,     /**< success */
-  RT_ENOMEM,     /**< an allocation failed; nothing was changed */
-  RT_EINVAL,     /**< a parameter is out of range or not finite */
-  RT_EGEOMETRY,  /**< degenerate geometry: a non-planar or zero-area polygon, an open polyhedron */
-  RT_ENOTREADY,  /**< the scene was changed after rt_scene_prepare() or never prepared */
-  RT_ECAPACITY   /**< a caller-owned buffer is full */
+  RT_OK = 0,    /**< success */
+  RT_ENOMEM,    /**< an allocation failed; nothing was changed */
+  RT_EINVAL,    /**< a parameter is out of range or not finite */
+  RT_EGEOMETRY, /**< degenerate geometry: a non-planar or zero-area polygon, an open polyhedron */
+  RT_ENOTREADY, /**< the scene was changed after rt_scene_prepare() or never prepared */
+  RT_ECAPACITY  /**< a caller-owned buffer is full */
 } rt_status_t;
 
 /** Static, human-readable message for a status; never NULL, thread-safe. */
@@ -26,7 +26,9 @@ typedef struct {
   double r, g, b;
 } rt_rgb_t;
 
-static inline rt_rgb_t rt_rgb(double r, double g, double b) { return (rt_rgb_t){r, g, b}; }
+static inline rt_rgb_t rt_rgb(double r, double g, double b) {
+  return (rt_rgb_t){r, g, b};
+}
 static inline rt_rgb_t rt_rgb_add(rt_rgb_t a, rt_rgb_t b) {
   return (rt_rgb_t){a.r + b.r, a.g + b.g, a.b + b.b};
 }
@@ -60,16 +62,16 @@ typedef struct {
   double tmin;   /**< nearest accepted distance (>= 0) */
   double tmax;   /**< farthest accepted distance (INFINITY for an unbounded ray) */
   double ior;    /**< refractive index of the medium the ray travels in */
-  int skip_prim; /**< primitive the ray leaves from when it is planar (cannot be met again), or -1 */
+  int skip_prim; /**< planar primitive the ray leaves (it cannot meet it again), or -1 */
 } rt_ray_t;
 
 /** The nearest surface point a ray meets. */
 typedef struct {
-  double t;      /**< distance along the ray (d is unit, so in length units) */
-  px_vec3_t p;   /**< hit point, world coordinates */
-  px_vec3_t n;   /**< unit geometric normal: outward for closed objects, as given for open ones */
-  int prim;      /**< primitive index in the scene */
-  int object;    /**< object index in the scene */
+  double t;    /**< distance along the ray (d is unit, so in length units) */
+  px_vec3_t p; /**< hit point, world coordinates */
+  px_vec3_t n; /**< unit geometric normal: outward for closed objects, as given for open ones */
+  int prim;    /**< primitive index in the scene */
+  int object;  /**< object index in the scene */
 } rt_hit_t;
 
 #endif
