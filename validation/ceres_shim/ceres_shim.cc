@@ -1,0 +1,82 @@
+// ceres_shim.cc -- extern "C" wrapper over Ceres' C++ API: bounded parameters and a silent
+// solve (ceres_shim.h). Kept to exactly what validation/src/fit_envelope.c uses.
+#include "ceres_shim.h"
+
+#include <ceres/ceres.h>
+#include <glog/logging.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+namespace {
+
+class CallbackCost : public ceres::CostFunction {
+ public:
+  CallbackCost(int np, int nres, val_ceres_cost_t cost, void *user)
+      : np_(np), nres_(nres), cost_(cost), user_(user) {
+    set_num_residuals(nres);
+    mutable_parameter_block_sizes()->push_back(np);
+  }
+
+  bool Evaluate(double const *const *parameters, double *residuals,
+                double **jacobians) const override {
+    double *jac = (jacobians != nullptr && jacobians[0] != nullptr) ? jacobians[0] : nullptr;
+    return cost_(user_, parameters[0], residuals, jac) != 0;
+  }
+
+ private:
+  int np_, nres_;
+  val_ceres_cost_t cost_;
+  void *user_;
+};
+
+// glog without InitGoogleLogging() writes warnings to stderr; a verification run must stay
+// quiet, so only fatal messages (which abort anyway) are let through.
+void silence_logging() {
+  static bool done = false;
+  if (!done) {
+    FLAGS_minloglevel = google::GLOG_FATAL;
+    FLAGS_stderrthreshold = google::GLOG_FATAL;
+    done = true;
+  }
+}
+
+}  // namespace
+
+extern "C" int val_ceres_solve_bounded(int np, double *p, const double *lower,
+                                       const double *upper, int nres, val_ceres_cost_t cost,
+                                       void *user, const val_ceres_options_t *opt,
+                                       val_ceres_summary_t *summary) {
+  if (np <= 0 || nres <= 0 || p == nullptr || cost == nullptr || summary == nullptr) return -1;
+  silence_logging();
+  ceres::Problem::Options popt;
+  popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(popt);
+  problem.AddResidualBlock(new CallbackCost(np, nres, cost, user), nullptr, p);
+  for (int j = 0; j < np; j++) {
+    if (lower != nullptr && std::isfinite(lower[j])) problem.SetParameterLowerBound(p, j, lower[j]);
+    if (upper != nullptr && std::isfinite(upper[j])) problem.SetParameterUpperBound(p, j, upper[j]);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.minimizer_progress_to_stdout = false;
+  so.logging_type = ceres::SILENT;
+  so.num_threads = 1;
+  if (opt != nullptr) {
+    if (opt->max_iterations > 0) so.max_num_iterations = opt->max_iterations;
+    if (opt->function_tolerance > 0) so.function_tolerance = opt->function_tolerance;
+    if (opt->gradient_tolerance > 0) so.gradient_tolerance = opt->gradient_tolerance;
+    if (opt->parameter_tolerance > 0) so.parameter_tolerance = opt->parameter_tolerance;
+  }
+  ceres::Solver::Summary s;
+  ceres::Solve(so, &problem, &s);
+  std::memset(summary, 0, sizeof *summary);
+  summary->converged = s.termination_type == ceres::CONVERGENCE;
+  summary->usable = s.IsSolutionUsable();
+  summary->iterations = static_cast<int>(s.iterations.size());
+  summary->initial_cost = s.initial_cost;
+  summary->final_cost = s.final_cost;
+  std::strncpy(summary->message, s.message.c_str(), sizeof summary->message - 1);
+  return 0;
+}
