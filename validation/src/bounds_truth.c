@@ -262,43 +262,66 @@ static px_status_t map_q_scaled(const ex_system_t *sys, const ex_axial_t *ax, co
   return ex_map_q(sys, ax, pq, out);
 }
 
-px_status_t val_sampled_error(const ex_system_t *sys, const ex_axial_t *ax, px_mat4_t t,
-                              double length, double eps, double phi, int part, const double dir[2],
-                              double *err) {
-  (void)t; /* the linear part is taken in __float128 (below), not from a double matrix */
-  double best = 0.0;
-  const double d1 = M_PI / 180.0;
-  /* F(0): the axial ray, traced in double, lands ~1e-17 L off O'; that offset is not an error of
-   * the linear map but would be one of 1e-3 eps^2 at eps = 1e-7 */
+/* full error F(psi) - F(0) - J psi at amplitude eps, shape phi, directions (a, b), divided by
+ * eps^2 (positions also by L). J psi = (F(h psi) - F(-h psi)) / 2h in __float128: a double
+ * Jacobian would leave 1e-16 |T| eps of noise, comparable to a small eps^2 error; this leaves
+ * h^2 eps^3 of the third-order term and ~1e-34 eps of rounding (h = 1e-6). F(0): the axial
+ * ray, traced in double, lands ~1e-17 L off O', which is no error of the linear map. */
+static px_status_t sampled_one(const ex_system_t *sys, const ex_axial_t *ax, const __float128 f0[4],
+                               double length, double eps, double phi, int part, double a, double b,
+                               double *err) {
+  double p[4] = {eps * length * cos(phi) * cos(a), eps * length * cos(phi) * sin(a),
+                 eps * sin(phi) * cos(b), eps * sin(phi) * sin(b)};
+  __float128 out[4], fp[4], fm[4], h = 1e-6Q;
+  px_status_t st = map_q_scaled(sys, ax, p, 1, out);
+  if (st == PX_OK)
+    st = map_q_scaled(sys, ax, p, h, fp);
+  if (st == PX_OK)
+    st = map_q_scaled(sys, ax, p, -h, fm);
+  if (st != PX_OK)
+    return st;
+  double e[2];
+  for (int r = 0; r < 2; r++) {
+    int row = 2 * part + r;
+    e[r] = (double)(out[row] - f0[row] - (fp[row] - fm[row]) / (2 * h));
+  }
+  *err = hypot(e[0], e[1]) / (part == 0 ? length : 1.0) / (eps * eps);
+  return PX_OK;
+}
+
+px_status_t val_sampled_error(const ex_system_t *sys, const ex_axial_t *ax, double length,
+                              double eps, double phi, int part, const double dir[2], double *err,
+                              double *eps_used) {
   __float128 f0[4];
   const double zero4[4] = {0, 0, 0, 0};
-  px_status_t st0 = map_q_scaled(sys, ax, zero4, 1, f0);
-  if (st0 != PX_OK)
-    return st0;
+  px_status_t st = map_q_scaled(sys, ax, zero4, 1, f0);
+  if (st != PX_OK)
+    return st;
+  /* In the second-order regime e(eps) / eps^2 does not depend on eps: where it changes by more
+   * than 1e-3 between eps and eps/2 the third-order terms still matter, and eps is lowered
+   * tenfold (to 1e-12 at most: quad rounding is then ~1e-22 of the sample). */
+  for (int tries = 0;; tries++) {
+    double v1, v2;
+    if ((st = sampled_one(sys, ax, f0, length, eps, phi, part, dir[0], dir[1], &v1)) != PX_OK ||
+        (st = sampled_one(sys, ax, f0, length, eps / 2, phi, part, dir[0], dir[1], &v2)) != PX_OK)
+      return st;
+    if (fabs(v1 - v2) <= 1e-3 * v2 || tries == 5)
+      break;
+    eps /= 10;
+  }
+  double best = 0.0;
+  const double d1 = M_PI / 180.0;
   static const int nb[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   for (int q = 0; q < 5; q++) {
-    double a = dir[0] + nb[q][0] * d1, b = dir[1] + nb[q][1] * d1;
-    double p[4] = {eps * length * cos(phi) * cos(a), eps * length * cos(phi) * sin(a),
-                   eps * sin(phi) * cos(b), eps * sin(phi) * sin(b)};
-    /* full error F(psi) - J psi with J psi = (F(h psi) - F(-h psi)) / 2h in __float128:
-     * a double Jacobian would leave 1e-16 |T| eps of noise, comparable to a small eps^2 error;
-     * this leaves h^2 eps^3 of the third-order term and ~1e-34 eps of rounding (h = 1e-6) */
-    __float128 out[4], fp[4], fm[4], h = 1e-6Q;
-    px_status_t st = map_q_scaled(sys, ax, p, 1, out);
-    if (st == PX_OK)
-      st = map_q_scaled(sys, ax, p, h, fp);
-    if (st == PX_OK)
-      st = map_q_scaled(sys, ax, p, -h, fm);
+    double v;
+    st = sampled_one(sys, ax, f0, length, eps, phi, part, dir[0] + nb[q][0] * d1,
+                     dir[1] + nb[q][1] * d1, &v);
     if (st != PX_OK)
       return st;
-    double e[2];
-    for (int r = 0; r < 2; r++) {
-      int row = 2 * part + r;
-      e[r] = (double)(out[row] - f0[row] - (fp[row] - fm[row]) / (2 * h));
-    }
-    double v = hypot(e[0], e[1]) / (part == 0 ? length : 1.0) / (eps * eps);
     best = fmax(best, v);
   }
   *err = best;
+  if (eps_used)
+    *eps_used = eps;
   return PX_OK;
 }

@@ -58,11 +58,13 @@ px_status_t val_pinhole_error(const ex_system_t *sys, const ex_axial_t *ax, px_m
                               double length, double xi0, double *err);
 
 /** Largest full error (part 0: |Delta x| / L, part 1: |Delta xi|) at amplitude eps and shape phi,
- *  divided by eps^2, near the directions (alpha, beta) (a 3 x 3 neighbourhood of 1 degree),
- *  in __float128: the sampled exact error that the Ceres envelope is fitted to. */
-px_status_t val_sampled_error(const ex_system_t *sys, const ex_axial_t *ax, px_mat4_t t,
-                              double length, double eps, double phi, int part, const double dir[2],
-                              double *err);
+ *  divided by eps^2, at the directions (alpha, beta) and their 1-degree neighbours, in
+ *  __float128: the sampled exact error that the Ceres envelope is fitted to. eps is lowered
+ *  (down to 1e-12) until the sample is in the second-order regime; *eps_used (may be NULL)
+ *  tells which amplitude was used. */
+px_status_t val_sampled_error(const ex_system_t *sys, const ex_axial_t *ax, double length,
+                              double eps, double phi, int part, const double dir[2], double *err,
+                              double *eps_used);
 
 /** Ceres fit of the tightest non-negative quadratic envelope e(phi) = c0 cos^2 + c1 cos sin +
  *  c2 sin^2 >= samples[k] (k = 0..VAL_NPHI-1, scaled) -- fit_envelope.c. coef holds a start
@@ -93,6 +95,8 @@ typedef struct {
                                           and a direction interval of 1e-3 rad */
   double spread[2];                  /**< spread limits: Eq. (6) alone (capped), with k3 */
   px_spread_regime_t regime[2];      /**< their regimes */
+  double err_over_tau[2];            /**< full exact error at those spreads / tau (> 1: the
+                                          limit lets through a pencil that is too wide) */
   int fitted;                        /**< the Ceres fit ran */
   px_pencil_t fit;                   /**< fitted scaled constants A-F */
   double fit_excess[2], fit_dev[2];  /**< e_x, e_xi: envelope excess and attained deviation */
