@@ -26,5 +26,6 @@ void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]);
 
 int cmd_matrix(int argc, char **argv);
 int cmd_verify(int argc, char **argv);
+int cmd_bounds(int argc, char **argv);
 
 #endif

@@ -13,6 +13,7 @@ typedef struct {
 static const command_t commands[] = {
     {"matrix", cmd_matrix, "system matrix calculator (transfer, refraction, reflection)"},
     {"verify", cmd_verify, "verify the paper's formulas against exact tracing"},
+    {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)"},
 };
 
 static void usage(FILE *f) {
