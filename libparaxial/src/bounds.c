@@ -65,10 +65,17 @@ static void coeffs_printed(const angles_t *g, double inv_r, double d3m, px_coeff
 static void coeffs_corrected(const angles_t *g, double k, double d3m, px_coeffs_t *r) {
   double c = g->c, s = g->s, cp = fabs(g->cp), sp = g->sp, eta = g->eta, h = g->h;
   double one_m = (1.0 - eta) * (1.0 + eta); /* 1 - eta^2 */
-  double sdiff = fabs(s * g->cp - c * sp);  /* |sin(theta - theta')| */
   double cp3 = cp * cp * cp;
-  /* a: the height term and the first-order output direction term of Delta x (both along |x|^2) */
-  r->a = k / (c * c) * (0.5 * sdiff / c + fabs(sp * h) / cp);
+  /* a: Delta x_xx = al u^T Q u e1 + s' h u1 Theta'^-1 Q u with al = sin(theta-theta')/(2c),
+   * be = s' h / c'. Two bounds, the smaller taken (|u| <= x0/c, |u1| <= x0/c):
+   *  - the triangle inequality: k (|al| + |be|) |u|^2 (tight for refraction on a sphere);
+   *  - by components: Delta x1 = u^T M u with M = (al + be/2) Q + (be/2) diag(q11, -q22), so
+   *    |Delta x1| <= (|al + be/2| + |be|/2) k |u|^2, and |Delta x2| <= |s' h| k |u1| |u|. For a
+   *    mirror al + be/2 = 0: the two terms of the triangle form cancel (3x tighter at most). */
+  double al = (s * g->cp - c * sp) / (2.0 * c), be = sp * h / g->cp;
+  double tri = fabs(al) + fabs(be);
+  double comp = hypot(fabs(al + 0.5 * be) + 0.5 * fabs(be), sp * h);
+  r->a = k / (c * c) * fmin(tri, comp);
   /* b: u1 s (1 - eta^2) diag(1/(c c'), 1) xi, attained for x, xi along x1 (= printed b) */
   r->b = fabs(s * one_m) / (c * c * cp);
   r->c = 0.0; /* rays through O stay at x' = 0 */
