@@ -30,5 +30,6 @@ int cmd_render(int argc, char **argv);
 /** `pencil render --method pencil` (cmd_render_pencil.c). */
 int cmd_render_pencil(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_bounds(int argc, char **argv);
 
 #endif

@@ -29,8 +29,8 @@ $pencil render "$src/scenes/fig8.json" --explain >"$tmp/plan"; rc=$?
 check "--explain alone prints the plan without rendering" \
   "[ $rc -eq 0 ] && grep -q 'effects plan' '$tmp/plan' && ! grep -q rendered '$tmp/plan'"
 
-$pencil render -o "$tmp/c.exr" --method pencil --size 20x20 --spp 1 >/dev/null 2>"$tmp/err"; rc=$?
-check "--method pencil renders (exit 0)" "[ $rc -eq 0 ] && [ -s '$tmp/c.exr' ]"
+$pencil render -o "$tmp/p.exr" --method pencil --size 20x20 --spp 1 >/dev/null 2>"$tmp/err"; rc=$?
+check "--method pencil renders (exit 0)" "[ $rc -eq 0 ] && [ -s '$tmp/p.exr' ]"
 $pencil render -o "$tmp/c.exr" --spp 5 >/dev/null 2>"$tmp/err"; rc=$?
 check "--spp 5 is a usage error naming --spp" "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err'"
 $pencil render -o "$tmp/c.exr" --threads 0 >/dev/null 2>"$tmp/err"; rc=$?
