@@ -26,5 +26,7 @@ void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]);
 
 int cmd_matrix(int argc, char **argv);
 int cmd_verify(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
 
 #endif

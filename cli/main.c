@@ -13,6 +13,8 @@ typedef struct {
 static const command_t commands[] = {
     {"matrix", cmd_matrix, "system matrix calculator (transfer, refraction, reflection)"},
     {"verify", cmd_verify, "verify the paper's formulas against exact tracing"},
+    {"render", cmd_render, "render a scene by exact (Whitted) ray tracing to OpenEXR + PNG"},
+    {"bench", cmd_bench, "benchmarks: 'pencil bench render' measures rays per second"},
 };
 
 static void usage(FILE *f) {

@@ -1,0 +1,179 @@
+/* cmd_bench.c -- `pencil bench render`: exact-tracing rays per second for the Fig. 8 scene and a
+ * 1,000-polygon scene, median of several runs, 1 and 2 threads (issue 4; textbook 9.2: with an
+ * acceleration structure the cost per ray should hardly grow with the number of objects).
+ * Speed is measured here, never in a timed unit test (docs/DEVELOPING.md). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cli.h"
+#include "render/builtin.h"
+#include "render/render.h"
+
+#define MAX_RUNS 101
+
+static void help(FILE *f) {
+  fprintf(f, "usage: pencil bench render [--runs N] [--size WxH] [--spp N] [--json FILE]\n\n"
+             "Renders the built-in Fig. 8 scene (glass sphere over a checkerboard) and a\n"
+             "1,000-polygon scene (a faceted glass sphere of 25 x 40 faces over the same board)\n"
+             "with the exact tracer, N times each with 1 and with 2 threads, and reports the\n"
+             "median rays per second (all rays: primary, reflected, refracted, shadow). Plain\n"
+             "rendering: no ray trees, no auxiliary channels. Other processes on the machine\n"
+             "share the cores, so compare runs made under the same load.\n\n"
+             "options:\n"
+             "  --runs N      runs per configuration, 1..101 (default 5)\n"
+             "  --size WxH    image size (default 256x256)\n"
+             "  --spp N       samples per pixel, 1, 4, ..., 49 (default 4)\n"
+             "  --json FILE   also write the results as JSON\n");
+}
+
+typedef struct {
+  const char *scene;
+  int primitives, threads;
+  uint64_t rays;
+  double median_s, median_rps;
+} result_t;
+
+static double now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* N renders of scene s with `threads`; median time and rays per second in *r. */
+static int measure(const rt_scene_t *s, int side, int threads, int runs, result_t *r) {
+  rt_plan_t plan = rt_plan_make(s, side * side);
+  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  opt.spp_side = side;
+  opt.threads = threads;
+  opt.aux = 0;
+  rt_image_t img;
+  double t[MAX_RUNS];
+  rt_stats_t st;
+  if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
+    return 0;
+  for (int k = 0; k < runs; k++) {
+    double t0 = now();
+    if (rt_render(s, &plan, &opt, &img, &st) != RT_OK) {
+      rt_image_free(&img);
+      return 0;
+    }
+    t[k] = now() - t0;
+  }
+  rt_image_free(&img);
+  qsort(t, (size_t)runs, sizeof t[0], cmp_double);
+  r->threads = threads;
+  r->rays = rt_stats_total(&st);
+  r->median_s = runs % 2 ? t[runs / 2] : 0.5 * (t[runs / 2 - 1] + t[runs / 2]);
+  r->median_rps = r->rays / r->median_s;
+  return 1;
+}
+
+static void print_table(const result_t *r, int n, int w, int h, int spp, int runs) {
+  printf("exact tracing, %dx%d, %d spp, median of %d runs\n", w, h, spp, runs);
+  printf("%-10s %10s %8s %12s %10s %14s\n", "scene", "primitives", "threads", "rays/run",
+         "median s", "rays/s");
+  for (int k = 0; k < n; k++)
+    printf("%-10s %10d %8d %12llu %10.4f %14.4g\n", r[k].scene, r[k].primitives, r[k].threads,
+           (unsigned long long)r[k].rays, r[k].median_s, r[k].median_rps);
+}
+
+static int write_json(const char *path, const result_t *r, int n, int w, int h, int spp, int runs) {
+  FILE *f = fopen(path, "w");
+  if (!f) {
+    fprintf(stderr, "pencil bench: cannot write %s\n", path);
+    return 0;
+  }
+  fprintf(f,
+          "{\"benchmark\": \"render\", \"method\": \"exact\", \"width\": %d, \"height\": %d, "
+          "\"spp\": %d, \"runs\": %d, \"results\": [",
+          w, h, spp, runs);
+  for (int k = 0; k < n; k++)
+    fprintf(f,
+            "%s\n  {\"scene\": \"%s\", \"primitives\": %d, \"threads\": %d, \"rays\": %llu, "
+            "\"median_seconds\": %.6g, \"rays_per_second\": %.6g}",
+            k ? "," : "", r[k].scene, r[k].primitives, r[k].threads, (unsigned long long)r[k].rays,
+            r[k].median_s, r[k].median_rps);
+  fprintf(f, "\n]}\n");
+  return fclose(f) == 0;
+}
+
+static int run(int runs, long w, long h, int side, const char *json) {
+  const char *names[2] = {"fig8", "mesh1000"};
+  result_t res[4];
+  int n = 0;
+  for (int k = 0; k < 2; k++) {
+    rt_scene_t s;
+    rt_scene_init(&s);
+    if (rt_builtin(names[k], &s) != RT_OK) {
+      fprintf(stderr, "pencil bench: cannot build scene %s\n", names[k]);
+      rt_scene_free(&s);
+      return CLI_FAIL;
+    }
+    s.camera.width = (int)w;
+    s.camera.height = (int)h;
+    for (int threads = 1; threads <= 2; threads++, n++) {
+      res[n].scene = names[k];
+      res[n].primitives = s.nprim;
+      if (!measure(&s, side, threads, runs, &res[n])) {
+        rt_scene_free(&s);
+        return CLI_FAIL;
+      }
+    }
+    rt_scene_free(&s);
+  }
+  print_table(res, n, (int)w, (int)h, side * side, runs);
+  return json && !write_json(json, res, n, (int)w, (int)h, side * side, runs) ? CLI_FAIL : CLI_OK;
+}
+
+int cmd_bench(int argc, char **argv) {
+  if (argc < 2 || cli_is_help(argv[1])) {
+    help(argc < 2 ? stderr : stdout);
+    return argc < 2 ? CLI_USAGE : CLI_OK;
+  }
+  if (strcmp(argv[1], "render") != 0) {
+    fprintf(stderr, "pencil bench: unknown benchmark '%s' (available: render)\n", argv[1]);
+    return CLI_USAGE;
+  }
+  long runs = 5, w = 256, h = 256, spp = 4;
+  const char *json = NULL;
+  for (int i = 2; i < argc; i++) {
+    int err = 0;
+    const char *v;
+    char tail;
+    if (cli_is_help(argv[i])) {
+      help(stdout);
+      return CLI_OK;
+    } else if ((v = cli_option(argc, argv, &i, "--runs", &err))) {
+      if (!cli_parse_long("--runs", v, 1, MAX_RUNS, &runs))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--size", &err))) {
+      if (sscanf(v, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 4096 || h > 4096) {
+        fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n", v);
+        return CLI_USAGE;
+      }
+    } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {
+      if (!cli_parse_long("--spp", v, 1, 49, &spp))
+        return CLI_USAGE;
+      long side = lrint(sqrt((double)spp));
+      if (side * side != spp) {
+        fprintf(stderr, "pencil bench: --spp: expected 1, 4, 9, ..., 49, got %ld\n", spp);
+        return CLI_USAGE;
+      }
+    } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
+      json = v;
+    } else {
+      if (!err)
+        fprintf(stderr, "pencil bench: unexpected argument '%s' (see --help)\n", argv[i]);
+      return CLI_USAGE;
+    }
+  }
+  return run((int)runs, w, h, (int)lrint(sqrt((double)spp)), json);
+}

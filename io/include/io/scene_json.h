@@ -1,0 +1,19 @@
+/* scene_json.h -- reading scene files: JSON (docs/scene-format.md) through jansson.
+ *
+ * Bad files never crash the loader: every error is reported once as
+ *     FILE:LINE: PATH: what is wrong; what was expected
+ * (FILE:LINE:COLUMN for JSON syntax errors), e.g.
+ *     scenes/x.json:12: objects[1].radius: expected a number > 0, got -1
+ */
+#ifndef IO_SCENE_JSON_H
+#define IO_SCENE_JSON_H
+
+#include <stddef.h>
+
+#include "render/scene.h"
+
+/** Load the scene in `path` into s (any previous content is freed) and prepare it. Returns 0,
+ *  or -1 with the message in err[cap] and s left empty. Duplicate keys are errors. */
+int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap);
+
+#endif

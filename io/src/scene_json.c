@@ -1,0 +1,175 @@
+/* scene_json.c -- loading a scene file (docs/scene-format.md) with jansson: camera, settings,
+ * materials and lights here; objects in scene_objects.c. The model is the textbook's (9.1):
+ * ambient, diffuse, Phong specular, coherent reflection kr and refraction kt, point and
+ * parallel lights, a pinhole camera. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "io/scene_json.h"
+#include "parse.h"
+#include "render/camera.h"
+
+static int parse_camera(io_parse_t *P, json_t *c) {
+  static const char *const keys[] = {"eye", "look_at", "up", "fov", "width", "height", NULL};
+  rt_camera_t *cam = &P->scene->camera;
+  io_push_key(P, "camera");
+  int ok = io_check_keys(P, c, keys) && io_get_vec3(P, c, "eye", 1, cam->eye, &cam->eye) &&
+           io_get_vec3(P, c, "look_at", 1, cam->look_at, &cam->look_at) &&
+           io_get_vec3(P, c, "up", 0, px_vec3(0, 1, 0), &cam->up) &&
+           io_get_number(P, c, "fov", 0, 40.0, 0.0, 179.0, 1, &cam->fov_deg) &&
+           io_get_int(P, c, "width", 0, 256, 1, 16384, &cam->width) &&
+           io_get_int(P, c, "height", 0, 256, 1, 16384, &cam->height);
+  rt_view_t view;
+  if (ok && rt_view_make(cam, &view) != RT_OK)
+    ok = io_fail(P, "eye and look_at must differ and up must not be parallel to the view");
+  io_pop(P);
+  return ok;
+}
+
+static int parse_settings(io_parse_t *P, json_t *o) {
+  static const char *const keys[] = {"ambient", "background", "max_depth", "spp",
+                                     "shadows", "ior",        NULL};
+  rt_scene_t *s = P->scene;
+  io_push_key(P, "settings");
+  int ok = io_check_keys(P, o, keys) && io_get_rgb(P, o, "ambient", s->ambient, &s->ambient) &&
+           io_get_rgb(P, o, "background", s->background, &s->background) &&
+           io_get_int(P, o, "max_depth", 0, s->max_depth, 0, 32, &s->max_depth) &&
+           io_get_int(P, o, "spp", 0, s->spp, 1, 49, &s->spp) &&
+           io_get_bool(P, o, "shadows", 1, &s->shadows) &&
+           io_get_number(P, o, "ior", 0, 1.0, 0.0, 100.0, 1, &s->ior);
+  int root = (int)lrint(sqrt(s->spp));
+  if (ok && root * root != s->spp) {
+    io_push_key(P, "spp");
+    ok = io_fail(P, "expected a square number of samples per pixel (1, 4, 9, ..., 49), got %d",
+                 s->spp);
+    io_pop(P);
+  }
+  io_pop(P);
+  return ok;
+}
+
+static int parse_material(io_parse_t *P, const char *name, json_t *o) {
+  static const char *const keys[] = {
+      "color", "ka", "kd", "ks", "phong", "kr", "kt", "ior", "fresnel", "transmittance", NULL};
+  rt_material_t m = rt_material_default(name);
+  if (strlen(name) >= RT_NAME_MAX || !name[0])
+    return io_fail(P, "material names must have 1 to %d characters", RT_NAME_MAX - 1);
+  if (!json_is_object(o))
+    return io_fail(P, "expected a material object {\"kd\": ..., ...}");
+  int ok = io_check_keys(P, o, keys) && io_get_rgb(P, o, "color", m.color, &m.color) &&
+           io_get_number(P, o, "ka", 0, m.ka, 0, INFINITY, 0, &m.ka) &&
+           io_get_number(P, o, "kd", 0, m.kd, 0, INFINITY, 0, &m.kd) &&
+           io_get_number(P, o, "ks", 0, m.ks, 0, INFINITY, 0, &m.ks) &&
+           io_get_number(P, o, "phong", 0, m.phong, 0, 1e6, 0, &m.phong) &&
+           io_get_number(P, o, "kr", 0, m.kr, 0, INFINITY, 0, &m.kr) &&
+           io_get_number(P, o, "kt", 0, m.kt, 0, INFINITY, 0, &m.kt) &&
+           io_get_number(P, o, "ior", 0, m.ior, 0, 100.0, 1, &m.ior) &&
+           io_get_bool(P, o, "fresnel", 0, &m.fresnel) &&
+           io_get_rgb(P, o, "transmittance", m.transmittance, &m.transmittance);
+  if (ok && rt_scene_add_material(P->scene, &m, NULL) != RT_OK)
+    return io_fail(P, "out of memory");
+  return ok;
+}
+
+static int parse_materials(io_parse_t *P, json_t *o) {
+  const char *name;
+  json_t *v;
+  io_push_key(P, "materials");
+  int ok = 1;
+  json_object_foreach(o, name, v) {
+    io_push_key(P, name);
+    ok = parse_material(P, name, v);
+    io_pop(P);
+    if (!ok)
+      break;
+  }
+  io_pop(P);
+  return ok;
+}
+
+static int parse_light(io_parse_t *P, json_t *o) {
+  static const char *const keys[] = {"type", "position", "direction", "intensity", NULL};
+  const char *type;
+  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}};
+  if (!json_is_object(o))
+    return io_fail(P, "expected a light object {\"type\": \"point\", ...}");
+  if (!io_check_keys(P, o, keys) || !io_get_string(P, o, "type", 1, &type) ||
+      !io_get_rgb(P, o, "intensity", l.intensity, &l.intensity))
+    return 0;
+  if (strcmp(type, "point") == 0) {
+    if (json_object_get(o, "direction"))
+      return io_fail(P, "a point light has a \"position\", not a \"direction\"");
+    if (!io_get_vec3(P, o, "position", 1, l.v, &l.v))
+      return 0;
+  } else if (strcmp(type, "parallel") == 0) {
+    l.kind = RT_LIGHT_PARALLEL;
+    if (json_object_get(o, "position"))
+      return io_fail(P, "a parallel light has a \"direction\", not a \"position\"");
+    if (!io_get_vec3(P, o, "direction", 1, l.v, &l.v))
+      return 0;
+    if (px_vec3_norm(l.v) == 0.0) {
+      io_push_key(P, "direction");
+      io_fail(P, "expected a non-zero direction vector");
+      io_pop(P);
+      return 0;
+    }
+  } else {
+    io_push_key(P, "type");
+    io_fail(P, "unknown light type '%s'; expected \"point\" or \"parallel\"", type);
+    io_pop(P);
+    return 0;
+  }
+  return rt_scene_add_light(P->scene, &l) == RT_OK ? 1 : io_fail(P, "invalid light");
+}
+
+static int parse_lights(io_parse_t *P, json_t *arr) {
+  io_push_key(P, "lights");
+  int ok = 1;
+  for (size_t i = 0; i < json_array_size(arr) && ok; i++) {
+    io_push_index(P, (int)i);
+    ok = parse_light(P, json_array_get(arr, i));
+    io_pop(P);
+  }
+  io_pop(P);
+  return ok;
+}
+
+static int parse_root(io_parse_t *P, json_t *root) {
+  static const char *const keys[] = {"camera", "settings", "materials", "lights", "objects", NULL};
+  json_t *cam, *set, *mat, *lights, *objs;
+  if (!json_is_object(root))
+    return io_fail(P, "expected the scene to be one JSON object {\"camera\": ..., ...}");
+  if (!io_check_keys(P, root, keys) || !io_get_object(P, root, "camera", 1, &cam) ||
+      !io_get_object(P, root, "settings", 0, &set) ||
+      !io_get_object(P, root, "materials", 0, &mat) ||
+      !io_get_array(P, root, "lights", 0, &lights) || !io_get_array(P, root, "objects", 1, &objs))
+    return 0;
+  return parse_camera(P, cam) && (!set || parse_settings(P, set)) &&
+         (!mat || parse_materials(P, mat)) && (!lights || parse_lights(P, lights)) &&
+         io_parse_objects(P, objs);
+}
+
+int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
+  json_error_t je;
+  rt_scene_free(s);
+  json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
+  if (!root) {
+    if (je.line > 0)
+      snprintf(err, cap, "%s:%d:%d: invalid JSON: %s", path, je.line, je.column, je.text);
+    else
+      snprintf(err, cap, "%s: %s", path, je.text);
+    return -1;
+  }
+  io_parse_t P = {path, err, cap, 0, {{0}}, 0, s};
+  int ok = parse_root(&P, root);
+  json_decref(root);
+  rt_status_t st = ok ? rt_scene_prepare(s) : RT_OK;
+  if (ok && st != RT_OK) {
+    snprintf(err, cap, "%s: the scene cannot be prepared: %s", path, rt_strerror(st));
+    ok = 0;
+  }
+  if (!ok)
+    rt_scene_free(s);
+  return ok ? 0 : -1;
+}

@@ -1,0 +1,39 @@
+/* intersect.h -- ray-surface intersection: the primitive tests (course notes 1.7.1.3-1.7.1.4)
+ * and the scene queries through the BVH (textbook 9.1 "Intersect(r)", 9.2 acceleration).
+ *
+ * All functions are thread-safe on a prepared scene and allocate nothing.
+ */
+#ifndef RENDER_INTERSECT_H
+#define RENDER_INTERSECT_H
+
+#include "render/scene.h"
+
+/** Nearest distance t in (ray->tmin, tmax) at which the ray meets primitive `prim`; returns 1
+ *  and writes *t, or 0 when there is none. Spheres use the cancellation-free form of the
+ *  quadratic; polygons an even-odd crossing test, so concave polygons are exact. */
+int rt_prim_intersect(const rt_scene_t *s, int prim, const rt_ray_t *ray, double tmax, double *t);
+
+/** Every distance in (ray->tmin, ray->tmax) at which the ray crosses primitive `prim` (at most
+ *  2), ascending; returns how many. Used by shadow rays, which see all occluders. */
+int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double t[2]);
+
+/** Unit geometric normal of `prim` at p (a point on it): outward for spheres and polyhedra. */
+px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p);
+
+/** Axis-aligned bounds of a bounded primitive (sphere, polygon); 0 for a plane. */
+int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi);
+
+/** Nearest hit of the ray with the scene (BVH plus unbounded planes). Returns 1 and fills *hit,
+ *  or 0 on a miss. The scene must be prepared. */
+int rt_intersect(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit);
+
+/** The same by testing every primitive (no BVH); for tests of the BVH. */
+int rt_intersect_brute(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit);
+
+/** Light transmitted along the shadow segment [ray->tmin, ray->tmax] (textbook 9.1): the
+ *  product over the transparent objects it passes through of kt * transmittance, counted once
+ *  per passage (an exit crossing of a closed object; any crossing of an open surface); black as
+ *  soon as an opaque surface is met. White when nothing is in the way. */
+rt_rgb_t rt_transmittance(const rt_scene_t *s, const rt_ray_t *ray);
+
+#endif

@@ -1,0 +1,50 @@
+/* plan.h -- the effects plan: which effects a render runs, decided from the scene before any
+ * ray is traced, with the reason for each decision (issue 4, "effects plan").
+ *
+ * An effect the scene does not call for executes no code and allocates nothing: the shading
+ * module consults the plan before spawning shadow, reflected or refracted rays, and the
+ * renderer sizes its per-thread ray-tree buffers from the plan. Later effects (caustics through
+ * the illuminance formula, dispersion, a star filter) add an entry to rt_effect_t and a rule
+ * to rt_plan_make(); renderers that do not implement an effect list it as "not implemented".
+ */
+#ifndef RENDER_PLAN_H
+#define RENDER_PLAN_H
+
+#include "render/scene.h"
+
+typedef enum {
+  RT_EFFECT_SHADOWS = 0,   /**< shadow rays towards the lights (textbook 9.1) */
+  RT_EFFECT_SPECULAR,      /**< Phong highlights */
+  RT_EFFECT_REFLECTION,    /**< coherent reflection rays */
+  RT_EFFECT_REFRACTION,    /**< coherent refraction rays */
+  RT_EFFECT_FRESNEL,       /**< Fresnel-weighted reflection/refraction split */
+  RT_EFFECT_SUPERSAMPLING, /**< s x s sub-pixel grid with a box filter */
+  RT_EFFECT_CAUSTICS,      /**< illuminance through refracting pencils (paper Eq. 8); later */
+  RT_EFFECT_DISPERSION,    /**< wavelength-dependent index; later */
+  RT_EFFECT_STAR_FILTER,   /**< star filter post-process; later */
+  RT_EFFECT_COUNT
+} rt_effect_t;
+
+#define RT_PLAN_WHY_MAX 120
+
+typedef struct {
+  unsigned on;                                /**< bit (1u << e) set when effect e runs */
+  char why[RT_EFFECT_COUNT][RT_PLAN_WHY_MAX]; /**< reason for each decision, one line */
+  int max_depth;  /**< generations of secondary rays actually possible (0 without reflection
+                       and refraction, else the scene's max_depth) */
+  int tree_nodes; /**< upper bound on ray-tree nodes per sample (1 + max secondary rays) */
+} rt_plan_t;
+
+/** Decide the plan for scene `s` rendered with `spp` samples per pixel. Pure function of its
+ *  inputs; the scene need not be prepared. */
+rt_plan_t rt_plan_make(const rt_scene_t *s, int spp);
+
+/** 1 when effect e runs. */
+static inline int rt_plan_has(const rt_plan_t *p, rt_effect_t e) {
+  return (p->on >> e) & 1u;
+}
+
+/** Short lower-case name of an effect ("shadows", "refraction", ...). */
+const char *rt_effect_name(rt_effect_t e);
+
+#endif

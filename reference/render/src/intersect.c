@@ -1,0 +1,61 @@
+/* intersect.c -- ray-primitive intersection (course notes 1.7.1.3 sphere, 1.7.1.4 plane) and a
+ * point-in-polygon test that also holds for concave polygons: the exported wrappers of prim.h,
+ * crossings for shadow rays, normals and bounds. */
+#include "render/intersect.h"
+
+#include <math.h>
+
+#include "prim.h"
+#include "vec.h"
+
+int rt_prim_intersect(const rt_scene_t *s, int prim, const rt_ray_t *ray, double tmax, double *t) {
+  return prim_hit(s, prim, ray, tmax, t);
+}
+
+int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double t[2]) {
+  const rt_prim_t *p = &s->prim[prim];
+  if (p->kind != RT_PRIM_SPHERE)
+    return rt_prim_intersect(s, prim, ray, ray->tmax, t);
+  double r[2];
+  int n = 0;
+  if (!sphere_roots(&p->sphere, ray, r))
+    return 0;
+  for (int k = 0; k < 2; k++)
+    if (r[k] > ray->tmin && r[k] < ray->tmax)
+      t[n++] = r[k];
+  return n;
+}
+
+px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p) {
+  const rt_prim_t *pr = &s->prim[prim];
+  switch (pr->kind) {
+  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
+    px_vec3_t d = v3_sub(p, pr->sphere.c);
+    return v3_scale(d, 1.0 / v3_norm(d));
+  }
+  case RT_PRIM_PLANE:
+    return pr->plane.n;
+  case RT_PRIM_POLYGON:
+    return pr->polygon.n;
+  }
+  return v3(0, 0, 1);
+}
+
+int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi) {
+  const rt_prim_t *p = &s->prim[prim];
+  if (p->kind == RT_PRIM_SPHERE) {
+    px_vec3_t r = v3(p->sphere.r, p->sphere.r, p->sphere.r);
+    *lo = v3_sub(p->sphere.c, r);
+    *hi = v3_add(p->sphere.c, r);
+    return 1;
+  }
+  if (p->kind != RT_PRIM_POLYGON)
+    return 0;
+  const px_vec3_t *v = s->vertex + p->polygon.first;
+  *lo = *hi = v[0];
+  for (int i = 1; i < p->polygon.count; i++) {
+    *lo = v3(fmin(lo->x, v[i].x), fmin(lo->y, v[i].y), fmin(lo->z, v[i].z));
+    *hi = v3(fmax(hi->x, v[i].x), fmax(hi->y, v[i].y), fmax(hi->z, v[i].z));
+  }
+  return 1;
+}

@@ -1,0 +1,117 @@
+/* plan.c -- deciding the effects plan from the scene (issue 4, "effects plan"): an effect runs
+ * only when some object's material or the scene's settings call for it (textbook 9.1: the
+ * reflective and refractive children exist only "if object(q) is reflective/refractive"). */
+#include "render/plan.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+static const char *const names[RT_EFFECT_COUNT] = {"shadows",    "specular",   "reflection",
+                                                   "refraction", "fresnel",    "supersampling",
+                                                   "caustics",   "dispersion", "star-filter"};
+
+const char *rt_effect_name(rt_effect_t e) {
+  return (unsigned)e < RT_EFFECT_COUNT ? names[e] : "unknown";
+}
+
+/* The first material used by an object that satisfies `pred`, or NULL. */
+static const rt_material_t *used(const rt_scene_t *s, int (*pred)(const rt_material_t *)) {
+  for (int i = 0; i < s->nobject; i++) {
+    const rt_object_t *o = &s->object[i];
+    if (pred(&s->material[o->material]))
+      return &s->material[o->material];
+    if (o->material2 >= 0 && pred(&s->material[o->material2]))
+      return &s->material[o->material2];
+  }
+  return NULL;
+}
+
+static int is_specular(const rt_material_t *m) {
+  return m->ks > 0.0;
+}
+static int is_mirror(const rt_material_t *m) {
+  return m->kr > 0.0;
+}
+static int is_transparent(const rt_material_t *m) {
+  return m->kt > 0.0;
+}
+static int is_fresnel(const rt_material_t *m) {
+  return m->kt > 0.0 && m->fresnel;
+}
+
+__attribute__((format(printf, 4, 5))) static void set(rt_plan_t *p, rt_effect_t e, int on,
+                                                      const char *fmt, ...) {
+  if (on)
+    p->on |= 1u << e;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(p->why[e], RT_PLAN_WHY_MAX, fmt, ap);
+  va_end(ap);
+}
+
+static void plan_lighting(rt_plan_t *p, const rt_scene_t *s) {
+  if (s->nlight == 0)
+    set(p, RT_EFFECT_SHADOWS, 0, "off: the scene has no lights");
+  else if (!s->shadows)
+    set(p, RT_EFFECT_SHADOWS, 0, "off: the scene disables them (\"shadows\": false)");
+  else
+    set(p, RT_EFFECT_SHADOWS, 1, "on: %d light(s) may be occluded", s->nlight);
+  const rt_material_t *m = used(s, is_specular);
+  if (m && s->nlight > 0)
+    set(p, RT_EFFECT_SPECULAR, 1, "on: material '%s' has ks = %g", m->name, m->ks);
+  else
+    set(p, RT_EFFECT_SPECULAR, 0, "off: no lit material has ks > 0");
+}
+
+static void plan_secondary(rt_plan_t *p, const rt_scene_t *s) {
+  const rt_material_t *mr = used(s, is_mirror), *mt = used(s, is_transparent);
+  const rt_material_t *mf = used(s, is_fresnel);
+  int depth_ok = s->max_depth > 0;
+  if (!depth_ok)
+    set(p, RT_EFFECT_REFLECTION, 0, "off: max_depth is 0");
+  else if (mr)
+    set(p, RT_EFFECT_REFLECTION, 1, "on: material '%s' has kr = %g", mr->name, mr->kr);
+  else if (mt)
+    set(p, RT_EFFECT_REFLECTION, 1, "on: material '%s' is transparent (total internal reflection)",
+        mt->name);
+  else
+    set(p, RT_EFFECT_REFLECTION, 0, "off: no material has kr > 0 or kt > 0");
+  if (!depth_ok)
+    set(p, RT_EFFECT_REFRACTION, 0, "off: max_depth is 0");
+  else if (mt)
+    set(p, RT_EFFECT_REFRACTION, 1, "on: material '%s' has kt = %g", mt->name, mt->kt);
+  else
+    set(p, RT_EFFECT_REFRACTION, 0, "off: no transparent material (every kt is 0)");
+  if (mf && depth_ok)
+    set(p, RT_EFFECT_FRESNEL, 1, "on: material '%s' weights kt by Fresnel's formula", mf->name);
+  else
+    set(p, RT_EFFECT_FRESNEL, 0, "off: no transparent material asks for it");
+}
+
+static int tree_bound(const rt_plan_t *p) {
+  int both = rt_plan_has(p, RT_EFFECT_REFLECTION) && rt_plan_has(p, RT_EFFECT_REFRACTION);
+  int any = rt_plan_has(p, RT_EFFECT_REFLECTION) || rt_plan_has(p, RT_EFFECT_REFRACTION);
+  if (!any)
+    return 1;
+  if (!both)
+    return p->max_depth + 1; /* a chain: one child per node */
+  return p->max_depth >= 16 ? (1 << 17) - 1 : (1 << (p->max_depth + 1)) - 1; /* binary tree */
+}
+
+rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
+  rt_plan_t p;
+  memset(&p, 0, sizeof p);
+  plan_lighting(&p, s);
+  plan_secondary(&p, s);
+  if (spp > 1)
+    set(&p, RT_EFFECT_SUPERSAMPLING, 1, "on: %d samples per pixel, box filter", spp);
+  else
+    set(&p, RT_EFFECT_SUPERSAMPLING, 0, "off: 1 sample per pixel");
+  for (int e = RT_EFFECT_CAUSTICS; e <= RT_EFFECT_STAR_FILTER; e++)
+    set(&p, (rt_effect_t)e, 0, "off: not implemented by this renderer yet");
+  int secondary = rt_plan_has(&p, RT_EFFECT_REFLECTION) || rt_plan_has(&p, RT_EFFECT_REFRACTION);
+  p.max_depth = secondary ? s->max_depth : 0;
+  p.tree_nodes = tree_bound(&p);
+  return p;
+}

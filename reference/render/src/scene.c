@@ -1,0 +1,226 @@
+/* scene.c -- building the scene model: materials, spheres, checkered planes, polygons, lights
+ * (textbook 9.1; course notes 1.7.1.5, "mapping a pattern": the checkerboard as a function of
+ * the plane's coordinates). Polyhedra are in polyhedron.c, the BVH in bvh.c. */
+#include "render/scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bvh.h"
+#include "render/intersect.h"
+
+const char *rt_strerror(rt_status_t s) {
+  switch (s) {
+  case RT_OK:
+    return "success";
+  case RT_ENOMEM:
+    return "out of memory";
+  case RT_EINVAL:
+    return "invalid parameter";
+  case RT_EGEOMETRY:
+    return "degenerate geometry";
+  case RT_ENOTREADY:
+    return "scene not prepared (call rt_scene_prepare after the last change)";
+  case RT_ECAPACITY:
+    return "buffer full";
+  }
+  return "unknown status";
+}
+
+rt_material_t rt_material_default(const char *name) {
+  rt_material_t m;
+  memset(&m, 0, sizeof m);
+  if (name)
+    snprintf(m.name, sizeof m.name, "%s", name);
+  m.color = rt_rgb(1, 1, 1);
+  m.ka = 0.1;
+  m.kd = 0.9;
+  m.ior = 1.0;
+  m.transmittance = rt_rgb(1, 1, 1);
+  return m;
+}
+
+void rt_scene_init(rt_scene_t *s) {
+  memset(s, 0, sizeof *s);
+  s->camera = (rt_camera_t){{0, 0, -5}, {0, 0, 0}, {0, 1, 0}, 40.0, 64, 64};
+  s->ambient = rt_rgb(0.1, 0.1, 0.1);
+  s->background = rt_rgb(0, 0, 0);
+  s->max_depth = 5;
+  s->spp = 1;
+  s->shadows = 1;
+  s->ior = 1.0;
+}
+
+static void drop_accel(rt_scene_t *s) {
+  rt_bvh_free(s->bvh);
+  s->bvh = NULL;
+  free(s->unbounded);
+  s->unbounded = NULL;
+  s->nunbounded = 0;
+}
+
+void rt_scene_free(rt_scene_t *s) {
+  drop_accel(s);
+  free(s->material);
+  free(s->object);
+  free(s->prim);
+  free(s->vertex);
+  free(s->light);
+  rt_scene_init(s);
+}
+
+/* Grow *arr (of elements of `size` bytes, *cap allocated) to hold `need`; 0 on ENOMEM. */
+static int reserve(void **arr, int *cap, int need, size_t size) {
+  if (need <= *cap)
+    return 1;
+  int nc = *cap ? *cap : 8;
+  while (nc < need)
+    nc *= 2;
+  void *p = realloc(*arr, (size_t)nc * size);
+  if (!p)
+    return 0;
+  *arr = p;
+  *cap = nc;
+  return 1;
+}
+
+#define RESERVE(s, arr, n, extra)                                                                  \
+  reserve((void **)&(s)->arr, &(s)->cap_##arr, (s)->n + (extra), sizeof *(s)->arr)
+
+rt_status_t rt_scene_add_material(rt_scene_t *s, const rt_material_t *m, int *index) {
+  if (!(m->ior > 0.0) || !isfinite(m->ior) || !(m->phong >= 0.0))
+    return RT_EINVAL;
+  if (!RESERVE(s, material, nmaterial, 1))
+    return RT_ENOMEM;
+  s->material[s->nmaterial] = *m;
+  if (index)
+    *index = s->nmaterial;
+  s->nmaterial++;
+  return RT_OK;
+}
+
+int rt_scene_find_material(const rt_scene_t *s, const char *name) {
+  for (int i = 0; i < s->nmaterial; i++)
+    if (strcmp(s->material[i].name, name) == 0)
+      return i;
+  return -1;
+}
+
+/* Append an object with `nprim` primitives (reserved, not filled) and return its index. */
+rt_status_t rt__scene_new_object(rt_scene_t *s, rt_object_kind_t kind, int material, int nprim,
+                                 int *object) {
+  if (material < 0 || material >= s->nmaterial)
+    return RT_EINVAL;
+  if (!RESERVE(s, object, nobject, 1) || !RESERVE(s, prim, nprim, nprim))
+    return RT_ENOMEM;
+  drop_accel(s);
+  rt_object_t *o = &s->object[s->nobject];
+  memset(o, 0, sizeof *o);
+  o->kind = kind;
+  o->material = material;
+  o->material2 = -1;
+  o->closed = kind == RT_OBJ_SPHERE || kind == RT_OBJ_POLYHEDRON;
+  o->first_prim = s->nprim;
+  o->nprim = nprim;
+  for (int k = 0; k < nprim; k++) {
+    memset(&s->prim[s->nprim + k], 0, sizeof s->prim[0]);
+    s->prim[s->nprim + k].object = s->nobject;
+  }
+  s->nprim += nprim;
+  *object = s->nobject++;
+  return RT_OK;
+}
+
+static int vec_finite(px_vec3_t v) {
+  return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+
+rt_status_t rt_scene_add_sphere(rt_scene_t *s, px_vec3_t c, double r, int material, int *object) {
+  if (!(r > 0.0) || !isfinite(r) || !vec_finite(c))
+    return RT_EINVAL;
+  int o;
+  rt_status_t st = rt__scene_new_object(s, RT_OBJ_SPHERE, material, 1, &o);
+  if (st != RT_OK)
+    return st;
+  rt_prim_t *p = &s->prim[s->object[o].first_prim];
+  p->kind = RT_PRIM_SPHERE;
+  p->sphere = (rt_sphere_t){c, r};
+  if (object)
+    *object = o;
+  return RT_OK;
+}
+
+rt_status_t rt_scene_add_plane(rt_scene_t *s, px_vec3_t p, px_vec3_t n, px_vec3_t u_hint,
+                               int material, int material2, double check, int *object) {
+  px_vec3_t nu;
+  if (!vec_finite(p) || px_vec3_normalize(n, &nu) != PX_OK || !vec_finite(u_hint) ||
+      !(check > 0.0) || !isfinite(check) || material2 >= s->nmaterial)
+    return RT_EINVAL;
+  px_frame_t f; /* z = normal, x2 = u hint projected into the plane */
+  if (px_frame_from_z(nu, u_hint, &f) != PX_OK)
+    return RT_EINVAL;
+  int o;
+  rt_status_t st = rt__scene_new_object(s, RT_OBJ_PLANE, material, 1, &o);
+  if (st != RT_OK)
+    return st;
+  s->object[o].material2 = material2 < 0 ? -1 : material2;
+  rt_prim_t *pr = &s->prim[s->object[o].first_prim];
+  pr->kind = RT_PRIM_PLANE;
+  pr->plane = (rt_plane_t){p, nu, f.x2, px_vec3_cross(nu, f.x2), check};
+  if (object)
+    *object = o;
+  return RT_OK;
+}
+
+rt_status_t rt_scene_add_light(rt_scene_t *s, const rt_light_t *l) {
+  rt_light_t c = *l;
+  if (!vec_finite(c.v) || !isfinite(c.intensity.r + c.intensity.g + c.intensity.b))
+    return RT_EINVAL;
+  if (c.kind == RT_LIGHT_PARALLEL && px_vec3_normalize(l->v, &c.v) != PX_OK)
+    return RT_EINVAL;
+  if (!RESERVE(s, light, nlight, 1))
+    return RT_ENOMEM;
+  drop_accel(s);
+  s->light[s->nlight++] = c;
+  return RT_OK;
+}
+
+void rt_scene_name_object(rt_scene_t *s, int object, const char *name) {
+  if (object >= 0 && object < s->nobject)
+    snprintf(s->object[object].name, sizeof s->object[object].name, "%s", name);
+}
+
+void rt_plane_coords(const rt_plane_t *pl, px_vec3_t p, double *u, double *v) {
+  px_vec3_t d = px_vec3_sub(p, pl->p);
+  *u = px_vec3_dot(d, pl->u);
+  *v = px_vec3_dot(d, pl->v);
+}
+
+const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3_t p, int *texel) {
+  const rt_object_t *o = &s->object[s->prim[prim].object];
+  int parity = -1;
+  if (o->material2 >= 0) {
+    const rt_plane_t *pl = &s->prim[prim].plane;
+    double u, v;
+    rt_plane_coords(pl, p, &u, &v);
+    double cu = floor(u / pl->check), cv = floor(v / pl->check);
+    parity = (int)fmod(fabs(cu + cv), 2.0);
+  }
+  if (texel)
+    *texel = parity;
+  return &s->material[parity == 1 ? o->material2 : o->material];
+}
+
+rt_status_t rt_scene_prepare(rt_scene_t *s) {
+  const rt_camera_t *c = &s->camera;
+  if (!(c->fov_deg > 0.0 && c->fov_deg < 180.0) || c->width < 1 || c->height < 1 ||
+      s->max_depth < 0 || s->max_depth > 64 || s->spp < 1 || s->spp > 49 || !(s->ior > 0.0))
+    return RT_EINVAL;
+  int side = (int)lrint(sqrt((double)s->spp));
+  if (side * side != s->spp) /* s x s sub-pixel grids only */
+    return RT_EINVAL;
+  drop_accel(s);
+  return rt_bvh_build(s, &s->bvh, &s->unbounded, &s->nunbounded);
+}

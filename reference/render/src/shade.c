@@ -1,0 +1,134 @@
+/* shade.c -- the illumination equation at a surface point, shared by all renderers (textbook
+ * 9.1: Trace(r, d) and AccLightSource(q); course notes 1.7.1.1-1.7.1.2: ambient and diffuse
+ * terms; Phong's specular term). Reflected directions come from px_interface_outgoing(), the
+ * same vector law that libparaxial's system matrices and reference/'s exact tracer use. */
+#include "render/shade.h"
+
+#include <math.h>
+
+#include "vec.h"
+
+#include "shade_impl.h"
+
+void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *ray,
+                      rt_surface_t *out) {
+  double dn = v3_dot(hit->n, ray->d);
+  out->hit = *hit;
+  out->entering = dn < 0.0;
+  out->nf = dn < 0.0 ? hit->n : v3_scale(hit->n, -1.0);
+  out->mat = rt_scene_material_at(s, hit->prim, hit->p, &out->texel);
+  out->n1 = ray->ior;
+  out->n2 = out->entering ? out->mat->ior : s->ior;
+}
+
+px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side) {
+  px_vec3_t p = sf->hit.p;
+  double scale = 1.0 + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
+  return v3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
+}
+
+static int planar_prim(const rt_scene_t *s, int prim) {
+  return s->prim[prim].kind != RT_PRIM_SPHERE;
+}
+
+/* Unit direction to light l from p, and the distance (INFINITY for a parallel light). */
+static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
+  if (l->kind == RT_LIGHT_PARALLEL) {
+    *dist = INFINITY;
+    return v3_scale(l->v, -1.0);
+  }
+  px_vec3_t d = v3_sub(l->v, p), u;
+  *dist = v3_norm(d);
+  if (px_vec3_normalize(d, &u) != PX_OK)
+    return v3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
+  return u;
+}
+
+/* Transmittance towards a light (white without the shadow effect). */
+static rt_rgb_t shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                       const rt_ray_t *ray, int l, px_vec3_t dir, double dist,
+                       const rt_tracer_t *tr) {
+  if (!rt_plan_has(plan, RT_EFFECT_SHADOWS))
+    return rt_rgb(1, 1, 1);
+  rt_shadow_t q;
+  px_vec3_t o = rt__offset_origin(sf, 1.0);
+  q.light = l;
+  q.ray = (rt_ray_t){o, dir, 0.0, dist, ray->ior, planar_prim(s, sf->hit.prim) ? sf->hit.prim : -1};
+  if (isfinite(dist))
+    q.ray.tmax = v3_dot(v3_sub(s->light[l].v, o), dir);
+  q.through = rt_rgb(1, 1, 1);
+  tr->shadow(tr->ctx, &q);
+  return q.through;
+}
+
+rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                         const rt_ray_t *ray, const rt_tracer_t *tr) {
+  const rt_material_t *m = sf->mat;
+  rt_rgb_t c = rt_rgb_scale(rt_rgb_mul(s->ambient, m->color), m->ka);
+  int spec = rt_plan_has(plan, RT_EFFECT_SPECULAR) && m->ks > 0.0;
+  if (!(m->kd > 0.0) && !spec)
+    return c;
+  for (int l = 0; l < s->nlight; l++) {
+    double dist;
+    px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
+    double ndl = v3_dot(sf->nf, L);
+    if (!(ndl > 0.0))
+      continue; /* the surface faces away from the light */
+    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, tr);
+    if (!(rt_rgb_max(through) > 0.0))
+      continue;
+    rt_rgb_t term = rt_rgb_scale(m->color, m->kd * ndl);
+    if (spec) { /* Phong: (R.V)^n with R the mirror image of L, V = -d; R.V = L.reflect(d) */
+      px_vec3_t rd = v3_axpy(-2.0 * v3_dot(ray->d, sf->nf), sf->nf, ray->d);
+      double rv = v3_dot(rd, L);
+      if (rv > 0.0)
+        term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * pow(rv, m->phong)));
+    }
+    c = rt_rgb_add(c, rt_rgb_mul(rt_rgb_mul(through, s->light[l].intensity), term));
+  }
+  return c;
+}
+
+/* The mirror child (px_interface_outgoing with PX_EVENT_REFLECT: s' = s - 2 (nu.s) nu). */
+static int reflect_child(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
+                         rt_rgb_t w, int tir, rt_child_t *out) {
+  px_interface_t ifc = {.s = ray->d, .nu = v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = sf->n1};
+  px_vec3_t dir;
+  double co;
+  if (!(rt_rgb_max(w) > 0.0) || px_interface_outgoing(&ifc, PX_EVENT_REFLECT, &dir, &co) != PX_OK)
+    return 0;
+  int skip = planar_prim(s, sf->hit.prim) ? sf->hit.prim : -1;
+  out->ray = (rt_ray_t){rt__offset_origin(sf, 1.0), dir, 0.0, INFINITY, ray->ior, skip};
+  out->weight = w;
+  out->kind = RT_RAY_REFLECT;
+  out->tir = tir;
+  return 1;
+}
+
+int rt_shade_children(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                      const rt_ray_t *ray, int depth, rt_child_t out[2]) {
+  const rt_material_t *m = sf->mat;
+  if (depth >= plan->max_depth)
+    return 0;
+  rt_rgb_t wr = rt_rgb(0, 0, 0);
+  if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
+    wr = rt_rgb(m->kr, m->kr, m->kr);
+  rt_child_t refr;
+  int n = 0, has_t = 0, tir = 0;
+  if (rt_plan_has(plan, RT_EFFECT_REFRACTION) && m->kt > 0.0)
+    has_t = rt__shade_refract(s, sf, ray, &refr, &wr, &tir);
+  n += reflect_child(s, sf, ray, wr, tir, &out[n]);
+  if (has_t)
+    out[n++] = refr;
+  return n;
+}
+
+rt_rgb_t rt_shade_hit(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                      const rt_ray_t *ray, int depth, const rt_tracer_t *tr) {
+  rt_rgb_t c = rt_shade_direct(s, plan, sf, ray, tr);
+  rt_child_t ch[2];
+  int n = rt_shade_children(s, plan, sf, ray, depth, ch);
+  for (int k = 0; k < n; k++)
+    c = rt_rgb_add(c, rt_rgb_mul(ch[k].weight, tr->child(tr->ctx, &ch[k], depth + 1)));
+  return c;
+}

@@ -1,0 +1,18 @@
+/* shade_impl.h -- private: the refraction part of shading lives in refract.c, so that a plan
+ * without refraction never enters it. */
+#ifndef RENDER_SHADE_IMPL_H
+#define RENDER_SHADE_IMPL_H
+
+#include "render/shade.h"
+
+/** Offset origin for a secondary ray leaving the surface on the side `side` (+1: the side the
+ *  incoming ray came from, -1: the far side). */
+px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side);
+
+/** Build the refracted child of a transparent surface (kt > 0). Returns 1 and fills *child when
+ *  a refracted ray exists; adds to *extra_reflect the weight that reflects instead (Fresnel
+ *  share, or everything after total internal reflection, when *tir is set). */
+int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
+                      rt_child_t *child, rt_rgb_t *extra_reflect, int *tir);
+
+#endif

@@ -1,0 +1,107 @@
+/* trace.c -- the exact (conventional) tracer: textbook 9.1 Trace(r, d), finding surfaces by
+ * intersecting every ray with the scene through the BVH, shading with shade.c, and recording
+ * the ray tree when the caller asks for it (course notes 1.7.2: the ray tree). */
+#include <math.h>
+
+#include "render/intersect.h"
+#include "render/render.h"
+
+static rt_rgb_t trace_ray(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from);
+
+static rt_rgb_t child_cb(void *ctx, const rt_child_t *child, int depth) {
+  return trace_ray(ctx, &child->ray, depth, child);
+}
+
+static void shadow_cb(void *ctx, rt_shadow_t *q) {
+  rt_exact_t *ex = ctx;
+  ex->stats.shadow++;
+  q->through = rt_transmittance(ex->scene, &q->ray);
+  if (ex->tree && ex->node >= 0 && q->light < 32) {
+    rt_tree_node_t *nd = &ex->tree->node[ex->node];
+    if (q->through.r == 1.0 && q->through.g == 1.0 && q->through.b == 1.0)
+      nd->lit |= 1u << q->light;
+    else if (!(rt_rgb_max(q->through) > 0.0))
+      nd->blocked |= 1u << q->light;
+  }
+}
+
+rt_tracer_t rt_exact_tracer(rt_exact_t *ex) {
+  return (rt_tracer_t){child_cb, shadow_cb, ex};
+}
+
+rt_exact_t rt_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
+  return (rt_exact_t){s, plan, tree, -1, {0, 0, 0, 0}};
+}
+
+/* Append a node for `ray` (parent = the node being shaded); -1 when the buffer is full or the
+ * parent was itself dropped. */
+static int record(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from) {
+  rt_tree_t *t = ex->tree;
+  if ((depth > 0 && ex->node < 0) || t->n >= t->cap) {
+    t->overflow = 1;
+    return -1;
+  }
+  rt_tree_node_t *nd = &t->node[t->n];
+  *nd = (rt_tree_node_t){.parent = depth > 0 ? ex->node : -1,
+                         .kind = (uint8_t)(from ? from->kind : RT_RAY_PRIMARY),
+                         .depth = (uint8_t)depth,
+                         .flags = (uint8_t)(from && from->tir ? RT_NODE_TIR : 0),
+                         .object = -1,
+                         .prim = -1,
+                         .texel = -1,
+                         .origin = ray->o,
+                         .dir = ray->d,
+                         .t = INFINITY,
+                         .weight = rt_rgb(1, 1, 1)};
+  if (from)
+    nd->weight = rt_rgb_mul(t->node[ex->node].weight, from->weight);
+  return t->n++;
+}
+
+static void record_hit(rt_exact_t *ex, int node, const rt_surface_t *sf, int depth) {
+  rt_tree_node_t *nd = &ex->tree->node[node];
+  nd->object = sf->hit.object;
+  nd->prim = sf->hit.prim;
+  nd->texel = sf->texel;
+  nd->t = sf->hit.t;
+  nd->point = sf->hit.p;
+  nd->normal = sf->nf;
+  if (depth >= ex->plan->max_depth && (sf->mat->kr > 0.0 || sf->mat->kt > 0.0) &&
+      ex->plan->max_depth > 0)
+    nd->flags |= RT_NODE_DEPTH_LIMIT;
+}
+
+static rt_rgb_t trace_ray(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from) {
+  if (!from)
+    ex->stats.primary++;
+  else if (from->kind == RT_RAY_REFRACT)
+    ex->stats.refract++;
+  else
+    ex->stats.reflect++;
+  int node = ex->tree ? record(ex, ray, depth, from) : -1;
+  rt_hit_t hit;
+  if (!rt_intersect(ex->scene, ray, &hit)) {
+    if (node >= 0)
+      ex->tree->node[node].flags |= RT_NODE_MISS;
+    return ex->scene->background;
+  }
+  rt_surface_t sf;
+  rt_shade_surface(ex->scene, &hit, ray, &sf);
+  if (node >= 0)
+    record_hit(ex, node, &sf, depth);
+  int saved = ex->node;
+  ex->node = node;
+  rt_tracer_t tr = rt_exact_tracer(ex);
+  rt_rgb_t c = rt_shade_hit(ex->scene, ex->plan, &sf, ray, depth, &tr);
+  ex->node = saved;
+  return c;
+}
+
+rt_rgb_t rt_exact_primary(rt_exact_t *ex, const rt_ray_t *ray) {
+  if (ex->tree) {
+    ex->tree->n = 0;
+    ex->tree->overflow = 0;
+  }
+  ex->node = -1;
+  return trace_ray(ex, ray, 0, NULL);
+}

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The `pencil render` and `pencil bench` contracts: an EXR with the documented channels and a PNG
+# beside it; the closing line with time, rays and rays/s on stdout; --explain prints the effects
+# plan; usage and scene errors exit 2 naming the option or file:line; --method pencil is a clear
+# "not implemented yet"; bench writes JSON with 1- and 2-thread rows for both scenes.
+set -u
+pencil=$1
+src=$(cd "$(dirname "$0")/.." && pwd)
+fail=0
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+py=/usr/bin/python3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+out=$($pencil render -o "$tmp/a.exr" --size 24x16 --spp 4 --threads 2 2>"$tmp/err"); rc=$?
+check "built-in scene renders (exit 0)" "[ $rc -eq 0 ]"
+check "EXR and PNG written" "[ -s '$tmp/a.exr' ] && [ -s '$tmp/a.png' ]"
+check "closing line: time, rays, rays/s" "echo '$out' | grep -Eq 'in [0-9.]+ s: [0-9]+ rays .* rays/s'"
+check "no progress bar when stderr is not a terminal" "[ ! -s '$tmp/err' ]"
+check "PNG preview has the image size" \
+  "$py -c 'import struct,sys; d=open(\"$tmp/a.png\",\"rb\").read(24); sys.exit(struct.unpack(\">II\", d[16:24]) != (24, 16))'"
+
+$pencil render "$src/scenes/balls.json" -o "$tmp/b.exr" --size 8x6 --explain >"$tmp/plan"; rc=$?
+check "scene file renders with --explain" "[ $rc -eq 0 ]"
+check "--explain names each effect and why" \
+  "grep -q 'refraction *on: material .glass.' '$tmp/plan' && grep -q 'caustics *off' '$tmp/plan'"
+$pencil render "$src/scenes/fig8.json" --explain >"$tmp/plan"; rc=$?
+check "--explain alone prints the plan without rendering" \
+  "[ $rc -eq 0 ] && grep -q 'effects plan' '$tmp/plan' && ! grep -q rendered '$tmp/plan'"
+
+$pencil render -o "$tmp/c.exr" --method pencil >/dev/null 2>"$tmp/err"; rc=$?
+check "--method pencil: exit 2, not implemented yet" "[ $rc -eq 2 ] && grep -q 'not implemented yet' '$tmp/err'"
+$pencil render -o "$tmp/c.exr" --spp 5 >/dev/null 2>"$tmp/err"; rc=$?
+check "--spp 5 is a usage error naming --spp" "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err'"
+$pencil render -o "$tmp/c.exr" --threads 0 >/dev/null 2>"$tmp/err"; rc=$?
+check "--threads 0 is a usage error" "[ $rc -eq 2 ] && grep -q -- '--threads' '$tmp/err'"
+$pencil render --size 10 -o "$tmp/c.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "--size without x is a usage error" "[ $rc -eq 2 ] && grep -q -- '--size' '$tmp/err'"
+$pencil render >/dev/null 2>"$tmp/err"; rc=$?
+check "missing -o is a usage error" "[ $rc -eq 2 ] && grep -q -- '-o' '$tmp/err'"
+$pencil render "$src/tests/scenes_bad/sphere_negative_radius.json" -o "$tmp/c.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "bad scene: exit 2 with file:line" "[ $rc -eq 2 ] && grep -q 'sphere_negative_radius.json:9: objects\[0\].radius' '$tmp/err'"
+check "bad scene: no image written" "[ ! -e '$tmp/c.exr' ]"
+$pencil render "$tmp/none.json" -o "$tmp/c.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "missing scene file: exit 2 naming it" "[ $rc -eq 2 ] && grep -q 'none.json' '$tmp/err'"
+$pencil render -o /nonexistent-dir/x.exr --size 4x4 >/dev/null 2>"$tmp/err"; rc=$?
+check "unwritable output: exit 1 naming it" "[ $rc -eq 1 ] && grep -q '/nonexistent-dir/x.exr' '$tmp/err'"
+
+out=$($pencil bench render --runs 1 --size 8x8 --json "$tmp/bench.json"); rc=$?
+check "bench render runs" "[ $rc -eq 0 ] && echo '$out' | grep -q mesh1000"
+check "bench JSON: fig8 and mesh1000 at 1 and 2 threads" \
+  "$py -c 'import json; r=json.load(open(\"$tmp/bench.json\"))[\"results\"]; assert sorted((x[\"scene\"], x[\"threads\"]) for x in r) == [(\"fig8\",1),(\"fig8\",2),(\"mesh1000\",1),(\"mesh1000\",2)] and all(x[\"rays_per_second\"] > 0 for x in r) and r[2][\"primitives\"] > 1000'"
+$pencil bench render --runs 0 >/dev/null 2>&1; rc=$?
+check "bench --runs 0 is a usage error" "[ $rc -eq 2 ]"
+for c in "render" "bench"; do
+  $pencil $c --help >"$tmp/help" 2>&1; rc=$?
+  check "pencil $c --help exits 0 and prints usage" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
+done
+echo "cli_render: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
+exit $fail

@@ -1,0 +1,197 @@
+/* test_io.c -- io/: the OpenEXR writer read back through OpenEXRCore (exr_start_read), the PNG
+ * preview read back through libpng, the scene files of scenes/ (fig8.json is the built-in
+ * scene), and the JSON line locator behind the loader's error messages. */
+#include <math.h>
+#include <openexr.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../io/src/json_locate.h"
+#include "cmocka_main.h"
+#include "io/image_io.h"
+#include "io/scene_json.h"
+#include "render/builtin.h"
+
+#ifndef PENCIL_SOURCE_DIR
+#error "PENCIL_SOURCE_DIR must name the source tree (tests/CMakeLists.txt)"
+#endif
+
+/* A unique path in the temporary directory with the given suffix. */
+static void temp_path(char *out, size_t cap, const char *suffix) {
+  snprintf(out, cap, "%s/pencil_test_io_%ld_%s", P_tmpdir, (long)getpid(), suffix);
+}
+
+static void fill(rt_image_t *img) {
+  for (int c = 0; c < RT_CH_COUNT; c++)
+    for (int k = 0; k < img->width * img->height; k++)
+      img->ch[c][k] = (float)(c * 1000 + k) * 0.37f - 50.0f;
+  img->ch[RT_CH_Z][3] = INFINITY;
+  img->ch[RT_CH_T_U][5] = NAN;
+  img->ch[RT_CH_R][0] = -0.0f;
+}
+
+/* Float channels with ZIP compression are lossless: every value comes back bit for bit. The
+ * file is also opened directly with OpenEXRCore to check its channel list and size. */
+static void exr_round_trip(void **state) {
+  (void)state;
+  char path[512], err[512];
+  temp_path(path, sizeof path, "rt.exr");
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 7, 19), RT_OK); /* 19 rows: a partial ZIP chunk */
+  fill(&img);
+  const char *meta[][2] = {{"pencil:test", "yes"}};
+  assert_int_equal(io_exr_write(path, &img, meta, 1, err, sizeof err), 0);
+  exr_context_t ctx = NULL;
+  assert_int_equal(exr_start_read(&ctx, path, NULL), EXR_ERR_SUCCESS);
+  const exr_attr_chlist_t *chl;
+  assert_int_equal(exr_get_channels(ctx, 0, &chl), EXR_ERR_SUCCESS);
+  assert_int_equal(chl->num_channels, RT_CH_COUNT);
+  for (int c = 0; c < chl->num_channels; c++)
+    assert_int_equal(chl->entries[c].pixel_type, EXR_PIXEL_FLOAT);
+  const char *val = NULL;
+  assert_int_equal(exr_attr_get_string(ctx, 0, "pencil:test", NULL, &val), EXR_ERR_SUCCESS);
+  assert_string_equal(val, "yes");
+  exr_finish(&ctx);
+  float back[7 * 19];
+  for (int c = 0; c < RT_CH_COUNT; c++) {
+    int w = 0, h = 0;
+    assert_int_equal(
+        io_exr_read_channel(path, rt_channel_name((rt_channel_t)c), back, &w, &h, err, sizeof err),
+        0);
+    assert_int_equal(w, 7);
+    assert_int_equal(h, 19);
+    assert_memory_equal(back, img.ch[c], sizeof back);
+  }
+  int w, h;
+  assert_int_equal(io_exr_read_channel(path, "nope", back, &w, &h, err, sizeof err), -1);
+  assert_non_null(strstr(err, "no channel 'nope'"));
+  remove(path);
+  rt_image_free(&img);
+}
+
+static void exr_unwritable_path_reports_error(void **state) {
+  (void)state;
+  char err[512];
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 2, 2), RT_OK);
+  assert_int_equal(io_exr_write("/nonexistent-dir/x.exr", &img, NULL, 0, err, sizeof err), -1);
+  assert_non_null(strstr(err, "/nonexistent-dir/x.exr"));
+  rt_image_free(&img);
+}
+
+/* PNG: clamped, sRGB-encoded 8-bit values (0 -> 0, 1 and above -> 255, 0.5 -> 188, 0.2 -> 124
+ * by IEC 61966-2-1), read back with libpng. */
+static void png_preview_is_srgb(void **state) {
+  (void)state;
+  char path[512], err[512];
+  temp_path(path, sizeof path, "p.png");
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 2, 1), RT_OK);
+  const float v[2][3] = {{0.0f, 0.5f, 1.0f}, {7.0f, -1.0f, 0.2f}};
+  for (int k = 0; k < 2; k++)
+    for (int c = 0; c < 3; c++)
+      img.ch[RT_CH_R + c][k] = v[k][c];
+  assert_int_equal(io_png_write(path, &img, err, sizeof err), 0);
+  png_image pi;
+  memset(&pi, 0, sizeof pi);
+  pi.version = PNG_IMAGE_VERSION;
+  assert_true(png_image_begin_read_from_file(&pi, path));
+  pi.format = PNG_FORMAT_RGB;
+  unsigned char px[6];
+  assert_int_equal(PNG_IMAGE_SIZE(pi), 6);
+  assert_true(png_image_finish_read(&pi, NULL, px, 0, NULL));
+  const unsigned char want[6] = {0, 188, 255, 255, 0, 124};
+  assert_memory_equal(px, want, 6);
+  remove(path);
+  rt_image_free(&img);
+  char p2[64];
+  assert_true(io_png_path_for("out/a.exr", p2, sizeof p2));
+  assert_string_equal(p2, "out/a.png");
+  assert_true(io_png_path_for("b", p2, sizeof p2));
+  assert_string_equal(p2, "b.png");
+}
+
+static void scene_files_load(void **state) {
+  (void)state;
+  const char *names[] = {"fig8", "fig11", "balls", "mesh1000"};
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+    char path[1024], err[1024];
+    snprintf(path, sizeof path, "%s/scenes/%s.json", PENCIL_SOURCE_DIR, names[k]);
+    rt_scene_t s;
+    rt_scene_init(&s);
+    if (io_scene_load(path, &s, err, sizeof err) != 0)
+      fail_msg("%s", err);
+    assert_non_null(s.bvh);
+    rt_scene_free(&s);
+  }
+}
+
+/* scenes/fig8.json and the built-in scene are the same scene: equal tiny renders. */
+static void fig8_file_equals_builtin(void **state) {
+  (void)state;
+  char path[1024], err[1024];
+  snprintf(path, sizeof path, "%s/scenes/fig8.json", PENCIL_SOURCE_DIR);
+  rt_scene_t a, b;
+  rt_scene_init(&a);
+  rt_scene_init(&b);
+  assert_int_equal(io_scene_load(path, &a, err, sizeof err), 0);
+  assert_int_equal(rt_builtin_fig8(&b), RT_OK);
+  assert_int_equal(a.spp, b.spp);
+  assert_int_equal(a.max_depth, b.max_depth);
+  rt_image_t ia, ib;
+  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  a.camera.width = b.camera.width = 12;
+  a.camera.height = b.camera.height = 10;
+  rt_plan_t pa = rt_plan_make(&a, 1), pb = rt_plan_make(&b, 1);
+  assert_int_equal(pa.on, pb.on);
+  assert_int_equal(rt_image_alloc(&ia, 12, 10), RT_OK);
+  assert_int_equal(rt_image_alloc(&ib, 12, 10), RT_OK);
+  assert_int_equal(rt_render(&a, &pa, &opt, &ia, NULL), RT_OK);
+  assert_int_equal(rt_render(&b, &pb, &opt, &ib, NULL), RT_OK);
+  for (int c = 0; c < RT_CH_COUNT; c++)
+    assert_memory_equal(ia.ch[c], ib.ch[c], sizeof(float) * 120);
+  rt_image_free(&ia);
+  rt_image_free(&ib);
+  rt_scene_free(&a);
+  rt_scene_free(&b);
+}
+
+static void json_locator_finds_lines(void **state) {
+  (void)state;
+  const char *t = "{\n \"a\": [1,\n  {\"b\": \"x,]}\"},\n  {\"c\":\n   3}],\n \"d\": {}\n}\n";
+  io_json_step_t p1[] = {{"a", 0}, {NULL, 2}, {"c", 0}};
+  io_json_step_t p2[] = {{"d", 0}, {"missing", 0}};
+  io_json_step_t p3[] = {{"a", 0}, {NULL, 1}, {"b", 0}};
+  assert_int_equal(io_json_locate(t, strlen(t), p1, 3), 5);
+  assert_int_equal(io_json_locate(t, strlen(t), p2, 2), 6); /* the enclosing object */
+  assert_int_equal(io_json_locate(t, strlen(t), p3, 3), 3);
+  assert_int_equal(io_json_locate(t, strlen(t), p1, 0), 1);
+}
+
+static void missing_scene_file_named(void **state) {
+  (void)state;
+  char err[512];
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load("/nonexistent/scene.json", &s, err, sizeof err), -1);
+  assert_non_null(strstr(err, "/nonexistent/scene.json"));
+  assert_int_equal(s.nobject, 0);
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(exr_round_trip),
+      cmocka_unit_test(exr_unwritable_path_reports_error),
+      cmocka_unit_test(png_preview_is_srgb),
+      cmocka_unit_test(scene_files_load),
+      cmocka_unit_test(fig8_file_equals_builtin),
+      cmocka_unit_test(json_locator_finds_lines),
+      cmocka_unit_test(missing_scene_file_named),
+  };
+  if (argc > 1)
+    cmocka_set_test_filter(argv[1]);
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

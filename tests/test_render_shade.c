@@ -1,0 +1,371 @@
+/* test_render_shade.c -- the shading module (reference/render/src/shade.c): reflected and
+ * refracted directions against reference/'s exact tracer (ex_trace_axial through the same
+ * quadrics), shadow attenuation by transparent occluders (textbook 9.1: k_t(1) ... k_t(N) I),
+ * the illumination terms, Fresnel and total internal reflection, and the effects plan. */
+#include <math.h>
+#include <string.h>
+
+#include "cmocka_main.h"
+#include "exact/trace.h"
+#include "render/intersect.h"
+#include "render/render.h"
+
+/* Same quadric, same vector laws (both go through px_interface_outgoing), normals from two
+ * formulas: agreement to ~1e-15; 1e-13 leaves margin for the longer paths. */
+#define DIR_TOL 1e-13
+/* After a surface event the renderer starts the child ray RT_SURFACE_OFFSET * (1 + |p|) off the
+ * surface (2e-9 here) while the exact tracer starts on it: later hit points and directions move
+ * by that much times a geometric factor of order 1 (1/cos of the angles, the curvature). */
+#define OFFSET_TOL 2e-8
+
+static int add_mat(rt_scene_t *s, const char *name, double kr, double kt, double ior) {
+  rt_material_t m = rt_material_default(name);
+  m.kr = kr;
+  m.kt = kt;
+  m.ior = ior;
+  int i;
+  assert_int_equal(rt_scene_add_material(s, &m, &i), RT_OK);
+  return i;
+}
+
+static rt_ray_t ray_to(px_vec3_t o, px_vec3_t target) {
+  px_vec3_t d;
+  px_vec3_normalize(px_vec3_sub(target, o), &d);
+  return (rt_ray_t){o, d, 0.0, INFINITY, 1.0, -1};
+}
+
+static void vec_close(px_vec3_t a, px_vec3_t b, double tol) {
+  assert_close(a.x, b.x, 0, tol);
+  assert_close(a.y, b.y, 0, tol);
+  assert_close(a.z, b.z, 0, tol);
+}
+
+/* The first child of node `parent` of the given kind, or -1. */
+static int child_of(const rt_tree_t *t, int parent, rt_ray_kind_t kind) {
+  for (int k = parent + 1; k < t->n; k++)
+    if (t->node[k].parent == parent && t->node[k].kind == kind)
+      return k;
+  return -1;
+}
+
+static ex_axial_t exact_path(const rt_ray_t *r, const ex_stage_t *st, size_t n) {
+  px_frame_t f;
+  assert_int_equal(px_frame_from_z(r->d, px_vec3(0, 1, 0), &f), PX_OK);
+  ex_system_t sys = {r->o, f, 1.0, st, n, 0.0, 0.0};
+  ex_axial_t ax;
+  assert_int_equal(ex_trace_axial(&sys, &ax), PX_OK);
+  return ax;
+}
+
+/* Trace `r` in the prepared scene with a recorded tree. */
+static void trace_tree(const rt_scene_t *s, const rt_plan_t *plan, const rt_ray_t *r,
+                       rt_tree_node_t *buf, int cap, rt_tree_t *t) {
+  *t = rt_tree_make(buf, cap);
+  rt_exact_t ex = rt_exact_make(s, plan, t);
+  rt_exact_primary(&ex, r);
+  assert_false(t->overflow);
+}
+
+/* Into and out of a glass ball: hit points and directions of the refraction path agree with the
+ * exact tracer's two-stage system. */
+static void refraction_through_sphere_matches_exact(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  px_vec3_t c = px_vec3(0.2, 0.1, 0.3);
+  rt_scene_add_sphere(&s, c, 1.0, add_mat(&s, "glass", 0.1, 0.9, 1.5), NULL);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_ray_t r = ray_to(px_vec3(-0.4, 0.7, -5), px_vec3(0.5, -0.3, 0.3));
+  rt_tree_node_t buf[64];
+  rt_tree_t t;
+  trace_tree(&s, &plan, &r, buf, 64, &t);
+  int in = child_of(&t, 0, RT_RAY_REFRACT), out = child_of(&t, in, RT_RAY_REFRACT);
+  assert_true(in > 0 && out > in);
+  ex_quadric_t q = ex_quadric_sphere(c, 1.0);
+  ex_stage_t st[2] = {{q, PX_EVENT_REFRACT, 1.5, 0}, {q, PX_EVENT_REFRACT, 1.0, 0}};
+  ex_axial_t ax = exact_path(&r, st, 2);
+  vec_close(t.node[0].point, ax.hit[0], 1e-12);
+  vec_close(t.node[in].dir, ax.out[0].z, DIR_TOL);
+  vec_close(t.node[in].point, ax.hit[1], OFFSET_TOL);
+  vec_close(t.node[out].dir, ax.out[1].z, OFFSET_TOL);
+  /* the reflected ray at the entry point */
+  ex_stage_t sr = {q, PX_EVENT_REFLECT, 1.0, 0};
+  ex_axial_t axr = exact_path(&r, &sr, 1);
+  vec_close(t.node[child_of(&t, 0, RT_RAY_REFLECT)].dir, axr.out[0].z, DIR_TOL);
+  rt_scene_free(&s);
+}
+
+static void mirror_sphere_reflection_matches_exact(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  px_vec3_t c = px_vec3(0, 0, 0);
+  rt_scene_add_sphere(&s, c, 2.0, add_mat(&s, "mirror", 0.9, 0.0, 1.0), NULL);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  for (int k = 0; k < 20; k++) {
+    rt_ray_t r = ray_to(px_vec3(0.3 * k - 3, 1, -8), px_vec3(0.09 * k - 0.9, -0.5, 0));
+    rt_tree_node_t buf[16];
+    rt_tree_t t;
+    trace_tree(&s, &plan, &r, buf, 16, &t);
+    ex_stage_t st = {ex_quadric_sphere(c, 2.0), PX_EVENT_REFLECT, 1.0, 0};
+    ex_axial_t ax = exact_path(&r, &st, 1);
+    int rf = child_of(&t, 0, RT_RAY_REFLECT);
+    assert_true(rf > 0);
+    vec_close(t.node[rf].dir, ax.out[0].z, DIR_TOL);
+    assert_int_equal(child_of(&t, 0, RT_RAY_REFRACT), -1); /* opaque: no refraction */
+  }
+  rt_scene_free(&s);
+}
+
+/* A glass cube (a polyhedron): through two faces, as two exact plane stages. */
+static void refraction_through_polyhedron_matches_exact(void **state) {
+  (void)state;
+  static const px_vec3_t v[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                 {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  static const int f[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+  static const int len[6] = {4, 4, 4, 4, 4, 4};
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, v, 8, f, len, 6, add_mat(&s, "g", 0.0, 1.0, 1.7), NULL, NULL, 0),
+      RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_ray_t r = ray_to(px_vec3(-0.8, 0.5, -4), px_vec3(0.1, 0.2, -1)); /* enters z = -1 */
+  rt_tree_node_t buf[64];
+  rt_tree_t t;
+  trace_tree(&s, &plan, &r, buf, 64, &t);
+  int in = child_of(&t, 0, RT_RAY_REFRACT);
+  assert_true(in > 0);
+  ex_stage_t st[2] = {
+      {ex_quadric_plane(px_vec3(0, 0, -1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.7, 0},
+      {ex_quadric_plane(px_vec3(0, 0, 1), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.0, 0}};
+  ex_axial_t ax = exact_path(&r, st, 2);
+  vec_close(t.node[0].point, ax.hit[0], 1e-12);
+  vec_close(t.node[in].dir, ax.out[0].z, DIR_TOL);
+  vec_close(t.node[in].point, ax.hit[1], OFFSET_TOL); /* the far face z = 1 */
+  int out = child_of(&t, in, RT_RAY_REFRACT);
+  assert_true(out > in);
+  vec_close(t.node[out].dir, ax.out[1].z, DIR_TOL); /* planes: no curvature, no offset effect */
+  rt_scene_free(&s);
+}
+
+/* Shadow segments: the product of kt * transmittance over transparent objects passed, once per
+ * object; black through an opaque one; nothing beyond the light counts. */
+static void shadow_attenuation_is_product_of_kt(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t g1 = rt_material_default("g1"), g2 = rt_material_default("g2");
+  g1.kt = 0.6;
+  g1.ior = 1.5;
+  g1.transmittance = rt_rgb(1.0, 0.5, 0.25);
+  g2.kt = 0.5;
+  g2.ior = 1.3;
+  int m1, m2, mo = add_mat(&s, "opaque", 0, 0, 1);
+  rt_scene_add_material(&s, &g1, &m1);
+  rt_scene_add_material(&s, &g2, &m2);
+  rt_scene_add_sphere(&s, px_vec3(0, 3, 0), 1.0, m1, NULL);
+  rt_scene_add_sphere(&s, px_vec3(0, 6, 0), 1.0, m2, NULL);
+  rt_scene_add_sphere(&s, px_vec3(5, 3, 0), 1.0, mo, NULL);
+  rt_scene_add_sphere(&s, px_vec3(0, 20, 0), 1.0, mo, NULL); /* beyond the light */
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_ray_t up = {px_vec3(0, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1};
+  rt_rgb_t t = rt_transmittance(&s, &up);
+  assert_close(t.r, 0.6 * 0.5, 1e-15, 0);
+  assert_close(t.g, 0.3 * 0.5, 1e-15, 0);
+  assert_close(t.b, 0.15 * 0.5, 1e-15, 0);
+  up.tmax = 4.5; /* only the first ball */
+  assert_close(rt_transmittance(&s, &up).r, 0.6, 1e-15, 0);
+  rt_ray_t inside = {px_vec3(0, 2.5, 0), px_vec3(0, 1, 0), 0.0, 4.5, 1.0, -1};
+  assert_close(rt_transmittance(&s, &inside).r, 0.6, 1e-15, 0); /* starts inside: one exit */
+  rt_ray_t side = {px_vec3(5, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1};
+  assert_true(rt_rgb_max(rt_transmittance(&s, &side)) == 0.0);
+  rt_ray_t clear = {px_vec3(-5, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1};
+  t = rt_transmittance(&s, &clear);
+  assert_true(t.r == 1.0 && t.g == 1.0 && t.b == 1.0);
+  rt_scene_free(&s);
+}
+
+typedef struct {
+  int shadow_calls;
+} probe_t;
+
+static rt_rgb_t probe_child(void *ctx, const rt_child_t *c, int depth) {
+  (void)ctx, (void)c, (void)depth;
+  return rt_rgb(0, 0, 0);
+}
+static void probe_shadow(void *ctx, rt_shadow_t *q) {
+  probe_t *p = ctx;
+  p->shadow_calls++;
+  q->through = rt_rgb(0.25, 0.5, 1.0);
+}
+
+/* Ambient + diffuse with the light's transmittance, against the formula of textbook 9.1. */
+static void direct_light_follows_illumination_equation(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m = rt_material_default("m");
+  m.color = rt_rgb(0.8, 0.4, 0.2);
+  m.ka = 0.3;
+  m.kd = 0.6;
+  int mi;
+  rt_scene_add_material(&s, &m, &mi);
+  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
+  s.ambient = rt_rgb(0.5, 0.5, 0.5);
+  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}};
+  rt_scene_add_light(&s, &l);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_ray_t r = ray_to(px_vec3(0, 2, -2), px_vec3(0, 0, 0));
+  rt_hit_t h;
+  assert_true(rt_intersect(&s, &r, &h));
+  rt_surface_t sf;
+  rt_shade_surface(&s, &h, &r, &sf);
+  probe_t probe = {0};
+  rt_tracer_t tr = {probe_child, probe_shadow, &probe};
+  rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
+  double cosl = 4.0 / 5.0; /* N.L at the origin for a light at (3, 4, 0) */
+  assert_close(c.r, 0.3 * 0.5 * 0.8 + 0.25 * 2 * 0.6 * 0.8 * cosl, 1e-14, 0);
+  assert_close(c.g, 0.3 * 0.5 * 0.4 + 0.5 * 2 * 0.6 * 0.4 * cosl, 1e-14, 0);
+  assert_close(c.b, 0.3 * 0.5 * 0.2 + 1.0 * 2 * 0.6 * 0.2 * cosl, 1e-14, 0);
+  assert_int_equal(probe.shadow_calls, 1);
+  s.shadows = 0; /* shadows off in the plan: no shadow query, full light */
+  plan = rt_plan_make(&s, 1);
+  c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
+  assert_int_equal(probe.shadow_calls, 1);
+  assert_close(c.b, 0.3 * 0.5 * 0.2 + 2 * 0.6 * 0.2 * cosl, 1e-14, 0);
+  rt_scene_free(&s);
+}
+
+/* A parallel light: the same N.L everywhere on a plane, an unbounded shadow ray (an opaque ball
+ * far above still shadows), and the ball's shadow is exactly below it. */
+static void parallel_light_and_its_shadow(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m = rt_material_default("m");
+  m.ka = 0.0;
+  m.kd = 1.0;
+  int mi;
+  rt_scene_add_material(&s, &m, &mi);
+  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
+  rt_scene_add_sphere(&s, px_vec3(0, 100, 0), 1.0, mi, NULL);
+  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}}; /* normalised on adding */
+  rt_scene_add_light(&s, &l);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_exact_t ex = rt_exact_make(&s, &plan, NULL);
+  rt_ray_t lit = ray_to(px_vec3(5, 3, -4), px_vec3(3, 0, 2));
+  rt_ray_t dark = ray_to(px_vec3(5, 3, -4), px_vec3(0.2, 0, -0.3));
+  assert_close(rt_exact_primary(&ex, &lit).r, 0.5, 1e-15, 0); /* kd C I N.L = 1 * 1 * 0.5 * 1 */
+  assert_true(rt_exact_primary(&ex, &dark).r == 0.0);
+  assert_int_equal(ex.stats.shadow, 2);
+  rt_scene_free(&s);
+}
+
+static void fresnel_limits(void **state) {
+  (void)state;
+  assert_close(rt_fresnel(1, 1, 1.0, 1.5), 0.04, 1e-15, 0); /* ((n1 - n2)/(n1 + n2))^2 */
+  assert_close(rt_fresnel(1, 1, 1.5, 1.0), 0.04, 1e-15, 0);
+  assert_close(rt_fresnel(1e-9, 0.5, 1.0, 1.5), 1.0, 0, 1e-8); /* grazing: total */
+  assert_true(rt_fresnel(0.5, -1, 1.5, 1.0) == 1.0);
+}
+
+/* Children of a hit on glass: with Fresnel the weights split kt; from inside beyond the critical
+ * angle everything reflects, flagged as TIR; at the depth limit nothing is spawned. */
+static void children_weights_fresnel_and_tir(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t g = rt_material_default("glass");
+  g.kr = 0.1;
+  g.kt = 0.8;
+  g.ior = 1.5;
+  g.fresnel = 1;
+  int gi;
+  rt_scene_add_material(&s, &g, &gi);
+  rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, gi, NULL);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  assert_true(rt_plan_has(&plan, RT_EFFECT_FRESNEL));
+  rt_ray_t r = ray_to(px_vec3(0, 0, -5), px_vec3(0, 0, 0)); /* normal incidence: F = 0.04 */
+  rt_hit_t h;
+  rt_surface_t sf;
+  rt_child_t ch[2];
+  assert_true(rt_intersect(&s, &r, &h));
+  rt_shade_surface(&s, &h, &r, &sf);
+  assert_int_equal(rt_shade_children(&s, &plan, &sf, &r, 0, ch), 2);
+  assert_int_equal(ch[0].kind, RT_RAY_REFLECT);
+  assert_int_equal(ch[1].kind, RT_RAY_REFRACT);
+  assert_close(ch[0].weight.r, 0.1 + 0.8 * 0.04, 1e-15, 0);
+  assert_close(ch[1].weight.r, 0.8 * 0.96, 1e-15, 0);
+  assert_close(ch[1].ray.ior, 1.5, 0, 0);
+  assert_int_equal(rt_shade_children(&s, &plan, &sf, &r, plan.max_depth, ch), 0);
+  /* inside the ball along x = 0.9: sin(incidence) = 0.9 > 1/1.5, beyond the critical angle */
+  rt_ray_t in = {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1};
+  assert_true(rt_intersect(&s, &in, &h));
+  rt_shade_surface(&s, &h, &in, &sf);
+  assert_false(sf.entering);
+  assert_int_equal(rt_shade_children(&s, &plan, &sf, &in, 0, ch), 1);
+  assert_int_equal(ch[0].kind, RT_RAY_REFLECT);
+  assert_true(ch[0].tir);
+  assert_close(ch[0].weight.r, 0.1 + 0.8, 1e-15, 0);
+  rt_scene_free(&s);
+}
+
+/* A scene without transparent materials plans no refraction, and rendering it traces no
+ * refracted ray; without mirrors either, the ray tree is one node. */
+static void plan_skips_effects_the_scene_does_not_use(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  int mirror = add_mat(&s, "mirror", 0.5, 0.0, 1.0), matte = add_mat(&s, "matte", 0, 0, 1);
+  rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, mirror, NULL);
+  rt_scene_add_plane(&s, px_vec3(0, -1, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), matte, -1, 1, NULL);
+  s.camera.width = s.camera.height = 8;
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  assert_true(rt_plan_has(&plan, RT_EFFECT_REFLECTION));
+  assert_false(rt_plan_has(&plan, RT_EFFECT_REFRACTION));
+  assert_false(rt_plan_has(&plan, RT_EFFECT_SHADOWS)); /* no lights */
+  assert_non_null(strstr(plan.why[RT_EFFECT_REFRACTION], "no transparent material"));
+  assert_int_equal(plan.tree_nodes, s.max_depth + 1); /* a chain of reflections */
+  rt_image_t img;
+  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  rt_stats_t st;
+  assert_int_equal(rt_image_alloc(&img, 8, 8), RT_OK);
+  assert_int_equal(rt_render(&s, &plan, &opt, &img, &st), RT_OK);
+  assert_true(st.reflect > 0);
+  assert_int_equal(st.refract, 0);
+  assert_int_equal(st.shadow, 0);
+  s.object[0].material = matte;
+  plan = rt_plan_make(&s, 1);
+  assert_int_equal(plan.on & ((1u << RT_EFFECT_REFLECTION) | (1u << RT_EFFECT_REFRACTION)), 0);
+  assert_int_equal(plan.tree_nodes, 1);
+  assert_int_equal(rt_render(&s, &plan, &opt, &img, &st), RT_OK);
+  assert_int_equal(st.reflect + st.refract + st.shadow, 0);
+  assert_int_equal(st.primary, 64);
+  rt_image_free(&img);
+  rt_scene_free(&s);
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(refraction_through_sphere_matches_exact),
+      cmocka_unit_test(mirror_sphere_reflection_matches_exact),
+      cmocka_unit_test(refraction_through_polyhedron_matches_exact),
+      cmocka_unit_test(shadow_attenuation_is_product_of_kt),
+      cmocka_unit_test(direct_light_follows_illumination_equation),
+      cmocka_unit_test(parallel_light_and_its_shadow),
+      cmocka_unit_test(fresnel_limits),
+      cmocka_unit_test(children_weights_fresnel_and_tir),
+      cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),
+  };
+  if (argc > 1)
+    cmocka_set_test_filter(argv[1]);
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
