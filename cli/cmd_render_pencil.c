@@ -270,7 +270,6 @@ static int render(args_t *a, rt_scene_t *s) {
 
 int cmd_render_pencil(int argc, char **argv) {
   args_t a = {.opt = PT_OPTIONS_DEFAULT};
-  a.opt.bound = PT_BOUND_PROBE; /* until libparaxial's Appendix bounds are merged */
   int p = parse_args(argc, argv, &a);
   if (p <= 0)
     return p < 0 ? CLI_OK : CLI_USAGE;

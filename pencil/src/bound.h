@@ -6,8 +6,14 @@
 #include "pencil/path.h"
 
 /** C of e_x (Eq. 4) for a pinhole pencil entering the path of node k, whose cascade is the chain
- *  of the steps of k and its ancestors: PT_BOUND_CORRECTED or PT_BOUND_PRINTED. PX_EINVAL when
- *  the variant is not available. */
+ *  of the steps of k and its ancestors, by px_pencil_constants() on the assembled cascade
+ *  (O(n^2) in the path length; the reference for pt__bound_step). */
 px_status_t pt__bound_c(const pt_node_t *nodes, int k, pt_bound_t b, double *out);
+
+/** The same, incrementally: node k's terms from its parent's (`parent`, NULL for the primary
+ *  ray) and its step (product sm = the step's cascade product, elements in k->step), then
+ *  C = the sum of the terms (Appendix (3) with zeta = (0, xi0)). */
+px_status_t pt__bound_step(const pt_node_t *parent, px_mat4_t sm, pt_bound_t b, pt_node_t *k,
+                           double *out);
 
 #endif

@@ -10,6 +10,8 @@
  * In certified mode step 4a also needs every path's exact error on the cell boundary (ex_map at
  * the corners and edge midpoints) to be within tau. */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
@@ -296,7 +298,9 @@ static int cell_plan(pt_ctx_t *C, const lattice_t *L, int i, int j, cell_plan_t 
     int smooth = 1, exact_children = 0;
     if (!n->miss) {
       int ok = 1;
-      double e_mat = fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+      double e_mat = n->pencil == PT_NODE_PATH
+                         ? 0.0
+                         : fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
       if (e_int_cell(C, L, i, j, k, &ok) + e_mat > rho || !ok)
         return (int)(why[ok ? 3 : 2]++ & 0);
       if (n->textured)
@@ -304,7 +308,7 @@ static int cell_plan(pt_ctx_t *C, const lattice_t *L, int i, int j, cell_plan_t 
           smooth = smooth && g[q]->su == g[0]->su && g[q]->sv == g[0]->sv;
       smooth = smooth && n->light_agree == ~0u;
       for (int c = 0; c < 2; c++)
-        exact_children |= n->child[c] >= 0 && !C->node[n->child[c]].pencil;
+        exact_children |= n->child[c] >= 0 && C->node[n->child[c]].pencil == PT_NODE_EXACT;
     }
     if (smooth)
       for (int q = 0; q < 4; q++)
@@ -462,15 +466,16 @@ static double xi_norm(const pt_ctx_t *C, double x, double y) {
 /* Step 2 for every node whose path agrees at the corners: topology for all, matrices for the
  * agreeing ones (a node whose path cannot be re-traced is treated as disagreeing, and so are its
  * descendants). Then step 4 per path: a path is traced with its matrix when the cell's spread is
- * within its limit (4a) and, in certified mode, its exact check passed; a path whose allowed
- * pencil is narrower than a pixel is traced exactly, with its subtree (4b); the other failing
- * paths would need a smaller cell (4c). Returns the smallest limit among those, INFINITY when
- * there are none, and in *cost the number of exact rays per sample their subtrees would need. */
+ * within its limit (4a) and, in certified mode, its exact check passed; otherwise exactly along
+ * its known path (4b; and 4c unless the cell is subdivided, see pt__cell). *over counts the
+ * paths over their limit whose pencil is not narrower than a pixel (4c candidates), *paths the
+ * agreeing non-miss paths; the return value is the smallest limit among the 4c candidates. In
+ * *cost: exact rays per sample that subtrees below disagreeing nodes need. */
 static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, double dmin,
-                          double *cost, int *partial) {
+                          double *cost, int *over, int *paths, int *partial) {
   double need = INFINITY;
   *cost = 0.0;
-  *partial = 0;
+  *over = *paths = *partial = 0;
   C->nnode = C->tree.n;
   int *size = C->loc; /* subtree sizes, scratch */
   for (int k = C->nnode - 1; k >= 0; k--) {
@@ -484,23 +489,28 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, dou
     int par = C->tree.node[k].parent;
     pt_path_topology(C->s, &C->tree, k, par >= 0 ? &C->node[par] : NULL, n);
     n->light_agree = C->light[k];
-    int ok = C->agree[k] && (par < 0 || C->node[par].pencil);
-    if (!C->agree[k] && (par < 0 || C->node[par].pencil)) { /* an edge below the primary ray */
+    int parent_ok = par < 0 || C->node[par].pencil != PT_NODE_EXACT;
+    int mode = C->agree[k] && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
+    if (!C->agree[k] && parent_ok) { /* an edge below the primary ray */
       need = fmin(need, 0.5 * xi_cell);
       *cost += size[k];
     }
-    if (ok && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
-      ok = 0;
-    if (ok && !n->miss && (xi_cell > n->xi_max || (p->check && !(n->e_check <= n->tau)))) {
-      ok = 0;
-      if (!(2.0 * n->xi_max < dmin) && xi_cell > n->xi_max) { /* not 4b: a smaller cell helps */
-        need = fmin(need, n->xi_max);
-        *cost += size[k];
+    if (mode && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
+      mode = PT_NODE_EXACT;
+    if (mode && !n->miss) {
+      (*paths)++;
+      int checked = !p->check || n->e_check <= n->tau;
+      if (xi_cell > n->xi_max || !checked) {
+        mode = PT_NODE_PATH;
+        C->st.paths_exact++;
+        if (!(2.0 * n->xi_max < dmin) && xi_cell > n->xi_max) { /* not 4b */
+          (*over)++;
+          need = fmin(need, n->xi_max);
+        }
       }
-      C->st.paths_exact++;
     }
-    n->pencil = ok;
-    if (!ok || n->light_agree != ~0u)
+    n->pencil = mode;
+    if (mode == PT_NODE_EXACT || n->light_agree != ~0u)
       *partial = 1;
   }
   return need;
@@ -550,21 +560,21 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
       pt__xi(C, px[i], py[i], chk[i]);
     p.check = (const double(*)[2])chk;
   }
-  int partial;
+  int partial, over, paths;
   double cost, dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
-  double need = build_paths(C, &p, xi_cell, dmin, &cost, &partial);
-  if (!C->node[0].pencil) { /* the primary path itself cannot be re-traced or checked */
+  double need = build_paths(C, &p, xi_cell, dmin, &cost, &over, &paths, &partial);
+  if (C->node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
     st->cells_edge++;
     split(C, x0, y0, x1, y1, 2);
     return;
   }
-  /* 4c: subdivide when that is estimated cheaper than tracing the failing subtrees exactly:
-   * k x k cells cost about k^2 (5 + nodes) exact rays (axial and corner trees, matrices), the
-   * subtrees cost `cost` exact rays per sample */
+  /* 4c: subdivide when most paths are over their limit (the pencil is too wide for this cell),
+   * or when the subtrees below an edge would cost more exact rays per sample than about
+   * k^2 (5 + nodes) rays for k x k smaller cells (axial and corner trees, matrices) */
   int w = x1 - x0, h = y1 - y0, s = C->opt->spp_side;
   double k = ceil(xi_cell / need);
   if (isfinite(need) && (w > 1 || h > 1) &&
-      k * k * (5.0 + C->nnode) < cost * w * h * s * s) {
+      (2 * over > paths || k * k * (5.0 + C->nnode) < cost * w * h * s * s)) {
     st->cells_split++;
     split(C, x0, y0, x1, y1, k > 64.0 ? 64 : (int)fmax(2.0, k));
     return;

@@ -70,19 +70,30 @@ static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, int32_t *su, i
   *sv = (int32_t)floor(v / pl->check);
 }
 
-/* Node k's hit point and arriving direction for this sample; 0 when the paraxial ray misses
- * the node's primitive. */
-static int node_geometry(const pt_eval_t *E, int k, px_vec3_t *hit, px_vec3_t *d) {
+/* Node k's hit point and arriving direction for this sample; 0 when the sample's ray misses the
+ * node's primitive (it left the cell's paths). `from` is the ray arriving at the node as shading
+ * spawned it (NULL for the primary ray). */
+static int node_geometry(const pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
+                         px_vec3_t *d) {
   const pt_node_t *n = &E->C->node[k];
-  if (E->mode == PT_EV_MATRIX) {
-    px_vec3_t p;
-    return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
+  if (E->mode == PT_EV_INTERP) {
+    const double *w = E->w;
+    const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
+    *hit = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+    *d = pv_unit(pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
+    return 1;
   }
-  const double *w = E->w;
-  const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
-  *hit = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
-  *d = pv_unit(pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
-  return 1;
+  if (n->pencil == PT_NODE_PATH) { /* the sample's own ray against the node's primitive */
+    const rt_ray_t *r = from ? &from->ray : &E->primary;
+    double t;
+    if (!rt_prim_intersect(E->C->s, n->prim, r, r->tmax, &t))
+      return 0;
+    *hit = pv_axpy(t, r->d, r->o);
+    *d = r->d;
+    return 1;
+  }
+  px_vec3_t p;
+  return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
 }
 
 /* The surface record of node k at (hit, d) for shade.h. */
@@ -97,7 +108,8 @@ static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from);
 
 /* The children of node k at surface sf: those the cell's paths cover by eval_node(), the others
- * by the exact tracer; `only_exact` skips the former (the caller interpolates them). */
+ * by the exact tracer (geometry-only evaluations just mark them); `only_exact` skips the former
+ * (the caller interpolates them). */
 static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w, int only_exact) {
   const pt_node_t *n = &E->C->node[k];
@@ -109,7 +121,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
              : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
                                                    : -1;
-    if (kc >= 0 && E->C->node[kc].pencil) {
+    if (kc >= 0 && E->C->node[kc].pencil != PT_NODE_EXACT) {
       if (!only_exact)
         sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));
       continue;
@@ -122,7 +134,8 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
       if (E->rec)
         E->rec[k].fb |= (uint8_t)(1u << ch[i].kind);
     }
-    sum = rt_rgb_add(sum, rt_rgb_mul(wc, exact_child(E, &ch[i], n->depth + 1)));
+    if (E->shade)
+      sum = rt_rgb_add(sum, rt_rgb_mul(wc, exact_child(E, &ch[i], n->depth + 1)));
   }
   return sum;
 }
@@ -138,7 +151,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     return l;
   }
   px_vec3_t hit, d;
-  if (!node_geometry(E, k, &hit, &d)) { /* left the cell's paths: exact from here */
+  if (!node_geometry(E, k, from, &hit, &d)) { /* left the cell's paths: exact from here */
     E->fallback = 1;
     mark_exact(E, k);
     if (!E->shade)
@@ -150,29 +163,25 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     g->p = hit;
     g->d = d;
     g->w = w;
+    g->l = rt_rgb(0, 0, 0);
     g->ok = 1;
     g->fb = 0;
     g->su = g->sv = 0;
     if (n->textured)
       square_of(C->s, n->prim, hit, &g->su, &g->sv);
   }
-  if (!E->shade) {
-    for (int c = 0; c < 2; c++)
-      if (n->child[c] >= 0 && C->node[n->child[c]].pencil)
-        eval_node(E, n->child[c], w, NULL);
-      else if (n->child[c] >= 0)
-        mark_exact(E, n->child[c]);
-    return rt_rgb(0, 0, 0);
-  }
   rt_ray_t ray;
   rt_surface_t sf;
   node_surface(E, k, hit, d, &ray, &sf);
   int saved = E->cur;
   E->cur = k;
-  rt_tracer_t tr = {NULL, shadow_cb, E};
-  rt_rgb_t l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
-  if (g)
-    g->l = l;
+  rt_rgb_t l = rt_rgb(0, 0, 0);
+  if (E->shade) {
+    rt_tracer_t tr = {NULL, shadow_cb, E};
+    l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
+    if (g)
+      g->l = l;
+  }
   rt_rgb_t sum = rt_rgb_add(l, children(E, k, &sf, &ray, w, 0));
   E->cur = saved;
   return sum;
@@ -190,7 +199,7 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
 
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children) {
   px_vec3_t hit, d;
-  node_geometry(E, k, &hit, &d); /* INTERP mode: always succeeds */
+  node_geometry(E, k, NULL, &hit, &d); /* INTERP mode: always succeeds */
   rt_ray_t ray;
   rt_surface_t sf;
   node_surface(E, k, hit, d, &ray, &sf);

@@ -10,6 +10,7 @@
 #include <math.h>
 
 #include "bound.h"
+#include "paraxial/bounds.h"
 #include "pvec.h"
 #include "render/intersect.h"
 
@@ -61,11 +62,11 @@ double pt_pixels(const pt_node_t *n, px_vec3_t e) {
 }
 
 double pt_spread_limit(double c, double tau, double cos_in) {
-  if (!(tau > 0.0) || !(cos_in > 0.0))
+  double xi;
+  if (!(tau > 0.0) || !(cos_in > 0.0) || !(c >= 0.0) ||
+      px_spread_limit(c, 0.0, tau * cos_in, PT_SPREAD_CAP, &xi, NULL) != PX_OK)
     return 0.0;
-  if (!(c > 0.0))
-    return INFINITY;
-  return sqrt(tau * cos_in / c);
+  return xi;
 }
 
 int pt_node_ray(const pt_node_t *n, const double xi[2], px_vec3_t *p, px_vec3_t *d) {
@@ -292,7 +293,8 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   if (st != PX_OK)
     return st;
   out->nstep = (int)cas.n;
-  chain(px_cascade_product(&cas), parent, out);
+  px_mat4_t sm = px_cascade_product(&cas);
+  chain(sm, parent, out);
   if (!px_mat4_isfinite(px_mat4_blocks(out->b, out->b, out->d, out->d)))
     return PX_ENONFINITE;
   out->o = w->ax.out_origin;
@@ -314,7 +316,7 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   if (p->bound == PT_BOUND_PROBE)
     st = probe_c(w, out, p->xi_cell, &out->c);
   else
-    st = pt__bound_c(nodes, k, p->bound, &out->c);
+    st = pt__bound_step(parent, sm, p->bound, out, &out->c);
   if (st != PX_OK)
     return st;
   out->xi_max = pt_spread_limit(out->c, out->tau, out->cos_in);

@@ -34,6 +34,30 @@
  *  sample); the ray tree records visibility for the first 32 lights as well. */
 #define PT_MAX_LIGHTS 32
 
+/** How a node of a cell's tree is traced for the cell's samples (section 4.1 (1), step 4). */
+typedef enum {
+  /** Its subtree by the exact tracer: the trees of the cell's corners differ at or above it
+   *  (an edge, step 3). */
+  PT_NODE_EXACT = 0,
+  /** With its system matrix: the node and its ancestors met the same surfaces at the corners,
+   *  and the cell's spread is within its spread limit (step 4a; certified mode: and its exact
+   *  check passed). */
+  PT_NODE_MATRIX = 1,
+  /** Exactly along its known path: the sample's own ray (from shade.h at the parent's hit)
+   *  meets the node's primitive, without a scene search (steps 4b and 4c when subdividing does
+   *  not pay). The corners agree on the surfaces as for MATRIX. */
+  PT_NODE_PATH = 2
+} pt_node_mode_t;
+
+/** One refraction or reflection of a path, as the general cascade form of Appendix (3) sees it
+ *  (element i of the path's cascade): its error coefficients a-f (A-1) and the weights from the
+ *  partial products before it (T_i^b, fixed) and after it (T_i^a, which grows with the path). */
+typedef struct {
+  px_mat4_t ta;     /**< T_i^a: product of the elements after i, up to the node */
+  double mb, md;    /**< mu_2, mu_4: |B|_2 and |D|_2 of T_i^b (the blocks a pinhole pencil sees) */
+  double k[6];      /**< a, b, c, d, e, f of the element (px_error_coeffs, the run's variant) */
+} pt_term_t;
+
 /** One node of the domain's tree with its path's system matrix. */
 typedef struct {
   int parent;      /**< tree index of the parent, -1 for the primary ray */
@@ -44,9 +68,7 @@ typedef struct {
   int textured;    /**< 1 when the surface is a checkerboard (texel >= 0) */
   int child[2];    /**< tree indices of the children, -1 when absent */
   int child_kind[2]; /**< their rt_ray_kind_t */
-  int pencil;      /**< 1 when the node is traced with its matrix: it and its ancestors met the
-                        same surfaces at the cell's corners (edge.h) and satisfy the spread limit
-                        (and the certified check); else its subtree is traced exactly */
+  int pencil;      /**< pt_node_mode_t: how the samples' rays of this node are traced */
   uint32_t light_agree; /**< bit l: light l's visibility is the same at the centre and corners */
   double ior;      /**< index of the medium the arriving ray travels in */
   /* psi' = T psi for psi = (0, 0, xi) at the eye: x' = B xi, xi' = D xi (Eqs. 1-2 cascaded) */
@@ -61,8 +83,8 @@ typedef struct {
   double interval; /**< sigma_min(J): the smallest pixel interval on the surface, scene units */
   double tau;      /**< rho * interval: the tolerance of Eq. (3) on the surface */
   double c;        /**< C of Eq. (4) for this path (x0 = 0), scene units; 0 for a transfer */
-  double xi_max;   /**< spread limit of Eq. (6) on the surface: sqrt(tau cos / C), INFINITY
-                        when C = 0 */
+  double xi_max;   /**< spread limit of Eq. (6) on the surface: sqrt(tau cos / C), at most
+                        PT_SPREAD_CAP */
   double e_check;  /**< certified mode: largest exact error on the cell boundary (surface units,
                         from ex_map at the corners and edge midpoints), else -1 */
   unsigned known;  /**< bit l: through[l] recorded for light l */
@@ -70,6 +92,8 @@ typedef struct {
   int nstep;       /**< elements of the step from the parent (transfer; interface + transfer) */
   px_element_t step[3]; /**< the step's cascade elements (the path's cascade is the chain of
                              its nodes' steps) */
+  int nterm;       /**< refractions/reflections on the path (= depth) with bound terms */
+  pt_term_t term[EX_MAX_STAGES]; /**< their Appendix (3) terms (corrected/printed bounds) */
 } pt_node_t;
 
 /** Scratch for pt_path_build() (large: keep one per thread). */
@@ -121,8 +145,13 @@ double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3
 /** A surface displacement e in pixels: |J+ e| with the node's footprint. */
 double pt_pixels(const pt_node_t *n, px_vec3_t e);
 
-/** Eq. (6) on the surface: the largest xi0 with C xi0^2 / cos <= tau (INFINITY for C = 0, 0 for
- *  tau <= 0). */
+/** Largest spread |xi| a pencil may have whatever its C (px_spread_limit's cap: where C = 0 the
+ *  third-order error, which the second-order bounds do not cover, is the limit; 0.05 is about
+ *  18 pixels of the Fig. 8 camera). */
+#define PT_SPREAD_CAP 0.05
+
+/** Eq. (6) on the surface: the largest xi0 <= PT_SPREAD_CAP with C xi0^2 / cos <= tau
+ *  (px_spread_limit; 0 for tau <= 0). */
 double pt_spread_limit(double c, double tau, double cos_in);
 
 /** The paraxial ray of a sample: psi' = T (0, 0, xi) turned into a world ray through
