@@ -31,5 +31,8 @@ int cmd_render(int argc, char **argv);
 int cmd_render_pencil(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_bounds(int argc, char **argv);
+/** `pencil figures` and `pencil sweep` (cmd_figures.c). */
+int cmd_figures(int argc, char **argv);
+int cmd_sweep(int argc, char **argv);
 
 #endif

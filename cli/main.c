@@ -16,6 +16,8 @@ static const command_t commands[] = {
     {"render", cmd_render, "render a scene by exact (Whitted) ray tracing to OpenEXR + PNG"},
     {"bench", cmd_bench, "benchmarks: 'pencil bench render' measures rays per second"},
     {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)"},
+    {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep"},
+    {"sweep", cmd_sweep, "time ratio and errors of the pencil renderer against rho"},
 };
 
 static void usage(FILE *f) {

@@ -1,0 +1,87 @@
+/* figures.h -- the experiments of the paper's section 5 with the pencil renderer (issue 5):
+ * Fig. 8 (the pencil-traced image), Fig. 9 (CPU time of pencil over exact tracing against
+ * samples per pixel), Fig. 10 (distribution of the checkerboard error), and the rho sweep (what
+ * accuracy costs in time, for both bound variants and the certified mode).
+ *
+ * Times are process CPU seconds (CLOCK_PROCESS_CPUTIME_ID, the paper's "CPU time"), wall seconds
+ * beside them; each is the median of `runs` renders, the exact and pencil renders interleaved in
+ * the same process with the same build and thread count. Timed renders write no auxiliary
+ * channels and measure nothing; errors come from separate measured renders. Everything is written
+ * under one output directory (docs/pencil.md lists the files).
+ */
+#ifndef VALIDATION_FIGURES_H
+#define VALIDATION_FIGURES_H
+
+#include <stdio.h>
+
+#include "pencil/pencil.h"
+
+#define VAL_MAX_SPP 7
+#define VAL_MAX_RHO 16
+
+/** Median times of one configuration. */
+typedef struct {
+  int spp;
+  double exact_s, pencil_s;       /**< median process CPU seconds */
+  double exact_wall, pencil_wall; /**< median wall seconds */
+  double ratio;                   /**< pencil_s / exact_s */
+} val_timing_t;
+
+/** Time `runs` renders of scene s by each method at spp samples per pixel (interleaved) and
+ *  keep the medians. `popt` gives the pencil options (spp_side and threads are set here).
+ *  Returns 0, or -1 when a render failed (message on stderr). */
+int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int threads, int runs,
+                  val_timing_t *out);
+
+/** Error statistics of one measured pencil render (Fig. 10). */
+typedef struct {
+  double rho;
+  uint64_t samples;       /**< every sample of the image */
+  double fraction_within; /**< samples with error <= rho (image area) */
+  double p99;             /**< 99th percentile of the per-sample error (pixels) */
+  double max_error;       /**< largest finite error (pixels) */
+  uint64_t mismatches;    /**< samples whose exact tree lacks a path the pencil used */
+  double fraction_within_strict, max_error_strict; /**< |e| / sigma_min instead */
+  double fraction_within_t, max_error_t;           /**< transmission-first path only */
+  double image_rms;       /**< RMS of the RGB difference from the exact image */
+  double image_max;       /**< largest per-pixel |RGB difference| */
+  pt_stats_t stats;
+} val_errors_t;
+
+/** Render s by pencil tracing with measurement and compare the image with an exact render.
+ *  sample_error (w * h * spp floats) and the images may be NULL; when not, they receive the
+ *  per-sample errors, the pencil image (with extra channels) and the exact image. */
+int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_errors_t *out,
+                float *sample_error, rt_image_t *pencil_img, pt_extra_t *extra,
+                rt_image_t *exact_img);
+
+typedef struct {
+  const char *out_dir;   /**< output directory (created) */
+  const char *scene;     /**< scene file, or NULL for the built-in Fig. 8 scene */
+  int quick;             /**< small image and fewer points (tests) */
+  int threads;           /**< threads for every render (default 1) */
+  int runs;              /**< timed renders per configuration, >= 3 */
+  int width, height;     /**< 0: the scene's (quick: 96 x 96) */
+  int spp[VAL_MAX_SPP];  /**< Fig. 9 sample counts */
+  int nspp;
+  double rho[VAL_MAX_RHO]; /**< sweep */
+  int nrho;
+  int sweep_spp;         /**< samples per pixel of the sweep */
+  int sweep;             /**< 1: run the sweep too */
+  const char *plot;      /**< plotting script (python) or NULL */
+  FILE *log;             /**< progress and the comparison table (stdout) */
+} val_figures_opts_t;
+
+/** Defaults for `pencil figures`: Fig. 9 at 1, 4, ..., 49 spp, 3 runs, 1 thread, the sweep at
+ *  rho 0.05 ... 2 with 9 spp. */
+void val_figures_defaults(val_figures_opts_t *o);
+
+/** Run Figs. 8-10 (and the sweep) and write DIR/summary.json, CSV files, EXR/PNG images and
+ *  plots. Returns 0, 1 when a paper target was not met (still writes everything), -1 on an
+ *  error (message on stderr naming the file). */
+int val_figures(const val_figures_opts_t *o);
+
+/** The rho sweep alone: DIR/sweep.csv (+ sweep.json) and its plot. Same return values. */
+int val_sweep(const val_figures_opts_t *o);
+
+#endif
