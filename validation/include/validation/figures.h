@@ -77,11 +77,11 @@ typedef struct {
 void val_figures_defaults(val_figures_opts_t *o);
 
 /** Run Figs. 8-10 (and the sweep) and write DIR/summary.json, CSV files, EXR/PNG images and
- *  plots. Returns 0, 1 when a paper target was not met (still writes everything), -1 on an
- *  error (message on stderr naming the file). */
+ *  plots, and print the comparison with the paper (which says when a target was missed).
+ *  Returns 0, or -1 on an error (message on stderr naming the file). */
 int val_figures(const val_figures_opts_t *o);
 
-/** The rho sweep alone: DIR/sweep.csv (+ sweep.json) and its plot. Same return values. */
+/** The rho sweep alone: DIR/sweep.csv (+ sweep.json) and its plot. 0, or -1 on an error. */
 int val_sweep(const val_figures_opts_t *o);
 
 #endif

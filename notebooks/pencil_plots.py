@@ -1,0 +1,214 @@
+"""Plots of the pencil renderer's experiments (paper section 5, Figs. 8-10, and the rho sweep).
+
+Reads what `pencil figures` / `pencil sweep` write into a directory (CSV, JSON, OpenEXR) and
+writes PNG plots beside them. Used by notebooks/figures.ipynb and run by `pencil figures` as
+    /usr/bin/python3 notebooks/pencil_plots.py DIR
+Needs only numpy and matplotlib (Debian's python3-numpy, python3-matplotlib): the OpenEXR files
+are read by the small reader below (scanline files, uncompressed, ZIPS or ZIP, as io/ writes).
+"""
+import csv
+import json
+import os
+import struct
+import sys
+import zlib
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+PAPER = {"speedup_9": 7.6, "ratio_49": 0.1, "within": 0.998, "max_error": 0.66}
+
+
+# ---- OpenEXR (the subset io/ writes: one scanline part of 32-bit float channels) --------------
+
+def _cstr(buf, i):
+    j = buf.index(b"\0", i)
+    return buf[i:j].decode(), j + 1
+
+
+def read_exr(path):
+    """Return {channel name: float32 array (height, width)} and the string attributes."""
+    with open(path, "rb") as f:
+        buf = f.read()
+    if buf[:4] != b"\x76\x2f\x31\x01":
+        raise ValueError(f"{path}: not an OpenEXR file")
+    i, attrs, channels = 8, {}, []
+    while buf[i] != 0:
+        name, i = _cstr(buf, i)
+        typ, i = _cstr(buf, i)
+        (size,) = struct.unpack_from("<i", buf, i)
+        i += 4
+        val = buf[i:i + size]
+        i += size
+        if name == "channels":
+            j = 0
+            while val[j] != 0:
+                cname, j = _cstr(val, j)
+                ptype = struct.unpack_from("<i", val, j)[0]
+                j += 16
+                channels.append((cname, ptype))
+        elif name == "compression":
+            attrs["compression"] = val[0]
+        elif name == "dataWindow":
+            attrs["dataWindow"] = struct.unpack("<4i", val)
+        elif typ == "string":
+            attrs[name] = val.decode(errors="replace")
+    i += 1
+    x0, y0, x1, y1 = attrs["dataWindow"]
+    w, h = x1 - x0 + 1, y1 - y0 + 1
+    comp = attrs.get("compression", 0)
+    lines = {0: 1, 2: 1, 3: 16}.get(comp)
+    if lines is None:
+        raise ValueError(f"{path}: compression {comp} not supported by this reader")
+    if any(p != 2 for _, p in channels):
+        raise ValueError(f"{path}: only float channels are supported")
+    nchunk = (h + lines - 1) // lines
+    offsets = struct.unpack_from(f"<{nchunk}Q", buf, i)
+    out = {c: np.empty((h, w), np.float32) for c, _ in channels}
+    for off in offsets:
+        y, size = struct.unpack_from("<ii", buf, off)
+        data = buf[off + 8:off + 8 + size]
+        n = min(lines, y1 - y + 1)
+        raw = 4 * w * len(channels) * n
+        if comp != 0 and size < raw:
+            d = np.frombuffer(zlib.decompress(data), np.uint8).astype(np.int64)
+            d[1:] -= 128  # undo the predictor: t[i] = t[i-1] + d[i] - 128 (mod 256)
+            t = (np.cumsum(d) & 0xFF).astype(np.uint8)
+            half = (len(t) + 1) // 2  # then the two halves hold the even and the odd bytes
+            inter = np.empty(len(t), np.uint8)
+            inter[0::2] = t[:half]
+            inter[1::2] = t[half:]
+            data = inter.tobytes()
+        rows = np.frombuffer(data, "<f4").reshape(n, len(channels), w)
+        for k, (c, _) in enumerate(channels):
+            out[c][y - y0:y - y0 + n] = rows[:, k, :]
+    return out, attrs
+
+
+# ---- CSV / JSON -----------------------------------------------------------------------------
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([_num(r[k]) for r in rows]) for k in rows[0]} if rows else {}
+
+
+def _num(s):
+    try:
+        return float(s)
+    except ValueError:
+        return s
+
+
+# ---- plots ----------------------------------------------------------------------------------
+
+def plot_fig9(d, show=False):
+    t = read_csv(os.path.join(d, "fig9.csv"))
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    ax[0].plot(t["spp"], t["ratio"], "o-", label="this run (pencil / exact CPU time)")
+    ax[0].plot([9], [1 / PAPER["speedup_9"]], "s", color="C3", label="paper: 7.6x faster at 9 spp")
+    ax[0].plot([49], [PAPER["ratio_49"]], "v", color="C3", label="paper: below 1/10 at 49 spp")
+    ax[0].axhline(1.0, color="grey", lw=0.8)
+    ax[0].set_xlabel("samples per pixel")
+    ax[0].set_ylabel("time ratio pencil / exact")
+    ax[0].set_yscale("log")
+    ax[0].set_title("Fig. 9: CPU time ratio, rho = 1/2")
+    ax[0].legend(fontsize=8)
+    ax[1].plot(t["spp"], t["exact_s"], "o-", label="exact")
+    ax[1].plot(t["spp"], t["pencil_s"], "o-", label="pencil")
+    ax[1].set_xlabel("samples per pixel")
+    ax[1].set_ylabel("CPU seconds (median)")
+    ax[1].legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "fig9.png"), dpi=100)
+    return fig if show else plt.close(fig)
+
+
+def plot_fig10(d, show=False):
+    h = read_csv(os.path.join(d, "fig10_hist.csv"))
+    s = json.load(open(os.path.join(d, "summary.json")))["fig10"]
+    lo, cnt = h["error_lo"], h["samples"]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.bar(lo[:-1], np.maximum(cnt[:-1], 0.5), width=lo[1] - lo[0], align="edge")
+    ax.axvline(s["rho"], color="C3", label=f"rho = {s['rho']}")
+    ax.axvline(PAPER["max_error"], color="C1", ls="--", label="paper's largest error 0.66")
+    ax.set_yscale("log")
+    ax.set_xlim(0, max(1.0, 1.2 * min(s["max_error"], lo[-1])))
+    ax.set_xlabel("error (pixel intervals on the checkerboard)")
+    ax.set_ylabel("samples")
+    ax.set_title(f"Fig. 10: {100 * s['fraction_within']:.3f}% within rho "
+                 f"(paper 99.8%), max {s['max_error']:.3f}")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "fig10_hist.png"), dpi=100)
+    return fig if show else plt.close(fig)
+
+
+def plot_images(d, show=False):
+    p, _ = read_exr(os.path.join(d, "fig8.exr"))
+    x, _ = read_exr(os.path.join(d, "fig8_exact.exr"))
+    rgb = lambda c: np.clip(np.stack([c["R"], c["G"], c["B"]], -1), 0, 1) ** (1 / 2.2)
+    diff = np.abs(np.stack([p[k] - x[k] for k in "RGB"], -1)).max(-1)
+    fig, ax = plt.subplots(1, 4, figsize=(16, 4.4))
+    ax[0].imshow(rgb(p))
+    ax[0].set_title("Fig. 8: pencil tracing, 9 spp")
+    ax[1].imshow(rgb(x))
+    ax[1].set_title("exact tracing")
+    im = ax[2].imshow(diff, cmap="magma", vmin=0, vmax=max(0.05, float(np.percentile(diff, 99.9))))
+    ax[2].set_title("|pencil - exact| (RGB max)")
+    plt.colorbar(im, ax=ax[2], fraction=0.046)
+    err = p["pencil.error"].copy()
+    im = ax[3].imshow(np.where(np.isfinite(err), err, np.nan), cmap="viridis", vmin=0, vmax=0.5)
+    ax[3].set_title("Fig. 10: largest error per pixel")
+    plt.colorbar(im, ax=ax[3], fraction=0.046)
+    for a in ax:
+        a.set_xticks([])
+        a.set_yticks([])
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "fig8_compare.png"), dpi=90)
+    return fig if show else plt.close(fig)
+
+
+def plot_sweep(d, show=False):
+    t = read_csv(os.path.join(d, "sweep.csv"))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4))
+    for v in dict.fromkeys(t["variant"]):
+        m = t["variant"] == v
+        ax[0].plot(t["rho"][m], t["ratio"][m], "o-", label=v)
+        ax[1].plot(t["rho"][m], 100 * t["fraction_within"][m], "o-", label=v)
+        ax[2].plot(t["rho"][m], t["p99"][m] / t["rho"][m], "o-", label=f"{v}: p99 / rho")
+        ax[2].plot(t["rho"][m], np.minimum(t["max_error"][m], 1e3) / t["rho"][m], "x--",
+                   label=f"{v}: max / rho")
+    ax[0].set_ylabel("time ratio pencil / exact")
+    ax[1].set_ylabel("% of samples within rho")
+    ax[2].set_ylabel("error / rho")
+    ax[2].axhline(1.0, color="grey", lw=0.8)
+    ax[2].set_yscale("log")
+    for a in ax:
+        a.set_xscale("log")
+        a.set_xlabel("rho")
+        a.legend(fontsize=7)
+    ax[0].set_title(f"what accuracy costs ({int(t['spp'][0])} spp)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "sweep.png"), dpi=100)
+    return fig if show else plt.close(fig)
+
+
+def plot_all(d):
+    done = []
+    for name, fn, need in [("fig9", plot_fig9, "fig9.csv"), ("fig10", plot_fig10, "fig10_hist.csv"),
+                           ("fig8", plot_images, "fig8.exr"), ("sweep", plot_sweep, "sweep.csv")]:
+        if os.path.exists(os.path.join(d, need)):
+            fn(d)
+            done.append(name)
+    return done
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: pencil_plots.py DIR")
+    print("plots:", ", ".join(plot_all(sys.argv[1])) or "nothing to plot")
