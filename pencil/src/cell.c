@@ -16,6 +16,10 @@
 
 #include "internal.h"
 #include "pvec.h"
+#include "render/intersect.h"
+
+/* Share of rho that the certified mode's checks may use. */
+#define PT_CERTIFIED_MARGIN 0.8
 
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
@@ -273,6 +277,8 @@ typedef struct {
  * over the lattice cell when its corners saw the same checker square and every light's
  * visibility agrees over the cell; the other nodes, and nodes with children traced exactly, are
  * shaded per sample at their interpolated hits. */
+static void xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y);
+
 static int cell_plan(pt_ctx_t *C, const lattice_t *L, int i, int j, cell_plan_t *pl) {
   const size_t lq[4] = {lat_index(L, i, j), lat_index(L, i + 1, j), lat_index(L, i, j + 1),
                         lat_index(L, i + 1, j + 1)};
@@ -280,8 +286,18 @@ static int cell_plan(pt_ctx_t *C, const lattice_t *L, int i, int j, cell_plan_t 
   for (int q = 0; q < 4; q++)
     if (!C->latok[lq[q]])
       return (int)(why[1]++ & 0);
+  if (C->opt->certified) { /* the a-posteriori check of interpolation: the lattice cell's centre
+                              traced (matrices / exactly along the paths) into C->rec */
+    pt_eval_t G = {.C = C, .mode = PT_EV_MATRIX, .rec = C->rec};
+    xi_of(C, &G, L->x0 + (i + 0.5) * L->hx, L->y0 + (j + 0.5) * L->hy);
+    pt__eval(&G);
+    if (G.fallback)
+      return (int)(why[1]++ & 0);
+  }
   double xi2 = fmax(fmax(C->latxi2[lq[0]], C->latxi2[lq[1]]), fmax(C->latxi2[lq[2]], C->latxi2[lq[3]]));
-  double rho = C->opt->rho;
+  /* certified mode keeps a margin for what the checks do not see (third-order variation
+   * between the checked points): 0.8 rho */
+  double rho = C->opt->rho * (C->opt->certified ? PT_CERTIFIED_MARGIN : 1.0);
   pl->n = 0;
   for (int q = 0; q < 4; q++)
     pl->smooth[q] = rt_rgb(0, 0, 0);
@@ -301,7 +317,18 @@ static int cell_plan(pt_ctx_t *C, const lattice_t *L, int i, int j, cell_plan_t 
       double e_mat = n->pencil == PT_NODE_PATH
                          ? 0.0
                          : fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
-      if (e_int_cell(C, L, i, j, k, &ok) + e_mat > rho || !ok)
+      double e_int = e_int_cell(C, L, i, j, k, &ok);
+      if (C->opt->certified) { /* and the bound of bilinear interpolation over the lattice cell
+                                  (|second derivatives| <= 2 C give (h^2 / 8)(2 C + 2 C)), and the
+                                  interpolation's actual error at the centre */
+        double h = fmax(L->hx, L->hy) * C->dpix;
+        e_int = fmax(e_int, 0.5 * n->c * h * h / n->cos_in / n->interval);
+        if (C->rec[k].ok != 1)
+          return (int)(why[2]++ & 0);
+        px_vec3_t mid = pv_scale(pv_add(pv_add(g[0]->p, g[1]->p), pv_add(g[2]->p, g[3]->p)), 0.25);
+        e_int = fmax(e_int, pt_pixels(n, pv_sub(C->rec[k].p, mid)));
+      }
+      if (e_int + e_mat > rho || !ok)
         return (int)(why[ok ? 3 : 2]++ & 0);
       if (n->textured)
         for (int q = 1; q < 4; q++)
@@ -342,6 +369,24 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const cell_plan_t *pl, double u, dou
   return sum;
 }
 
+/* Certified mode: whether every miss node of an interpolated sample still meets nothing (its
+ * ray interpolated from the lattice points and intersected with the scene). */
+static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, double u, double v) {
+  const double w[4] = {(1 - u) * (1 - v), u * (1 - v), (1 - u) * v, u * v};
+  for (int k = 0; k < C->nnode; k++) {
+    const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
+    if (!C->node[k].miss || a->ok != 1)
+      continue;
+    px_vec3_t o = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+    px_vec3_t d = pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3]))));
+    rt_ray_t r = {o, pv_unit(d), 0.0, INFINITY, C->node[k].ior, -1};
+    rt_hit_t h;
+    if (rt_intersect(C->s, &r, &h))
+      return 0;
+  }
+  return 1;
+}
+
 /* The samples of pixel P inside lattice cell (ci, cj): interpolated when the cell's plan
  * allows, else by matrices. */
 static void lattice_cell_samples(pt_ctx_t *C, const lattice_t *L, int ci, int cj, pixel_t *P) {
@@ -360,6 +405,10 @@ static void lattice_cell_samples(pt_ctx_t *C, const lattice_t *L, int ci, int cj
       if (planned < 0)
         planned = cell_plan(C, L, ci, cj, &pl);
       if (!planned) {
+        matrix_sample(C, P, a, b);
+        continue;
+      }
+      if (C->opt->certified && !misses_nothing(C, &E, fx - si, fy - sj)) {
         matrix_sample(C, P, a, b);
         continue;
       }
@@ -499,7 +548,7 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, dou
       mode = PT_NODE_EXACT;
     if (mode && !n->miss) {
       (*paths)++;
-      int checked = !p->check || n->e_check <= n->tau;
+      int checked = !p->check || n->e_check <= PT_CERTIFIED_MARGIN * n->tau;
       if (xi_cell > n->xi_max || !checked) {
         mode = PT_NODE_PATH;
         C->st.paths_exact++;
@@ -562,6 +611,7 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   }
   int partial, over, paths;
   double cost, dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
+  C->dpix = fmax(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
   double need = build_paths(C, &p, xi_cell, dmin, &cost, &over, &paths, &partial);
   if (C->node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
     st->cells_edge++;

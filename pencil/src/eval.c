@@ -70,10 +70,50 @@ static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, int32_t *su, i
   *sv = (int32_t)floor(v / pl->check);
 }
 
+static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,
+                         rt_surface_t *sf);
+
+/* Node k's exact geometry for the sample in MATRIX mode: the sample's primary ray carried
+ * exactly through the surfaces of the node's path (the reflected and refracted rays of shade.h
+ * at each exact hit), each met as the path's own primitive, without a scene search. Memoised
+ * per evaluation; 0 when the ray leaves the path (misses a primitive or lacks the child). */
+static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
+  pt_ctx_t *C = E->C;
+  pt_xgeom_t *x = &C->xg[k];
+  if (x->stamp == E->stamp)
+    return x;
+  x->stamp = E->stamp;
+  x->ok = 0;
+  const pt_node_t *n = &C->node[k];
+  rt_ray_t r = E->primary;
+  if (n->parent >= 0) {
+    const pt_xgeom_t *px = exact_geom(E, n->parent);
+    if (!px->ok)
+      return x;
+    rt_ray_t ray;
+    rt_surface_t sf;
+    rt_child_t ch[2];
+    node_surface(E, n->parent, px->p, px->d, &ray, &sf);
+    int nc = rt_shade_children(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, ch), i = 0;
+    while (i < nc && (int)ch[i].kind != n->kind)
+      i++;
+    if (i == nc)
+      return x;
+    r = ch[i].ray;
+  }
+  double t;
+  if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t))
+    return x;
+  x->p = pv_axpy(t, r.d, r.o);
+  x->d = r.d;
+  x->ok = 1;
+  return x;
+}
+
 /* Node k's hit point and arriving direction for this sample; 0 when the sample's ray misses the
  * node's primitive (it left the cell's paths). `from` is the ray arriving at the node as shading
  * spawned it (NULL for the primary ray). */
-static int node_geometry(const pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
+static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
   const pt_node_t *n = &E->C->node[k];
   if (E->mode == PT_EV_INTERP) {
@@ -83,14 +123,21 @@ static int node_geometry(const pt_eval_t *E, int k, const rt_child_t *from, px_v
     *d = pv_unit(pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
     return 1;
   }
-  if (n->pencil == PT_NODE_PATH) { /* the sample's own ray against the node's primitive */
-    const rt_ray_t *r = from ? &from->ray : &E->primary;
-    double t;
-    if (!rt_prim_intersect(E->C->s, n->prim, r, r->tmax, &t))
-      return 0;
-    *hit = pv_axpy(t, r->d, r->o);
-    *d = r->d;
-    return 1;
+  if (n->pencil == PT_NODE_PATH) { /* exactly along the path */
+    int exact_parent = n->parent < 0 || E->C->node[n->parent].pencil == PT_NODE_PATH;
+    if (from && exact_parent) { /* spawned at an exact hit: the sample's own ray */
+      double t;
+      if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t))
+        return 0;
+      *hit = pv_axpy(t, from->ray.d, from->ray.o);
+      *d = from->ray.d;
+      E->C->xg[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
+      return 1;
+    }
+    const pt_xgeom_t *x = exact_geom(E, k);
+    *hit = x->p;
+    *d = x->d;
+    return x->ok;
   }
   px_vec3_t p;
   return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
@@ -145,9 +192,25 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   const pt_node_t *n = &C->node[k];
   pt_geom_t *g = E->rec ? &E->rec[k] : NULL;
   if (n->miss) {
+    const rt_ray_t *r = from ? &from->ray : E->mode == PT_EV_MATRIX ? &E->primary : NULL;
+    rt_hit_t h;
+    /* certified mode: the sample's own ray must still meet nothing (a horizon or an object
+     * between the cell's corners would otherwise go unseen) */
+    if (C->opt->certified && r && rt_intersect(C->s, r, &h)) {
+      E->fallback = 1;
+      mark_exact(E, k);
+      if (!E->shade)
+        return rt_rgb(0, 0, 0);
+      return from ? rt_rgb_mul(w, exact_child(E, from, n->depth)) : rt_exact_primary(&C->ex, r);
+    }
     rt_rgb_t l = rt_rgb_mul(w, C->s->background);
-    if (g)
+    if (g) {
       *g = (pt_geom_t){.w = w, .l = l, .ok = 1};
+      if (r) { /* where the ray leaves from and its direction, for interpolated checks */
+        g->p = r->o;
+        g->d = r->d;
+      }
+    }
     return l;
   }
   px_vec3_t hit, d;
@@ -194,6 +257,7 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
   E->cur = -1;
   E->fallback = 0;
   E->partial = 0;
+  E->stamp = ++E->C->stamp;
   return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);
 }
 

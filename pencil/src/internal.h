@@ -22,6 +22,13 @@ typedef struct {
   uint8_t fb;      /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
 
+/** A node's exact geometry for one sample (exact along the known path, memoised per sample). */
+typedef struct {
+  px_vec3_t p, d;
+  uint32_t stamp; /**< the evaluation it belongs to */
+  int ok;         /**< 0: the sample's ray does not meet the node's primitive */
+} pt_xgeom_t;
+
 /** Per-thread state; every buffer is allocated once before the screen loop. */
 typedef struct {
   const rt_scene_t *s;
@@ -45,6 +52,7 @@ typedef struct {
   uint32_t *light;        /**< pt_tree_agree() output, cap */
   int nnode;
   px_frame_t frame;       /**< the current cell's input frame at the eye */
+  double dpix;            /**< the current cell's larger pixel step |delta_i| in xi */
   int kt, kr;             /**< nodes on the transmission-first / reflection-first paths to the
                                checkerboard, or -1 */
   pt_path_scratch_t path;
@@ -54,6 +62,8 @@ typedef struct {
   int *loc;               /**< per-pixel plan: nodes shaded per sample (cap) */
   uint8_t *locd, *loce;   /**< ... with their direct term / with exactly traced children */
   pt_geom_t *rec;         /**< one sample's geometry, cap nodes */
+  pt_xgeom_t *xg;         /**< one sample's exact geometry along the paths, cap nodes */
+  uint32_t stamp;         /**< evaluation counter for xg */
   double (*sw)[4];        /**< bilinear weights of the s x s sample pattern */
   pt_stats_t st;
 } pt_ctx_t;
@@ -72,6 +82,7 @@ typedef struct {
   int shade;              /**< 0: geometry only */
   int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
   int cur;                /**< node being shaded */
+  uint32_t stamp;         /**< this evaluation's xg stamp */
   int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
   int partial;            /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;

@@ -38,13 +38,14 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->locd);
   free(C->loce);
   free(C->rec);
+  free(C->xg);
   free(C->sw);
 }
 
 /* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
 static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   size_t side = (size_t)n + 1, corners = side * side;
-  size_t lattice = corners + 3 * side + 9; /* half-pixel steps along 1-pixel-wide cells */
+  size_t lattice = (2 * side - 1) * (2 * side - 1); /* half-pixel steps (certified mode) */
   int s = C->opt->spp_side;
   C->cap = cap;
   C->tree = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
@@ -62,9 +63,10 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->locd = malloc((size_t)cap);
   C->loce = malloc((size_t)cap);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
+  C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->sw = malloc((size_t)(s * s) * sizeof *C->sw);
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat ||
-      !C->latok || !C->rec || !C->sw || !C->map || !C->agree || !C->light ||
+      !C->latok || !C->rec || !C->xg || !C->sw || !C->map || !C->agree || !C->light ||
       !C->latxi2 || !C->loc || !C->locd || !C->loce) {
     if (C->corner)
       C->corner[0].node = cn;
