@@ -61,10 +61,10 @@ double pt_pixels(const pt_node_t *n, px_vec3_t e) {
   return hypot(a0, a1);
 }
 
-double pt_spread_limit(double c, double tau, double cos_in) {
+double pt_spread_limit(double c, double k3, double tau, double cos_in) {
   double xi;
   if (!(tau > 0.0) || !(cos_in > 0.0) || !(c >= 0.0) ||
-      px_spread_limit(c, 0.0, tau * cos_in, PT_SPREAD_CAP, &xi, NULL) != PX_OK)
+      px_spread_limit(c, k3, tau * cos_in, PT_SPREAD_CAP, &xi, NULL) != PX_OK)
     return 0.0;
   return xi;
 }
@@ -319,7 +319,7 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
     st = pt__bound_step(parent, sm, p->bound, out, &out->c);
   if (st != PX_OK)
     return st;
-  out->xi_max = pt_spread_limit(out->c, out->tau, out->cos_in);
+  out->xi_max = pt_spread_limit(out->c, parent ? 0.0 : 0.77 * nd->t, out->tau, out->cos_in);
   if (p->check)
     st = check_boundary(w, out, p->check, &out->e_check);
   return st;

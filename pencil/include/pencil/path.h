@@ -84,7 +84,7 @@ typedef struct {
   double tau;      /**< rho * interval: the tolerance of Eq. (3) on the surface */
   double c;        /**< C of Eq. (4) for this path (x0 = 0), scene units; 0 for a transfer */
   double xi_max;   /**< spread limit of Eq. (6) on the surface: sqrt(tau cos / C), at most
-                        PT_SPREAD_CAP */
+                        PT_SPREAD_CAP (pt_spread_limit) */
   double e_check;  /**< certified mode: largest exact error on the cell boundary (surface units,
                         from ex_map at the corners and edge midpoints), else -1 */
   unsigned known;  /**< bit l: through[l] recorded for light l */
@@ -145,14 +145,17 @@ double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3
 /** A surface displacement e in pixels: |J+ e| with the node's footprint. */
 double pt_pixels(const pt_node_t *n, px_vec3_t e);
 
-/** Largest spread |xi| a pencil may have whatever its C (px_spread_limit's cap: where C = 0 the
- *  third-order error, which the second-order bounds do not cover, is the limit; 0.05 is about
- *  18 pixels of the Fig. 8 camera). */
-#define PT_SPREAD_CAP 0.05
+/** Largest spread |xi| a pencil may have whatever its C (px_spread_limit's cap): where C = 0
+ *  only the third-order error limits, which the second-order bounds do not cover. For the
+ *  primary ray (a transfer of length z from the pinhole) it is known: the linear map puts the
+ *  ray at z xi instead of z xi / sqrt(1 - xi^2), an error below k3 xi^3 with k3 = 0.77 z for
+ *  |xi| <= PT_SPREAD_CAP (z/2 times (1 - xi^2)^(-3/2) <= 1.54). Deeper paths with C = 0 (plane
+ *  mirrors, a ray through a sphere's centre) have no such term here and stop at the cap. */
+#define PT_SPREAD_CAP 0.5
 
-/** Eq. (6) on the surface: the largest xi0 <= PT_SPREAD_CAP with C xi0^2 / cos <= tau
- *  (px_spread_limit; 0 for tau <= 0). */
-double pt_spread_limit(double c, double tau, double cos_in);
+/** Eq. (6) on the surface, extended by a third-order term: the largest xi0 <= PT_SPREAD_CAP with
+ *  (C xi0^2 + k3 xi0^3) / cos <= tau (px_spread_limit; 0 for tau <= 0). */
+double pt_spread_limit(double c, double k3, double tau, double cos_in);
 
 /** The paraxial ray of a sample: psi' = T (0, 0, xi) turned into a world ray through
  *  O' + x1' e1 + x2' e2 with unit direction xi1' e1 + xi2' e2 + sqrt(1 - |xi'|^2) ez.

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The pencil renderer's command-line contracts (issue 5): `pencil render --method pencil` writes
+# an EXR with the reference channels plus pencil.error / pencil.method / pencil.rays and a PNG,
+# --measure prints the Fig. 10 statistics; bad options exit 2 naming the option; `pencil sweep`
+# writes sweep.csv with one row per rho and variant; --help exits 0 for every new command.
+set -u
+pencil=$1
+fail=0
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+out=$($pencil render --method pencil -o "$tmp/p.exr" --size 24x20 --spp 4 --threads 2 --measure 2>"$tmp/err"); rc=$?
+check "pencil render exits 0" "[ $rc -eq 0 ]"
+check "EXR and PNG written" "[ -s '$tmp/p.exr' ] && [ -s '$tmp/p.png' ]"
+for ch in pencil.error pencil.method pencil.rays pathT.u R; do
+  check "EXR has channel $ch" "grep -aq '$ch' '$tmp/p.exr'"
+done
+check "closing line names the methods" "echo '$out' | grep -q 'matrix, .* interpolated, .* exact'"
+check "--measure prints the Fig. 10 line" "echo '$out' | grep -q 'Fig. 10 error: .* within rho = 0.5'"
+check "no progress bar when stderr is not a terminal" "[ ! -s '$tmp/err' ]"
+
+for bad in "--rho 0" "--rho -1" "--bounds exact" "--domain 0" "--domain 33" "--spp 5"; do
+  opt=${bad%% *}
+  $pencil render --method pencil -o "$tmp/q.exr" --size 8x8 $bad >/dev/null 2>"$tmp/err"; rc=$?
+  check "render $bad: exit 2 naming $opt" "[ $rc -eq 2 ] && grep -q -- '$opt' '$tmp/err'"
+done
+check "no image after usage errors" "[ ! -e '$tmp/q.exr' ]"
+
+for cmd in "render --method pencil" figures sweep; do
+  $pencil $cmd --help >"$tmp/help"; rc=$?
+  check "$cmd --help exits 0 with usage" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
+done
+$pencil sweep --rho 0.5,0 >/dev/null 2>"$tmp/err"; rc=$?
+check "sweep --rho with 0: exit 2 naming --rho" "[ $rc -eq 2 ] && grep -q -- '--rho' '$tmp/err'"
+$pencil sweep --spp 5 >/dev/null 2>"$tmp/err"; rc=$?
+check "sweep --spp 5: exit 2" "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err'"
+$pencil figures --bogus >/dev/null 2>"$tmp/err"; rc=$?
+check "figures --bogus: exit 2" "[ $rc -eq 2 ] && grep -q -- '--bogus' '$tmp/err'"
+$pencil figures "$tmp/missing.json" --quick --out "$tmp/f" >/dev/null 2>"$tmp/err"; rc=$?
+check "figures on a missing scene file: exit 1 naming it" "[ $rc -ne 0 ] && grep -q 'missing.json' '$tmp/err'"
+
+$pencil sweep --quick --size 24x24 --rho 0.5,1 --spp 4 --out "$tmp/s" >"$tmp/log"; rc=$?
+check "sweep exits 0" "[ $rc -eq 0 ]"
+check "sweep.csv: header + 2 rho x 3 variants" "[ \$(wc -l < '$tmp/s/sweep.csv') -eq 7 ]"
+check "sweep.csv has the three variants" \
+  "grep -q ',corrected,' '$tmp/s/sweep.csv' && grep -q ',printed,' '$tmp/s/sweep.csv' && grep -q ',certified,' '$tmp/s/sweep.csv'"
+check "sweep.json written" "[ -s '$tmp/s/sweep.json' ]"
+
+[ $fail -eq 0 ] && echo "cli_pencil: all passed" || echo "cli_pencil: FAILED"
+exit $fail
