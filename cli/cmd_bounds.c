@@ -9,31 +9,32 @@
 #include "paraxial/paraxial.h"
 
 static void help(FILE *f) {
-  fprintf(f,
-          "usage: pencil bounds refract --theta-deg T --n1 N1 --n2 N2 [--radius R] [--d3m D]\n"
-          "                             [--variant V]\n"
-          "       pencil bounds reflect --theta-deg T [--radius R] [--d3m D] [--variant V]\n\n"
-          "Prints the coefficients of the element's error estimation functions (Appendix A-1)\n"
-          "  e_x  = a x^2 + b x xi + c xi^2  >= |Delta x|\n"
-          "  e_xi = d x^2 + e x xi + f xi^2  >= |Delta xi|\n"
-          "as JSON {\"a\": .., \"b\": .., \"c\": .., \"d\": .., \"e\": .., \"f\": ..}, where x = |x|\n"
-          "and xi = |xi| are the sizes of a ray vector's position and direction parts in the\n"
-          "element's frames and Delta the second-order error of the linear map (Eq. 2). Units with\n"
-          "a length L: a 1/L, b 1, c L, d 1/L^2, e 1/L, f 1.\n\n"
-          "options:\n"
-          "  --theta-deg T   angle of incidence in degrees, 0 <= T < 90\n"
-          "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
-          "  --n2 N2         index of the far medium (> 0)\n"
-          "  --radius R      radius of a spherical surface (non-zero; its sign, as in\n"
-          "                  `pencil matrix`, does not change the coefficients). Without\n"
-          "                  --radius the surface is a plane. A sphere has d_3m = 0.\n"
-          "  --d3m D         largest |third derivative| of a general surface's height (>= 0,\n"
-          "                  units 1/L^2; default 0), the d_3m of A-1\n"
-          "  --variant V     corrected (default: derived by the project and confirmed by exact\n"
-          "                  tracing) or printed (A-1 verbatim, R read as the smallest radius of\n"
-          "                  curvature; may be negative for mirrors; see docs/errata.md)\n\n"
-          "Exit codes: 0 coefficients printed; 1 no system matrix exists (total internal\n"
-          "reflection, grazing incidence or exit; reason on stderr); 2 usage error.\n");
+  fprintf(
+      f,
+      "usage: pencil bounds refract --theta-deg T --n1 N1 --n2 N2 [--radius R] [--d3m D]\n"
+      "                             [--variant V]\n"
+      "       pencil bounds reflect --theta-deg T [--radius R] [--d3m D] [--variant V]\n\n"
+      "Prints the coefficients of the element's error estimation functions (Appendix A-1)\n"
+      "  e_x  = a x^2 + b x xi + c xi^2  >= |Delta x|\n"
+      "  e_xi = d x^2 + e x xi + f xi^2  >= |Delta xi|\n"
+      "as JSON {\"a\": .., \"b\": .., \"c\": .., \"d\": .., \"e\": .., \"f\": ..}, where x = |x|\n"
+      "and xi = |xi| are the sizes of a ray vector's position and direction parts in the\n"
+      "element's frames and Delta the second-order error of the linear map (Eq. 2). Units with\n"
+      "a length L: a 1/L, b 1, c L, d 1/L^2, e 1/L, f 1.\n\n"
+      "options:\n"
+      "  --theta-deg T   angle of incidence in degrees, 0 <= T < 90\n"
+      "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
+      "  --n2 N2         index of the far medium (> 0)\n"
+      "  --radius R      radius of a spherical surface (non-zero; its sign, as in\n"
+      "                  `pencil matrix`, does not change the coefficients). Without\n"
+      "                  --radius the surface is a plane. A sphere has d_3m = 0.\n"
+      "  --d3m D         largest |third derivative| of a general surface's height (>= 0,\n"
+      "                  units 1/L^2; default 0), the d_3m of A-1\n"
+      "  --variant V     corrected (default: derived by the project and confirmed by exact\n"
+      "                  tracing) or printed (A-1 verbatim, R read as the smallest radius of\n"
+      "                  curvature; may be negative for mirrors; see docs/errata.md)\n\n"
+      "Exit codes: 0 coefficients printed; 1 no system matrix exists (total internal\n"
+      "reflection, grazing incidence or exit; reason on stderr); 2 usage error.\n");
 }
 
 int cmd_bounds(int argc, char **argv) {
@@ -108,15 +109,21 @@ int cmd_bounds(int argc, char **argv) {
     return CLI_USAGE;
   }
   if (!(n1 > 0.0) || !(n2 > 0.0)) {
-    fprintf(stderr, "pencil bounds %s: indices must be positive (got n1=%g, n2=%g)\n", kind, n1, n2);
+    fprintf(stderr, "pencil bounds %s: indices must be positive (got n1=%g, n2=%g)\n", kind, n1,
+            n2);
     return CLI_USAGE;
   }
-  px_element_geom_t g = {is_reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT, theta * M_PI / 180.0,
-                         n1, n2, fabs(radius), d3m};
+  px_element_geom_t g = {is_reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT,
+                         theta * M_PI / 180.0,
+                         n1,
+                         n2,
+                         fabs(radius),
+                         d3m};
   px_coeffs_t k;
   px_status_t st = px_error_coeffs(&g, variant, &k);
   if (st != PX_OK) {
-    fprintf(stderr, "pencil bounds %s: no error coefficients at theta = %g deg, n1 = %g, n2 = %g: %s\n",
+    fprintf(stderr,
+            "pencil bounds %s: no error coefficients at theta = %g deg, n1 = %g, n2 = %g: %s\n",
             kind, theta, n1, n2, px_strerror(st));
     return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
   }

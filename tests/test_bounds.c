@@ -117,7 +117,8 @@ static px_element_t element(px_event_t ev, double th, double n1, double n2, px_m
   px_interface_t ifc;
   px_frame_t in, out;
   assert_int_equal(px_interface_make(px_vec3(sin(th), 0, cos(th)), px_vec3(0, 0, 1),
-                                     px_vec3(0, 1, 0), q, NULL, n1, n2, &ifc), PX_OK);
+                                     px_vec3(0, 1, 0), q, NULL, n1, n2, &ifc),
+                   PX_OK);
   assert_int_equal(px_interface_frames(&ifc, ev, &in, &out), PX_OK);
   px_element_t buf[1];
   px_cascade_t c;
@@ -138,8 +139,8 @@ static void corrected_coefficients_bound_the_second_order_term(void **state) {
   struct {
     px_event_t ev;
     double th, n1, n2;
-  } cases[] = {{PX_EVENT_REFRACT, 0.3, 1.0, 1.5},  {PX_EVENT_REFRACT, 1.2, 1.0, 2.42},
-               {PX_EVENT_REFRACT, 0.6, 1.5, 1.0},  {PX_EVENT_REFRACT, 0.0, 1.33, 1.0},
+  } cases[] = {{PX_EVENT_REFRACT, 0.3, 1.0, 1.5}, {PX_EVENT_REFRACT, 1.2, 1.0, 2.42},
+               {PX_EVENT_REFRACT, 0.6, 1.5, 1.0}, {PX_EVENT_REFRACT, 0.0, 1.33, 1.0},
                {PX_EVENT_REFLECT, 0.9, 1.0, 1.0}, {PX_EVENT_REFLECT, 1.45, 1.0, 1.0}};
   for (size_t n = 0; n < sizeof cases / sizeof cases[0]; n++) {
     px_element_t e = element(cases[n].ev, cases[n].th, cases[n].n1, cases[n].n2, q, 0.4, -1.1);
@@ -196,8 +197,8 @@ static void cascade_form_reduces_to_element_and_transfer(void **state) {
   px_element_t buf[3];
   px_cascade_t c;
   px_cascade_init(&c, buf, 3);
-  assert_int_equal(px_cascade_push_interface(&c, &ifc, PX_EVENT_REFRACT, in, out,
-                                             PX_VARIANT_CORRECTED), PX_OK);
+  assert_int_equal(
+      px_cascade_push_interface(&c, &ifc, PX_EVENT_REFRACT, in, out, PX_VARIANT_CORRECTED), PX_OK);
   px_coeffs_t k = coeffs(PX_EVENT_REFRACT, th / DEG, 1.0, 1.5, r, 0, PX_VARIANT_CORRECTED);
   px_pencil_t p;
   assert_int_equal(px_pencil_constants(&c, NULL, PX_VARIANT_CORRECTED, &p), PX_OK);
@@ -208,8 +209,8 @@ static void cascade_form_reduces_to_element_and_transfer(void **state) {
   assert_close(p.f, k.f, 1e-15, 0);
   px_cascade_init(&c, buf, 3);
   assert_int_equal(px_cascade_push_transfer(&c, dist, in), PX_OK);
-  assert_int_equal(px_cascade_push_interface(&c, &ifc, PX_EVENT_REFRACT, in, out,
-                                             PX_VARIANT_CORRECTED), PX_OK);
+  assert_int_equal(
+      px_cascade_push_interface(&c, &ifc, PX_EVENT_REFRACT, in, out, PX_VARIANT_CORRECTED), PX_OK);
   double lam[4], mu[4];
   assert_int_equal(px_cascade_weights(&c, 2, lam, mu), PX_OK);
   assert_close(mu[1], dist, 1e-15, 0);

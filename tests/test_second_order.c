@@ -49,7 +49,7 @@ static void jets_agree_with_quad_differences_on_quick_sweep(void **state) {
     assert_int_equal(ex_map_jet(&sys, &ax, zero, NULL, jac, hj), PX_OK);
     assert_int_equal(ex_hessian_q(&sys, &ax, sw[s].length, hq), PX_OK);
     double norm, d = tensor_diff(hj, hq, sw[s].length, &norm);
-    double rel = d / fmax(norm, 1.0); /* scaled entries are O(1) where they do not vanish */
+    double rel = d / fmax(norm, 1.0);        /* scaled entries are O(1) where they do not vanish */
     if (sw[s].family == VAL_FAMILY_TRANSFER) /* straight lines: t(2) = 0 exactly */
       assert_true(norm == 0.0 || norm < 1e-12);
     else if (!(rel <= 1e-7))
@@ -107,9 +107,9 @@ static void analytic_element_term_matches_jets(void **state) {
         assert_int_equal(px_element_second_order(&buf[ie], cubic, psi, &d), PX_OK);
         double scale = 0.0;
         for (int i = 0; i < 4; i++) {
-          double ref = j == k ? 2.0 * h[i][j][j] * sj * sj : 0.5 * (h[i][j][j] * sj * sj +
-                                                                     h[i][k][k] * sk * sk) +
-                                                                  h[i][j][k] * sj * sk;
+          double ref =
+              j == k ? 2.0 * h[i][j][j] * sj * sj
+                     : 0.5 * (h[i][j][j] * sj * sj + h[i][k][k] * sk * sk) + h[i][j][k] * sj * sk;
           double o = i < 2 ? 1.0 / v->length : 1.0;
           scale = fmax(scale, fabs(ref * o));
           if (!(fabs(d.v[i] - ref) * o <= 1e-8 * (1.0 + scale) + 1e-8 * fabs(ref * o)))
@@ -147,8 +147,8 @@ static void sphere_through_centre_has_third_order_error_only(void **state) {
     assert_int_equal(ex_map(&sys, &ax, psi, out), PX_OK);
     err[m] = fabs(out[0] - jac[0][2] * xi);
   }
-  assert_true(err[0] > 1e-7);                    /* a real error ... */
-  assert_close(err[1] / err[0], 8.0, 0.01, 0);    /* ... of third order */
+  assert_true(err[0] > 1e-7);                  /* a real error ... */
+  assert_close(err[1] / err[0], 8.0, 0.01, 0); /* ... of third order */
 }
 
 int main(int argc, char **argv) {

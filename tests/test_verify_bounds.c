@@ -50,10 +50,10 @@ static void sphere_refraction(void **state) {
   val_verify_bounds_system(find("refract sphere n 1->1.5 theta 60 R -1 rotated"), 1, &r);
   assert_int_equal(r.status, PX_OK);
   corrected_holds(&r);
-  assert_close(r.ratio[0][0], 1.0, 1e-9, 0); /* a */
-  assert_close(r.ratio[0][1], 1.0, 1e-9, 0); /* b */
-  assert_close(r.ratio[0][5], 1.0, 1e-9, 0); /* f */
-  assert_close(r.ratio[1][0], 1.0, 1e-9, 0); /* printed a: right for a sphere */
+  assert_close(r.ratio[0][0], 1.0, 1e-9, 0);       /* a */
+  assert_close(r.ratio[0][1], 1.0, 1e-9, 0);       /* b */
+  assert_close(r.ratio[0][5], 1.0, 1e-9, 0);       /* f */
+  assert_close(r.ratio[1][0], 1.0, 1e-9, 0);       /* printed a: right for a sphere */
   assert_close(r.ratio[1][5], 1.0 / 1.5, 1e-9, 0); /* printed f: factor n/n' too many */
   assert_true(r.tensor_diff < 1e-9);
   /* the fit touches the sampled exact errors: the envelope agrees within 2% where attained */
@@ -142,10 +142,8 @@ static void ceres_shim_bounds(void **state) {
 
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(sphere_refraction),
-      cmocka_unit_test(mirror_printed_signs),
-      cmocka_unit_test(sphere_centre_third_order),
-      cmocka_unit_test(off_centre_onset),
+      cmocka_unit_test(sphere_refraction),         cmocka_unit_test(mirror_printed_signs),
+      cmocka_unit_test(sphere_centre_third_order), cmocka_unit_test(off_centre_onset),
       cmocka_unit_test(ceres_shim_bounds),
   };
   if (argc > 1)

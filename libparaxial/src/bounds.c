@@ -79,9 +79,11 @@ static void coeffs_corrected(const angles_t *g, double k, double d3m, px_coeffs_
   /* b: u1 s (1 - eta^2) diag(1/(c c'), 1) xi, attained for x, xi along x1 (= printed b) */
   r->b = fabs(s * one_m) / (c * c * cp);
   r->c = 0.0; /* rays through O stay at x' = 0 */
-  /* d: -h Theta'^-1 Q Theta^-1 s w e1, the cubic term, and (alpha1 |g|^2 + alpha2 g1^2, m3 g1 g2) */
+  /* d: -h Theta'^-1 Q Theta^-1 s w e1, the cubic term, and (alpha1 |g|^2 + alpha2 g1^2, m3 g1 g2)
+   */
   double alpha1 = 0.5 * eta * h * h * s / g->cp;
-  double alpha2 = -eta * h * s - 0.5 * eta * eta * eta * s * s * s * one_m / (g->cp * g->cp * g->cp);
+  double alpha2 =
+      -eta * h * s - 0.5 * eta * eta * eta * s * s * s * one_m / (g->cp * g->cp * g->cp);
   double m3 = -eta * h * s / g->cp;
   double amax = fmax(fabs(alpha1), fabs(alpha1 + alpha2));
   r->d = k * k * (fabs(h) * s / (2.0 * cp * c * c * c) + hypot(amax, 0.5 * m3) / (c * c)) +
@@ -144,7 +146,9 @@ double px_d3m(const double cubic[4]) {
 
 /* c_ijk of the symmetric tensor from (c111, c112, c122, c222): the entry depends only on how
  * many indices are 2. */
-static double cubic_entry(const double c[4], int i, int j, int k) { return c[i + j + k]; }
+static double cubic_entry(const double c[4], int i, int j, int k) {
+  return c[i + j + k];
+}
 
 px_status_t px_element_second_order(const px_element_t *e, const double cubic[4], px_ray4_t psi,
                                     px_ray4_t *out) {

@@ -25,14 +25,17 @@ static px_status_t diff2(const ex_system_t *sys, const ex_axial_t *ax, int j, in
   __float128 a[4], b[4], c[4], e[4];
   px_status_t s;
   if (j == k) {
-    if ((s = eval(sys, ax, j, hj, k, 0, a)) != PX_OK || (s = eval(sys, ax, j, -hj, k, 0, b)) != PX_OK)
+    if ((s = eval(sys, ax, j, hj, k, 0, a)) != PX_OK ||
+        (s = eval(sys, ax, j, -hj, k, 0, b)) != PX_OK)
       return s;
     for (int i = 0; i < 4; i++)
       d[i] = (a[i] - 2 * f0[i] + b[i]) / (hj * hj);
     return PX_OK;
   }
-  if ((s = eval(sys, ax, j, hj, k, hk, a)) != PX_OK || (s = eval(sys, ax, j, hj, k, -hk, b)) != PX_OK ||
-      (s = eval(sys, ax, j, -hj, k, hk, c)) != PX_OK || (s = eval(sys, ax, j, -hj, k, -hk, e)) != PX_OK)
+  if ((s = eval(sys, ax, j, hj, k, hk, a)) != PX_OK ||
+      (s = eval(sys, ax, j, hj, k, -hk, b)) != PX_OK ||
+      (s = eval(sys, ax, j, -hj, k, hk, c)) != PX_OK ||
+      (s = eval(sys, ax, j, -hj, k, -hk, e)) != PX_OK)
     return s;
   for (int i = 0; i < 4; i++)
     d[i] = (a[i] - b[i] - c[i] + e[i]) / (4 * hj * hk);

@@ -48,7 +48,9 @@ static jet_t jscale(jet_t a, double s) {
   return r;
 }
 
-static jet_t jsub(jet_t a, jet_t b) { return jadd(a, jscale(b, -1.0)); }
+static jet_t jsub(jet_t a, jet_t b) {
+  return jadd(a, jscale(b, -1.0));
+}
 
 static jet_t jmul(jet_t a, jet_t b) {
   jet_t r;
@@ -78,7 +80,9 @@ static jet_t jinv(jet_t a) {
   return jchain(a, i, -i * i, 2.0 * i * i * i);
 }
 
-static jet_t jdiv(jet_t a, jet_t b) { return jmul(a, jinv(b)); }
+static jet_t jdiv(jet_t a, jet_t b) {
+  return jmul(a, jinv(b));
+}
 
 static jet_t jsqrt(jet_t a) {
   double s = sqrt(a.v);
@@ -89,14 +93,24 @@ typedef struct {
   jet_t x, y, z;
 } jv3_t;
 
-static jv3_t jv3_lift(px_vec3_t a) { return (jv3_t){jconst(a.x), jconst(a.y), jconst(a.z)}; }
-static jv3_t jv3_add(jv3_t a, jv3_t b) { return (jv3_t){jadd(a.x, b.x), jadd(a.y, b.y), jadd(a.z, b.z)}; }
-static jv3_t jv3_sub(jv3_t a, jv3_t b) { return (jv3_t){jsub(a.x, b.x), jsub(a.y, b.y), jsub(a.z, b.z)}; }
-static jv3_t jv3_scale(jv3_t a, jet_t s) { return (jv3_t){jmul(a.x, s), jmul(a.y, s), jmul(a.z, s)}; }
+static jv3_t jv3_lift(px_vec3_t a) {
+  return (jv3_t){jconst(a.x), jconst(a.y), jconst(a.z)};
+}
+static jv3_t jv3_add(jv3_t a, jv3_t b) {
+  return (jv3_t){jadd(a.x, b.x), jadd(a.y, b.y), jadd(a.z, b.z)};
+}
+static jv3_t jv3_sub(jv3_t a, jv3_t b) {
+  return (jv3_t){jsub(a.x, b.x), jsub(a.y, b.y), jsub(a.z, b.z)};
+}
+static jv3_t jv3_scale(jv3_t a, jet_t s) {
+  return (jv3_t){jmul(a.x, s), jmul(a.y, s), jmul(a.z, s)};
+}
 static jv3_t jv3_scaled(px_vec3_t a, jet_t s) {
   return (jv3_t){jscale(s, a.x), jscale(s, a.y), jscale(s, a.z)};
 }
-static jet_t jv3_dot(jv3_t a, jv3_t b) { return jadd(jadd(jmul(a.x, b.x), jmul(a.y, b.y)), jmul(a.z, b.z)); }
+static jet_t jv3_dot(jv3_t a, jv3_t b) {
+  return jadd(jadd(jmul(a.x, b.x), jmul(a.y, b.y)), jmul(a.z, b.z));
+}
 static jet_t jv3_dotd(px_vec3_t a, jv3_t b) {
   return jadd(jadd(jscale(b.x, a.x), jscale(b.y, a.y)), jscale(b.z, a.z));
 }
@@ -149,9 +163,11 @@ px_status_t ex_map_jet(const ex_system_t *sys, const ex_axial_t *ax, const doubl
   jet_t xi2 = jadd(jmul(p[2], p[2]), jmul(p[3], p[3]));
   if (!(xi2.v < 1.0))
     return PX_EINVAL;
-  jv3_t o = jv3_add(jv3_lift(sys->origin), jv3_add(jv3_scaled(f->x1, p[0]), jv3_scaled(f->x2, p[1])));
+  jv3_t o =
+      jv3_add(jv3_lift(sys->origin), jv3_add(jv3_scaled(f->x1, p[0]), jv3_scaled(f->x2, p[1])));
   jet_t zeta = jsqrt(jsub(jconst(1.0), xi2));
-  jv3_t d = jv3_add(jv3_add(jv3_scaled(f->x1, p[2]), jv3_scaled(f->x2, p[3])), jv3_scaled(f->z, zeta));
+  jv3_t d =
+      jv3_add(jv3_add(jv3_scaled(f->x1, p[2]), jv3_scaled(f->x2, p[3])), jv3_scaled(f->z, zeta));
   double n1 = sys->n0;
   for (size_t k = 0; k < ax->n; k++) {
     const ex_stage_t *st = &sys->stage[k];

@@ -12,7 +12,7 @@
 namespace {
 
 class CallbackCost : public ceres::CostFunction {
- public:
+public:
   CallbackCost(int np, int nres, val_ceres_cost_t cost, void *user)
       : np_(np), nres_(nres), cost_(cost), user_(user) {
     set_num_residuals(nres);
@@ -25,7 +25,7 @@ class CallbackCost : public ceres::CostFunction {
     return cost_(user_, parameters[0], residuals, jac) != 0;
   }
 
- private:
+private:
   int np_, nres_;
   val_ceres_cost_t cost_;
   void *user_;
@@ -52,8 +52,10 @@ void solve_once(int np, double *p, const double *lower, const double *upper, int
   ceres::Problem problem(popt);
   problem.AddResidualBlock(new CallbackCost(np, nres, cost, user), nullptr, p);
   for (int j = 0; j < np; j++) {
-    if (lower != nullptr && std::isfinite(lower[j])) problem.SetParameterLowerBound(p, j, lower[j]);
-    if (upper != nullptr && std::isfinite(upper[j])) problem.SetParameterUpperBound(p, j, upper[j]);
+    if (lower != nullptr && std::isfinite(lower[j]))
+      problem.SetParameterLowerBound(p, j, lower[j]);
+    if (upper != nullptr && std::isfinite(upper[j]))
+      problem.SetParameterUpperBound(p, j, upper[j]);
   }
   if (static_cast<int>(fixed.size()) == np)
     problem.SetParameterBlockConstant(p);
@@ -65,10 +67,14 @@ void solve_once(int np, double *p, const double *lower, const double *upper, int
   so.logging_type = ceres::SILENT;
   so.num_threads = 1;
   if (opt != nullptr) {
-    if (opt->max_iterations > 0) so.max_num_iterations = opt->max_iterations;
-    if (opt->function_tolerance > 0) so.function_tolerance = opt->function_tolerance;
-    if (opt->gradient_tolerance > 0) so.gradient_tolerance = opt->gradient_tolerance;
-    if (opt->parameter_tolerance > 0) so.parameter_tolerance = opt->parameter_tolerance;
+    if (opt->max_iterations > 0)
+      so.max_num_iterations = opt->max_iterations;
+    if (opt->function_tolerance > 0)
+      so.function_tolerance = opt->function_tolerance;
+    if (opt->gradient_tolerance > 0)
+      so.gradient_tolerance = opt->gradient_tolerance;
+    if (opt->parameter_tolerance > 0)
+      so.parameter_tolerance = opt->parameter_tolerance;
   }
   ceres::Solve(so, &problem, s);
 }
@@ -77,20 +83,23 @@ void solve_once(int np, double *p, const double *lower, const double *upper, int
 bool gradient(int np, const double *p, int nres, val_ceres_cost_t cost, void *user,
               std::vector<double> *g) {
   std::vector<double> r(nres), jac(static_cast<size_t>(nres) * np);
-  if (!cost(user, p, r.data(), jac.data())) return false;
+  if (!cost(user, p, r.data(), jac.data()))
+    return false;
   g->assign(np, 0.0);
   for (int i = 0; i < nres; i++)
-    for (int j = 0; j < np; j++) (*g)[j] += jac[static_cast<size_t>(i) * np + j] * r[i];
+    for (int j = 0; j < np; j++)
+      (*g)[j] += jac[static_cast<size_t>(i) * np + j] * r[i];
   return true;
 }
 
-}  // namespace
+} // namespace
 
-extern "C" int val_ceres_solve_bounded(int np, double *p, const double *lower,
-                                       const double *upper, int nres, val_ceres_cost_t cost,
-                                       void *user, const val_ceres_options_t *opt,
+extern "C" int val_ceres_solve_bounded(int np, double *p, const double *lower, const double *upper,
+                                       int nres, val_ceres_cost_t cost, void *user,
+                                       const val_ceres_options_t *opt,
                                        val_ceres_summary_t *summary) {
-  if (np <= 0 || nres <= 0 || p == nullptr || cost == nullptr || summary == nullptr) return -1;
+  if (np <= 0 || nres <= 0 || p == nullptr || cost == nullptr || summary == nullptr)
+    return -1;
   silence_logging();
   // Ceres bounds are enforced by projecting the trust-region step, which can creep along an
   // active bound for many iterations without reaching the optimum (a 2-parameter line fit with
@@ -103,20 +112,25 @@ extern "C" int val_ceres_solve_bounded(int np, double *p, const double *lower,
   int iterations = 0;
   for (int outer = 0; outer < 2 * np + 2; outer++) {
     solve_once(np, p, lower, upper, nres, cost, user, opt, fixed, &s);
-    if (initial_cost < 0) initial_cost = s.initial_cost;
+    if (initial_cost < 0)
+      initial_cost = s.initial_cost;
     iterations += static_cast<int>(s.iterations.size());
-    if (!s.IsSolutionUsable()) break;
+    if (!s.IsSolutionUsable())
+      break;
     std::vector<double> g;
-    if (!gradient(np, p, nres, cost, user, &g)) break;
+    if (!gradient(np, p, nres, cost, user, &g))
+      break;
     std::vector<int> active;
     for (int j = 0; j < np; j++) {
       double tol_lo = lower ? 1e-12 * (1.0 + std::fabs(lower[j])) : 0.0;
       double tol_hi = upper ? 1e-12 * (1.0 + std::fabs(upper[j])) : 0.0;
       bool at_lo = lower != nullptr && std::isfinite(lower[j]) && p[j] <= lower[j] + tol_lo;
       bool at_hi = upper != nullptr && std::isfinite(upper[j]) && p[j] >= upper[j] - tol_hi;
-      if ((at_lo && g[j] >= 0.0) || (at_hi && g[j] <= 0.0)) active.push_back(j);
+      if ((at_lo && g[j] >= 0.0) || (at_hi && g[j] <= 0.0))
+        active.push_back(j);
     }
-    if (active == fixed) break;
+    if (active == fixed)
+      break;
     fixed = active;
   }
   std::memset(summary, 0, sizeof *summary);

@@ -17,10 +17,10 @@ extern "C" {
 typedef int (*val_ceres_cost_t)(void *user, const double *p, double *r, double *jac);
 
 typedef struct {
-  int max_iterations;          /**< <= 0: Ceres' default (50) */
-  double function_tolerance;   /**< <= 0: Ceres' default (1e-6) */
-  double gradient_tolerance;   /**< <= 0: Ceres' default (1e-10) */
-  double parameter_tolerance;  /**< <= 0: Ceres' default (1e-8) */
+  int max_iterations;         /**< <= 0: Ceres' default (50) */
+  double function_tolerance;  /**< <= 0: Ceres' default (1e-6) */
+  double gradient_tolerance;  /**< <= 0: Ceres' default (1e-10) */
+  double parameter_tolerance; /**< <= 0: Ceres' default (1e-8) */
 } val_ceres_options_t;
 
 typedef struct {

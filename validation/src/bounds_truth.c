@@ -10,7 +10,9 @@
 
 #include "validation/bounds.h"
 
-double val_phi(int k) { return (double)k / (VAL_NPHI - 1) * M_PI / 2; }
+double val_phi(int k) {
+  return (double)k / (VAL_NPHI - 1) * M_PI / 2;
+}
 
 typedef struct {
   double h[4][4][4]; /* scaled tensor */
@@ -107,7 +109,8 @@ static double coef_fn(const void *p, double a) {
   px_mat2_t m;
   for (int r = 0; r < 2; r++)
     for (int k = 0; k < 2; k++)
-      m.m[r][k] = c->s->h[2 * c->part + r][0][2 + k] * x[0] + c->s->h[2 * c->part + r][1][2 + k] * x[1];
+      m.m[r][k] =
+          c->s->h[2 * c->part + r][0][2 + k] * x[0] + c->s->h[2 * c->part + r][1][2 + k] * x[1];
   return px_mat2_norm2(m);
 }
 

@@ -41,8 +41,8 @@ static void aim_system(val_system_t *v, double n, double aim, int internal) {
   v->n1 = 1.0;
   v->n2 = n;
   v->radius = r;
-  snprintf(v->label, sizeof v->label, "aim: pinhole -> sphere n %.3g R 1 aim %.2f%s -> plane at 3", n,
-           aim, internal ? " (internal reflection)" : "");
+  snprintf(v->label, sizeof v->label, "aim: pinhole -> sphere n %.3g R 1 aim %.2f%s -> plane at 3",
+           n, aim, internal ? " (internal reflection)" : "");
 }
 
 val_system_t *val_bounds_sweep(int quick, size_t *count) {
@@ -228,7 +228,8 @@ void val_verify_bounds_system(const val_system_t *v, int with_fit, val_bounds_re
   if (st != PX_OK)
     return;
   r->theta_deg = ax.n ? atan2(px_vec3_norm(px_vec3_cross(ax.ifc[0].nu, ax.ifc[0].s)),
-                              px_vec3_dot(ax.ifc[0].nu, ax.ifc[0].s)) * 180.0 / M_PI
+                              px_vec3_dot(ax.ifc[0].nu, ax.ifc[0].s)) *
+                            180.0 / M_PI
                       : 0.0;
   val_truth_from_tensor(hj, v->length, &r->truth);
   double L = v->length, diff = 0.0;
@@ -316,7 +317,9 @@ static double stats_geomean(const ratio_stats_t *s) {
 }
 
 /* JSON cannot hold Inf/NaN: null */
-static json_t *jnum(double x) { return isfinite(x) ? json_real(x) : json_null(); }
+static json_t *jnum(double x) {
+  return isfinite(x) ? json_real(x) : json_null();
+}
 
 static json_t *stats_json(const ratio_stats_t *s, const val_system_t *sw) {
   json_t *o = json_object();
@@ -356,7 +359,8 @@ static const char *event_name(const val_system_t *v) {
              : (v->event == PX_EVENT_REFLECT ? "reflect" : "refract");
 }
 
-static void systems_csv_row(FILE *f, size_t id, const val_system_t *v, const val_bounds_result_t *r) {
+static void systems_csv_row(FILE *f, size_t id, const val_system_t *v,
+                            const val_bounds_result_t *r) {
   fprintf(f, "%zu,%s,%s,\"%s\",%.10g,%.10g,%.10g,%.10g,%d,%.10g,%s", id, val_family_name(v->family),
           event_name(v), v->label, r->theta_deg, v->n1, v->n2, v->radius, v->rotated, v->length,
           r->status == PX_OK ? "ok" : px_strerror(r->status));
@@ -375,9 +379,10 @@ static void systems_csv_row(FILE *f, size_t id, const val_system_t *v, const val
 
 static void report_summary(FILE *f, ratio_stats_t st[2][VAL_NCOEF + 2], const val_system_t *sw,
                            size_t verified, size_t skipped) {
-  fprintf(f, "pencil verify bounds: A-1 error coefficients and Eq. (4) vs. exact tracing\n"
-             "(%zu systems verified, %zu skipped with a status; ratio = bound / true worst case\n"
-             "over all directions, dimensionless with the system length; >= 1 means it holds)\n\n",
+  fprintf(f,
+          "pencil verify bounds: A-1 error coefficients and Eq. (4) vs. exact tracing\n"
+          "(%zu systems verified, %zu skipped with a status; ratio = bound / true worst case\n"
+          "over all directions, dimensionless with the system length; >= 1 means it holds)\n\n",
           verified, skipped);
   fprintf(f, "%-9s %-5s %11s %11s %11s %8s %8s %8s  %s\n", "variant", "coef", "min ratio",
           "max ratio", "geo mean", "failures", "true=0", "both=0", "worst system");
@@ -460,8 +465,8 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
       fit_bad += ex > VAL_FIT_TOL || dv > VAL_FIT_TOL;
     }
   }
-  size_t corrected_fail = st[PX_VARIANT_CORRECTED][VAL_NCOEF].fail +
-                          st[PX_VARIANT_CORRECTED][VAL_NCOEF + 1].fail;
+  size_t corrected_fail =
+      st[PX_VARIANT_CORRECTED][VAL_NCOEF].fail + st[PX_VARIANT_CORRECTED][VAL_NCOEF + 1].fail;
   for (int q = 0; q < VAL_NCOEF; q++)
     corrected_fail += st[PX_VARIANT_CORRECTED][q].fail;
 
@@ -476,20 +481,25 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
               val_family_name((val_family_t)fa), fam[fa][0][0].min, fam[fa][0][1].min,
               fam[fa][1][0].min, fam[fa][1][1].min, fam[fa][0][0].fail + fam[fa][0][1].fail,
               fam[fa][1][0].fail + fam[fa][1][1].fail);
-    fprintf(f, "\nsecond-order tensor: jets vs __float128 differences, worst %.3g of the tensor "
-               "scale (%zu above %.0e)\n",
+    fprintf(f,
+            "\nsecond-order tensor: jets vs __float128 differences, worst %.3g of the tensor "
+            "scale (%zu above %.0e)\n",
             tensor_worst, tensor_bad, TENSOR_TOL);
-    fprintf(f, "\nthird-order onset (pinhole pencils, %zu systems): spread xi0 where the full "
-               "exact error first exceeds C xi0^2\n",
+    fprintf(f,
+            "\nthird-order onset (pinhole pencils, %zu systems): spread xi0 where the full "
+            "exact error first exceeds C xi0^2\n",
             pinholes);
-    fprintf(f, "  corrected C: onset below %.2g rad in %zu systems, smallest %.4g rad, %zu failing "
-               "from the smallest spread\n",
+    fprintf(f,
+            "  corrected C: onset below %.2g rad in %zu systems, smallest %.4g rad, %zu failing "
+            "from the smallest spread\n",
             VAL_ONSET_MAX, onset_found[0], onset_min[0], onset_zero[0]);
-    fprintf(f, "  printed C:   onset below %.2g rad in %zu systems, smallest %.4g rad, %zu failing "
-               "from the smallest spread\n",
+    fprintf(f,
+            "  printed C:   onset below %.2g rad in %zu systems, smallest %.4g rad, %zu failing "
+            "from the smallest spread\n",
             VAL_ONSET_MAX, onset_found[1], onset_min[1], onset_zero[1]);
-    fprintf(f, "  second-order terms vanish but the error does not (C = 0, the bound fails at any "
-               "spread): %zu systems\n",
+    fprintf(f,
+            "  second-order terms vanish but the error does not (C = 0, the bound fails at any "
+            "spread): %zu systems\n",
             vanish);
     fprintf(f, "  %-56s %8s %8s %9s %8s %8s %7s %8s %7s\n", "system", "C", "onset", "err(1e-2)",
             "k3", "Eq.6", "err/tau", "with k3", "err/tau");
@@ -499,17 +509,19 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
           !(r->second_order_vanishes || strncmp(sw[i].label, "aim:", 4) == 0))
         continue;
       fprintf(f, "  %-56.56s %8.3g %8.3g %9.3g %8.3g %7.3g%s %7.3g %7.3g%s %7.3g\n",
-              strncmp(sw[i].label, "aim: ", 5) == 0 ? sw[i].label + 5 : sw[i].label,
-              r->bound[0].c, r->onset[0], r->err_at_probe, r->k3, r->spread[0],
+              strncmp(sw[i].label, "aim: ", 5) == 0 ? sw[i].label + 5 : sw[i].label, r->bound[0].c,
+              r->onset[0], r->err_at_probe, r->k3, r->spread[0],
               r->regime[0] == PX_SPREAD_CAP ? "*" : " ", r->err_over_tau[0], r->spread[1],
-              r->regime[1] == PX_SPREAD_THIRD_ORDER ? "3" : (r->regime[1] == PX_SPREAD_CAP ? "*" : " "),
+              r->regime[1] == PX_SPREAD_THIRD_ORDER ? "3"
+                                                    : (r->regime[1] == PX_SPREAD_CAP ? "*" : " "),
               r->err_over_tau[1]);
     }
-    fprintf(f, "  (corrected C, scaled by L; onset 0 = the bound fails from the smallest spread;"
-               " Eq.6 = spread limit\n   from C alone, * = only the cap %.2g rad limits it; with "
-               "k3 = Eq. (6) plus the third-order term,\n   3 = third order decides; err/tau = "
-               "full exact error at that spread over tau (> 1: too wide);\n   tau of Eq. (3) for"
-               " rho 1/2 and a direction interval of 1e-3 rad)\n",
+    fprintf(f,
+            "  (corrected C, scaled by L; onset 0 = the bound fails from the smallest spread;"
+            " Eq.6 = spread limit\n   from C alone, * = only the cap %.2g rad limits it; with "
+            "k3 = Eq. (6) plus the third-order term,\n   3 = third order decides; err/tau = "
+            "full exact error at that spread over tau (> 1: too wide);\n   tau of Eq. (3) for"
+            " rho 1/2 and a direction interval of 1e-3 rad)\n",
             VAL_ONSET_MAX);
     size_t over[2] = {0, 0}, counted = 0;
     for (size_t i = 0; i < n; i++)
@@ -518,14 +530,16 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
         for (int m = 0; m < 2; m++)
           over[m] += res[i].err_over_tau[m] > 1.0;
       }
-    fprintf(f, "  spread limits too wide in exact tracing (err/tau > 1): Eq. (6) alone %zu, with the "
-               "third-order term %zu, of %zu pinhole systems\n",
+    fprintf(f,
+            "  spread limits too wide in exact tracing (err/tau > 1): Eq. (6) alone %zu, with the "
+            "third-order term %zu, of %zu pinhole systems\n",
             over[0], over[1], counted);
     if (!o->no_fit)
-      fprintf(f, "\nCeres fit (tightest non-negative quadratic envelope of sampled exact errors):"
-                 " %zu systems, %zu unusable,\n  worst excess of the samples over the envelope "
-                 "%.3g, worst deviation where attained %.3g (tolerance %.2g): %zu outside;\n  "
-                 "sampled exact vs tensor worst case: %.3g\n",
+      fprintf(f,
+              "\nCeres fit (tightest non-negative quadratic envelope of sampled exact errors):"
+              " %zu systems, %zu unusable,\n  worst excess of the samples over the envelope "
+              "%.3g, worst deviation where attained %.3g (tolerance %.2g): %zu outside;\n  "
+              "sampled exact vs tensor worst case: %.3g\n",
               fits, fit_failed, fit_excess_worst, fit_dev_worst, VAL_FIT_TOL, fit_bad,
               sampled_worst);
   }
@@ -559,8 +573,8 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
           const ratio_stats_t *s = &st[var][q];
           fprintf(c, "%s,%s,%.10g,%.10g,%.10g,%zu,%zu,%zu,%zu,\"%s\"\n",
                   px_variant_name((px_variant_t)var),
-                  q < VAL_NCOEF ? coef_names[q] : (q == VAL_NCOEF ? "e_x" : "e_xi"), s->min,
-                  s->max, stats_geomean(s), s->fail, s->finite, s->vacuous, s->zero,
+                  q < VAL_NCOEF ? coef_names[q] : (q == VAL_NCOEF ? "e_x" : "e_xi"), s->min, s->max,
+                  stats_geomean(s), s->fail, s->finite, s->vacuous, s->zero,
                   isfinite(s->min) ? sw[s->argmin].label : "");
         }
       close_csv(c, o->csv, "bounds_summary.csv", &io_err);
@@ -577,16 +591,18 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
     }
     c = open_csv(o->csv, "bounds_onset.csv", &io_err);
     if (c) {
-      fprintf(c, "id,label,C_corrected,C_printed,C_true,second_order_vanishes,onset_corrected,"
-                 "onset_printed,err_at_1e-2,k3,tau,spread_eq6,regime_eq6,err_over_tau_eq6,spread_k3,"
-                 "regime_k3,err_over_tau_k3\n");
+      fprintf(c,
+              "id,label,C_corrected,C_printed,C_true,second_order_vanishes,onset_corrected,"
+              "onset_printed,err_at_1e-2,k3,tau,spread_eq6,regime_eq6,err_over_tau_eq6,spread_k3,"
+              "regime_k3,err_over_tau_k3\n");
       static const char *reg[3] = {"second_order", "third_order", "cap"};
       for (size_t i = 0; i < n; i++) {
         const val_bounds_result_t *r = &res[i];
         if (r->status != PX_OK || !r->pinhole)
           continue;
-        fprintf(c, "%zu,\"%s\",%.10g,%.10g,%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%s,%.10g,"
-                   "%.10g,%s,%.10g\n",
+        fprintf(c,
+                "%zu,\"%s\",%.10g,%.10g,%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%s,%.10g,"
+                "%.10g,%s,%.10g\n",
                 i, sw[i].label, r->bound[0].c, r->bound[1].c, r->truth.coef[2],
                 r->second_order_vanishes, r->onset[0], r->onset[1], r->err_at_probe, r->k3, r->tau,
                 r->spread[0], reg[r->regime[0]], r->err_over_tau[0], r->spread[1],
@@ -618,7 +634,8 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
       }
     }
   }
-  int pass = corrected_fail == 0 && tensor_bad == 0 && (o->no_fit || (fit_bad == 0 && fit_failed == 0));
+  int pass =
+      corrected_fail == 0 && tensor_bad == 0 && (o->no_fit || (fit_bad == 0 && fit_failed == 0));
   if (f)
     fprintf(f, "\nresult: corrected variant %s (%zu failures); %s\n",
             corrected_fail ? "FAILS" : "holds everywhere", corrected_fail, pass ? "PASS" : "FAIL");
@@ -638,21 +655,22 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
     json_object_set_new(root, "tensor_crosscheck",
                         json_pack("{s:o, s:I, s:f}", "worst", jnum(tensor_worst), "above_tolerance",
                                   (json_int_t)tensor_bad, "tolerance", TENSOR_TOL));
-    json_object_set_new(
-        root, "onset",
-        json_pack("{s:I, s:I, s:I, s:I, s:o, s:o, s:I, s:I}", "pinhole_systems", (json_int_t)pinholes,
-                  "second_order_vanishes", (json_int_t)vanish, "found_corrected",
-                  (json_int_t)onset_found[0], "found_printed", (json_int_t)onset_found[1],
-                  "smallest_corrected", jnum(onset_min[0]), "smallest_printed", jnum(onset_min[1]),
-                  "fails_from_start_corrected", (json_int_t)onset_zero[0],
-                  "fails_from_start_printed", (json_int_t)onset_zero[1]));
+    json_object_set_new(root, "onset",
+                        json_pack("{s:I, s:I, s:I, s:I, s:o, s:o, s:I, s:I}", "pinhole_systems",
+                                  (json_int_t)pinholes, "second_order_vanishes", (json_int_t)vanish,
+                                  "found_corrected", (json_int_t)onset_found[0], "found_printed",
+                                  (json_int_t)onset_found[1], "smallest_corrected",
+                                  jnum(onset_min[0]), "smallest_printed", jnum(onset_min[1]),
+                                  "fails_from_start_corrected", (json_int_t)onset_zero[0],
+                                  "fails_from_start_printed", (json_int_t)onset_zero[1]));
     if (!o->no_fit)
       json_object_set_new(root, "fit",
-                          json_pack("{s:I, s:I, s:o, s:o, s:I, s:f, s:o}", "systems", (json_int_t)fits,
-                                    "unusable", (json_int_t)fit_failed, "worst_excess",
-                                    jnum(fit_excess_worst), "worst_attained_deviation",
-                                    jnum(fit_dev_worst), "outside_tolerance", (json_int_t)fit_bad,
-                                    "tolerance", VAL_FIT_TOL, "sampled_vs_tensor", jnum(sampled_worst)));
+                          json_pack("{s:I, s:I, s:o, s:o, s:I, s:f, s:o}", "systems",
+                                    (json_int_t)fits, "unusable", (json_int_t)fit_failed,
+                                    "worst_excess", jnum(fit_excess_worst),
+                                    "worst_attained_deviation", jnum(fit_dev_worst),
+                                    "outside_tolerance", (json_int_t)fit_bad, "tolerance",
+                                    VAL_FIT_TOL, "sampled_vs_tensor", jnum(sampled_worst)));
     if (json_dump_file(root, o->json, JSON_INDENT(2) | JSON_SORT_KEYS) != 0) {
       fprintf(stderr, "pencil verify bounds: cannot write '%s'\n", o->json);
       io_err = 1;

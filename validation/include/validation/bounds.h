@@ -14,8 +14,8 @@
 
 #include "validation/systems.h"
 
-enum { VAL_NCOEF = 6 };     /**< A, B, C (e_x) and D, E, F (e_xi) */
-enum { VAL_NPHI = 17 };     /**< pencil shapes phi = 0 .. pi/2 sampled */
+enum { VAL_NCOEF = 6 }; /**< A, B, C (e_x) and D, E, F (e_xi) */
+enum { VAL_NPHI = 17 }; /**< pencil shapes phi = 0 .. pi/2 sampled */
 /** A ratio bound / true below 1 - VAL_BOUND_SLACK is a failure: the true worst case is found
  *  to ~1e-12 relative (grid plus refinement on a smooth trigonometric quadratic), so 1e-9
  *  separates a violated bound from a bound attained exactly (ratio 1, e.g. a, b, f). */
@@ -30,12 +30,12 @@ enum { VAL_NPHI = 17 };     /**< pencil shapes phi = 0 .. pi/2 sampled */
 
 /** Worst cases of a second-order tensor t(2) (hess[i][j][k], unscaled) -- bounds_truth.c. */
 typedef struct {
-  double coef[VAL_NCOEF];    /**< true A..F (scaled): max over unit directions of each part */
-  double ex[VAL_NPHI];       /**< max |Delta x| / L over directions at phi_k (amplitude 1) */
-  double exi[VAL_NPHI];      /**< max |Delta xi| over directions at phi_k */
-  double dir_x[VAL_NPHI][2]; /**< (alpha, beta) attaining ex[k] */
-  double dir_xi[VAL_NPHI][2];/**< (alpha, beta) attaining exi[k] */
-  double scale;              /**< max(1, max scaled |t(2)_ijk|) */
+  double coef[VAL_NCOEF];     /**< true A..F (scaled): max over unit directions of each part */
+  double ex[VAL_NPHI];        /**< max |Delta x| / L over directions at phi_k (amplitude 1) */
+  double exi[VAL_NPHI];       /**< max |Delta xi| over directions at phi_k */
+  double dir_x[VAL_NPHI][2];  /**< (alpha, beta) attaining ex[k] */
+  double dir_xi[VAL_NPHI][2]; /**< (alpha, beta) attaining exi[k] */
+  double scale;               /**< max(1, max scaled |t(2)_ijk|) */
 } val_truth_t;
 
 /** phi_k = k/(VAL_NPHI-1) * pi/2. */
@@ -76,31 +76,31 @@ int val_fit_envelope(const double samples[VAL_NPHI], double coef[3], double *wor
 
 /** One system's verification. */
 typedef struct {
-  px_status_t status;                /**< PX_OK or why it was skipped */
-  double theta_deg;                  /**< incidence angle at the first surface */
-  double tensor_diff;                /**< jets vs quad differences, scaled, / scale */
-  val_truth_t truth;                 /**< true worst cases */
-  px_pencil_t bound[2];              /**< scaled pencil constants [variant] */
-  double ratio[2][VAL_NCOEF];        /**< bound / true; +Inf: true 0, bound > 0; NaN: both 0 */
-  double ratio_ex[2], ratio_exi[2];  /**< min over phi of e / true worst (Inf: nothing to bound) */
-  double phi_ex[2], phi_exi[2];      /**< phi where those minima are attained */
-  int pinhole;                       /**< the input plane is off every surface (a cascade) */
-  int second_order_vanishes;         /**< pinhole with true C = 0 but a non-zero full error */
-  double onset[2];                   /**< pinhole: spread where C xi^2 < full error first
-                                          [variant]; Inf: not up to VAL_ONSET_MAX or a miss */
-  double err_at_probe;               /**< pinhole: full error / L at xi0 = 1e-2 */
-  double k3;                         /**< pinhole: third-order coefficient (scaled), from the
-                                          full error beyond the second-order term */
-  double tau;                        /**< pinhole: tolerance of Eq. (3), scaled, for rho = 1/2
-                                          and a direction interval of 1e-3 rad */
-  double spread[2];                  /**< spread limits: Eq. (6) alone (capped), with k3 */
-  px_spread_regime_t regime[2];      /**< their regimes */
-  double err_over_tau[2];            /**< full exact error at those spreads / tau (> 1: the
-                                          limit lets through a pencil that is too wide) */
-  int fitted;                        /**< the Ceres fit ran */
-  px_pencil_t fit;                   /**< fitted scaled constants A-F */
-  double fit_excess[2], fit_dev[2];  /**< e_x, e_xi: envelope excess and attained deviation */
-  double sampled_vs_tensor;          /**< max |sampled / tensor worst - 1| where both > 0 */
+  px_status_t status;               /**< PX_OK or why it was skipped */
+  double theta_deg;                 /**< incidence angle at the first surface */
+  double tensor_diff;               /**< jets vs quad differences, scaled, / scale */
+  val_truth_t truth;                /**< true worst cases */
+  px_pencil_t bound[2];             /**< scaled pencil constants [variant] */
+  double ratio[2][VAL_NCOEF];       /**< bound / true; +Inf: true 0, bound > 0; NaN: both 0 */
+  double ratio_ex[2], ratio_exi[2]; /**< min over phi of e / true worst (Inf: nothing to bound) */
+  double phi_ex[2], phi_exi[2];     /**< phi where those minima are attained */
+  int pinhole;                      /**< the input plane is off every surface (a cascade) */
+  int second_order_vanishes;        /**< pinhole with true C = 0 but a non-zero full error */
+  double onset[2];                  /**< pinhole: spread where C xi^2 < full error first
+                                         [variant]; Inf: not up to VAL_ONSET_MAX or a miss */
+  double err_at_probe;              /**< pinhole: full error / L at xi0 = 1e-2 */
+  double k3;                        /**< pinhole: third-order coefficient (scaled), from the
+                                         full error beyond the second-order term */
+  double tau;                       /**< pinhole: tolerance of Eq. (3), scaled, for rho = 1/2
+                                         and a direction interval of 1e-3 rad */
+  double spread[2];                 /**< spread limits: Eq. (6) alone (capped), with k3 */
+  px_spread_regime_t regime[2];     /**< their regimes */
+  double err_over_tau[2];           /**< full exact error at those spreads / tau (> 1: the
+                                         limit lets through a pencil that is too wide) */
+  int fitted;                       /**< the Ceres fit ran */
+  px_pencil_t fit;                  /**< fitted scaled constants A-F */
+  double fit_excess[2], fit_dev[2]; /**< e_x, e_xi: envelope excess and attained deviation */
+  double sampled_vs_tensor;         /**< max |sampled / tensor worst - 1| where both > 0 */
 } val_bounds_result_t;
 
 /** Verify one system (both variants; the fit when with_fit). */
