@@ -17,6 +17,7 @@
  * paths (its paraxial ray misses the node's primitive, or shading asks for a child the tree does
  * not have) or reaches a subtree where the corners' trees differ, that part is traced exactly. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "internal.h"
 #include "pvec.h"
@@ -244,6 +245,15 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
     if (g)
       g->l = l;
+    if (g && E->lattice && n->textured && n->light_agree == ~0u) {
+      /* the direct term with the other square's material, for interpolation across squares */
+      const rt_object_t *o = &C->s->object[n->object];
+      int par = abs(g->su + g->sv) % 2;
+      rt_surface_t other = sf;
+      other.mat = &C->s->material[par ? o->material : o->material2];
+      g->lt[par] = l;
+      g->lt[!par] = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &other, &ray, &tr));
+    }
   }
   rt_rgb_t sum = rt_rgb_add(l, children(E, k, &sf, &ray, w, 0));
   E->cur = saved;

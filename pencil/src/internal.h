@@ -17,6 +17,8 @@ typedef struct {
   px_vec3_t d;     /**< unit direction of the arriving ray */
   rt_rgb_t w;      /**< W_k: product of the shade.h child weights from the eye to the node */
   rt_rgb_t l;      /**< W_k * direct_k (W_k * background for a miss); shading only */
+  rt_rgb_t lt[2];  /**< textured nodes at lattice points: W_k * direct_k with the material of
+                        the even (0) and the odd (1) checker squares */
   int32_t su, sv;  /**< checker square of the hit (textured nodes), else 0 */
   uint8_t ok;      /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
   uint8_t fb;      /**< bit k: the child of rt_ray_kind_t k was traced exactly */
@@ -61,6 +63,8 @@ typedef struct {
   double *latxi2;         /**< |xi|^2 of the lattice points */
   int *loc;               /**< per-pixel plan: nodes shaded per sample (cap) */
   uint8_t *locd, *loce;   /**< ... with their direct term / with exactly traced children */
+  int *loct;              /**< per-quad plan: textured nodes whose square changes (cap) */
+  pt_geom_t *ref;         /**< refinement grids: PT_REFINE_LEVELS x 5 points x cap nodes */
   pt_geom_t *rec;         /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;         /**< one sample's exact geometry along the paths, cap nodes */
   uint32_t stamp;         /**< evaluation counter for xg */
@@ -69,6 +73,13 @@ typedef struct {
 } pt_ctx_t;
 
 enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
+
+/** Share of rho that the certified mode's checks may use (the margin covers third-order
+ *  variation between the checked points; docs/pencil.md). */
+#define PT_CERTIFIED_MARGIN 0.8
+
+/** Levels of lattice refinement (halvings of a lattice cell) before samples use matrices. */
+#define PT_REFINE_LEVELS 2
 
 /** One sample's evaluation through the current cell's paths. */
 typedef struct {
@@ -81,6 +92,7 @@ typedef struct {
   pt_geom_t *rec;         /**< per-node geometry out (cap entries), or NULL */
   int shade;              /**< 0: geometry only */
   int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
+  int lattice;            /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes */
   int cur;                /**< node being shaded */
   uint32_t stamp;         /**< this evaluation's xg stamp */
   int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
@@ -100,6 +112,48 @@ void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 
 /** Steps 2-4 for the cell [x0, x1) x [y0, y1) of the current domain (recursive). */
 void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+
+/* A pixel being accumulated. */
+typedef struct {
+  int i, j;        /**< pixel */
+  rt_rgb_t sum;    /**< radiance summed over its samples */
+  double pmax;     /**< largest measured error (NaN: none) */
+  int n[3];        /**< samples by method */
+  uint64_t rays0;  /**< exact ray count when the pixel began */
+} pixel_t;
+
+/* sample.c */
+size_t pt__pixel_index(const pt_ctx_t *C, int i, int j);
+float *pt__error_slot(pt_ctx_t *C, int i, int j, int a, int b);
+uint64_t pt__rays_now(const pt_ctx_t *C);
+/** Write the pixel's radiance (sum over its samples), method, error and exact-ray channels. */
+void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, double perr,
+                     uint64_t rays0);
+/** Auxiliary channels of pixel (i, j) from an exact tree of its centre ray. */
+void pt__aux_exact(pt_ctx_t *C, int i, int j);
+/** Auxiliary channels from the pencil's geometry of the pixel's centre ray. */
+void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec);
+/** Every sample of the pixels of [x0, x1) x [y0, y1) by the exact tracer. */
+void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+/** Fig. 10 bookkeeping of one sample; returns the pixel's running maximum error. */
+double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
+                          int a, int b, double pmax);
+/** Geometry-only evaluation of E's sample into C->rec. */
+void pt__geometry(pt_ctx_t *C, pt_eval_t *E);
+/** Write a finished pixel. */
+void pt__pixel_done(pt_ctx_t *C, pixel_t *P);
+/** The primary ray and xi of continuous pixel coordinates (x, y) into E. */
+void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y);
+/** Sample (a, b) of pixel P through the cell's paths (MATRIX evaluation). */
+void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b);
+/** Auxiliary channels of pixel (i, j) from a MATRIX evaluation of its centre. */
+void pt__aux_matrix(pt_ctx_t *C, int i, int j);
+/** Every sample of pixel (i, j) through the cell's paths. */
+void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
+
+/* interp.c */
+/** Step 4a with ray interpolation for the accepted cell [x0, x1) x [y0, y1). */
+void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
 /** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h), tracing it exactly:
  *  e[0] the largest over its checkerboard points in pixels (|J+ e|), e[1] the same on the

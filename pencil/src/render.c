@@ -37,8 +37,10 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->loc);
   free(C->locd);
   free(C->loce);
+  free(C->loct);
   free(C->rec);
   free(C->xg);
+  free(C->ref);
   free(C->sw);
 }
 
@@ -62,12 +64,14 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->loc = malloc((size_t)cap * sizeof *C->loc);
   C->locd = malloc((size_t)cap);
   C->loce = malloc((size_t)cap);
+  C->loct = malloc((size_t)cap * sizeof *C->loct);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
+  C->ref = malloc((size_t)PT_REFINE_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
   C->sw = malloc((size_t)(s * s) * sizeof *C->sw);
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat ||
-      !C->latok || !C->rec || !C->xg || !C->sw || !C->map || !C->agree || !C->light ||
-      !C->latxi2 || !C->loc || !C->locd || !C->loce) {
+      !C->latok || !C->rec || !C->xg || !C->ref || !C->sw || !C->map || !C->agree || !C->light ||
+      !C->latxi2 || !C->loc || !C->locd || !C->loce || !C->loct) {
     if (C->corner)
       C->corner[0].node = cn;
     else

@@ -1,0 +1,174 @@
+/* sample.c -- what every way of tracing a sample shares (paper section 4.1 (1), section 5): the
+ * pixel being accumulated, samples traced through the cell's system matrices, samples and pixels
+ * traced exactly (edges and step 4b), the auxiliary channels, and the Fig. 10 bookkeeping. */
+#include <math.h>
+
+#include "internal.h"
+#include "pvec.h"
+
+size_t pt__pixel_index(const pt_ctx_t *C, int i, int j) {
+  return (size_t)j * (size_t)C->img->width + (size_t)i;
+}
+
+float *pt__error_slot(pt_ctx_t *C, int i, int j, int a, int b) {
+  int s = C->opt->spp_side;
+  if (!C->sample_error)
+    return NULL;
+  return C->sample_error + pt__pixel_index(C, i, j) * (size_t)(s * s) + (size_t)(b * s + a);
+}
+
+uint64_t pt__rays_now(const pt_ctx_t *C) { return rt_stats_total(&C->ex.stats); }
+
+void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, double perr,
+                        uint64_t rays0) {
+  size_t k = pt__pixel_index(C, i, j);
+  if (C->extra && C->extra->rays)
+    C->extra->rays[k] = (float)(pt__rays_now(C) - rays0);
+  double w = 1.0 / (C->opt->spp_side * C->opt->spp_side);
+  C->img->ch[RT_CH_R][k] = (float)(sum.r * w);
+  C->img->ch[RT_CH_G][k] = (float)(sum.g * w);
+  C->img->ch[RT_CH_B][k] = (float)(sum.b * w);
+  if (C->extra && C->extra->method)
+    C->extra->method[k] = (float)m;
+  if (C->extra && C->extra->error)
+    C->extra->error[k] = (float)perr;
+}
+
+/* Auxiliary channels of pixel (i, j) from an exact tree of its centre ray (as the reference
+ * renderer writes them). */
+void pt__aux_exact(pt_ctx_t *C, int i, int j) {
+  rt_ray_t r = rt_view_ray(C->view, i + 0.5, j + 0.5, C->s->ior);
+  C->ex.tree = &C->tree2;
+  rt_exact_primary(&C->ex, &r);
+  C->ex.tree = NULL;
+  const rt_tree_t *t = &C->tree2;
+  size_t k = pt__pixel_index(C, i, j);
+  C->img->ch[RT_CH_Z][k] = (float)t->node[0].t;
+  C->img->ch[RT_CH_ID][k] = (float)t->node[0].object;
+  const rt_ray_kind_t prefer[2] = {RT_RAY_REFRACT, RT_RAY_REFLECT};
+  const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
+  for (int p = 0; p < 2; p++) {
+    int n = rt_tree_follow(t, prefer[p]);
+    double u = NAN, v = NAN;
+    if (n >= 0)
+      rt_plane_coords(&C->s->prim[t->node[n].prim].plane, t->node[n].point, &u, &v);
+    C->img->ch[base[p]][k] = (float)u;
+    C->img->ch[base[p] + 1][k] = (float)v;
+    C->img->ch[base[p] + 2][k] = n >= 0 ? (float)t->node[n].depth : -1.0f;
+  }
+}
+
+/* Auxiliary channels from the pencil's own pt__geometry of the pixel's centre ray (rec), so that
+ * the pencil image's checkerboard points can be compared with the exact image's. */
+void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec) {
+  const int kk[2] = {C->kt, C->kr};
+  if (rec[0].ok != 1 || (kk[0] >= 0 && rec[kk[0]].ok != 1) || (kk[1] >= 0 && rec[kk[1]].ok != 1)) {
+    pt__aux_exact(C, i, j);
+    return;
+  }
+  size_t k = pt__pixel_index(C, i, j);
+  const pt_node_t *root = &C->node[0];
+  C->img->ch[RT_CH_Z][k] = root->miss ? INFINITY : (float)pv_norm(pv_sub(rec[0].p, C->view->eye));
+  C->img->ch[RT_CH_ID][k] = (float)root->object;
+  const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
+  for (int p = 0; p < 2; p++) {
+    double u = NAN, v = NAN;
+    if (kk[p] >= 0)
+      rt_plane_coords(&C->s->prim[C->node[kk[p]].prim].plane, rec[kk[p]].p, &u, &v);
+    C->img->ch[base[p]][k] = (float)u;
+    C->img->ch[base[p] + 1][k] = (float)v;
+    C->img->ch[base[p] + 2][k] = kk[p] >= 0 ? (float)C->node[kk[p]].depth : -1.0f;
+  }
+}
+
+/* Step 3 failed or 4b: every sample of the pixels of the cell by the exact tracer. */
+void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
+  int s = C->opt->spp_side;
+  for (int j = y0; j < y1; j++)
+    for (int i = x0; i < x1; i++) {
+      rt_rgb_t sum = rt_rgb(0, 0, 0);
+      uint64_t rays0 = pt__rays_now(C);
+      for (int b = 0; b < s; b++)
+        for (int a = 0; a < s; a++) {
+          rt_ray_t r = rt_view_ray(C->view, i + (a + 0.5) / s, j + (b + 0.5) / s, C->s->ior);
+          sum = rt_rgb_add(sum, rt_exact_primary(&C->ex, &r));
+          if (C->opt->measure) {
+            const double zero[3] = {0.0, 0.0, 0.0};
+            pt__account(C, zero, 0, pt__error_slot(C, i, j, a, b));
+          }
+        }
+      C->st.samples[PT_METHOD_EXACT] += (uint64_t)(s * s);
+      pt__write_pixel(C, i, j, sum, PT_METHOD_EXACT, NAN, rays0);
+      if (C->opt->aux)
+        pt__aux_exact(C, i, j);
+    }
+}
+
+/* Per-sample bookkeeping of the Fig. 10 measurement; returns the pixel's running maximum. */
+double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
+                             int a, int b, double pmax) {
+  double e[3];
+  pt__measure(C, ray, rec, e);
+  int board = 0;
+  for (int k = 0; k < C->nnode && !board; k++)
+    board = C->node[k].textured && rec[k].ok == 1;
+  pt__account(C, e, board, pt__error_slot(C, i, j, a, b));
+  if (board && (isnan(pmax) || e[0] > pmax))
+    pmax = e[0];
+  return pmax;
+}
+
+/* Geometry-only evaluation into C->rec (aux channels, measurement); E is left as it was. */
+void pt__geometry(pt_ctx_t *C, pt_eval_t *E) {
+  pt_eval_t G = *E;
+  G.shade = 0;
+  G.rec = C->rec;
+  pt__eval(&G);
+}
+
+void pt__pixel_done(pt_ctx_t *C, pixel_t *P) {
+  pt_method_t m = P->n[PT_METHOD_INTERP] >= P->n[PT_METHOD_MATRIX] ? PT_METHOD_INTERP
+                                                                   : PT_METHOD_MATRIX;
+  for (int k = 0; k < 3; k++)
+    C->st.samples[k] += (uint64_t)P->n[k];
+  pt__write_pixel(C, P->i, P->j, P->sum, m, P->pmax, P->rays0);
+}
+
+void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
+  E->primary = rt_view_ray(C->view, x, y, C->s->ior);
+  E->xi[0] = pv_dot(C->frame.x1, E->primary.d);
+  E->xi[1] = pv_dot(C->frame.x2, E->primary.d);
+}
+
+/* Step 4a with matrices: sample (a, b) of pixel P through the paths. */
+void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
+  int s = C->opt->spp_side;
+  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = C->opt->measure ? C->rec : NULL};
+  pt__xi_of(C, &E, P->i + (a + 0.5) / s, P->j + (b + 0.5) / s);
+  P->sum = rt_rgb_add(P->sum, pt__eval(&E));
+  P->n[PT_METHOD_MATRIX]++;
+  C->st.fallbacks += (uint64_t)E.fallback;
+  C->st.partial += (uint64_t)E.partial;
+  if (C->opt->measure)
+    P->pmax = pt__measure_sample(C, &E.primary, C->rec, P->i, P->j, a, b, P->pmax);
+}
+
+void pt__aux_matrix(pt_ctx_t *C, int i, int j) {
+  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX};
+  pt__xi_of(C, &E, i + 0.5, j + 0.5);
+  pt__geometry(C, &E);
+  pt__aux_pencil(C, i, j, C->rec);
+}
+
+/* Step 4a with matrices for every sample of pixel (i, j). */
+void pt__matrix_pixel(pt_ctx_t *C, int i, int j) {
+  int s = C->opt->spp_side;
+  pixel_t P = {i, j, {0, 0, 0}, NAN, {0, 0, 0}, pt__rays_now(C)};
+  for (int b = 0; b < s; b++)
+    for (int a = 0; a < s; a++)
+      pt__matrix_sample(C, &P, a, b);
+  pt__pixel_done(C, &P);
+  if (C->opt->aux)
+    pt__aux_matrix(C, i, j);
+}
+
