@@ -18,7 +18,6 @@
 
 #include "internal.h"
 #include "pvec.h"
-#include "render/intersect.h"
 
 /* A quad: a rectangle [x0, x0 + w) x [y0, y0 + h) of continuous pixel coordinates whose corners
  * were traced, with the points beyond it for e_int. */
@@ -187,19 +186,26 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
   return sum;
 }
 
-/* Certified mode: whether every miss node of an interpolated sample still meets nothing (its
- * ray interpolated from the corners and intersected with the scene). */
+/* Certified mode: whether every miss node of an interpolated sample still meets no unbounded
+ * plane (its ray interpolated from the quad's corners): a horizon can cross a quad between its
+ * corners. Bounded objects were checked by intersecting the rays of the corners and, in certified
+ * mode, of the centre with the scene (eval.c); between those points they are not. */
 static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[4]) {
+  const rt_scene_t *s = C->s;
   for (int k = 0; k < C->nnode; k++) {
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
     if (!C->node[k].miss || a->ok != 1)
       continue;
     px_vec3_t o = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
     px_vec3_t d = pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3]))));
-    rt_ray_t r = {o, pv_unit(d), 0.0, INFINITY, C->node[k].ior, -1};
-    rt_hit_t h;
-    if (rt_intersect(C->s, &r, &h))
-      return 0;
+    for (int u = 0; u < s->nunbounded; u++) {
+      const rt_prim_t *pr = &s->prim[s->unbounded[u]];
+      if (pr->kind != RT_PRIM_PLANE)
+        continue;
+      double side = pv_dot(pr->plane.n, pv_sub(o, pr->plane.p)), towards = pv_dot(pr->plane.n, d);
+      if (side * towards < 0.0)
+        return 0; /* heads for the plane from its side: it would meet it */
+    }
   }
   return 1;
 }
@@ -267,7 +273,9 @@ static void quad_samples(pt_ctx_t *C, pixel_t *P, const quad_t *q, int level) {
         continue;
       if (planned < 0) {
         planned = make_plan(C, q, &pl);
-        if (!planned && level < PT_REFINE_LEVELS) {
+        /* certified mode does not refine: its extra checks fail where the map is curved, and
+         * refining there costs more than the matrices */
+        if (!planned && level < (C->opt->certified ? 0 : PT_REFINE_LEVELS)) {
           refine(C, P, q, level);
           return;
         }
