@@ -118,6 +118,14 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, dou
     if (mode == PT_NODE_EXACT || n->light_agree != ~0u)
       *partial = 1;
   }
+  /* a path traced exactly needs exact hits on the way: its ancestors are traced along their
+   * paths too (which costs no more than their matrices: shade.h computes the reflected and
+   * refracted directions anyway) */
+  for (int k = 0; k < C->nnode; k++)
+    if (C->node[k].pencil == PT_NODE_PATH)
+      for (int a = C->node[k].parent; a >= 0 && C->node[a].pencil == PT_NODE_MATRIX;
+           a = C->node[a].parent)
+        C->node[a].pencil = PT_NODE_PATH;
   return need;
 }
 
