@@ -47,6 +47,7 @@ typedef struct {
   rt_tree_t tree;         /**< the current cell's axial tree */
   rt_tree_t tree2;        /**< corner and measurement trees */
   pt_ctree_t *corner;     /**< corner tree cache of the current domain, (N+1)^2 */
+  pt_cnode_t *corner_nodes; /**< their node storage (one block; entries are swapped) */
   int dom_x0, dom_y0;     /**< the current domain's top-left pixel */
   pt_node_t *node;        /**< the current cell's paths, one per tree node */
   int *map;               /**< pt_tree_agree() scratch, 4 x cap */

@@ -24,8 +24,7 @@ static int thread_count(const pt_options_t *opt) {
 static void ctx_free(pt_ctx_t *C) {
   free(C->tree.node);
   free(C->tree2.node);
-  if (C->corner)
-    free(C->corner[0].node);
+  free(C->corner_nodes);
   free(C->corner);
   free(C->node);
   free(C->map);
@@ -72,12 +71,10 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat ||
       !C->latok || !C->rec || !C->xg || !C->ref || !C->sw || !C->map || !C->agree || !C->light ||
       !C->latxi2 || !C->loc || !C->locd || !C->loce || !C->loct) {
-    if (C->corner)
-      C->corner[0].node = cn;
-    else
-      free(cn);
+    C->corner_nodes = cn;
     return 0;
   }
+  C->corner_nodes = cn;
   for (size_t i = 0; i < corners; i++)
     C->corner[i] = (pt_ctree_t){cn + i * (size_t)cap, cap, -1, 0};
   for (int b = 0; b < s; b++)
@@ -92,12 +89,24 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   return 1;
 }
 
+/* One initial domain. Corner trees are cached per domain; the left column of a domain is the
+ * right column of the one before it in the row, so those trees move over (dx > 0). */
 static void domain(pt_ctx_t *C, int dx, int dy) {
   int n = C->opt->domain, side = n + 1;
   C->dom_x0 = dx * n;
   C->dom_y0 = dy * n;
-  for (int i = 0; i < side * side; i++)
-    C->corner[i].n = -1;
+  for (int r = 0; r < side; r++) {
+    pt_ctree_t *row = C->corner + r * side;
+    if (dx > 0) { /* swap, so that every entry keeps a buffer of its own */
+      pt_ctree_t t = row[0];
+      row[0] = row[n];
+      row[n] = t;
+    } else {
+      row[0].n = -1;
+    }
+    for (int i = 1; i < side; i++)
+      row[i].n = -1;
+  }
   int x1 = C->dom_x0 + n, y1 = C->dom_y0 + n;
   if (x1 > C->img->width)
     x1 = C->img->width;
