@@ -133,7 +133,8 @@ def plot_fig10(d, show=False):
     s = json.load(open(os.path.join(d, "summary.json")))["fig10"]
     lo, cnt = h["error_lo"], h["samples"]
     fig, ax = plt.subplots(figsize=(6, 4))
-    ax.bar(lo[:-1], np.maximum(cnt[:-1], 0.5), width=lo[1] - lo[0], align="edge")
+    nz = cnt[:-1] > 0
+    ax.bar(lo[:-1][nz], cnt[:-1][nz], width=lo[1] - lo[0], align="edge")
     ax.axvline(s["rho"], color="C3", label=f"rho = {s['rho']}")
     ax.axvline(PAPER["max_error"], color="C1", ls="--", label="paper's largest error 0.66")
     ax.set_yscale("log")
@@ -176,12 +177,12 @@ def plot_images(d, show=False):
 def plot_sweep(d, show=False):
     t = read_csv(os.path.join(d, "sweep.csv"))
     fig, ax = plt.subplots(1, 3, figsize=(15, 4))
-    for v in dict.fromkeys(t["variant"]):
-        m = t["variant"] == v
-        ax[0].plot(t["rho"][m], t["ratio"][m], "o-", label=v)
-        ax[1].plot(t["rho"][m], 100 * t["fraction_within"][m], "o-", label=v)
-        ax[2].plot(t["rho"][m], t["p99"][m] / t["rho"][m], "o-", label=f"{v}: p99 / rho")
-        ax[2].plot(t["rho"][m], np.minimum(t["max_error"][m], 1e3) / t["rho"][m], "x--",
+    for i, v in enumerate(dict.fromkeys(t["variant"])):
+        m, col = t["variant"] == v, f"C{i}"
+        ax[0].plot(t["rho"][m], t["ratio"][m], "o-", color=col, label=v)
+        ax[1].plot(t["rho"][m], 100 * t["fraction_within"][m], "o-", color=col, label=v)
+        ax[2].plot(t["rho"][m], t["p99"][m] / t["rho"][m], "o-", color=col, label=f"{v}: p99 / rho")
+        ax[2].plot(t["rho"][m], np.minimum(t["max_error"][m], 1e3) / t["rho"][m], "x--", color=col,
                    label=f"{v}: max / rho")
     ax[0].set_ylabel("time ratio pencil / exact")
     ax[1].set_ylabel("% of samples within rho")
