@@ -77,7 +77,7 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
 
 /** Share of rho that the certified mode's checks may use (the margin covers third-order
  *  variation between the checked points; docs/pencil.md). */
-#define PT_CERTIFIED_MARGIN 0.8
+#define PT_CERTIFIED_MARGIN 0.7
 
 /** Levels of lattice refinement (halvings of a lattice cell) before samples use matrices. */
 #define PT_REFINE_LEVELS 2
