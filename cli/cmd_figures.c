@@ -13,31 +13,32 @@
 #endif
 
 static void help_figures(FILE *f) {
-  fprintf(f,
-          "usage: pencil figures [SCENE.json] [--out DIR] [--quick] [--threads N] [--runs N]\n"
-          "                      [--size WxH] [--no-sweep]\n\n"
-          "The paper's section 5 with the pencil renderer, on SCENE.json or the built-in Fig. 8\n"
-          "scene (a glass sphere over a checkerboard, 256x256):\n"
-          "  Fig. 8   DIR/fig8.exr, fig8.png: the pencil-traced image at 9 samples per pixel\n"
-          "           (fig8_exact.* by exact tracing beside it)\n"
-          "  Fig. 9   DIR/fig9.csv: CPU time of pencil and exact tracing at 1, 4, ..., 49 spp,\n"
-          "           rho = 1/2, each the median of N runs interleaved in this process\n"
-          "  Fig. 10  DIR/fig10_hist.csv, fig10_error_map.png: the error of every sample (distance\n"
-          "           between the checkerboard points found by pencil and exact tracing, in pixel\n"
-          "           intervals on the board), fraction within rho, maximum\n"
-          "  sweep    DIR/sweep.csv: time ratio and errors for rho 0.05 ... 2, both bound variants\n"
-          "           and the certified mode (as 'pencil sweep')\n"
-          "and DIR/summary.json, PNG plots (notebooks/pencil_plots.py with /usr/bin/python3), and a\n"
-          "table comparing each figure with the paper's numbers.\n\n"
-          "options:\n"
-          "  --out DIR      output directory (default figures)\n"
-          "  --quick        64x64 image, spp 1, 9, 49, rho 0.5, 1 (tests)\n"
-          "  --threads N    threads of every render (default 1, as the paper's single CPU)\n"
-          "  --runs N       timed renders per configuration, 3..101 (default 3)\n"
-          "  --size WxH     override the image size\n"
-          "  --no-sweep     skip the rho sweep\n"
-          "Exit codes: 0 done (the table says whether the paper's numbers and the targets were\n"
-          "met); 1 a render or a file failed; 2 usage or scene error.\n");
+  fprintf(
+      f,
+      "usage: pencil figures [SCENE.json] [--out DIR] [--quick] [--threads N] [--runs N]\n"
+      "                      [--size WxH] [--no-sweep]\n\n"
+      "The paper's section 5 with the pencil renderer, on SCENE.json or the built-in Fig. 8\n"
+      "scene (a glass sphere over a checkerboard, 256x256):\n"
+      "  Fig. 8   DIR/fig8.exr, fig8.png: the pencil-traced image at 9 samples per pixel\n"
+      "           (fig8_exact.* by exact tracing beside it)\n"
+      "  Fig. 9   DIR/fig9.csv: CPU time of pencil and exact tracing at 1, 4, ..., 49 spp,\n"
+      "           rho = 1/2, each the median of N runs interleaved in this process\n"
+      "  Fig. 10  DIR/fig10_hist.csv, fig10_error_map.png: the error of every sample (distance\n"
+      "           between the checkerboard points found by pencil and exact tracing, in pixel\n"
+      "           intervals on the board), fraction within rho, maximum\n"
+      "  sweep    DIR/sweep.csv: time ratio and errors for rho 0.05 ... 2, both bound variants\n"
+      "           and the certified mode (as 'pencil sweep')\n"
+      "and DIR/summary.json, PNG plots (notebooks/pencil_plots.py with /usr/bin/python3), and a\n"
+      "table comparing each figure with the paper's numbers.\n\n"
+      "options:\n"
+      "  --out DIR      output directory (default figures)\n"
+      "  --quick        64x64 image, spp 1, 9, 49, rho 0.5, 1 (tests)\n"
+      "  --threads N    threads of every render (default 1, as the paper's single CPU)\n"
+      "  --runs N       timed renders per configuration, 3..101 (default 3)\n"
+      "  --size WxH     override the image size\n"
+      "  --no-sweep     skip the rho sweep\n"
+      "Exit codes: 0 done (the table says whether the paper's numbers and the targets were\n"
+      "met); 1 a render or a file failed; 2 usage or scene error.\n");
 }
 
 static void help_sweep(FILE *f) {
@@ -101,7 +102,8 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
       if (sscanf(v, "%dx%d%c", &o->width, &o->height, &tail) != 2 || o->width < 8 ||
           o->height < 8 || o->width > 4096 || o->height > 4096)
         return fprintf(stderr, "pencil: --size: expected WxH with 8 <= W, H <= 4096, got '%s'\n",
-                       v), 0;
+                       v),
+               0;
     } else if (sweep && (v = cli_option(argc, argv, &i, "--rho", &err))) {
       if (!parse_rho(v, o))
         return 0;
@@ -114,7 +116,8 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
         s++;
       if (s * s != l)
         return fprintf(stderr, "pencil sweep: --spp: expected a square (1, 4, ..., 49), got %ld\n",
-                       l), 0;
+                       l),
+               0;
       o->sweep_spp = (int)l;
       quick_spp = 0;
     } else if (strcmp(argv[i], "--quick") == 0) {
@@ -157,6 +160,10 @@ static int run(int argc, char **argv, int sweep) {
   return rc == 0 ? CLI_OK : CLI_FAIL;
 }
 
-int cmd_figures(int argc, char **argv) { return run(argc, argv, 0); }
+int cmd_figures(int argc, char **argv) {
+  return run(argc, argv, 0);
+}
 
-int cmd_sweep(int argc, char **argv) { return run(argc, argv, 1); }
+int cmd_sweep(int argc, char **argv) {
+  return run(argc, argv, 1);
+}

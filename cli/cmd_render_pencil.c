@@ -17,33 +17,33 @@
 #include "render/builtin.h"
 
 static void help(FILE *f) {
-  fprintf(f,
-          "usage: pencil render [SCENE.json] -o OUT.exr --method pencil [--spp N] [--threads N]\n"
-          "                     [--size WxH] [--domain N] [--rho R] [--bounds B] [--certified]\n"
-          "                     [--no-interp] [--measure] [--explain]\n\n"
-          "Renders SCENE.json or the built-in Fig. 8 scene by pencil tracing (paper section 4.1):\n"
-          "initial domains of N x N pixels, the axial ray of each traced exactly with its ray\n"
-          "tree, a system matrix per path, edges found by comparing ray trees, the tolerance of\n"
-          "Eq. (3) and the spread limit of Eq. (6) deciding between matrices, exact tracing and\n"
-          "subdivision; sub-pixel samples by ray interpolation where e_int allows.\n"
-          "Writes OUT.exr (the exact renderer's channels, plus pencil.error: largest Fig. 10 error\n"
-          "of the pixel's samples when --measure is given, and pencil.method: 0 exact, 1 matrix,\n"
-          "2 interpolated; pencil.rays: exact rays traced for the pixel's samples) and a PNG\n"
-          "preview beside it.\n\n"
-          "options:\n"
-          "  -o, --output OUT.exr  output image\n"
-          "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
-          "  --threads N           OpenMP threads (default: all cores)\n"
-          "  --size WxH            override the scene's image size\n"
-          "  --domain N            initial domain size in pixels, 1..32 (default 5, as the paper)\n"
-          "  --rho R               tolerance ratio of Eq. (3), > 0 (default 0.5)\n"
-          "  --bounds B            C of Eq. (4): corrected (default), printed, or probe (exact\n"
-          "                        errors on the spread circle; not a bound)\n"
-          "  --certified           also check every path exactly on each domain's boundary\n"
-          "  --no-interp           trace every sample with matrices (no ray interpolation)\n"
-          "  --measure             trace every sample exactly too; Fig. 10 error statistics\n"
-          "  --explain             print the effects plan\n"
-          "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
+  fprintf(
+      f, "usage: pencil render [SCENE.json] -o OUT.exr --method pencil [--spp N] [--threads N]\n"
+         "                     [--size WxH] [--domain N] [--rho R] [--bounds B] [--certified]\n"
+         "                     [--no-interp] [--measure] [--explain]\n\n"
+         "Renders SCENE.json or the built-in Fig. 8 scene by pencil tracing (paper section 4.1):\n"
+         "initial domains of N x N pixels, the axial ray of each traced exactly with its ray\n"
+         "tree, a system matrix per path, edges found by comparing ray trees, the tolerance of\n"
+         "Eq. (3) and the spread limit of Eq. (6) deciding between matrices, exact tracing and\n"
+         "subdivision; sub-pixel samples by ray interpolation where e_int allows.\n"
+         "Writes OUT.exr (the exact renderer's channels, plus pencil.error: largest Fig. 10 error\n"
+         "of the pixel's samples when --measure is given, and pencil.method: 0 exact, 1 matrix,\n"
+         "2 interpolated; pencil.rays: exact rays traced for the pixel's samples) and a PNG\n"
+         "preview beside it.\n\n"
+         "options:\n"
+         "  -o, --output OUT.exr  output image\n"
+         "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
+         "  --threads N           OpenMP threads (default: all cores)\n"
+         "  --size WxH            override the scene's image size\n"
+         "  --domain N            initial domain size in pixels, 1..32 (default 5, as the paper)\n"
+         "  --rho R               tolerance ratio of Eq. (3), > 0 (default 0.5)\n"
+         "  --bounds B            C of Eq. (4): corrected (default), printed, or probe (exact\n"
+         "                        errors on the spread circle; not a bound)\n"
+         "  --certified           also check every path exactly on each domain's boundary\n"
+         "  --no-interp           trace every sample with matrices (no ray interpolation)\n"
+         "  --measure             trace every sample exactly too; Fig. 10 error statistics\n"
+         "  --explain             print the effects plan\n"
+         "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
 }
 
 typedef struct {
@@ -96,8 +96,8 @@ static int parse_value(args_t *a, const char *name, const char *v) {
 
 /* 1 ok, 0 usage error, -1 help printed. */
 static int parse_args(int argc, char **argv, args_t *a) {
-  static const char *const valued[] = {"--method", "--spp", "--threads", "--size", "--domain",
-                                       "--rho", "--bounds", "--output"};
+  static const char *const valued[] = {"--method", "--spp", "--threads", "--size",
+                                       "--domain", "--rho", "--bounds",  "--output"};
   for (int i = 1; i < argc; i++) {
     int err = 0, done = 0;
     if (cli_is_help(argv[i])) {
@@ -181,27 +181,26 @@ static int write_outputs(const args_t *a, const rt_image_t *img, const pt_extra_
                            {"pencil:rho", rho},
                            {"pencil:bounds", pt_bound_name(a->opt.bound)},
                            {"pencil:certified", a->opt.certified ? "yes" : "no"}};
-  io_exr_channel_t ch[3] = {{"pencil.error", x->error}, {"pencil.method", x->method},
-                            {"pencil.rays", x->rays}};
+  io_exr_channel_t ch[3] = {
+      {"pencil.error", x->error}, {"pencil.method", x->method}, {"pencil.rays", x->rays}};
   if (io_exr_write_extra(a->out, img, ch, 3, meta, 6, err, sizeof err) != 0 ||
       (io_png_path_for(a->out, png, sizeof png) && io_png_write(png, img, err, sizeof err) != 0))
     return fprintf(stderr, "pencil render: %s\n", err), 0;
   return 1;
 }
 
-static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st,
-                   const args_t *a) {
+static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st, const args_t *a) {
   uint64_t n = st->samples[0] + st->samples[1] + st->samples[2];
-  printf("pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
-         "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu partly exact, %llu edge, "
-         "%llu split), %llu paths exact; %llu exact rays -> %s\n",
-         s->camera.width, s->camera.height, spp, dt, a->opt.rho, pt_bound_name(a->opt.bound),
-         a->opt.certified ? ", certified" : "", 100.0 * st->samples[1] / n,
-         100.0 * st->samples[2] / n, 100.0 * st->samples[0] / n,
-         (unsigned long long)st->cells, (unsigned long long)st->cells_accepted,
-         (unsigned long long)st->cells_partial, (unsigned long long)st->cells_edge,
-         (unsigned long long)st->cells_split, (unsigned long long)st->paths_exact,
-         (unsigned long long)rt_stats_total(&st->rays), a->out);
+  printf(
+      "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
+      "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu partly exact, %llu edge, "
+      "%llu split), %llu paths exact; %llu exact rays -> %s\n",
+      s->camera.width, s->camera.height, spp, dt, a->opt.rho, pt_bound_name(a->opt.bound),
+      a->opt.certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
+      100.0 * st->samples[0] / n, (unsigned long long)st->cells,
+      (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
+      (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
+      (unsigned long long)st->paths_exact, (unsigned long long)rt_stats_total(&st->rays), a->out);
   printf("matrix pixels: %llu small cell, %llu corner left the paths, %llu reach, %llu e_int; "
          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
          (unsigned long long)st->matrix_pixels[0], (unsigned long long)st->matrix_pixels[1],

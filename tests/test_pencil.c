@@ -6,8 +6,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "cmocka_main.h"
 #include "bound.h"
+#include "cmocka_main.h"
 #include "exact/trace.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"

@@ -46,8 +46,8 @@ static exr_result_t define(exr_context_t ctx, const chans_t *c, const char *cons
     rv = exr_add_channel(ctx, part, rt_channel_name((rt_channel_t)k), EXR_PIXEL_FLOAT,
                          EXR_PERCEPTUALLY_LINEAR, 1, 1);
   for (int k = 0; k < c->nextra && rv == EXR_ERR_SUCCESS; k++)
-    rv = exr_add_channel(ctx, part, c->extra[k].name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR,
-                         1, 1);
+    rv = exr_add_channel(ctx, part, c->extra[k].name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1,
+                         1);
   for (int k = 0; k < nmeta && rv == EXR_ERR_SUCCESS; k++)
     rv = exr_attr_set_string(ctx, part, meta[k][0], meta[k][1]);
   return rv;
@@ -87,8 +87,7 @@ static exr_result_t chunks(exr_context_t ctx, const chans_t *c) {
 }
 
 int io_exr_write_extra(const char *path, const rt_image_t *img, const io_exr_channel_t *extra,
-                       int nextra, const char *const (*meta)[2], int nmeta, char *err,
-                       size_t cap) {
+                       int nextra, const char *const (*meta)[2], int nmeta, char *err, size_t cap) {
   chans_t c = {img, extra, nextra};
   for (int k = 0; k < nextra; k++)
     if (!extra[k].data || !extra[k].name || find(&c, extra[k].name) != extra[k].data) {

@@ -42,9 +42,11 @@ px_status_t pt__bound_c(const pt_node_t *nodes, int k, pt_bound_t b, double *out
  * [e/2, f]] and lambda_1, lambda_2 the norms of the blocks A, B of T_i^a (Appendix (3); the same
  * sum as px_pencil_constants). */
 static double term_c(const pt_term_t *t) {
-  double l1 = px_mat2_norm2(px_mat4_block(t->ta, 0, 0)), l2 = px_mat2_norm2(px_mat4_block(t->ta, 0, 1));
+  double l1 = px_mat2_norm2(px_mat4_block(t->ta, 0, 0)),
+         l2 = px_mat2_norm2(px_mat4_block(t->ta, 0, 1));
   const double *k = t->k;
-  double s11 = l1 * k[0] + l2 * k[3], s12 = 0.5 * (l1 * k[1] + l2 * k[4]), s22 = l1 * k[2] + l2 * k[5];
+  double s11 = l1 * k[0] + l2 * k[3], s12 = 0.5 * (l1 * k[1] + l2 * k[4]),
+         s22 = l1 * k[2] + l2 * k[5];
   return t->mb * (s11 * t->mb + s12 * t->md) + t->md * (s12 * t->mb + s22 * t->md);
 }
 

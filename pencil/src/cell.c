@@ -17,7 +17,6 @@
 #include "internal.h"
 #include "pvec.h"
 
-
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
   pt_ctree_t *ct = &C->corner[(y - C->dom_y0) * side + (x - C->dom_x0)];
@@ -144,8 +143,8 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   for (int i = 0; i < 4; i++)
     ct[i] = corner(C, xs[i], ys[i]);
   pt_tree_agree(&C->tree, ct, 4, C->map, C->agree, C->light);
-  int edge = C->tree.n == 0 || !C->agree[0] ||
-             px_frame_from_z(axial.d, C->view->down, &C->frame) != PX_OK;
+  int edge =
+      C->tree.n == 0 || !C->agree[0] || px_frame_from_z(axial.d, C->view->down, &C->frame) != PX_OK;
   double xi_cell = 0.0;
   for (int i = 0; i < 4 && !edge; i++)
     xi_cell = fmax(xi_cell, xi_norm(C, xs[i], ys[i]));
@@ -165,8 +164,10 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   pt__xi(C, cx - 0.5, cy, b);
   pt__xi(C, cx, cy + 0.5, c);
   pt__xi(C, cx, cy - 0.5, d);
-  pt_pencil_t p = {C->view->eye, C->frame, {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
-                   C->opt->rho, C->opt->bound, xi_cell, NULL};
+  pt_pencil_t p = {
+      C->view->eye, C->frame,      {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
+      C->opt->rho,  C->opt->bound, xi_cell,
+      NULL};
   if (C->opt->certified) {
     const double px[8] = {x0, cx, x1, x1, x1, cx, x0, x0}, py[8] = {y0, y0, y0, cy, y1, y1, y1, cy};
     for (int i = 0; i < 8; i++)
@@ -174,7 +175,8 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
     p.check = (const double(*)[2])chk;
   }
   int partial, over, paths;
-  double cost, dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
+  double cost,
+      dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
   C->dpix = fmax(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
   double need = build_paths(C, &p, xi_cell, dmin, &cost, &over, &paths, &partial);
   if (C->node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */

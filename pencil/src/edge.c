@@ -56,8 +56,8 @@ static int child_of(const pt_ctree_t *c, int m, int kind) {
   return -1;
 }
 
-int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map,
-                  uint8_t *agree, uint32_t *light) {
+int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map, uint8_t *agree,
+                  uint32_t *light) {
   int all = !a->overflow;
   for (int i = 0; i < nc; i++)
     all = all && c[i]->valid && c[i]->n == a->n;
@@ -66,7 +66,9 @@ int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *m
     int p = x->parent, ok = !a->overflow && (p < 0 || agree[p]);
     uint32_t lt = ~0u;
     for (int i = 0; i < nc && ok; i++) {
-      int m = !c[i]->valid || c[i]->n == 0 ? -1 : p < 0 ? 0 : child_of(c[i], map[i * a->n + p], x->kind);
+      int m = !c[i]->valid || c[i]->n == 0 ? -1
+              : p < 0                      ? 0
+                                           : child_of(c[i], map[i * a->n + p], x->kind);
       map[i * a->n + k] = m;
       const pt_cnode_t *y = m >= 0 ? &c[i]->node[m] : NULL;
       ok = y && y->object == x->object && y->prim == x->prim && y->flags == x->flags;

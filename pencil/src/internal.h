@@ -13,15 +13,15 @@
 /** Where one node of one sample met its surface, as computed by the pencil, and what it
  *  contributes to the sample's radiance. */
 typedef struct {
-  px_vec3_t p;     /**< hit point */
-  px_vec3_t d;     /**< unit direction of the arriving ray */
-  rt_rgb_t w;      /**< W_k: product of the shade.h child weights from the eye to the node */
-  rt_rgb_t l;      /**< W_k * direct_k (W_k * background for a miss); shading only */
-  rt_rgb_t lt[2];  /**< textured nodes at lattice points: W_k * direct_k with the material of
-                        the even (0) and the odd (1) checker squares */
-  int32_t su, sv;  /**< checker square of the hit (textured nodes), else 0 */
-  uint8_t ok;      /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
-  uint8_t fb;      /**< bit k: the child of rt_ray_kind_t k was traced exactly */
+  px_vec3_t p;    /**< hit point */
+  px_vec3_t d;    /**< unit direction of the arriving ray */
+  rt_rgb_t w;     /**< W_k: product of the shade.h child weights from the eye to the node */
+  rt_rgb_t l;     /**< W_k * direct_k (W_k * background for a miss); shading only */
+  rt_rgb_t lt[2]; /**< textured nodes at lattice points: W_k * direct_k with the material of
+                       the even (0) and the odd (1) checker squares */
+  int32_t su, sv; /**< checker square of the hit (textured nodes), else 0 */
+  uint8_t ok;     /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
+  uint8_t fb;     /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
 
 /** A node's exact geometry for one sample (exact along the known path, memoised per sample). */
@@ -42,34 +42,33 @@ typedef struct {
   float *sample_error;
   const pt_bsphere_t *guard;
   int nguard;
-  int cap;                /**< ray-tree capacity (plan->tree_nodes) */
-  rt_exact_t ex;          /**< the exact tracer (axial, corner, fallback and edge rays) */
-  rt_tree_t tree;         /**< the current cell's axial tree */
-  rt_tree_t tree2;        /**< corner and measurement trees */
-  pt_ctree_t *corner;     /**< corner tree cache of the current domain, (N+1)^2 */
+  int cap;                  /**< ray-tree capacity (plan->tree_nodes) */
+  rt_exact_t ex;            /**< the exact tracer (axial, corner, fallback and edge rays) */
+  rt_tree_t tree;           /**< the current cell's axial tree */
+  rt_tree_t tree2;          /**< corner and measurement trees */
+  pt_ctree_t *corner;       /**< corner tree cache of the current domain, (N+1)^2 */
   pt_cnode_t *corner_nodes; /**< their node storage (one block; entries are swapped) */
-  int dom_x0, dom_y0;     /**< the current domain's top-left pixel */
-  pt_node_t *node;        /**< the current cell's paths, one per tree node */
-  int *map;               /**< pt_tree_agree() scratch, 4 x cap */
-  uint8_t *agree;         /**< pt_tree_agree() output, cap */
-  uint32_t *light;        /**< pt_tree_agree() output, cap */
+  int dom_x0, dom_y0;       /**< the current domain's top-left pixel */
+  pt_node_t *node;          /**< the current cell's paths, one per tree node */
+  int *map;                 /**< pt_tree_agree() scratch, 4 x cap */
+  uint8_t *agree;           /**< pt_tree_agree() output, cap */
+  uint32_t *light;          /**< pt_tree_agree() output, cap */
   int nnode;
-  px_frame_t frame;       /**< the current cell's input frame at the eye */
-  double dpix;            /**< the current cell's larger pixel step |delta_i| in xi */
-  int kt, kr;             /**< nodes on the transmission-first / reflection-first paths to the
-                               checkerboard, or -1 */
+  px_frame_t frame; /**< the current cell's input frame at the eye */
+  double dpix;      /**< the current cell's larger pixel step |delta_i| in xi */
+  int kt, kr;       /**< nodes on the transmission-first / reflection-first paths to the
+                         checkerboard, or -1 */
   pt_path_scratch_t path;
-  pt_geom_t *lat;         /**< lattice geometry, (N+1)^2 points x cap nodes */
-  uint8_t *latok;         /**< lattice point evaluated without leaving the cell's paths */
-  double *latxi2;         /**< |xi|^2 of the lattice points */
-  int *loc;               /**< per-pixel plan: nodes shaded per sample (cap) */
-  uint8_t *locd, *loce;   /**< ... with their direct term / with exactly traced children */
-  int *loct;              /**< per-quad plan: textured nodes whose square changes (cap) */
-  pt_geom_t *ref;         /**< refinement grids: PT_REFINE_LEVELS x 5 points x cap nodes */
-  pt_geom_t *rec;         /**< one sample's geometry, cap nodes */
-  pt_xgeom_t *xg;         /**< one sample's exact geometry along the paths, cap nodes */
-  uint32_t stamp;         /**< evaluation counter for xg */
-  double (*sw)[4];        /**< bilinear weights of the s x s sample pattern */
+  pt_geom_t *lat;       /**< lattice geometry, (N+1)^2 points x cap nodes */
+  uint8_t *latok;       /**< lattice point evaluated without leaving the cell's paths */
+  double *latxi2;       /**< |xi|^2 of the lattice points */
+  int *loc;             /**< per-pixel plan: nodes shaded per sample (cap) */
+  uint8_t *locd, *loce; /**< ... with their direct term / with exactly traced children */
+  int *loct;            /**< per-quad plan: textured nodes whose square changes (cap) */
+  pt_geom_t *ref;       /**< refinement grids: PT_REFINE_LEVELS x 5 points x cap nodes */
+  pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
+  pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
+  uint32_t stamp;       /**< evaluation counter for xg */
   pt_stats_t st;
 } pt_ctx_t;
 
@@ -85,19 +84,19 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
 /** One sample's evaluation through the current cell's paths. */
 typedef struct {
   pt_ctx_t *C;
-  int mode;               /**< PT_EV_MATRIX or PT_EV_INTERP */
-  double xi[2];           /**< MATRIX: the sample's xi in the cell frame */
-  rt_ray_t primary;       /**< MATRIX: the sample's primary ray (for an exact fallback) */
-  const double *w;        /**< INTERP: bilinear weights of the 4 lattice points */
-  const pt_geom_t *g[4];  /**< INTERP: their geometry, indexed by node */
-  pt_geom_t *rec;         /**< per-node geometry out (cap entries), or NULL */
-  int shade;              /**< 0: geometry only */
-  int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
-  int lattice;            /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes */
-  int cur;                /**< node being shaded */
-  uint32_t stamp;         /**< this evaluation's xg stamp */
-  int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
-  int partial;            /**< set when a subtree where the corners differ was traced exactly */
+  int mode;              /**< PT_EV_MATRIX or PT_EV_INTERP */
+  double xi[2];          /**< MATRIX: the sample's xi in the cell frame */
+  rt_ray_t primary;      /**< MATRIX: the sample's primary ray (for an exact fallback) */
+  const double *w;       /**< INTERP: bilinear weights of the 4 lattice points */
+  const pt_geom_t *g[4]; /**< INTERP: their geometry, indexed by node */
+  pt_geom_t *rec;        /**< per-node geometry out (cap entries), or NULL */
+  int shade;             /**< 0: geometry only */
+  int record_shadow;     /**< 1: trace shadow rays and store them in the nodes (axial sample) */
+  int lattice;           /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes */
+  int cur;               /**< node being shaded */
+  uint32_t stamp;        /**< this evaluation's xg stamp */
+  int fallback;          /**< set when the sample left the cell's paths (traced exactly there) */
+  int partial;           /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;
 
 /** Radiance of the sample (black when shade = 0). */
@@ -116,11 +115,11 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
 /* A pixel being accumulated. */
 typedef struct {
-  int i, j;        /**< pixel */
-  rt_rgb_t sum;    /**< radiance summed over its samples */
-  double pmax;     /**< largest measured error (NaN: none) */
-  int n[3];        /**< samples by method */
-  uint64_t rays0;  /**< exact ray count when the pixel began */
+  int i, j;       /**< pixel */
+  rt_rgb_t sum;   /**< radiance summed over its samples */
+  double pmax;    /**< largest measured error (NaN: none) */
+  int n[3];       /**< samples by method */
+  uint64_t rays0; /**< exact ray count when the pixel began */
 } pixel_t;
 
 /* sample.c */

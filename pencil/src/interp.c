@@ -33,8 +33,8 @@ typedef struct {
 
 /* How a quad's samples are interpolated. */
 typedef struct {
-  rt_rgb_t smooth[4];      /* brightness of the linear nodes summed at the four corners */
-  int n;                   /* nodes shaded per sample */
+  rt_rgb_t smooth[4]; /* brightness of the linear nodes summed at the four corners */
+  int n;              /* nodes shaded per sample */
   int *k;
   uint8_t *direct, *exact; /* per entry: its direct term, its exactly traced children */
   int nt;                  /* textured nodes whose square changes across the quad: the sample's */
@@ -165,14 +165,18 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
   for (int m = 0; m < pl->nt; m++) { /* textured leaves: the material of the sample's square */
     int k = pl->kt[m];
     const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
-    px_vec3_t p = pv_axpy(w[0], g0->p, pv_axpy(w[1], g1->p, pv_axpy(w[2], g2->p, pv_scale(g3->p, w[3]))));
+    px_vec3_t p =
+        pv_axpy(w[0], g0->p, pv_axpy(w[1], g1->p, pv_axpy(w[2], g2->p, pv_scale(g3->p, w[3]))));
     const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
     double u, v;
     rt_plane_coords(pl0, p, &u, &v);
     int par = (int)fmod(fabs(floor(u / pl0->check) + floor(v / pl0->check)), 2.0);
-    sum.r += w[0] * g0->lt[par].r + w[1] * g1->lt[par].r + w[2] * g2->lt[par].r + w[3] * g3->lt[par].r;
-    sum.g += w[0] * g0->lt[par].g + w[1] * g1->lt[par].g + w[2] * g2->lt[par].g + w[3] * g3->lt[par].g;
-    sum.b += w[0] * g0->lt[par].b + w[1] * g1->lt[par].b + w[2] * g2->lt[par].b + w[3] * g3->lt[par].b;
+    sum.r +=
+        w[0] * g0->lt[par].r + w[1] * g1->lt[par].r + w[2] * g2->lt[par].r + w[3] * g3->lt[par].r;
+    sum.g +=
+        w[0] * g0->lt[par].g + w[1] * g1->lt[par].g + w[2] * g2->lt[par].g + w[3] * g3->lt[par].g;
+    sum.b +=
+        w[0] * g0->lt[par].b + w[1] * g1->lt[par].b + w[2] * g2->lt[par].b + w[3] * g3->lt[par].b;
   }
   for (int m = 0; m < pl->n; m++) {
     int k = pl->k[m];
@@ -195,8 +199,10 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
     if (!C->node[k].miss || a->ok != 1)
       continue;
-    px_vec3_t o = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
-    px_vec3_t d = pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3]))));
+    px_vec3_t o =
+        pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+    px_vec3_t d =
+        pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3]))));
     for (int u = 0; u < s->nunbounded; u++) {
       const rt_prim_t *pr = &s->prim[s->unbounded[u]];
       if (pr->kind != RT_PRIM_PLANE)
@@ -209,7 +215,8 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
   return 1;
 }
 
-/* Trace the lattice point at (x, y) through the paths into rec; returns 1 when it stayed on them. */
+/* Trace the lattice point at (x, y) through the paths into rec; returns 1 when it stayed on them.
+ */
 static int trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *rec, double *xi2) {
   pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = rec, .lattice = 1};
   pt__xi_of(C, &E, x, y);
@@ -240,9 +247,15 @@ static void refine(pt_ctx_t *C, pixel_t *P, const quad_t *q, int level) {
   }
   for (int qy = 0; qy < 2; qy++)
     for (int qx = 0; qx < 2; qx++) {
-      quad_t s = {q->x0 + 0.5 * qx * q->w, q->y0 + 0.5 * qy * q->h, 0.5 * q->w, 0.5 * q->h,
+      quad_t s = {q->x0 + 0.5 * qx * q->w,
+                  q->y0 + 0.5 * qy * q->h,
+                  0.5 * q->w,
+                  0.5 * q->h,
                   {grid[qy][qx], grid[qy][qx + 1], grid[qy + 1][qx], grid[qy + 1][qx + 1]},
-                  {{NULL}}, {{NULL}}, ok, q->xi2};
+                  {{NULL}},
+                  {{NULL}},
+                  ok,
+                  q->xi2};
       for (int e = 0; e < 2; e++) { /* the third point is the grid line beyond */
         int row = qy + e, col = qx + e, far = qx ? 0 : 2, farr = qy ? 0 : 2;
         s.tx[e][0] = grid[row][far];
@@ -313,7 +326,9 @@ typedef struct {
   double hx, hy;
 } lattice_t;
 
-static size_t lat_index(const lattice_t *L, int i, int j) { return (size_t)(j * (L->mx + 1) + i); }
+static size_t lat_index(const lattice_t *L, int i, int j) {
+  return (size_t)(j * (L->mx + 1) + i);
+}
 
 static const pt_geom_t *lat_at(const pt_ctx_t *C, const lattice_t *L, int i, int j) {
   return &C->lat[lat_index(L, i, j) * (size_t)C->cap];
@@ -322,10 +337,16 @@ static const pt_geom_t *lat_at(const pt_ctx_t *C, const lattice_t *L, int i, int
 /* Lattice cell (i, j) as a quad, the third points taken from the lattice line beyond it on
  * whichever side exists. */
 static quad_t lattice_quad(const pt_ctx_t *C, const lattice_t *L, int i, int j) {
-  quad_t q = {L->x0 + i * L->hx, L->y0 + j * L->hy, L->hx, L->hy,
+  quad_t q = {L->x0 + i * L->hx,
+              L->y0 + j * L->hy,
+              L->hx,
+              L->hy,
               {lat_at(C, L, i, j), lat_at(C, L, i + 1, j), lat_at(C, L, i, j + 1),
                lat_at(C, L, i + 1, j + 1)},
-              {{NULL}}, {{NULL}}, 1, 0.0};
+              {{NULL}},
+              {{NULL}},
+              1,
+              0.0};
   int ia = i >= 1 ? i - 1 : i + 2, ib = i >= 1 ? i : i + 1, ic = i >= 1 ? i + 1 : i;
   int ja = j >= 1 ? j - 1 : j + 2, jb = j >= 1 ? j : j + 1, jc = j >= 1 ? j + 1 : j;
   q.ok = ia <= L->mx && ja <= L->my;

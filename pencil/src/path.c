@@ -32,8 +32,8 @@ static double index_after(const rt_scene_t *s, const rt_tree_node_t *a) {
   return entering ? rt_scene_material_at(s, a->prim, a->point, NULL)->ior : s->ior;
 }
 
-double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
-                    px_vec3_t ez, px_vec3_t n, px_vec3_t j[2], double ginv[3]) {
+double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2, px_vec3_t ez,
+                    px_vec3_t n, px_vec3_t j[2], double ginv[3]) {
   double cz = pv_dot(n, ez);
   for (int i = 0; i < 2; i++) {
     double x1 = b.m[0][0] * delta[i][0] + b.m[0][1] * delta[i][1];
@@ -82,8 +82,7 @@ int pt_node_ray(const pt_node_t *n, const double xi[2], px_vec3_t *p, px_vec3_t 
   return 1;
 }
 
-int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t d,
-                px_vec3_t *hit) {
+int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t d, px_vec3_t *hit) {
   const rt_prim_t *pr = &s->prim[n->prim];
   if (pr->kind == RT_PRIM_SPHERE) { /* |p + t d - c|^2 = r^2, the root nearest t = 0 */
     px_vec3_t oc = pv_sub(p, pr->sphere.c);
@@ -164,7 +163,8 @@ static px_status_t check_boundary(const pt_path_scratch_t *w, const pt_node_t *n
     const double *a = e[2 * edge], *m = e[2 * edge + 1], *b = e[(2 * edge + 2) % 8];
     for (int k = 0; k <= 16; k++) {
       double t = k / 16.0, la = (1 - t) * (1 - 2 * t), lm = 4 * t * (1 - t), lb = t * (2 * t - 1);
-      worst = fmax(worst, hypot(la * a[0] + lm * m[0] + lb * b[0], la * a[1] + lm * m[1] + lb * b[1]));
+      worst =
+          fmax(worst, hypot(la * a[0] + lm * m[0] + lb * b[0], la * a[1] + lm * m[1] + lb * b[1]));
     }
   }
   *out = worst / n->cos_in;
@@ -305,8 +305,8 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   out->cos_in = fabs(pv_dot(out->n, out->ez));
   if (!(out->cos_in > PX_COS_MIN))
     return PX_EGRAZING;
-  out->interval = pt_footprint(out->b, p->delta, out->e1, out->e2, out->ez, out->n, out->j,
-                               out->ginv);
+  out->interval =
+      pt_footprint(out->b, p->delta, out->e1, out->e2, out->ez, out->n, out->j, out->ginv);
   out->tau = p->rho * out->interval;
   if (p->bound == PT_BOUND_PROBE || p->check) {
     st = pt_path_full(s, tree, k, p, w);

@@ -40,14 +40,13 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->rec);
   free(C->xg);
   free(C->ref);
-  free(C->sw);
 }
 
 /* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
 static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   size_t side = (size_t)n + 1, corners = side * side;
-  size_t lattice = (2 * side - 1) * (2 * side - 1); /* half-pixel steps (certified mode) */
-  int s = C->opt->spp_side;
+  /* pixel corners, or half-pixel steps along a 1-pixel-wide cell (3 x (N + 1), 3 x 3 at most) */
+  size_t lattice = corners > 3 * side ? corners : 3 * side > 9 ? 3 * side : 9;
   C->cap = cap;
   C->tree = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
   C->tree2 = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
@@ -67,25 +66,15 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->ref = malloc((size_t)PT_REFINE_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
-  C->sw = malloc((size_t)(s * s) * sizeof *C->sw);
-  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat ||
-      !C->latok || !C->rec || !C->xg || !C->ref || !C->sw || !C->map || !C->agree || !C->light ||
-      !C->latxi2 || !C->loc || !C->locd || !C->loce || !C->loct) {
+  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->latok ||
+      !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->latxi2 || !C->loc ||
+      !C->locd || !C->loce || !C->loct) {
     C->corner_nodes = cn;
     return 0;
   }
   C->corner_nodes = cn;
   for (size_t i = 0; i < corners; i++)
     C->corner[i] = (pt_ctree_t){cn + i * (size_t)cap, cap, -1, 0};
-  for (int b = 0; b < s; b++)
-    for (int a = 0; a < s; a++) {
-      double u = (a + 0.5) / s, v = (b + 0.5) / s;
-      double *w = C->sw[b * s + a];
-      w[0] = (1 - u) * (1 - v);
-      w[1] = u * (1 - v);
-      w[2] = (1 - u) * v;
-      w[3] = u * v;
-    }
   return 1;
 }
 
@@ -165,9 +154,16 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
   rt_status_t st = guard && ctx ? RT_OK : RT_ENOMEM;
   int nguard = guard ? pt_guard_spheres(s, guard, PT_MAX_GUARD) : 0;
   for (int t = 0; t < nt && st == RT_OK; t++) {
-    ctx[t] = (pt_ctx_t){.s = s, .plan = plan, .view = &view, .opt = opt, .img = img,
-                        .extra = extra, .sample_error = sample_error, .guard = guard,
-                        .nguard = nguard, .ex = rt_exact_make(s, plan, NULL)};
+    ctx[t] = (pt_ctx_t){.s = s,
+                        .plan = plan,
+                        .view = &view,
+                        .opt = opt,
+                        .img = img,
+                        .extra = extra,
+                        .sample_error = sample_error,
+                        .guard = guard,
+                        .nguard = nguard,
+                        .ex = rt_exact_make(s, plan, NULL)};
     if (!ctx_alloc(&ctx[t], plan->tree_nodes, n))
       st = RT_ENOMEM;
   }

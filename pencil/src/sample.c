@@ -17,10 +17,12 @@ float *pt__error_slot(pt_ctx_t *C, int i, int j, int a, int b) {
   return C->sample_error + pt__pixel_index(C, i, j) * (size_t)(s * s) + (size_t)(b * s + a);
 }
 
-uint64_t pt__rays_now(const pt_ctx_t *C) { return rt_stats_total(&C->ex.stats); }
+uint64_t pt__rays_now(const pt_ctx_t *C) {
+  return rt_stats_total(&C->ex.stats);
+}
 
 void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, double perr,
-                        uint64_t rays0) {
+                     uint64_t rays0) {
   size_t k = pt__pixel_index(C, i, j);
   if (C->extra && C->extra->rays)
     C->extra->rays[k] = (float)(pt__rays_now(C) - rays0);
@@ -106,7 +108,7 @@ void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
 
 /* Per-sample bookkeeping of the Fig. 10 measurement; returns the pixel's running maximum. */
 double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
-                             int a, int b, double pmax) {
+                          int a, int b, double pmax) {
   double e[3];
   pt__measure(C, ray, rec, e);
   int board = 0;
@@ -127,8 +129,8 @@ void pt__geometry(pt_ctx_t *C, pt_eval_t *E) {
 }
 
 void pt__pixel_done(pt_ctx_t *C, pixel_t *P) {
-  pt_method_t m = P->n[PT_METHOD_INTERP] >= P->n[PT_METHOD_MATRIX] ? PT_METHOD_INTERP
-                                                                   : PT_METHOD_MATRIX;
+  pt_method_t m =
+      P->n[PT_METHOD_INTERP] >= P->n[PT_METHOD_MATRIX] ? PT_METHOD_INTERP : PT_METHOD_MATRIX;
   for (int k = 0; k < 3; k++)
     C->st.samples[k] += (uint64_t)P->n[k];
   pt__write_pixel(C, P->i, P->j, P->sum, m, P->pmax, P->rays0);
@@ -171,4 +173,3 @@ void pt__matrix_pixel(pt_ctx_t *C, int i, int j) {
   if (C->opt->aux)
     pt__aux_matrix(C, i, j);
 }
-

@@ -44,7 +44,9 @@ static double median(double *v, int n) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-static int side_of(int spp) { return (int)lrint(sqrt((double)spp)); }
+static int side_of(int spp) {
+  return (int)lrint(sqrt((double)spp));
+}
 
 int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int threads, int runs,
                   val_timing_t *out) {
@@ -121,7 +123,8 @@ int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_erro
   eo.threads = po.threads;
   eo.aux = 1;
   memset(out, 0, sizeof *out);
-  if (err && P->ch[0] && X->ch[0] && pt_render(s, &plan, &po, P, extra, err, &out->stats) == RT_OK &&
+  if (err && P->ch[0] && X->ch[0] &&
+      pt_render(s, &plan, &po, P, extra, err, &out->stats) == RT_OK &&
       rt_render(s, &plan, &eo, X, NULL) == RT_OK) {
     const pt_stats_t *st = &out->stats;
     out->rho = po.rho;
@@ -388,9 +391,8 @@ static int write_sweep(const val_figures_opts_t *o, const sweep_row_t *rows, int
     fprintf(f, "%g,%s,%d,%.6g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu\n", r->rho,
             variant_name(r), o->sweep_spp, r->t.exact_s, r->t.pencil_s, r->t.ratio,
             (unsigned long long)r->e.samples, r->e.fraction_within, r->e.p99, r->e.max_error,
-            (unsigned long long)r->e.mismatches, r->e.fraction_within_strict,
-            r->e.max_error_strict, r->e.image_rms,
-            (unsigned long long)r->e.stats.samples[PT_METHOD_EXACT]);
+            (unsigned long long)r->e.mismatches, r->e.fraction_within_strict, r->e.max_error_strict,
+            r->e.image_rms, (unsigned long long)r->e.stats.samples[PT_METHOD_EXACT]);
   }
   return close_out(f, path);
 }
@@ -399,8 +401,9 @@ static void json_sweep(FILE *f, const val_figures_opts_t *o, const sweep_row_t *
   fprintf(f, "[");
   for (int k = 0; k < n; k++) {
     const sweep_row_t *r = &rows[k];
-    fprintf(f, "%s\n    {\"rho\": %g, \"variant\": \"%s\", \"exact_s\": %.6g, \"pencil_s\": %.6g, "
-               "\"ratio\": %.6g, \"errors\": ",
+    fprintf(f,
+            "%s\n    {\"rho\": %g, \"variant\": \"%s\", \"exact_s\": %.6g, \"pencil_s\": %.6g, "
+            "\"ratio\": %.6g, \"errors\": ",
             k ? "," : "", r->rho, variant_name(r), r->t.exact_s, r->t.pencil_s, r->t.ratio);
     json_errors(f, &r->e, o->sweep_spp);
     fprintf(f, "}");
@@ -426,8 +429,8 @@ int val_sweep(const val_figures_opts_t *o) {
     rt_scene_free(&s);
   }
   char path[4096];
-  FILE *f = rc == 0 && write_sweep(o, rows, n) == 0 ? open_out(o, "sweep.json", path, sizeof path)
-                                                     : NULL;
+  FILE *f =
+      rc == 0 && write_sweep(o, rows, n) == 0 ? open_out(o, "sweep.json", path, sizeof path) : NULL;
   if (!f)
     return -1;
   fprintf(f, "{\"sweep\": ");
@@ -476,21 +479,23 @@ static int write_summary(const val_figures_opts_t *o, const rt_scene_t *s, const
   FILE *f = open_out(o, "summary.json", path, sizeof path);
   if (!f)
     return -1;
-  fprintf(f, "{\n  \"scene\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
-             "\"runs\": %d, \"time\": \"process CPU seconds, median of runs\",\n",
+  fprintf(f,
+          "{\n  \"scene\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
+          "\"runs\": %d, \"time\": \"process CPU seconds, median of runs\",\n",
           o->scene ? o->scene : "built-in fig8", s->camera.width, s->camera.height, o->threads,
           o->runs);
   const val_timing_t *t9 = timing_at(o, r, r->fig8_spp);
-  fprintf(f, "  \"fig8\": {\"spp\": %d, \"exr\": \"fig8.exr\", \"png\": \"fig8.png\", "
-             "\"exact_png\": \"fig8_exact.png\", \"speedup\": %.6g},\n",
+  fprintf(f,
+          "  \"fig8\": {\"spp\": %d, \"exr\": \"fig8.exr\", \"png\": \"fig8.png\", "
+          "\"exact_png\": \"fig8_exact.png\", \"speedup\": %.6g},\n",
           r->fig8_spp, t9 ? 1.0 / t9->ratio : NAN);
   fprintf(f, "  \"fig9\": [");
   for (int k = 0; k < o->nspp; k++) {
     const val_timing_t *t = &r->fig9[k];
-    fprintf(f, "%s\n    {\"spp\": %d, \"exact_s\": %.6g, \"pencil_s\": %.6g, \"ratio\": %.6g, "
-               "\"exact_wall_s\": %.6g, \"pencil_wall_s\": %.6g}",
-            k ? "," : "", t->spp, t->exact_s, t->pencil_s, t->ratio, t->exact_wall,
-            t->pencil_wall);
+    fprintf(f,
+            "%s\n    {\"spp\": %d, \"exact_s\": %.6g, \"pencil_s\": %.6g, \"ratio\": %.6g, "
+            "\"exact_wall_s\": %.6g, \"pencil_wall_s\": %.6g}",
+            k ? "," : "", t->spp, t->exact_s, t->pencil_s, t->ratio, t->exact_wall, t->pencil_wall);
   }
   fprintf(f, "],\n  \"fig10\": ");
   json_errors(f, &r->fig10, r->fig8_spp);
@@ -498,14 +503,16 @@ static int write_summary(const val_figures_opts_t *o, const rt_scene_t *s, const
   fprintf(f, ",\n  \"targets\": {\"spp\": %d,\n    \"pencil\": {\"ratio\": %.6g, \"errors\": ",
           r->target_spp, tt ? tt->ratio : NAN);
   json_errors(f, &r->t49, r->target_spp);
-  fprintf(f, "},\n    \"certified\": {\"ratio\": %.6g, \"exact_s\": %.6g, \"pencil_s\": %.6g, "
-             "\"errors\": ",
+  fprintf(f,
+          "},\n    \"certified\": {\"ratio\": %.6g, \"exact_s\": %.6g, \"pencil_s\": %.6g, "
+          "\"errors\": ",
           r->tc49.ratio, r->tc49.exact_s, r->tc49.pencil_s);
   json_errors(f, &r->c49, r->target_spp);
   fprintf(f, "}},\n  \"sweep\": ");
   json_sweep(f, o, r->sweep, r->nsweep);
-  fprintf(f, ",\n  \"paper\": {\"fig8_speedup_9spp\": %g, \"fig9_ratio_49spp\": %g, "
-             "\"fig10_fraction_within\": %g, \"fig10_max_error\": %g}\n}\n",
+  fprintf(f,
+          ",\n  \"paper\": {\"fig8_speedup_9spp\": %g, \"fig9_ratio_49spp\": %g, "
+          "\"fig10_fraction_within\": %g, \"fig10_max_error\": %g}\n}\n",
           PAPER_SPEEDUP_9, PAPER_RATIO_49, PAPER_WITHIN, PAPER_MAX);
   return close_out(f, path);
 }
@@ -526,7 +533,9 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
   for (int k = 0; k < o->nspp; k++)
     fprintf(f, "%-8s CPU time ratio pencil/exact at %2d spp          %12s %12.3f\n", "Fig. 9",
             r->fig9[k].spp,
-            r->fig9[k].spp == 9 ? "0.13" : r->fig9[k].spp == 49 ? "< 0.10" : "-",
+            r->fig9[k].spp == 9    ? "0.13"
+            : r->fig9[k].spp == 49 ? "< 0.10"
+                                   : "-",
             r->fig9[k].ratio);
   fprintf(f, "%-8s %-46s %11.1f%% %11.4f%%\n", "Fig. 10", "area with error <= rho = 1/2 (9 spp)",
           100.0 * PAPER_WITHIN, 100.0 * r->fig10.fraction_within);
@@ -538,9 +547,11 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
           "-", 100.0 * r->fig10.fraction_within_strict);
   fprintf(f, "%-8s target at %d spp: ratio <= 0.10, area >= 99.8%%     %12s %5.3f %7.5f%%\n",
           "issue 5", r->target_spp, "", ratio, 100.0 * r->t49.fraction_within);
-  uint64_t over = r->c49.samples - (uint64_t)llround(r->c49.fraction_within * (double)r->c49.samples);
-  fprintf(f, "%-8s certified at %d spp: ratio <= 0.10, area 100%%    %12s %5.3f %7.5f%% "
-             "(%llu of %llu samples over rho, max %.3f)\n",
+  uint64_t over =
+      r->c49.samples - (uint64_t)llround(r->c49.fraction_within * (double)r->c49.samples);
+  fprintf(f,
+          "%-8s certified at %d spp: ratio <= 0.10, area 100%%    %12s %5.3f %7.5f%% "
+          "(%llu of %llu samples over rho, max %.3f)\n",
           "issue 5", r->target_spp, "", r->tc49.ratio, 100.0 * r->c49.fraction_within,
           (unsigned long long)over, (unsigned long long)r->c49.samples, r->c49.max_error);
   fprintf(f, "targets %s\n", miss ? "NOT all met (see above)" : "met");
@@ -595,8 +606,8 @@ static int run_figures(const val_figures_opts_t *o, rt_scene_t *s, results_t *r)
       val_time_pair(s, &pc, r->target_spp, o->threads, o->runs, &r->tc49) != 0)
     return -1;
   if (o->log)
-    fprintf(o->log, "  certified at %d spp: ratio %.3f, %.5f%% within, max %.3f\n",
-            r->target_spp, r->tc49.ratio, 100.0 * r->c49.fraction_within, r->c49.max_error);
+    fprintf(o->log, "  certified at %d spp: ratio %.3f, %.5f%% within, max %.3f\n", r->target_spp,
+            r->tc49.ratio, 100.0 * r->c49.fraction_within, r->c49.max_error);
   return o->sweep ? run_sweep(o, s, r->sweep, &r->nsweep) : 0;
 }
 

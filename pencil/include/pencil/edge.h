@@ -50,8 +50,8 @@ int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b);
  *  k are the same in every tree (0 where agree[k] is 0). Returns 1 when every node agrees with
  *  all its lights and the trees have the same size (the cell is free of edges). `map` is
  *  scratch for nc * a->n ints. A tree that overflowed agrees nowhere. */
-int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map,
-                  uint8_t *agree, uint32_t *light);
+int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map, uint8_t *agree,
+                  uint32_t *light);
 
 /** A bounding sphere of a bounded object. */
 typedef struct {

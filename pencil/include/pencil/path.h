@@ -53,31 +53,31 @@ typedef enum {
  *  (element i of the path's cascade): its error coefficients a-f (A-1) and the weights from the
  *  partial products before it (T_i^b, fixed) and after it (T_i^a, which grows with the path). */
 typedef struct {
-  px_mat4_t ta;     /**< T_i^a: product of the elements after i, up to the node */
-  double mb, md;    /**< mu_2, mu_4: |B|_2 and |D|_2 of T_i^b (the blocks a pinhole pencil sees) */
-  double k[6];      /**< a, b, c, d, e, f of the element (px_error_coeffs, the run's variant) */
+  px_mat4_t ta;  /**< T_i^a: product of the elements after i, up to the node */
+  double mb, md; /**< mu_2, mu_4: |B|_2 and |D|_2 of T_i^b (the blocks a pinhole pencil sees) */
+  double k[6];   /**< a, b, c, d, e, f of the element (px_error_coeffs, the run's variant) */
 } pt_term_t;
 
 /** One node of the domain's tree with its path's system matrix. */
 typedef struct {
-  int parent;      /**< tree index of the parent, -1 for the primary ray */
-  int kind;        /**< rt_ray_kind_t of the ray arriving at the node */
-  int depth;       /**< reflections/refractions before the node */
-  int miss;        /**< 1 when the axial ray met nothing (background) */
-  int object, prim;/**< surface met, -1 on a miss */
-  int textured;    /**< 1 when the surface is a checkerboard (texel >= 0) */
-  int child[2];    /**< tree indices of the children, -1 when absent */
-  int child_kind[2]; /**< their rt_ray_kind_t */
-  int pencil;      /**< pt_node_mode_t: how the samples' rays of this node are traced */
+  int parent;           /**< tree index of the parent, -1 for the primary ray */
+  int kind;             /**< rt_ray_kind_t of the ray arriving at the node */
+  int depth;            /**< reflections/refractions before the node */
+  int miss;             /**< 1 when the axial ray met nothing (background) */
+  int object, prim;     /**< surface met, -1 on a miss */
+  int textured;         /**< 1 when the surface is a checkerboard (texel >= 0) */
+  int child[2];         /**< tree indices of the children, -1 when absent */
+  int child_kind[2];    /**< their rt_ray_kind_t */
+  int pencil;           /**< pt_node_mode_t: how the samples' rays of this node are traced */
   uint32_t light_agree; /**< bit l: light l's visibility is the same at the centre and corners */
-  double ior;      /**< index of the medium the arriving ray travels in */
+  double ior;           /**< index of the medium the arriving ray travels in */
   /* psi' = T psi for psi = (0, 0, xi) at the eye: x' = B xi, xi' = D xi (Eqs. 1-2 cascaded) */
-  px_mat2_t b;     /**< upper right block of T, scene units per unit of xi */
-  px_mat2_t d;     /**< lower right block of T, dimensionless */
-  px_vec3_t o;     /**< O': the axial hit point (origin of the output ray frame) */
+  px_mat2_t b;          /**< upper right block of T, scene units per unit of xi */
+  px_mat2_t d;          /**< lower right block of T, dimensionless */
+  px_vec3_t o;          /**< O': the axial hit point (origin of the output ray frame) */
   px_vec3_t e1, e2, ez; /**< output ray frame (world), ez along the arriving axial ray */
-  px_vec3_t n;     /**< unit surface normal at O', facing the arriving ray */
-  double cos_in;   /**< |n . ez|, cosine of the incidence angle of the axial ray */
+  px_vec3_t n;          /**< unit surface normal at O', facing the arriving ray */
+  double cos_in;        /**< |n . ez|, cosine of the incidence angle of the axial ray */
   px_vec3_t j[2];  /**< pixel footprint on the surface: displacement per pixel along screen x, y */
   double ginv[3];  /**< (J^T J)^-1 as (00, 01, 11), for pt_pixels() */
   double interval; /**< sigma_min(J): the smallest pixel interval on the surface, scene units */
@@ -89,10 +89,10 @@ typedef struct {
                         from ex_map at the corners and edge midpoints), else -1 */
   unsigned known;  /**< bit l: through[l] recorded for light l */
   rt_rgb_t through[PT_MAX_LIGHTS]; /**< shadow transmittance of the axial hit, per light */
-  int nstep;       /**< elements of the step from the parent (transfer; interface + transfer) */
+  int nstep; /**< elements of the step from the parent (transfer; interface + transfer) */
   px_element_t step[3]; /**< the step's cascade elements (the path's cascade is the chain of
                              its nodes' steps) */
-  int nterm;       /**< refractions/reflections on the path (= depth) with bound terms */
+  int nterm;            /**< refractions/reflections on the path (= depth) with bound terms */
   pt_term_t term[EX_MAX_STAGES]; /**< their Appendix (3) terms (corrected/printed bounds) */
 } pt_node_t;
 
@@ -106,12 +106,12 @@ typedef struct {
 
 /** What pt_path_build() needs to know about the pencil. */
 typedef struct {
-  px_vec3_t eye;      /**< the pinhole */
-  px_frame_t frame;   /**< input ray frame at the eye, z = the axial primary direction */
-  double delta[2][2]; /**< xi-increments of one pixel step along the two screen axes */
-  double rho;         /**< Eq. (3) */
-  pt_bound_t bound;   /**< source of C */
-  double xi_cell;     /**< the cell's spread: largest |xi| of its samples (for the probe) */
+  px_vec3_t eye;            /**< the pinhole */
+  px_frame_t frame;         /**< input ray frame at the eye, z = the axial primary direction */
+  double delta[2][2];       /**< xi-increments of one pixel step along the two screen axes */
+  double rho;               /**< Eq. (3) */
+  pt_bound_t bound;         /**< source of C */
+  double xi_cell;           /**< the cell's spread: largest |xi| of its samples (for the probe) */
   const double (*check)[2]; /**< certified mode: xi of the 8 boundary points (corner, edge
                                  midpoint, corner, midpoint, ... in order round the cell), or
                                  NULL */
@@ -139,8 +139,8 @@ px_status_t pt_path_full(const rt_scene_t *s, const rt_tree_t *tree, int k, cons
 /** Eq. (3) on the surface: the footprint j_i = proj(B delta_i) for the pixel steps delta_i,
  *  where proj carries a displacement of the plane normal to ez along ez onto the plane normal
  *  to n; writes j[2] and ginv and returns sigma_min(J) (0 for a degenerate footprint). */
-double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2,
-                    px_vec3_t ez, px_vec3_t n, px_vec3_t j[2], double ginv[3]);
+double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2, px_vec3_t ez,
+                    px_vec3_t n, px_vec3_t j[2], double ginv[3]);
 
 /** A surface displacement e in pixels: |J+ e| with the node's footprint. */
 double pt_pixels(const pt_node_t *n, px_vec3_t e);
@@ -165,7 +165,6 @@ int pt_node_ray(const pt_node_t *n, const double xi[2], px_vec3_t *p, px_vec3_t 
 /** Where the ray (p, d) meets the node's own primitive near p (no scene search): the root
  *  nearest p for a sphere, the plane point for a plane, and for a polygon only when the point
  *  is inside it. Returns 0 when it does not. */
-int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t d,
-                px_vec3_t *hit);
+int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t d, px_vec3_t *hit);
 
 #endif

@@ -45,22 +45,23 @@ typedef enum {
 } pt_method_t;
 
 typedef struct {
-  int spp_side;    /**< s: s x s samples per pixel, 1..7 */
-  int threads;     /**< OpenMP threads; 0 = the OpenMP default */
-  int domain;      /**< initial domain size N in pixels, 1..32 (paper: 5) */
-  double rho;      /**< tolerance ratio of Eq. (3), > 0 (paper: 1/2) */
+  int spp_side; /**< s: s x s samples per pixel, 1..7 */
+  int threads;  /**< OpenMP threads; 0 = the OpenMP default */
+  int domain;   /**< initial domain size N in pixels, 1..32 (paper: 5) */
+  double rho;   /**< tolerance ratio of Eq. (3), > 0 (paper: 1/2) */
   pt_bound_t bound;
-  int certified;   /**< 1: also require an a-posteriori exact check of every path at the
-                        domain's corners and edge midpoints to agree within tau */
-  int interp;      /**< 1: ray interpolation for s >= 2 (0: every sample by matrices) */
-  int measure;     /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
-  int aux;         /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
+  int certified; /**< 1: also require an a-posteriori exact check of every path at the
+                      domain's corners and edge midpoints to agree within tau */
+  int interp;    /**< 1: ray interpolation for s >= 2 (0: every sample by matrices) */
+  int measure;   /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
+  int aux;       /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
   /** Called after each finished row of domains with (rows done, rows total), serialised. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
 } pt_options_t;
 
-#define PT_OPTIONS_DEFAULT {1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, NULL, NULL}
+#define PT_OPTIONS_DEFAULT                                                                         \
+  { 1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, NULL, NULL }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
 typedef struct {
@@ -109,8 +110,8 @@ typedef struct {
                                 pixel interval over all screen directions) instead of |J+ e| */
   uint64_t within_strict;  /**< samples within rho by that measure */
   uint64_t hist[PT_HIST_BINS];
-  rt_stats_t rays;         /**< rays traced by the exact tracer (axial, corner, edge, fallback,
-                                measurement) and shadow rays, as the reference renderer counts */
+  rt_stats_t rays; /**< rays traced by the exact tracer (axial, corner, edge, fallback,
+                        measurement) and shadow rays, as the reference renderer counts */
 } pt_stats_t;
 
 /** Render the prepared scene `s` with `plan` by pencil tracing into img (allocated by the

@@ -43,8 +43,8 @@ typedef struct {
   uint64_t mismatches;    /**< samples whose exact tree lacks a path the pencil used */
   double fraction_within_strict, max_error_strict; /**< |e| / sigma_min instead */
   double fraction_within_t, max_error_t;           /**< transmission-first path only */
-  double image_rms;       /**< RMS of the RGB difference from the exact image */
-  double image_max;       /**< largest per-pixel |RGB difference| */
+  double image_rms; /**< RMS of the RGB difference from the exact image */
+  double image_max; /**< largest per-pixel |RGB difference| */
   pt_stats_t stats;
 } val_errors_t;
 
@@ -56,20 +56,20 @@ int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_erro
                 rt_image_t *exact_img);
 
 typedef struct {
-  const char *out_dir;   /**< output directory (created) */
-  const char *scene;     /**< scene file, or NULL for the built-in Fig. 8 scene */
-  int quick;             /**< small image and fewer points (tests) */
-  int threads;           /**< threads for every render (default 1) */
-  int runs;              /**< timed renders per configuration, >= 3 */
-  int width, height;     /**< 0: the scene's (quick: 96 x 96) */
-  int spp[VAL_MAX_SPP];  /**< Fig. 9 sample counts */
+  const char *out_dir;  /**< output directory (created) */
+  const char *scene;    /**< scene file, or NULL for the built-in Fig. 8 scene */
+  int quick;            /**< small image and fewer points (tests) */
+  int threads;          /**< threads for every render (default 1) */
+  int runs;             /**< timed renders per configuration, >= 3 */
+  int width, height;    /**< 0: the scene's (quick: 96 x 96) */
+  int spp[VAL_MAX_SPP]; /**< Fig. 9 sample counts */
   int nspp;
   double rho[VAL_MAX_RHO]; /**< sweep */
   int nrho;
-  int sweep_spp;         /**< samples per pixel of the sweep */
-  int sweep;             /**< 1: run the sweep too */
-  const char *plot;      /**< plotting script (python) or NULL */
-  FILE *log;             /**< progress and the comparison table (stdout) */
+  int sweep_spp;    /**< samples per pixel of the sweep */
+  int sweep;        /**< 1: run the sweep too */
+  const char *plot; /**< plotting script (python) or NULL */
+  FILE *log;        /**< progress and the comparison table (stdout) */
 } val_figures_opts_t;
 
 /** Defaults for `pencil figures`: Fig. 9 at 1, 4, ..., 49 spp, 3 runs, 1 thread, the sweep at
