@@ -28,5 +28,6 @@ int cmd_matrix(int argc, char **argv);
 int cmd_verify(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_bounds(int argc, char **argv);
 
 #endif

@@ -15,6 +15,7 @@ static const command_t commands[] = {
     {"verify", cmd_verify, "verify the paper's formulas against exact tracing"},
     {"render", cmd_render, "render a scene by exact (Whitted) ray tracing to OpenEXR + PNG"},
     {"bench", cmd_bench, "benchmarks: 'pencil bench render' measures rays per second"},
+    {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)"},
 };
 
 static void usage(FILE *f) {

@@ -94,3 +94,30 @@ px_status_t ex_quadric_interface(const ex_quadric_t *q, px_vec3_t p, px_vec3_t s
     qw[i] = -q->m[i] / gn;
   return px_interface_make(s, px_vec3_scale(g, 1.0 / gn), hint, px_mat2_zero(), qw, n1, n2, out);
 }
+
+px_status_t ex_quadric_cubic(const ex_quadric_t *q, px_vec3_t p, const px_interface_t *ifc,
+                             double cubic[4]) {
+  /* With g = M p + b = sigma |g| nu, the points p + t + w nu on F = 0 satisfy
+   * 2 sigma |g| w + t^t M t + 2 w t^t M nu + O(w^2) = 0, so w = 1/2 t^t Q t + 1/2 (t^t Q t)(m . t)
+   * + O(t^4) with m_k = -sigma (u_k . M nu) / |g|: c_ijk = Q_ij m_k + Q_ik m_j + Q_jk m_i. */
+  px_vec3_t g = ex_quadric_half_gradient(q, p);
+  double gn = px_vec3_norm(g);
+  if (!(gn > 0.0) || !isfinite(gn))
+    return PX_ESINGULAR;
+  double sigma = px_vec3_dot(g, ifc->nu) >= 0.0 ? 1.0 : -1.0;
+  const double *m = q->m;
+  px_vec3_t n = ifc->nu;
+  px_vec3_t mn = px_vec3(m[0] * n.x + m[1] * n.y + m[2] * n.z, m[3] * n.x + m[4] * n.y + m[5] * n.z,
+                         m[6] * n.x + m[7] * n.y + m[8] * n.z);
+  double mt[2] = {-sigma * px_vec3_dot(ifc->u1, mn) / gn, -sigma * px_vec3_dot(ifc->u2, mn) / gn};
+  const px_mat2_t Q = ifc->q;
+  /* entries by the number of indices equal to 2: (111), (112), (122), (222) */
+  cubic[0] = 3.0 * Q.m[0][0] * mt[0];
+  cubic[1] = Q.m[0][0] * mt[1] + 2.0 * Q.m[0][1] * mt[0];
+  cubic[2] = 2.0 * Q.m[0][1] * mt[1] + Q.m[1][1] * mt[0];
+  cubic[3] = 3.0 * Q.m[1][1] * mt[1];
+  for (int i = 0; i < 4; i++)
+    if (!isfinite(cubic[i]))
+      return PX_ENONFINITE;
+  return PX_OK;
+}

@@ -3,6 +3,7 @@
 #ifndef PARAXIAL_PARAXIAL_H
 #define PARAXIAL_PARAXIAL_H
 
+#include "paraxial/bounds.h"
 #include "paraxial/cascade.h"
 #include "paraxial/frame.h"
 #include "paraxial/interp.h"

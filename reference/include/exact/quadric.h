@@ -35,4 +35,12 @@ px_vec3_t ex_quadric_half_gradient(const ex_quadric_t *q, px_vec3_t p);
 px_status_t ex_quadric_interface(const ex_quadric_t *q, px_vec3_t p, px_vec3_t s, px_vec3_t hint,
                                  double n1, double n2, px_interface_t *out);
 
+/** Third derivatives of the surface height w(t1, t2) along ifc->nu at p (the cubic term of
+ *  w = 1/2 t^T Q t + 1/6 c[t,t,t] + ...), as (c111, c112, c122, c222) in ifc's (u1, u2) basis;
+ *  ifc must come from ex_quadric_interface() at p. d_3m of A-1 is their largest magnitude.
+ *  Spheres and cylinders give 0 everywhere (M nu is parallel to nu); an ellipsoid away from
+ *  its vertices does not. PX_ESINGULAR when the gradient vanishes. */
+px_status_t ex_quadric_cubic(const ex_quadric_t *q, px_vec3_t p, const px_interface_t *ifc,
+                             double cubic[4]);
+
 #endif

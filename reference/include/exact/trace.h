@@ -69,6 +69,13 @@ px_status_t ex_map(const ex_system_t *sys, const ex_axial_t *ax, const double ps
 px_status_t ex_jacobian(const ex_system_t *sys, const ex_axial_t *ax, double length,
                         px_mat4_t *j);
 
+/** The exact map at psi0 with its Jacobian jac[i][j] = d psi'_i / d psi_j and second-order
+ *  tensor hess[i][j][k] = t(2)_ijk = d2 psi'_i / d psi_j d psi_k (section 3.2), by forward-mode
+ *  automatic differentiation with second-order jets through a copy of the map (trace_jet.c):
+ *  exact derivatives up to double rounding, no step size. Any output pointer may be NULL. */
+px_status_t ex_map_jet(const ex_system_t *sys, const ex_axial_t *ax, const double psi0[4],
+                       double out[4], double jac[4][4], double hess[4][4][4]);
+
 #ifdef __SIZEOF_FLOAT128__
 /** Exact map in __float128. */
 px_status_t ex_map_q(const ex_system_t *sys, const ex_axial_t *ax, const __float128 psi[4],
@@ -77,6 +84,10 @@ px_status_t ex_map_q(const ex_system_t *sys, const ex_axial_t *ax, const __float
  *  accuracy far below 1e-12 for all but the most extreme systems (docs/verification.md). */
 px_status_t ex_jacobian_q(const ex_system_t *sys, const ex_axial_t *ax, double length,
                           px_mat4_t *j);
+/** t(2)_ijk at psi = 0 from __float128 Richardson-extrapolated second differences of ex_map_q
+ *  (trace_hessian.c), independent of ex_map_jet(). `length` scales the position steps. */
+px_status_t ex_hessian_q(const ex_system_t *sys, const ex_axial_t *ax, double length,
+                         double hess[4][4][4]);
 #endif
 
 #endif

@@ -1,0 +1,137 @@
+/* cmd_bounds.c -- `pencil bounds`: the error coefficients a-f of Appendix A-1 for one refraction
+ * or reflection at a sphere or plane (section 3.2, Eq. 4). Its stdout is a contract:
+ * {"a": .., "b": .., "c": .., "d": .., "e": .., "f": ..}; on any error nothing is printed on
+ * stdout. Conventions are those of `pencil matrix` (cmd_matrix.c). */
+#include <math.h>
+#include <string.h>
+
+#include "cli.h"
+#include "paraxial/paraxial.h"
+
+static void help(FILE *f) {
+  fprintf(
+      f,
+      "usage: pencil bounds refract --theta-deg T --n1 N1 --n2 N2 [--radius R] [--d3m D]\n"
+      "                             [--variant V]\n"
+      "       pencil bounds reflect --theta-deg T [--radius R] [--d3m D] [--variant V]\n\n"
+      "Prints the coefficients of the element's error estimation functions (Appendix A-1)\n"
+      "  e_x  = a x^2 + b x xi + c xi^2  >= |Delta x|\n"
+      "  e_xi = d x^2 + e x xi + f xi^2  >= |Delta xi|\n"
+      "as JSON {\"a\": .., \"b\": .., \"c\": .., \"d\": .., \"e\": .., \"f\": ..}, where x = |x|\n"
+      "and xi = |xi| are the sizes of a ray vector's position and direction parts in the\n"
+      "element's frames and Delta the second-order error of the linear map (Eq. 2). Units with\n"
+      "a length L: a 1/L, b 1, c L, d 1/L^2, e 1/L, f 1.\n\n"
+      "options:\n"
+      "  --theta-deg T   angle of incidence in degrees, 0 <= T < 90\n"
+      "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
+      "  --n2 N2         index of the far medium (> 0)\n"
+      "  --radius R      radius of a spherical surface (non-zero; its sign, as in\n"
+      "                  `pencil matrix`, does not change the coefficients). Without\n"
+      "                  --radius the surface is a plane. A sphere has d_3m = 0.\n"
+      "  --d3m D         largest |third derivative| of a general surface's height (>= 0,\n"
+      "                  units 1/L^2; default 0), the d_3m of A-1\n"
+      "  --variant V     corrected (default: derived by the project and confirmed by exact\n"
+      "                  tracing) or printed (A-1 verbatim, R read as the smallest radius of\n"
+      "                  curvature; may be negative for mirrors; see docs/errata.md)\n\n"
+      "Exit codes: 0 coefficients printed; 1 no system matrix exists (total internal\n"
+      "reflection, grazing incidence or exit; reason on stderr); 2 usage error.\n");
+}
+
+int cmd_bounds(int argc, char **argv) {
+  if (argc < 2 || cli_is_help(argv[1])) {
+    help(argc < 2 ? stderr : stdout);
+    return argc < 2 ? CLI_USAGE : CLI_OK;
+  }
+  const char *kind = argv[1];
+  int is_reflect = strcmp(kind, "reflect") == 0;
+  if (!is_reflect && strcmp(kind, "refract") != 0) {
+    fprintf(stderr, "pencil bounds: unknown element '%s' (refract or reflect)\n", kind);
+    return CLI_USAGE;
+  }
+  double theta = NAN, n1 = NAN, n2 = NAN, radius = INFINITY, d3m = 0.0;
+  px_variant_t variant = PX_VARIANT_CORRECTED;
+  for (int i = 2; i < argc; i++) {
+    int err = 0;
+    const char *v, *opt = argv[i];
+    if (cli_is_help(argv[i])) {
+      help(stdout);
+      return CLI_OK;
+    } else if ((v = cli_option(argc, argv, &i, "--theta-deg", &err))) {
+      if (!cli_parse_double("--theta-deg", v, &theta))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--n1", &err))) {
+      if (!cli_parse_double("--n1", v, &n1))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--n2", &err)) && !is_reflect) {
+      if (!cli_parse_double("--n2", v, &n2))
+        return CLI_USAGE;
+    } else if ((v = cli_option(argc, argv, &i, "--radius", &err))) {
+      if (!cli_parse_double("--radius", v, &radius))
+        return CLI_USAGE;
+      if (radius == 0.0) {
+        fprintf(stderr, "pencil bounds: --radius must be non-zero (omit it for a plane)\n");
+        return CLI_USAGE;
+      }
+    } else if ((v = cli_option(argc, argv, &i, "--d3m", &err))) {
+      if (!cli_parse_double("--d3m", v, &d3m))
+        return CLI_USAGE;
+      if (d3m < 0.0) {
+        fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
+        return CLI_USAGE;
+      }
+    } else if ((v = cli_option(argc, argv, &i, "--variant", &err))) {
+      if (px_variant_parse(v, &variant) != PX_OK) {
+        fprintf(stderr, "pencil bounds: --variant: expected corrected or printed, got '%s'\n", v);
+        return CLI_USAGE;
+      }
+    } else {
+      if (!err)
+        fprintf(stderr, "pencil bounds %s: unknown or misplaced option '%s'\n", kind, opt);
+      return CLI_USAGE;
+    }
+    if (err)
+      return CLI_USAGE;
+  }
+  if (isnan(theta)) {
+    fprintf(stderr, "pencil bounds %s: --theta-deg is required\n", kind);
+    return CLI_USAGE;
+  }
+  if (theta < 0.0 || theta >= 90.0) {
+    fprintf(stderr, "pencil bounds %s: --theta-deg must be in [0, 90), got %g\n", kind, theta);
+    return CLI_USAGE;
+  }
+  if (is_reflect && isnan(n1))
+    n1 = 1.0; /* a reflection does not depend on the index */
+  if (is_reflect)
+    n2 = n1;
+  if (isnan(n1) || isnan(n2)) {
+    fprintf(stderr, "pencil bounds refract: --n1 and --n2 are required\n");
+    return CLI_USAGE;
+  }
+  if (!(n1 > 0.0) || !(n2 > 0.0)) {
+    fprintf(stderr, "pencil bounds %s: indices must be positive (got n1=%g, n2=%g)\n", kind, n1,
+            n2);
+    return CLI_USAGE;
+  }
+  px_element_geom_t g = {is_reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT,
+                         theta * M_PI / 180.0,
+                         n1,
+                         n2,
+                         fabs(radius),
+                         d3m};
+  px_coeffs_t k;
+  px_status_t st = px_error_coeffs(&g, variant, &k);
+  if (st != PX_OK) {
+    fprintf(stderr,
+            "pencil bounds %s: no error coefficients at theta = %g deg, n1 = %g, n2 = %g: %s\n",
+            kind, theta, n1, n2, px_strerror(st));
+    return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
+  }
+  const double v[6] = {k.a, k.b, k.c, k.d, k.e, k.f};
+  const char *names = "abcdef";
+  printf("{");
+  for (int i = 0; i < 6; i++)
+    printf("%s\"%c\": %.17g", i ? ", " : "", names[i], v[i] == 0.0 ? 0.0 : v[i]);
+  printf("}\n");
+  return CLI_OK;
+}

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# `pencil verify bounds --quick`: exit 0 (the corrected A-1 holds, the Ceres envelope agrees),
+# the JSON summary's documented keys, every CSV table, the errata visible in the printed variant.
+# Leaves the CSV tables in $2 for the notebook test (ctest fixture bounds_csv).
+set -u
+pencil=$1
+dir=$2
+rm -rf "$dir" && mkdir -p "$dir"
+$pencil verify bounds --quick --json "$dir/summary.json" --csv "$dir" >"$dir/out.txt" ||
+  { cat "$dir/out.txt"; echo "FAIL: verify bounds --quick must pass"; exit 1; }
+/usr/bin/python3 - "$dir" <<'PY' || exit 1
+import csv, json, math, sys
+d = sys.argv[1]
+s = json.load(open(f"{d}/summary.json"))
+assert s["pass"] is True and s["corrected_failures"] == 0, s
+assert s["systems"] >= 150, s["systems"]
+for c in "ABCDEF":
+    assert s["corrected"][c]["failures"] == 0
+    assert s["corrected"][c]["min"] >= 1 - 1e-9, (c, s["corrected"][c])
+# errata of A-1 that the quick sweep must show: f (n/n' factor), d (R^3), a of mirrors (sign)
+for c in "ADF":
+    assert s["printed"][c]["failures"] > 0, (c, s["printed"][c])
+assert s["printed"]["B"]["min"] <= 1 + 1e-9  # b is right for single elements: ratio 1
+assert s["tensor_crosscheck"]["above_tolerance"] == 0
+assert s["onset"]["second_order_vanishes"] >= 2  # pinhole -> sphere through its centre
+assert s["fit"]["outside_tolerance"] == 0 and s["fit"]["unusable"] == 0
+assert s["fit"]["worst_attained_deviation"] <= 0.02
+for name in ["systems", "summary", "families", "onset", "fit"]:
+    rows = list(csv.DictReader(open(f"{d}/bounds_{name}.csv")))
+    assert rows, name
+onset = list(csv.DictReader(open(f"{d}/bounds_onset.csv")))
+centre = [r for r in onset if "aim 0.00" in r["label"]]
+assert centre and all(r["second_order_vanishes"] == "1" for r in centre)
+# the spread limit stays finite there: Eq. (6) alone is capped, the third-order term limits it
+assert all(r["regime_eq6"] == "cap" and r["regime_k3"] == "third_order" and
+           math.isfinite(float(r["spread_k3"])) and float(r["spread_k3"]) < 0.5 for r in centre)
+print("cli_verify_bounds: passed,", s["systems"], "systems")
+PY
+if $pencil verify bounds --quick --no-fit --csv /nonexistent/dir >/dev/null 2>"$dir/err"; then
+  echo "FAIL: unwritable CSV directory must fail"; exit 1
+fi
+grep -q "/nonexistent/dir" "$dir/err" || { echo "FAIL: error must name the file"; exit 1; }
+$pencil verify bounds --bogus >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || { echo "FAIL: unknown option must exit 2"; exit 1; }
+exit 0
