@@ -508,19 +508,25 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
       if (r->status != PX_OK || !r->pinhole ||
           !(r->second_order_vanishes || strncmp(sw[i].label, "aim:", 4) == 0))
         continue;
-      fprintf(f, "  %-56.56s %8.3g %8.3g %9.3g %8.3g %7.3g%s %7.3g %7.3g%s %7.3g\n",
+      char ratio[2][16];
+      for (int m = 0; m < 2; m++) /* NaN: at that spread the pencil leaves a surface */
+        if (isnan(r->err_over_tau[m]))
+          snprintf(ratio[m], sizeof ratio[m], "leaves");
+        else
+          snprintf(ratio[m], sizeof ratio[m], "%.3g", r->err_over_tau[m]);
+      fprintf(f, "  %-56.56s %8.3g %8.3g %9.3g %8.3g %7.3g%s %7s %7.3g%s %7s\n",
               strncmp(sw[i].label, "aim: ", 5) == 0 ? sw[i].label + 5 : sw[i].label, r->bound[0].c,
               r->onset[0], r->err_at_probe, r->k3, r->spread[0],
-              r->regime[0] == PX_SPREAD_CAP ? "*" : " ", r->err_over_tau[0], r->spread[1],
+              r->regime[0] == PX_SPREAD_CAP ? "*" : " ", ratio[0], r->spread[1],
               r->regime[1] == PX_SPREAD_THIRD_ORDER ? "3"
                                                     : (r->regime[1] == PX_SPREAD_CAP ? "*" : " "),
-              r->err_over_tau[1]);
+              ratio[1]);
     }
     fprintf(f,
-            "  (corrected C, scaled by L; onset 0 = the bound fails from the smallest spread;"
+            "  (corrected C, scaled by L; onset 0 = the bound fails from the smallest spread, inf = it holds\n   up to the cap;"
             " Eq.6 = spread limit\n   from C alone, * = only the cap %.2g rad limits it; with "
             "k3 = Eq. (6) plus the third-order term,\n   3 = third order decides; err/tau = "
-            "full exact error at that spread over tau (> 1: too wide);\n   tau of Eq. (3) for"
+            "full exact error at that spread over tau (> 1: too wide;\n   leaves: a pencil that wide misses a surface); tau of Eq. (3) for"
             " rho 1/2 and a direction interval of 1e-3 rad)\n",
             VAL_ONSET_MAX);
     size_t over[2] = {0, 0}, counted = 0;
