@@ -121,6 +121,12 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     const double *w = E->w;
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
     *hit = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+    const rt_prim_t *pr = &E->C->s->prim[n->prim];
+    if (pr->kind == RT_PRIM_SPHERE) { /* a chord lies inside the sphere: back onto its surface,
+                                         so that rays spawned here start on the right side */
+      px_vec3_t r = pv_sub(*hit, pr->sphere.c);
+      *hit = pv_axpy(pr->sphere.r / pv_norm(r), r, pr->sphere.c);
+    }
     *d = pv_unit(
         pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
     return 1;
