@@ -13,7 +13,7 @@ typedef struct {
 static const command_t commands[] = {
     {"matrix", cmd_matrix, "system matrix calculator (transfer, refraction, reflection)"},
     {"verify", cmd_verify, "verify the paper's formulas against exact tracing"},
-    {"render", cmd_render, "render a scene by exact (Whitted) ray tracing to OpenEXR + PNG"},
+    {"render", cmd_render, "render a scene (exact Whitted or pencil tracing) to OpenEXR + PNG"},
     {"bench", cmd_bench, "benchmarks: 'pencil bench render' measures rays per second"},
     {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)"},
     {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep"},
