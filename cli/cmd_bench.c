@@ -6,11 +6,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli.h"
 #include "render/builtin.h"
 #include "render/render.h"
+#include "validation/timing.h"
 
 #define MAX_RUNS 101
 
@@ -36,17 +36,6 @@ typedef struct {
   double median_s, median_rps;
 } result_t;
 
-static double now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 /* N renders of scene s with `threads`; median time and rays per second in *r. */
 static int measure(const rt_scene_t *s, int side, int threads, int runs, result_t *r) {
   rt_plan_t plan = rt_plan_make(s, side * side);
@@ -60,18 +49,17 @@ static int measure(const rt_scene_t *s, int side, int threads, int runs, result_
   if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
     return 0;
   for (int k = 0; k < runs; k++) {
-    double t0 = now();
+    double t0 = val_wall_seconds();
     if (rt_render(s, &plan, &opt, &img, &st) != RT_OK) {
       rt_image_free(&img);
       return 0;
     }
-    t[k] = now() - t0;
+    t[k] = val_wall_seconds() - t0;
   }
   rt_image_free(&img);
-  qsort(t, (size_t)runs, sizeof t[0], cmp_double);
   r->threads = threads;
   r->rays = rt_stats_total(&st);
-  r->median_s = runs % 2 ? t[runs / 2] : 0.5 * (t[runs / 2 - 1] + t[runs / 2]);
+  r->median_s = val_median(t, runs);
   r->median_rps = r->rays / r->median_s;
   return 1;
 }

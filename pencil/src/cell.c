@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "internal.h"
-#include "pvec.h"
+#include "render/vec_inline.h"
 
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;

@@ -6,7 +6,7 @@
 
 #include <math.h>
 
-#include "pvec.h"
+#include "render/vec_inline.h"
 #include "render/intersect.h"
 
 static pt_cnode_t compact(const rt_tree_node_t *a) {
@@ -93,30 +93,30 @@ int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
       out[n++] = (pt_bsphere_t){sp->c, sp->r, o};
       continue;
     }
-    px_vec3_t lo = pv(INFINITY, INFINITY, INFINITY), hi = pv(-INFINITY, -INFINITY, -INFINITY);
+    px_vec3_t lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
       px_vec3_t a, b;
       if (!rt_prim_bounds(s, p, &a, &b))
         continue;
-      lo = pv(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
-      hi = pv(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
+      lo = v3(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
+      hi = v3(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
     }
     if (!(lo.x <= hi.x))
       continue;
-    px_vec3_t c = pv_scale(pv_add(lo, hi), 0.5);
-    out[n++] = (pt_bsphere_t){c, 0.5 * pv_norm(pv_sub(hi, lo)), o};
+    px_vec3_t c = v3_scale(v3_add(lo, hi), 0.5);
+    out[n++] = (pt_bsphere_t){c, 0.5 * v3_norm(v3_sub(hi, lo)), o};
   }
   return n;
 }
 
 int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half) {
   for (int i = 0; i < n; i++) {
-    px_vec3_t v = pv_sub(b[i].c, eye);
-    double dist = pv_norm(v);
+    px_vec3_t v = v3_sub(b[i].c, eye);
+    double dist = v3_norm(v);
     if (dist <= b[i].r)
       continue; /* the eye is inside: the object surrounds every cone */
     double gamma = asin(b[i].r / dist);
-    double ang = acos(fmax(-1.0, fmin(1.0, pv_dot(v, axis) / dist)));
+    double ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dist)));
     if (ang < gamma + half && ang + half > gamma)
       return 1; /* intersects the cone without containing it */
   }

@@ -20,7 +20,7 @@
 #include <stdlib.h>
 
 #include "internal.h"
-#include "pvec.h"
+#include "render/vec_inline.h"
 #include "render/intersect.h"
 
 static void mark_exact(pt_eval_t *E, int k) {
@@ -105,7 +105,7 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   double t;
   if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t))
     return x;
-  x->p = pv_axpy(t, r.d, r.o);
+  x->p = v3_axpy(t, r.d, r.o);
   x->d = r.d;
   x->ok = 1;
   return x;
@@ -120,15 +120,15 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
   if (E->mode == PT_EV_INTERP) {
     const double *w = E->w;
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
-    *hit = pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+    *hit = v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* a chord lies inside the sphere: back onto its surface,
                                          so that rays spawned here start on the right side */
-      px_vec3_t r = pv_sub(*hit, pr->sphere.c);
-      *hit = pv_axpy(pr->sphere.r / pv_norm(r), r, pr->sphere.c);
+      px_vec3_t r = v3_sub(*hit, pr->sphere.c);
+      *hit = v3_axpy(pr->sphere.r / v3_norm(r), r, pr->sphere.c);
     }
-    *d = pv_unit(
-        pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3])))));
+    *d = v3_unit(
+        v3_axpy(w[0], a->d, v3_axpy(w[1], b->d, v3_axpy(w[2], c->d, v3_scale(e->d, w[3])))));
     return 1;
   }
   if (n->pencil == PT_NODE_PATH) { /* exactly along the path */
@@ -137,7 +137,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
       double t;
       if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t))
         return 0;
-      *hit = pv_axpy(t, from->ray.d, from->ray.o);
+      *hit = v3_axpy(t, from->ray.d, from->ray.o);
       *d = from->ray.d;
       E->C->xg[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
       return 1;
@@ -299,6 +299,6 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
 
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]) {
   rt_ray_t r = rt_view_ray(C->view, x, y, 1.0);
-  xi[0] = pv_dot(C->frame.x1, r.d);
-  xi[1] = pv_dot(C->frame.x2, r.d);
+  xi[0] = v3_dot(C->frame.x1, r.d);
+  xi[1] = v3_dot(C->frame.x2, r.d);
 }

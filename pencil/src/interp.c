@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "internal.h"
-#include "pvec.h"
+#include "render/vec_inline.h"
 
 /* A quad: a rectangle [x0, x0 + w) x [y0, y0 + h) of continuous pixel coordinates whose corners
  * were traced, with the points beyond it for e_int. */
@@ -45,8 +45,8 @@ typedef struct {
  * |x_a - 2 x_b + x_c| / 8, in pixels on node k's surface. */
 static double e_int3(const pt_node_t *n, const pt_geom_t *a, const pt_geom_t *b,
                      const pt_geom_t *c) {
-  px_vec3_t s = pv_add(pv_sub(a->p, pv_scale(b->p, 2.0)), c->p);
-  return pt_pixels(n, pv_scale(s, 1.0 / 8.0));
+  px_vec3_t s = v3_add(v3_sub(a->p, v3_scale(b->p, 2.0)), c->p);
+  return pt_pixels(n, v3_scale(s, 1.0 / 8.0));
 }
 
 /* e_int of node k over the quad: along x plus along y; *ok = 0 when a point is missing. */
@@ -109,8 +109,8 @@ static int make_plan(pt_ctx_t *C, const quad_t *q, plan_t *pl) {
       if (cert && ok) {
         if (C->rec[k].ok != 1)
           return (int)(why[2]++ & 0);
-        px_vec3_t mid = pv_scale(pv_add(pv_add(g[0]->p, g[1]->p), pv_add(g[2]->p, g[3]->p)), 0.25);
-        e_int = fmax(e_int, pt_pixels(n, pv_sub(C->rec[k].p, mid)));
+        px_vec3_t mid = v3_scale(v3_add(v3_add(g[0]->p, g[1]->p), v3_add(g[2]->p, g[3]->p)), 0.25);
+        e_int = fmax(e_int, pt_pixels(n, v3_sub(C->rec[k].p, mid)));
       }
       if (!ok || e_int + e_mat > rho)
         return (int)(why[ok ? 3 : 2]++ & 0);
@@ -166,7 +166,7 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
     int k = pl->kt[m];
     const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
     px_vec3_t p =
-        pv_axpy(w[0], g0->p, pv_axpy(w[1], g1->p, pv_axpy(w[2], g2->p, pv_scale(g3->p, w[3]))));
+        v3_axpy(w[0], g0->p, v3_axpy(w[1], g1->p, v3_axpy(w[2], g2->p, v3_scale(g3->p, w[3]))));
     const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
     double u, v;
     rt_plane_coords(pl0, p, &u, &v);
@@ -200,14 +200,14 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
     if (!C->node[k].miss || a->ok != 1)
       continue;
     px_vec3_t o =
-        pv_axpy(w[0], a->p, pv_axpy(w[1], b->p, pv_axpy(w[2], c->p, pv_scale(e->p, w[3]))));
+        v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
     px_vec3_t d =
-        pv_axpy(w[0], a->d, pv_axpy(w[1], b->d, pv_axpy(w[2], c->d, pv_scale(e->d, w[3]))));
+        v3_axpy(w[0], a->d, v3_axpy(w[1], b->d, v3_axpy(w[2], c->d, v3_scale(e->d, w[3]))));
     for (int u = 0; u < s->nunbounded; u++) {
       const rt_prim_t *pr = &s->prim[s->unbounded[u]];
       if (pr->kind != RT_PRIM_PLANE)
         continue;
-      double side = pv_dot(pr->plane.n, pv_sub(o, pr->plane.p)), towards = pv_dot(pr->plane.n, d);
+      double side = v3_dot(pr->plane.n, v3_sub(o, pr->plane.p)), towards = v3_dot(pr->plane.n, d);
       if (side * towards < 0.0)
         return 0; /* heads for the plane from its side: it would meet it */
     }

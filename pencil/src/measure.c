@@ -16,7 +16,7 @@
 #include <math.h>
 
 #include "internal.h"
-#include "pvec.h"
+#include "render/vec_inline.h"
 
 /* Follow the path of node k of tree `a` (its kinds from the root) in tree `b`. Returns the
  * matching node of b, or -1; *last = deepest node of b matched (-1 if not even the root) and
@@ -61,9 +61,9 @@ void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double 
     int x = follow(A, k, X, &last, &next);
     double d = INFINITY, strict = INFINITY;
     if (x >= 0 && X->node[x].prim == n->prim) {
-      px_vec3_t v = pv_sub(rec[k].p, X->node[x].point);
+      px_vec3_t v = v3_sub(rec[k].p, X->node[x].point);
       d = pt_pixels(n, v);
-      strict = pv_norm(v) / n->interval;
+      strict = v3_norm(v) / n->interval;
     }
     e[0] = fmax(e[0], d);
     e[2] = fmax(e[2], strict);

@@ -4,7 +4,7 @@
 #include <math.h>
 
 #include "internal.h"
-#include "pvec.h"
+#include "render/vec_inline.h"
 
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j) {
   return (size_t)j * (size_t)C->img->width + (size_t)i;
@@ -70,7 +70,7 @@ void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec) {
   }
   size_t k = pt__pixel_index(C, i, j);
   const pt_node_t *root = &C->node[0];
-  C->img->ch[RT_CH_Z][k] = root->miss ? INFINITY : (float)pv_norm(pv_sub(rec[0].p, C->view->eye));
+  C->img->ch[RT_CH_Z][k] = root->miss ? INFINITY : (float)v3_norm(v3_sub(rec[0].p, C->view->eye));
   C->img->ch[RT_CH_ID][k] = (float)root->object;
   const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
   for (int p = 0; p < 2; p++) {
@@ -138,8 +138,8 @@ void pt__pixel_done(pt_ctx_t *C, pixel_t *P) {
 
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->primary = rt_view_ray(C->view, x, y, C->s->ior);
-  E->xi[0] = pv_dot(C->frame.x1, E->primary.d);
-  E->xi[1] = pv_dot(C->frame.x2, E->primary.d);
+  E->xi[0] = v3_dot(C->frame.x1, E->primary.d);
+  E->xi[1] = v3_dot(C->frame.x2, E->primary.d);
 }
 
 /* Step 4a with matrices: sample (a, b) of pixel P through the paths. */

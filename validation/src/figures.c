@@ -4,13 +4,13 @@
  * pixel"), the measured error distribution (Fig. 10), the pencil-traced image (Fig. 8), the rho
  * sweep, and the comparison with the paper's numbers. */
 #include "validation/figures.h"
+#include "validation/timing.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "io/image_io.h"
 #include "io/scene_json.h"
@@ -21,28 +21,6 @@
 #define PAPER_RATIO_49 0.1
 #define PAPER_WITHIN 0.998
 #define PAPER_MAX 0.66
-
-static double cpu_now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static double wall_now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof v[0], cmp_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static int side_of(int spp) {
   return (int)lrint(sqrt((double)spp));
@@ -70,17 +48,17 @@ int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int th
   po.progress = NULL;
   int rc = 0;
   for (int r = 0; r < runs && rc == 0; r++) {
-    double c0 = cpu_now(), w0 = wall_now();
+    double c0 = val_cpu_seconds(), w0 = val_wall_seconds();
     if (rt_render(s, &plan, &eo, &img, NULL) != RT_OK)
       rc = -1;
-    ec[r] = cpu_now() - c0;
-    ew[r] = wall_now() - w0;
-    c0 = cpu_now();
-    w0 = wall_now();
+    ec[r] = val_cpu_seconds() - c0;
+    ew[r] = val_wall_seconds() - w0;
+    c0 = val_cpu_seconds();
+    w0 = val_wall_seconds();
     if (rc == 0 && pt_render(s, &plan, &po, &img, NULL, NULL, NULL) != RT_OK)
       rc = -1;
-    pc[r] = cpu_now() - c0;
-    pw[r] = wall_now() - w0;
+    pc[r] = val_cpu_seconds() - c0;
+    pw[r] = val_wall_seconds() - w0;
   }
   rt_image_free(&img);
   if (rc != 0) {
@@ -88,10 +66,10 @@ int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int th
     return -1;
   }
   out->spp = spp;
-  out->exact_s = median(ec, runs);
-  out->exact_wall = median(ew, runs);
-  out->pencil_s = median(pc, runs);
-  out->pencil_wall = median(pw, runs);
+  out->exact_s = val_median(ec, runs);
+  out->exact_wall = val_median(ew, runs);
+  out->pencil_s = val_median(pc, runs);
+  out->pencil_wall = val_median(pw, runs);
   out->ratio = out->pencil_s / out->exact_s;
   return 0;
 }

@@ -6,7 +6,7 @@
 #include <math.h>
 
 #include "prim.h"
-#include "vec.h"
+#include "render/vec_inline.h"
 
 int rt_prim_intersect(const rt_scene_t *s, int prim, const rt_ray_t *ray, double tmax, double *t) {
   return prim_hit(s, prim, ray, tmax, t);

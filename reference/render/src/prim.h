@@ -7,7 +7,7 @@
 #include <math.h>
 
 #include "render/scene.h"
-#include "vec.h"
+#include "render/vec_inline.h"
 
 /* Roots of |o + t d - c|^2 = r^2 for unit d, ascending; 0 on a miss. The discriminant is taken
  * as r^2 - |oc - (oc.d) d|^2 (squared distance of the line from the centre), which does not

@@ -3,7 +3,7 @@
  * occluders, "k_t(1) k_t(2) ... k_t(N) I instead of I" (9.1). Nothing here allocates. */
 #include <math.h>
 
-#include "vec.h"
+#include "render/vec_inline.h"
 
 #include "bvh.h"
 #include "prim.h"

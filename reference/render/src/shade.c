@@ -6,7 +6,7 @@
 
 #include <math.h>
 
-#include "vec.h"
+#include "render/vec_inline.h"
 
 #include "shade_impl.h"
 

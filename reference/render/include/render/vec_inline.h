@@ -1,8 +1,9 @@
-/* vec.h -- private: inline 3-vector arithmetic for the per-ray code. libparaxial's px_vec3_*
+/* vec_inline.h -- internal to the renderers (reference/render, pencil/): inline 3-vector
+ * arithmetic for the per-ray code. libparaxial's px_vec3_*
  * functions live in another translation unit and are not inlined without LTO; these are the
  * same operations on the same px_vec3_t, visible to the optimiser. */
-#ifndef RENDER_VEC_H
-#define RENDER_VEC_H
+#ifndef RENDER_VEC_INLINE_H
+#define RENDER_VEC_INLINE_H
 
 #include <math.h>
 
@@ -30,6 +31,8 @@ static inline double v3_dot(px_vec3_t a, px_vec3_t b) {
 static inline double v3_norm(px_vec3_t a) {
   return sqrt(v3_dot(a, a));
 }
+/** Unit vector along a (a must be non-zero: callers pass directions). */
+static inline px_vec3_t v3_unit(px_vec3_t a) { return v3_scale(a, 1.0 / v3_norm(a)); }
 /** Component `axis` (0, 1, 2). */
 static inline double v3_at(px_vec3_t v, int axis) {
   return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
