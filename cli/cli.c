@@ -60,3 +60,63 @@ void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]) {
   }
   fprintf(f, "]}\n");
 }
+
+int cli_element_option(const char *cmd, int argc, char **argv, int *i, cli_element_t *e) {
+  int err = 0;
+  const char *v;
+  double *target = NULL;
+  const char *name = NULL;
+  if ((v = cli_option(argc, argv, i, "--theta-deg", &err)))
+    target = &e->theta_deg, name = "--theta-deg";
+  else if (!err && (v = cli_option(argc, argv, i, "--n1", &err)))
+    target = &e->n1, name = "--n1";
+  else if (!err && !e->reflect && (v = cli_option(argc, argv, i, "--n2", &err)))
+    target = &e->n2, name = "--n2";
+  else if (!err && (v = cli_option(argc, argv, i, "--radius", &err)))
+    target = &e->radius, name = "--radius";
+  else if (!err && (v = cli_option(argc, argv, i, "--variant", &err))) {
+    if (px_variant_parse(v, &e->variant) == PX_OK)
+      return 1;
+    fprintf(stderr, "pencil %s: --variant: expected corrected or printed, got '%s'\n", cmd, v);
+    return -1;
+  }
+  if (err)
+    return -1;
+  if (!target)
+    return 0;
+  if (!cli_parse_double(name, v, target))
+    return -1;
+  if (target == &e->radius && e->radius == 0.0) {
+    fprintf(stderr, "pencil %s: --radius must be non-zero (omit it for a plane)\n", cmd);
+    return -1;
+  }
+  return 1;
+}
+
+int cli_element_check(const char *cmd, cli_element_t *e) {
+  const char *kind = e->reflect ? "reflect" : "refract";
+  if (isnan(e->theta_deg)) {
+    fprintf(stderr, "pencil %s %s: --theta-deg is required\n", cmd, kind);
+    return 0;
+  }
+  if (e->theta_deg < 0.0 || e->theta_deg > 90.0) {
+    fprintf(stderr, "pencil %s %s: --theta-deg must be in [0, 90], got %g\n", cmd, kind,
+            e->theta_deg);
+    return 0;
+  }
+  if (e->reflect) {
+    if (isnan(e->n1))
+      e->n1 = 1.0; /* a reflection does not depend on the index */
+    e->n2 = e->n1;
+  }
+  if (isnan(e->n1) || isnan(e->n2)) {
+    fprintf(stderr, "pencil %s refract: --n1 and --n2 are required\n", cmd);
+    return 0;
+  }
+  if (!(e->n1 > 0.0) || !(e->n2 > 0.0)) {
+    fprintf(stderr, "pencil %s %s: indices must be positive (got n1=%g, n2=%g)\n", cmd, kind,
+            e->n1, e->n2);
+    return 0;
+  }
+  return 1;
+}

@@ -10,6 +10,8 @@
 
 #include <stdio.h>
 
+#include "paraxial/system.h"
+
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
 /** Parse a finite double for option `opt`; on failure print "pencil: OPT: ..." and return 0. */
@@ -23,6 +25,25 @@ const char *cli_option(int argc, char **argv, int *i, const char *name, int *err
 int cli_is_help(const char *arg);
 /** Print a JSON array of a 4x4 matrix as {"T": [[...], ...]} with 17 significant digits. */
 void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]);
+
+/** One refraction or reflection as `pencil matrix` and `pencil bounds` take it (the paper's
+ *  frames; radius sign convention of docs/conventions.md). */
+typedef struct {
+  int reflect;          /**< 1: reflect, 0: refract */
+  double theta_deg;     /**< incidence angle in degrees; NAN until given */
+  double n1, n2;        /**< indices; NAN until given (a reflection defaults to 1) */
+  double radius;        /**< sphere radius, INFINITY (plane) until given */
+  px_variant_t variant; /**< corrected unless --variant printed */
+} cli_element_t;
+
+/** Parse argv[*i] when it is --theta-deg, --n1, --n2 (refraction only), --radius or --variant.
+ *  Returns 1 when it was one (advancing *i past a separate value), 0 when it is another
+ *  option, -1 after printing a usage error that names `cmd` and the option. */
+int cli_element_option(const char *cmd, int argc, char **argv, int *i, cli_element_t *e);
+
+/** After parsing: check that the angle (in [0, 90]) and the indices (> 0) are given; fills in
+ *  n1 = n2 for a reflection. Returns 1, or 0 after printing a usage error. */
+int cli_element_check(const char *cmd, cli_element_t *e);
 
 int cmd_matrix(int argc, char **argv);
 int cmd_verify(int argc, char **argv);

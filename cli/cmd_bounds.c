@@ -22,7 +22,7 @@ static void help(FILE *f) {
       "element's frames and Delta the second-order error of the linear map (Eq. 2). Units with\n"
       "a length L: a 1/L, b 1, c L, d 1/L^2, e 1/L, f 1.\n\n"
       "options:\n"
-      "  --theta-deg T   angle of incidence in degrees, 0 <= T < 90\n"
+      "  --theta-deg T   angle of incidence in degrees, 0 <= T <= 90 (90: grazing, exit 1)\n"
       "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
       "  --n2 N2         index of the far medium (> 0)\n"
       "  --radius R      radius of a spherical surface (non-zero; its sign, as in\n"
@@ -48,40 +48,25 @@ int cmd_bounds(int argc, char **argv) {
     fprintf(stderr, "pencil bounds: unknown element '%s' (refract or reflect)\n", kind);
     return CLI_USAGE;
   }
-  double theta = NAN, n1 = NAN, n2 = NAN, radius = INFINITY, d3m = 0.0;
-  px_variant_t variant = PX_VARIANT_CORRECTED;
+  cli_element_t el = {is_reflect, NAN, NAN, NAN, INFINITY, PX_VARIANT_CORRECTED};
+  double d3m = 0.0;
   for (int i = 2; i < argc; i++) {
     int err = 0;
     const char *v, *opt = argv[i];
-    if (cli_is_help(argv[i])) {
+    if (cli_is_help(opt)) {
       help(stdout);
       return CLI_OK;
-    } else if ((v = cli_option(argc, argv, &i, "--theta-deg", &err))) {
-      if (!cli_parse_double("--theta-deg", v, &theta))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--n1", &err))) {
-      if (!cli_parse_double("--n1", v, &n1))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--n2", &err)) && !is_reflect) {
-      if (!cli_parse_double("--n2", v, &n2))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--radius", &err))) {
-      if (!cli_parse_double("--radius", v, &radius))
-        return CLI_USAGE;
-      if (radius == 0.0) {
-        fprintf(stderr, "pencil bounds: --radius must be non-zero (omit it for a plane)\n");
-        return CLI_USAGE;
-      }
-    } else if ((v = cli_option(argc, argv, &i, "--d3m", &err))) {
+    }
+    int r = cli_element_option("bounds", argc, argv, &i, &el);
+    if (r < 0)
+      return CLI_USAGE;
+    if (r > 0)
+      continue;
+    if ((v = cli_option(argc, argv, &i, "--d3m", &err))) {
       if (!cli_parse_double("--d3m", v, &d3m))
         return CLI_USAGE;
       if (d3m < 0.0) {
         fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
-        return CLI_USAGE;
-      }
-    } else if ((v = cli_option(argc, argv, &i, "--variant", &err))) {
-      if (px_variant_parse(v, &variant) != PX_OK) {
-        fprintf(stderr, "pencil bounds: --variant: expected corrected or printed, got '%s'\n", v);
         return CLI_USAGE;
       }
     } else {
@@ -89,30 +74,11 @@ int cmd_bounds(int argc, char **argv) {
         fprintf(stderr, "pencil bounds %s: unknown or misplaced option '%s'\n", kind, opt);
       return CLI_USAGE;
     }
-    if (err)
-      return CLI_USAGE;
   }
-  if (isnan(theta)) {
-    fprintf(stderr, "pencil bounds %s: --theta-deg is required\n", kind);
+  if (!cli_element_check("bounds", &el))
     return CLI_USAGE;
-  }
-  if (theta < 0.0 || theta >= 90.0) {
-    fprintf(stderr, "pencil bounds %s: --theta-deg must be in [0, 90), got %g\n", kind, theta);
-    return CLI_USAGE;
-  }
-  if (is_reflect && isnan(n1))
-    n1 = 1.0; /* a reflection does not depend on the index */
-  if (is_reflect)
-    n2 = n1;
-  if (isnan(n1) || isnan(n2)) {
-    fprintf(stderr, "pencil bounds refract: --n1 and --n2 are required\n");
-    return CLI_USAGE;
-  }
-  if (!(n1 > 0.0) || !(n2 > 0.0)) {
-    fprintf(stderr, "pencil bounds %s: indices must be positive (got n1=%g, n2=%g)\n", kind, n1,
-            n2);
-    return CLI_USAGE;
-  }
+  double theta = el.theta_deg, n1 = el.n1, n2 = el.n2, radius = el.radius;
+  px_variant_t variant = el.variant;
   px_element_geom_t g = {is_reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT,
                          theta * M_PI / 180.0,
                          n1,

@@ -18,7 +18,7 @@ static void help(FILE *f) {
           "x1 = x2 x z and x1' = x2' x z' (right-handed, also after a reflection), so that\n"
           "Theta = diag(cos theta, 1) and Theta' = diag(cos theta', 1).\n\n"
           "options:\n"
-          "  --theta-deg T   angle of incidence in degrees, 0 <= T < 90\n"
+          "  --theta-deg T   angle of incidence in degrees, 0 <= T <= 90 (90: grazing, exit 1)\n"
           "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
           "  --n2 N2         index of the far medium (> 0)\n"
           "  --radius R      radius of curvature of a spherical surface (non-zero). R > 0 when\n"
@@ -39,50 +39,34 @@ int cmd_matrix(int argc, char **argv) {
     return argc < 2 ? CLI_USAGE : CLI_OK;
   }
   const char *kind = argv[1];
-  int is_transfer = strcmp(kind, "transfer") == 0, is_reflect = strcmp(kind, "reflect") == 0;
-  if (!is_transfer && !is_reflect && strcmp(kind, "refract") != 0) {
+  int is_transfer = strcmp(kind, "transfer") == 0;
+  cli_element_t e = {strcmp(kind, "reflect") == 0, NAN, NAN, NAN, INFINITY, PX_VARIANT_CORRECTED};
+  if (!is_transfer && !e.reflect && strcmp(kind, "refract") != 0) {
     fprintf(stderr, "pencil matrix: unknown element '%s' (refract, reflect or transfer)\n", kind);
     return CLI_USAGE;
   }
-  double theta = NAN, n1 = NAN, n2 = NAN, radius = INFINITY, distance = NAN;
-  px_variant_t variant = PX_VARIANT_CORRECTED;
+  double distance = NAN;
   for (int i = 2; i < argc; i++) {
-    int err = 0;
+    int err = 0, r = 0;
     const char *v, *opt = argv[i];
-    if (cli_is_help(argv[i])) {
+    if (cli_is_help(opt)) {
       help(stdout);
       return CLI_OK;
-    } else if ((v = cli_option(argc, argv, &i, "--theta-deg", &err)) && !is_transfer) {
-      if (!cli_parse_double("--theta-deg", v, &theta))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--n1", &err)) && !is_transfer) {
-      if (!cli_parse_double("--n1", v, &n1))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--n2", &err)) && !is_transfer && !is_reflect) {
-      if (!cli_parse_double("--n2", v, &n2))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--radius", &err)) && !is_transfer) {
-      if (!cli_parse_double("--radius", v, &radius))
-        return CLI_USAGE;
-      if (radius == 0.0) {
-        fprintf(stderr, "pencil matrix: --radius must be non-zero (omit it for a plane)\n");
-        return CLI_USAGE;
-      }
-    } else if ((v = cli_option(argc, argv, &i, "--distance", &err)) && is_transfer) {
-      if (!cli_parse_double("--distance", v, &distance))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--variant", &err)) && !is_transfer) {
-      if (px_variant_parse(v, &variant) != PX_OK) {
-        fprintf(stderr, "pencil matrix: --variant: expected corrected or printed, got '%s'\n", v);
-        return CLI_USAGE;
-      }
+    }
+    if (is_transfer) {
+      if ((v = cli_option(argc, argv, &i, "--distance", &err)))
+        r = cli_parse_double("--distance", v, &distance) ? 1 : -1;
+      else if (err)
+        r = -1;
     } else {
-      if (!err)
-        fprintf(stderr, "pencil matrix %s: unknown or misplaced option '%s'\n", kind, opt);
+      r = cli_element_option("matrix", argc, argv, &i, &e);
+    }
+    if (r < 0)
+      return CLI_USAGE;
+    if (r == 0) {
+      fprintf(stderr, "pencil matrix %s: unknown or misplaced option '%s'\n", kind, opt);
       return CLI_USAGE;
     }
-    if (err)
-      return CLI_USAGE;
   }
 
   px_mat4_t t;
@@ -93,32 +77,14 @@ int cmd_matrix(int argc, char **argv) {
     }
     t = px_transfer_matrix(distance);
   } else {
-    if (isnan(theta)) {
-      fprintf(stderr, "pencil matrix %s: --theta-deg is required\n", kind);
+    if (!cli_element_check("matrix", &e))
       return CLI_USAGE;
-    }
-    if (theta < 0.0 || theta > 90.0) {
-      fprintf(stderr, "pencil matrix %s: --theta-deg must be in [0, 90), got %g\n", kind, theta);
-      return CLI_USAGE;
-    }
-    if (is_reflect && isnan(n1))
-      n1 = 1.0; /* a reflection does not depend on the index */
-    if (is_reflect)
-      n2 = n1;
-    if (isnan(n1) || isnan(n2)) {
-      fprintf(stderr, "pencil matrix refract: --n1 and --n2 are required\n");
-      return CLI_USAGE;
-    }
-    if (!(n1 > 0.0) || !(n2 > 0.0)) {
-      fprintf(stderr, "pencil matrix %s: indices must be positive (got n1=%g, n2=%g)\n", kind, n1,
-              n2);
-      return CLI_USAGE;
-    }
-    px_event_t ev = is_reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT;
-    px_status_t st = px_element_matrix(ev, theta * M_PI / 180.0, n1, n2, radius, variant, &t);
+    px_event_t ev = e.reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT;
+    px_status_t st =
+        px_element_matrix(ev, e.theta_deg * M_PI / 180.0, e.n1, e.n2, e.radius, e.variant, &t);
     if (st != PX_OK) {
       fprintf(stderr, "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n",
-              kind, theta, n1, n2, px_strerror(st));
+              kind, e.theta_deg, e.n1, e.n2, px_strerror(st));
       return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
     }
   }

@@ -47,8 +47,10 @@ check "TIR exits 1 with empty stdout" "[ $rc -eq 1 ] && [ -z '$out' ]"
 check "TIR reason on stderr" "grep -q 'total internal reflection' '$err'"
 out=$($pencil bounds refract --theta-deg 41.8103149 --n1 1.5 --n2 1 2>/dev/null); rc=$?
 check "exit at the critical angle (grazing) exits 1 with empty stdout" "[ $rc -eq 1 ] && [ -z '$out' ]"
-$pencil bounds refract --theta-deg 90 --n1 1 --n2 1.5 >/dev/null 2>&1; rc=$?
-check "theta 90 is a usage error" "[ $rc -eq 2 ]"
+out=$($pencil bounds refract --theta-deg 90 --n1 1 --n2 1.5 2>"$err"); rc=$?
+check "theta 90 (grazing) exits 1 with empty stdout, as pencil matrix" "[ $rc -eq 1 ] && [ -z '$out' ] && grep -q grazing '$err'"
+$pencil bounds refract --theta-deg 90.5 --n1 1 --n2 1.5 >/dev/null 2>&1; rc=$?
+check "theta above 90 is a usage error" "[ $rc -eq 2 ]"
 $pencil bounds refract --theta-deg 10 --n1 1 --n2 1.5 --radius 0 >/dev/null 2>&1; rc=$?
 check "radius 0 is a usage error" "[ $rc -eq 2 ]"
 $pencil bounds refract --theta-deg x --n1 1 --n2 1.5 >/dev/null 2>"$err"; rc=$?

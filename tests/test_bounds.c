@@ -91,7 +91,9 @@ static void bad_parameters_return_status(void **state) {
   px_coeffs_t k = {7, 7, 7, 7, 7, 7};
   px_element_geom_t g = {PX_EVENT_REFRACT, 50 * DEG, 1.5, 1.0, 1.0, 0};
   assert_int_equal(px_error_coeffs(&g, PX_VARIANT_CORRECTED, &k), PX_ETIR);
-  g.theta = M_PI / 2;
+  g.theta = M_PI / 2; /* grazing, as px_element_matrix reports it */
+  assert_int_equal(px_error_coeffs(&g, PX_VARIANT_CORRECTED, &k), PX_EGRAZING);
+  g.theta = M_PI / 2 + 1e-9;
   assert_int_equal(px_error_coeffs(&g, PX_VARIANT_CORRECTED, &k), PX_EINVAL);
   g = (px_element_geom_t){PX_EVENT_REFRACT, 0.1, 1.0, 1.5, 0.0, 0};
   assert_int_equal(px_error_coeffs(&g, PX_VARIANT_PRINTED, &k), PX_EINVAL);

@@ -15,7 +15,7 @@ typedef struct {
 } angles_t;
 
 static px_status_t element_angles(px_event_t ev, double theta, double n1, double n2, angles_t *a) {
-  if (!isfinite(theta) || theta < 0.0 || theta >= M_PI / 2 || !(n1 > 0.0) || !isfinite(n1))
+  if (!isfinite(theta) || theta < 0.0 || theta > M_PI / 2 || !(n1 > 0.0) || !isfinite(n1))
     return PX_EINVAL;
   if (ev == PX_EVENT_REFRACT && (!(n2 > 0.0) || !isfinite(n2)))
     return PX_EINVAL;
