@@ -120,3 +120,12 @@ int cli_element_check(const char *cmd, cli_element_t *e) {
   }
   return 1;
 }
+
+void cli_progress(void *label, int done, int total) {
+  int w = 40, k = total > 0 ? (int)((long)w * done / total) : w;
+  fprintf(stderr, "\r%s [%.*s%*s] %3d%%", (const char *)label, k,
+          "########################################", w - k, "",
+          total > 0 ? (int)(100L * done / total) : 100);
+  if (done >= total)
+    fputc('\n', stderr);
+}

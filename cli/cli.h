@@ -23,6 +23,11 @@ int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *ou
 const char *cli_option(int argc, char **argv, int *i, const char *name, int *err);
 /** 1 when argv[i] is -h or --help. */
 int cli_is_help(const char *arg);
+/** A progress bar on stderr for long work: "\rLABEL [####    ]  42%", a newline when done.
+ *  The signature is the renderers' and drivers' progress callback, with ctx = the label (a
+ *  const char *). Callers install it only when isatty(2). */
+void cli_progress(void *label, int done, int total);
+
 /** Print a JSON array of a 4x4 matrix as {"T": [[...], ...]} with 17 significant digits. */
 void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]);
 

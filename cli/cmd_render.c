@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "validation/timing.h"
 #include "io/image_io.h"
 #include "io/scene_json.h"
 #include "render/builtin.h"
@@ -121,21 +122,6 @@ static void explain(FILE *f, const rt_plan_t *p, const char *scene) {
           p->tree_nodes);
 }
 
-static void progress(void *ctx, int done, int total) {
-  (void)ctx;
-  int w = 40, k = (int)((long)w * done / total);
-  fprintf(stderr, "\rrendering [%.*s%*s] %3d%%", k, "########################################",
-          w - k, "", (int)(100L * done / total));
-  if (done == total)
-    fputc('\n', stderr);
-}
-
-static double now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 static int load(const args_t *a, rt_scene_t *s) {
   char err[1024];
   rt_scene_init(s);
@@ -184,11 +170,12 @@ static int render(const args_t *a, rt_scene_t *s) {
   rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
   opt.spp_side = side;
   opt.threads = (int)a->threads;
-  opt.progress = isatty(2) ? progress : NULL;
+  opt.progress = isatty(2) ? cli_progress : NULL;
+  opt.progress_ctx = (void *)"rendering";
   rt_stats_t st;
-  double t0 = now();
+  double t0 = val_wall_seconds();
   rt_status_t rs = rt_render(s, &plan, &opt, &img, &st);
-  double dt = now() - t0;
+  double dt = val_wall_seconds() - t0;
   int ok = rs == RT_OK && write_outputs(a, &img, spp);
   if (rs != RT_OK)
     fprintf(stderr, "pencil render: %s\n", rt_strerror(rs));

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "validation/timing.h"
 #include "io/image_io.h"
 #include "io/scene_json.h"
 #include "pencil/pencil.h"
@@ -142,21 +143,6 @@ static int parse_args(int argc, char **argv, args_t *a) {
   return 1;
 }
 
-static void progress(void *ctx, int done, int total) {
-  (void)ctx;
-  int w = 40, k = (int)((long)w * done / total);
-  fprintf(stderr, "\rpencil tracing [%.*s%*s] %3d%%", k, "########################################",
-          w - k, "", (int)(100L * done / total));
-  if (done == total)
-    fputc('\n', stderr);
-}
-
-static double now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 static int load(const args_t *a, rt_scene_t *s) {
   char err[1024];
   rt_scene_init(s);
@@ -241,11 +227,12 @@ static int render(args_t *a, rt_scene_t *s) {
   pt_extra_t x = {err, meth, rays};
   a->opt.spp_side = side;
   a->opt.threads = (int)a->threads;
-  a->opt.progress = isatty(2) ? progress : NULL;
+  a->opt.progress = isatty(2) ? cli_progress : NULL;
+  a->opt.progress_ctx = (void *)"pencil tracing";
   pt_stats_t st;
-  double t0 = now();
+  double t0 = val_wall_seconds();
   rt_status_t rs = pt_render(s, &plan, &a->opt, &img, &x, NULL, &st);
-  double dt = now() - t0;
+  double dt = val_wall_seconds() - t0;
   int ok = rs == RT_OK && write_outputs(a, &img, &x, spp);
   if (rs != RT_OK)
     fprintf(stderr, "pencil render: %s\n", rt_strerror(rs));

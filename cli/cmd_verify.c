@@ -1,5 +1,6 @@
 /* cmd_verify.c -- `pencil verify WHAT`: the verification runs of the validation suite. */
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "validation/bounds.h"
@@ -28,7 +29,11 @@ static void help(FILE *f) {
 
 /* `pencil verify bounds`: issue 3 (validation/src/verify_bounds.c) */
 static int cmd_verify_bounds(int argc, char **argv) {
-  val_bounds_opts_t o = {0, 0, NULL, NULL, stdout};
+  val_bounds_opts_t o = {0, 0, NULL, NULL, stdout, NULL, NULL};
+  if (isatty(2)) {
+    o.progress = cli_progress;
+    o.progress_ctx = (void *)"verifying bounds";
+  }
   for (int i = 2; i < argc; i++) {
     int err = 0;
     const char *v, *opt = argv[i];

@@ -406,8 +406,11 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
     free(sw);
     return -1;
   }
-  for (size_t i = 0; i < n; i++)
+  for (size_t i = 0; i < n; i++) {
     val_verify_bounds_system(&sw[i], !o->no_fit, &res[i]);
+    if (o->progress && (i + 1 == n || i % 16 == 0))
+      o->progress(o->progress_ctx, (int)(i + 1), (int)n);
+  }
 
   /* statistics: per variant x (A..F, e_x, e_xi); per family (corrected e_x, e_xi) */
   ratio_stats_t st[2][VAL_NCOEF + 2], fam[VAL_FAMILY_COUNT][2][2];

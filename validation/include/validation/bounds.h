@@ -117,6 +117,9 @@ typedef struct {
   const char *json; /**< summary JSON path or NULL */
   const char *csv;  /**< directory for the CSV tables or NULL */
   FILE *report;     /**< human-readable tables (stdout) or NULL */
+  /** Called after each system with (done, total), or NULL. */
+  void (*progress)(void *ctx, int done, int total);
+  void *progress_ctx; /**< passed to progress */
 } val_bounds_opts_t;
 
 /** Run the verification; 0 when the corrected variant holds everywhere and the fit agrees, 1
