@@ -27,13 +27,16 @@ static void help(FILE *f) {
              "Exit codes: 0 all systems pass, 1 some fail, 2 usage or I/O error.\n");
 }
 
-/* `pencil verify bounds`: issue 3 (validation/src/verify_bounds.c) */
-static int cmd_verify_bounds(int argc, char **argv) {
-  val_bounds_opts_t o = {0, 0, NULL, NULL, stdout, NULL, NULL};
-  if (isatty(2)) {
-    o.progress = cli_progress;
-    o.progress_ctx = (void *)"verifying bounds";
-  }
+/* The options both verifications take. */
+typedef struct {
+  const char *json, *csv;
+  int quick, no_fit;
+} verify_args_t;
+
+/* Parse argv[2..] for `pencil verify WHAT`; --no-fit only when `what` is bounds. Returns -1 to
+ * go on, else the exit code (after --help or a usage error). */
+static int parse(int argc, char **argv, verify_args_t *a) {
+  int bounds = strcmp(argv[1], "bounds") == 0;
   for (int i = 2; i < argc; i++) {
     int err = 0;
     const char *v, *opt = argv[i];
@@ -41,23 +44,22 @@ static int cmd_verify_bounds(int argc, char **argv) {
       help(stdout);
       return CLI_OK;
     } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
-      o.json = v;
+      a->json = v;
     } else if ((v = cli_option(argc, argv, &i, "--csv", &err))) {
-      o.csv = v;
+      a->csv = v;
     } else if (strcmp(opt, "--quick") == 0) {
-      o.quick = 1;
-    } else if (strcmp(opt, "--no-fit") == 0) {
-      o.no_fit = 1;
+      a->quick = 1;
+    } else if (bounds && strcmp(opt, "--no-fit") == 0) {
+      a->no_fit = 1;
     } else {
       if (!err)
-        fprintf(stderr, "pencil verify bounds: unknown option '%s'\n", opt);
+        fprintf(stderr, "pencil verify %s: unknown option '%s'\n", argv[1], opt);
       return CLI_USAGE;
     }
     if (err)
       return CLI_USAGE;
   }
-  int r = val_verify_bounds(&o);
-  return r < 0 ? CLI_USAGE : r ? CLI_FAIL : CLI_OK;
+  return -1;
 }
 
 int cmd_verify(int argc, char **argv) {
@@ -65,33 +67,26 @@ int cmd_verify(int argc, char **argv) {
     help(argc < 2 ? stderr : stdout);
     return argc < 2 ? CLI_USAGE : CLI_OK;
   }
-  if (strcmp(argv[1], "bounds") == 0)
-    return cmd_verify_bounds(argc, argv);
-  if (strcmp(argv[1], "matrices") != 0) {
+  int bounds = strcmp(argv[1], "bounds") == 0;
+  if (!bounds && strcmp(argv[1], "matrices") != 0) {
     fprintf(stderr, "pencil verify: unknown verification '%s' (try: matrices, bounds)\n", argv[1]);
     return CLI_USAGE;
   }
-  val_matrices_opts_t o = {0, NULL, NULL, stdout};
-  for (int i = 2; i < argc; i++) {
-    int err = 0;
-    const char *v, *opt = argv[i];
-    if (cli_is_help(opt)) {
-      help(stdout);
-      return CLI_OK;
-    } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
-      o.json = v;
-    } else if ((v = cli_option(argc, argv, &i, "--csv", &err))) {
-      o.csv = v;
-    } else if (strcmp(opt, "--quick") == 0) {
-      o.quick = 1;
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil verify matrices: unknown option '%s'\n", opt);
-      return CLI_USAGE;
+  verify_args_t a = {NULL, NULL, 0, 0};
+  int rc = parse(argc, argv, &a);
+  if (rc >= 0)
+    return rc;
+  int r;
+  if (bounds) { /* issue 3: validation/src/verify_bounds.c */
+    val_bounds_opts_t o = {a.quick, a.no_fit, a.json, a.csv, stdout, NULL, NULL};
+    if (isatty(2)) {
+      o.progress = cli_progress;
+      o.progress_ctx = (void *)"verifying bounds";
     }
-    if (err)
-      return CLI_USAGE;
+    r = val_verify_bounds(&o);
+  } else {
+    val_matrices_opts_t o = {a.quick, a.json, a.csv, stdout};
+    r = val_verify_matrices(&o);
   }
-  int r = val_verify_matrices(&o);
   return r < 0 ? CLI_USAGE : r ? CLI_FAIL : CLI_OK;
 }

@@ -44,20 +44,7 @@ void pt__aux_exact(pt_ctx_t *C, int i, int j) {
   rt_exact_primary(&C->ex, &r);
   C->ex.tree = NULL;
   const rt_tree_t *t = &C->tree2;
-  size_t k = pt__pixel_index(C, i, j);
-  C->img->ch[RT_CH_Z][k] = (float)t->node[0].t;
-  C->img->ch[RT_CH_ID][k] = (float)t->node[0].object;
-  const rt_ray_kind_t prefer[2] = {RT_RAY_REFRACT, RT_RAY_REFLECT};
-  const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
-  for (int p = 0; p < 2; p++) {
-    int n = rt_tree_follow(t, prefer[p]);
-    double u = NAN, v = NAN;
-    if (n >= 0)
-      rt_plane_coords(&C->s->prim[t->node[n].prim].plane, t->node[n].point, &u, &v);
-    C->img->ch[base[p]][k] = (float)u;
-    C->img->ch[base[p] + 1][k] = (float)v;
-    C->img->ch[base[p] + 2][k] = n >= 0 ? (float)t->node[n].depth : -1.0f;
-  }
+  rt_image_set_aux(C->img, C->s, pt__pixel_index(C, i, j), t);
 }
 
 /* Auxiliary channels from the pencil's own pt__geometry of the pixel's centre ray (rec), so that

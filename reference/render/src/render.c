@@ -20,9 +20,7 @@ typedef struct {
   rt_image_t *img;
 } job_t;
 
-/* Auxiliary channels of pixel k from the centre ray's tree. */
-static void write_aux(const job_t *J, const rt_tree_t *t, size_t k) {
-  rt_image_t *img = J->img;
+void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
   const rt_tree_node_t *root = &t->node[0];
   img->ch[RT_CH_Z][k] = (float)root->t;
   img->ch[RT_CH_ID][k] = (float)root->object;
@@ -32,7 +30,7 @@ static void write_aux(const job_t *J, const rt_tree_t *t, size_t k) {
     int n = rt_tree_follow(t, prefer[p]);
     double u = NAN, v = NAN;
     if (n >= 0)
-      rt_plane_coords(&J->s->prim[t->node[n].prim].plane, t->node[n].point, &u, &v);
+      rt_plane_coords(&s->prim[t->node[n].prim].plane, t->node[n].point, &u, &v);
     img->ch[base[p]][k] = (float)u;
     img->ch[base[p] + 1][k] = (float)v;
     img->ch[base[p] + 2][k] = n >= 0 ? (float)t->node[n].depth : -1.0f;
@@ -62,13 +60,13 @@ static void render_pixel(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int i,
       int centre = (s & 1) && a == s / 2 && b == s / 2;
       sum = rt_rgb_add(sum, sample(J, ex, tree, every || (centre && aux), i, j, a, b));
       if (centre && aux) {
-        write_aux(J, tree, (size_t)j * J->img->width + i);
+        rt_image_set_aux(J->img, J->s, (size_t)j * J->img->width + i, tree);
         have_centre = 1;
       }
     }
   if (aux && !have_centre) { /* even s: no sample at the centre; trace one for the record */
     sample(J, ex, tree, 1, i, j, -1, -1);
-    write_aux(J, tree, (size_t)j * J->img->width + i);
+    rt_image_set_aux(J->img, J->s, (size_t)j * J->img->width + i, tree);
   }
   size_t k = (size_t)j * (size_t)J->img->width + (size_t)i;
   double w = 1.0 / (s * s);

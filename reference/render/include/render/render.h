@@ -44,6 +44,10 @@ typedef struct {
 
 rt_status_t rt_image_alloc(rt_image_t *img, int width, int height);
 void rt_image_free(rt_image_t *img);
+/** Fill the auxiliary channels (Z, id, both paths' checkerboard u, v and event counts) of pixel
+ *  index k from the ray tree of that pixel's centre ray. Shared by every renderer, so that the
+ *  channels mean the same whichever method made the image. */
+void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t);
 
 /** Ray counts (all generations, summed over threads). */
 typedef struct {
