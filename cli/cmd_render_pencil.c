@@ -21,7 +21,7 @@ static void help(FILE *f) {
   fprintf(
       f, "usage: pencil render [SCENE.json] -o OUT.exr --method pencil [--spp N] [--threads N]\n"
          "                     [--size WxH] [--domain N] [--rho R] [--bounds B] [--certified]\n"
-         "                     [--no-interp] [--measure] [--explain]\n\n"
+         "                     [--no-interp] [--brightness-tol L] [--measure] [--explain]\n\n"
          "Renders SCENE.json or the built-in Fig. 8 scene by pencil tracing (paper section 4.1):\n"
          "initial domains of N x N pixels, the axial ray of each traced exactly with its ray\n"
          "tree, a system matrix per path, edges found by comparing ray trees, the tolerance of\n"
@@ -42,6 +42,8 @@ static void help(FILE *f) {
          "                        errors on the spread circle; not a bound)\n"
          "  --certified           also check every path exactly on each domain's boundary\n"
          "  --no-interp           trace every sample with matrices (no ray interpolation)\n"
+         "  --brightness-tol L    ray interpolation: largest deviation of interpolated from\n"
+         "                        traced brightness on a lattice cell, >= 0 (default 1/1024)\n"
          "  --measure             trace every sample exactly too; Fig. 10 error statistics\n"
          "  --explain             print the effects plan\n"
          "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
@@ -89,6 +91,11 @@ static int parse_value(args_t *a, const char *name, const char *v) {
       return 0;
     return a->opt.rho > 0.0 || bad(name, v, "a number > 0");
   }
+  if (strcmp(name, "--brightness-tol") == 0) {
+    if (!cli_parse_double(name, v, &a->opt.brightness_tol))
+      return 0;
+    return a->opt.brightness_tol >= 0.0 || bad(name, v, "a number >= 0");
+  }
   if (strcmp(name, "--bounds") == 0)
     return pt_bound_parse(v, &a->opt.bound) || bad(name, v, "corrected, printed or probe");
   a->out = v; /* -o / --output */
@@ -98,7 +105,8 @@ static int parse_value(args_t *a, const char *name, const char *v) {
 /* 1 ok, 0 usage error, -1 help printed. */
 static int parse_args(int argc, char **argv, args_t *a) {
   static const char *const valued[] = {"--method", "--spp", "--threads", "--size",
-                                       "--domain", "--rho", "--bounds",  "--output"};
+                                       "--domain", "--rho", "--bounds",  "--output",
+                                       "--brightness-tol"};
   for (int i = 1; i < argc; i++) {
     int err = 0, done = 0;
     if (cli_is_help(argv[i])) {
@@ -187,10 +195,12 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
       (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
       (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
       (unsigned long long)st->paths_exact, (unsigned long long)rt_stats_total(&st->rays), a->out);
-  printf("matrix pixels: %llu small cell, %llu corner left the paths, %llu reach, %llu e_int; "
+  printf("ray interpolation: %llu lattice points; samples by matrices: %llu small cell, %llu "
+         "left the paths, %llu reach, %llu error; "
          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
-         (unsigned long long)st->matrix_pixels[0], (unsigned long long)st->matrix_pixels[1],
-         (unsigned long long)st->matrix_pixels[2], (unsigned long long)st->matrix_pixels[3],
+         (unsigned long long)st->lattice_points, (unsigned long long)st->matrix_samples[0],
+         (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
+         (unsigned long long)st->matrix_samples[3],
          (unsigned long long)st->fallbacks, (unsigned long long)st->partial,
          (unsigned long long)st->lerp_samples);
   if (a->opt.measure)

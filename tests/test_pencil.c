@@ -312,11 +312,11 @@ static void subdivision_only_at_edges(void **state) {
   rt_scene_free(&s);
 }
 
-/* Ray interpolation (4.1 (2)) on the bare board: most samples are interpolated from the pixel
- * corners and every one lands within rho = 1/2 pixel of the exact point. The board seen from
- * the camera is a projective map whose second derivative is largest at the far rows; over one
- * pixel the linear interpolation error there is still a few hundredths of a pixel, so 0.1 is a
- * wide margin. With a tiny rho the e_int test must reject interpolation somewhere. */
+/* Ray interpolation (4.1 (2)) on the bare board: nearly every sample is interpolated, from a
+ * lattice coarser than the pixels (the board seen from the camera is a projective map, nearly
+ * linear over a 5 x 5 domain), and every one lands within rho = 1/2 pixel of the exact point.
+ * With a tiny rho the lattice must be refined (more points than pixels) and still be too coarse
+ * somewhere, so that some samples go to the matrices. */
 static void interpolation_error_on_board(void **state) {
   (void)state;
   rt_scene_t s;
@@ -331,12 +331,14 @@ static void interpolation_error_on_board(void **state) {
   assert_int_equal(rt_image_alloc(&img, 40, 40), RT_OK);
   assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, &st), RT_OK);
   assert_true(st.samples[PT_METHOD_INTERP] > 40 * 40 * 4 * 9 / 10);
+  assert_true(st.lattice_points < 40 * 40);
   assert_int_equal(st.within, st.measured);
-  assert_true(st.max_error < 0.1);
+  assert_true(st.max_error <= 0.5);
   assert_int_equal(st.mismatches, 0);
   o.rho = 1e-4;
   assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, &st), RT_OK);
-  assert_true(st.matrix_pixels[3] > 0);
+  assert_true(st.lattice_points > 40 * 40);
+  assert_true(st.matrix_samples[3] > 0);
   rt_image_free(&img);
   rt_scene_free(&s);
 }
@@ -355,12 +357,14 @@ static double board_step(const rt_image_t *e, int k, int w, int h) {
 
 /* Pencil against exact tracing on a tiny Fig. 8 render at 4 spp. The Fig. 10 error must hold for
  * at least 99.5% of samples (the paper: 99.8% at 256 x 256), and for all of them in certified
- * mode. The images are compared where they resolve the checkerboard (a pixel's board point moves
- * less than half a square to its neighbours): towards the horizon one pixel covers several
- * squares and any sub-pixel error, even far below rho, changes its aliased colour. There, a
- * sample changes colour only when its board point lies within its error (<= rho pixel) of a
- * square edge: that changes its pixel by one sample's share, 1/4 of the contrast (~0.8), so at
- * most 0.25, in at most 1% of the pixels; over the image the RMS stays below 0.01. */
+ * mode. The images are compared at rho = 0.05, where they resolve the checkerboard (a pixel's
+ * board point moves less than half a square to its neighbours): towards the horizon one pixel
+ * covers several squares and any sub-pixel error, even far below rho, changes its aliased colour.
+ * There, a sample changes colour only when its board point lies within its error (<= rho pixel)
+ * of a square edge: that changes its pixel by one sample's share, 1/4 of the contrast (~0.8), so
+ * at most 0.25, in at most 1% of the pixels; over the image the RMS stays below 0.01. (At
+ * rho = 1/2 every sample within half a pixel of a square edge may change colour, and along an
+ * edge that runs with the pixel rows a whole row of pixels does: docs/pencil.md.) */
 static void pencil_image_matches_exact(void **state) {
   (void)state;
   enum { W = 48, H = 48 };
@@ -374,6 +378,9 @@ static void pencil_image_matches_exact(void **state) {
   o.threads = 1;
   o.measure = 1;
   assert_int_equal(rt_image_alloc(&p, W, H), RT_OK);
+  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
+  assert_true(st.within >= st.measured * 995 / 1000);
+  o.rho = 0.05;
   assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
   assert_true(st.within >= st.measured * 995 / 1000);
   rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
@@ -400,6 +407,7 @@ static void pencil_image_matches_exact(void **state) {
   assert_true(sqrt(sq / (3.0 * n)) < 0.01);
   assert_true(big <= n / 100);
   assert_true(worst <= 0.25);
+  o.rho = 0.5;
   o.certified = 1;
   assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
   assert_int_equal(st.within, st.measured);

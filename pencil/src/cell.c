@@ -31,6 +31,11 @@ static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   return ct;
 }
 
+/* Whether accepted cells are ray-interpolated (4.1 (2)) rather than traced by matrices. */
+static int interpolating(const pt_ctx_t *C) {
+  return C->opt->interp && C->opt->spp_side >= 2;
+}
+
 /* Step 4a for an accepted cell. */
 static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
   /* shadow transmittance once per cell, at the axial ray's nodes */
@@ -39,11 +44,11 @@ static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ra
   pt__eval(&E);
   C->kt = rt_tree_follow(&C->tree, RT_RAY_REFRACT);
   C->kr = rt_tree_follow(&C->tree, RT_RAY_REFLECT);
-  if (C->opt->interp && C->opt->spp_side >= 2) {
+  if (interpolating(C)) {
     pt__interp_cell(C, x0, y0, x1, y1);
     return;
   }
-  C->st.matrix_pixels[0] += (uint64_t)((x1 - x0) * (y1 - y0));
+  C->st.matrix_samples[0] += (uint64_t)((x1 - x0) * (y1 - y0) * C->opt->spp_side * C->opt->spp_side);
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++)
       pt__matrix_pixel(C, i, j);
@@ -186,10 +191,15 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   }
   /* 4c: subdivide when most paths are over their limit (the pencil is too wide for this cell),
    * or when the subtrees below an edge would cost more exact rays per sample than about
-   * k^2 (5 + nodes) rays for k x k smaller cells (axial and corner trees, matrices) */
+   * k^2 (5 + nodes) rays for k x k smaller cells (axial and corner trees, matrices). Not with
+   * ray interpolation: there only the lattice points are traced through the paths, those of a
+   * path over its limit exactly along it (4b), and the lattice's own error test decides how
+   * finely to interpolate; smaller cells would rebuild every path for the same points, and an
+   * edge below the primary ray mostly runs on through the smaller cells (docs/pencil.md: 2.4x
+   * slower at 49 spp, no more accurate) */
   int w = x1 - x0, h = y1 - y0, s = C->opt->spp_side;
   double k = ceil(xi_cell / need);
-  if (isfinite(need) && (w > 1 || h > 1) &&
+  if (isfinite(need) && (w > 1 || h > 1) && !interpolating(C) &&
       (2 * over > paths || k * k * (5.0 + C->nnode) < cost * w * h * s * s)) {
     st->cells_split++;
     split(C, x0, y0, x1, y1, k > 64.0 ? 64 : (int)fmax(2.0, k));

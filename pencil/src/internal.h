@@ -31,6 +31,15 @@ typedef struct {
   int ok;         /**< 0: the sample's ray does not meet the node's primitive */
 } pt_xgeom_t;
 
+/* A pixel being accumulated. */
+typedef struct {
+  int i, j;       /**< pixel */
+  rt_rgb_t sum;   /**< radiance summed over its samples */
+  double pmax;    /**< largest measured error (NaN: none) */
+  int n[3];       /**< samples by method */
+  uint64_t rays;  /**< exact rays traced for its samples */
+} pixel_t;
+
 /** Per-thread state; every buffer is allocated once before the screen loop. */
 typedef struct {
   const rt_scene_t *s;
@@ -59,13 +68,12 @@ typedef struct {
   int kt, kr;       /**< nodes on the transmission-first / reflection-first paths to the
                          checkerboard, or -1 */
   pt_path_scratch_t path;
-  pt_geom_t *lat;       /**< lattice geometry, (N+1)^2 points x cap nodes */
-  uint8_t *latok;       /**< lattice point evaluated without leaving the cell's paths */
-  double *latxi2;       /**< |xi|^2 of the lattice points */
+  pt_geom_t *lat;       /**< the root quad's 3 x 3 lattice points x cap nodes */
+  pixel_t *acc;         /**< the interpolated cell's pixels, N^2 */
   int *loc;             /**< per-pixel plan: nodes shaded per sample (cap) */
   uint8_t *locd, *loce; /**< ... with their direct term / with exactly traced children */
   int *loct;            /**< per-quad plan: textured nodes whose square changes (cap) */
-  pt_geom_t *ref;       /**< refinement grids: PT_REFINE_LEVELS x 5 points x cap nodes */
+  pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
   uint32_t stamp;       /**< evaluation counter for xg */
@@ -78,8 +86,8 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
  *  variation between the checked points; docs/pencil.md). */
 #define PT_CERTIFIED_MARGIN 0.7
 
-/** Levels of lattice refinement (halvings of a lattice cell) before samples use matrices. */
-#define PT_REFINE_LEVELS 2
+/** Depth of the quadtree of lattice cells (halvings of the cell) at most. */
+#define PT_QUAD_LEVELS 12
 
 /** One sample's evaluation through the current cell's paths. */
 typedef struct {
@@ -113,14 +121,6 @@ void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 /** Steps 2-4 for the cell [x0, x1) x [y0, y1) of the current domain (recursive). */
 void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
-/* A pixel being accumulated. */
-typedef struct {
-  int i, j;       /**< pixel */
-  rt_rgb_t sum;   /**< radiance summed over its samples */
-  double pmax;    /**< largest measured error (NaN: none) */
-  int n[3];       /**< samples by method */
-  uint64_t rays0; /**< exact ray count when the pixel began */
-} pixel_t;
 
 /* sample.c */
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j);
@@ -128,7 +128,7 @@ float *pt__error_slot(pt_ctx_t *C, int i, int j, int a, int b);
 uint64_t pt__rays_now(const pt_ctx_t *C);
 /** Write the pixel's radiance (sum over its samples), method, error and exact-ray channels. */
 void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, double perr,
-                     uint64_t rays0);
+                     uint64_t rays);
 /** Auxiliary channels of pixel (i, j) from an exact tree of its centre ray. */
 void pt__aux_exact(pt_ctx_t *C, int i, int j);
 /** Auxiliary channels from the pencil's geometry of the pixel's centre ray. */

@@ -4,32 +4,54 @@
  * ray, and "if linearity is assumed for brightness I(x'), the brightness can also be
  * interpolated".
  *
- * The cell's pixel corners (half-pixel steps along a 1-pixel-wide cell) are traced through the
- * paths (lattice points). A sample is interpolated bilinearly from the four points of its lattice
- * cell (a quad), per node: hit point and direction, and the node's brightness W_k direct_k where
- * it is linear (the same checker square at the four points, every light's visibility agreeing
- * over the cell); other nodes are shaded per sample at their interpolated hits. A quad is used only
- * when, for every node, e_int (the second difference with the point beyond the quad, along each
- * axis, in pixels) plus the matrix error at its corners is within rho. A quad that fails is
- * refined: its edge midpoints and centre are traced and its four halves tried again, down to
- * PT_REFINE_LEVELS halvings; then its samples go through the matrices. */
+ * The cell is covered by a quadtree of lattice cells (quads). The root quad is the whole cell:
+ * its corners, edge midpoints and centre (a 3 x 3 grid) are traced through the cell's paths
+ * (lattice points). A quad whose grid was traced is *measured*: the deviation of each midpoint
+ * from the linear interpolation of its edge's ends, and of the centre from the bilinear
+ * interpolation of the corners, is the interpolation error itself at those points, and for a
+ * second-order map the largest over the quad (the error of bilinear interpolation is
+ * A u (1 - u) + B v (1 - v), largest at a midpoint or the centre). A quad that fails is cut into
+ * four; each quarter is first judged by the paper's e_int, the second difference along its
+ * edges with the third point the parent's grid line beyond it (free: those points are traced),
+ * and only when that fails are its own five interior points traced and the quarter measured.
+ * Certified mode accepts measured quads only. A quad is accepted when, for every node reached,
+ * the interpolation error plus the matrix error at its corners is within rho pixels and the
+ * brightness interpolated over it (the sum of its linear nodes) deviates from the traced
+ * brightness by at most the brightness tolerance.
+ *
+ * The samples of an accepted quad are interpolated bilinearly from its four corners, per node:
+ * hit point and direction, and the brightness W_k direct_k where it is linear (the same checker
+ * square at the four corners, every light's visibility agreeing over the cell; a textured leaf
+ * whose square changes across the quad takes the brightness of the sample's square's material).
+ * Other nodes (a shadow edge, subtrees traced exactly) are shaded per sample at their
+ * interpolated hits. When nothing is shaded per sample and every sample of a pixel lies in one
+ * checker square on each textured leaf, the pixel's sum over its samples is the bilinear form
+ * with the summed weights: the same sum, computed without visiting each sample. A quad too small
+ * to be worth cutting (fewer samples than the points a cut would trace) sends its samples
+ * through the matrices. */
 #include <math.h>
 #include <string.h>
 
 #include "internal.h"
 #include "render/vec_inline.h"
 
-/* A quad: a rectangle [x0, x0 + w) x [y0, y0 + h) of continuous pixel coordinates whose corners
- * were traced, with the points beyond it for e_int. */
+/* A traced lattice point. */
+typedef struct {
+  const pt_geom_t *g; /* node array (cap entries) */
+  double xi2;         /* |xi|^2 of the point's primary ray in the cell frame */
+  int ok;             /* traced without leaving the cell's paths */
+} point_t;
+
+/* A quad [x0, x0 + w) x [y0, y0 + h) of continuous pixel coordinates. Its corners are always
+ * traced; `measured`: the grid g (corners, edge midpoints, centre) is its own; otherwise its
+ * error is estimated from its parent's grid pg, of which it is the quarter (qx, qy). */
 typedef struct {
   double x0, y0, w, h;
-  const pt_geom_t *g[4];     /* corners (0,0), (1,0), (0,1), (1,1): node arrays */
-  const pt_geom_t *tx[2][3]; /* along x for the edges y = 0 and y = 1: (a, b, c), the
-                                interpolation between b and c, a beyond b */
-  const pt_geom_t *ty[2][3]; /* along y for the edges x = 0 and x = 1 */
-  int ok;                    /* every point traced without leaving the cell's paths */
-  double xi2;                /* largest |xi|^2 of the corners */
-} quad_t;
+  point_t g[3][3]; /* [row][column] */
+  int measured;
+  const point_t (*pg)[3];
+  int qx, qy;
+} lquad_t;
 
 /* How a quad's samples are interpolated. */
 typedef struct {
@@ -37,113 +59,173 @@ typedef struct {
   int n;              /* nodes shaded per sample */
   int *k;
   uint8_t *direct, *exact; /* per entry: its direct term, its exactly traced children */
-  int nt;                  /* textured nodes whose square changes across the quad: the sample's */
+  int nt;                  /* textured leaves whose square changes across the quad: the sample's */
   int *kt;                 /* square picks the interpolated brightness of its material */
 } plan_t;
 
-/* e_int of the linear interpolation between b and c with the third point a beyond b:
- * |x_a - 2 x_b + x_c| / 8, in pixels on node k's surface. */
-static double e_int3(const pt_node_t *n, const pt_geom_t *a, const pt_geom_t *b,
-                     const pt_geom_t *c) {
-  px_vec3_t s = v3_add(v3_sub(a->p, v3_scale(b->p, 2.0)), c->p);
-  return pt_pixels(n, v3_scale(s, 1.0 / 8.0));
+/* The share of rho an estimated quad's e_int may use. e_int extrapolates the second-order
+ * behaviour of the parent's grid onto the quarter; where the map's third-order term matters it
+ * underestimates. Measured on Fig. 8 (256 x 256, 9 spp): accepting estimates up to rho leaves
+ * 99.91% of the samples within rho (largest 0.86); up to rho / 2, 99.996% (largest 0.54), for
+ * 20% more lattice points at 49 spp (docs/pencil.md). */
+#define PT_EINT_MARGIN 0.5
+
+/* Why a quad's samples went to the matrices (pt_stats_t.matrix_samples). */
+enum { WHY_OFF = 0, WHY_LEFT = 1, WHY_REACH = 2, WHY_ERROR = 3 };
+
+/* Corner c (0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1)) of quad q. */
+static const point_t *corner_of(const lquad_t *q, int c) {
+  int col = c & 1, row = c >> 1;
+  if (q->measured)
+    return &q->g[2 * row][2 * col];
+  return &q->pg[q->qy + row][q->qx + col];
 }
 
-/* e_int of node k over the quad: along x plus along y; *ok = 0 when a point is missing. */
-static double e_int_quad(const pt_ctx_t *C, const quad_t *q, int k, int *ok) {
-  const pt_node_t *n = &C->node[k];
-  double ex = 0.0, ey = 0.0;
-  for (int r = 0; r < 2; r++) {
-    const pt_geom_t *a = &q->tx[r][0][k], *b = &q->tx[r][1][k], *c = &q->tx[r][2][k];
-    const pt_geom_t *d = &q->ty[r][0][k], *e = &q->ty[r][1][k], *f = &q->ty[r][2][k];
-    if (a->ok != 1 || b->ok != 1 || c->ok != 1 || d->ok != 1 || e->ok != 1 || f->ok != 1) {
-      *ok = 0;
-      return INFINITY;
-    }
-    ex = fmax(ex, e_int3(n, a, b, c));
-    ey = fmax(ey, e_int3(n, d, e, f));
+/* The 3 x 3 grid the quad's error comes from: its own, or its parent's. */
+static const point_t (*grid_of(const lquad_t *q))[3] {
+  return q->measured ? (const point_t(*)[3])q->g : q->pg;
+}
+
+/* A 3 x 3 grid of vectors or colours, for one node or a brightness sum. */
+typedef struct {
+  px_vec3_t v[3][3];
+} grid3_t;
+
+/* Interpolation error of a quad from its grid values G, as a vector measured by `norm`:
+ *   measured: the largest deviation of an edge midpoint from the mean of its edge's ends, or of
+ *             the centre from the mean of the corners (the bilinear interpolation there);
+ *   estimated (quarter (qx, qy) of G): e_int, |x_a - 2 x_b + x_c| / 8 along each of the
+ *             quarter's two horizontal grid lines (the larger) plus the same vertically. */
+static double grid_error(const lquad_t *q, const grid3_t *G, double (*norm)(const void *, px_vec3_t),
+                         const void *ctx) {
+  const px_vec3_t(*v)[3] = G->v;
+  if (q->measured) {
+    double e = 0.0;
+    for (int r = 0; r < 3; r += 2) /* top and bottom edges; left and right edges */
+      e = fmax(e, norm(ctx, v3_sub(v[r][1], v3_scale(v3_add(v[r][0], v[r][2]), 0.5))));
+    for (int c = 0; c < 3; c += 2)
+      e = fmax(e, norm(ctx, v3_sub(v[1][c], v3_scale(v3_add(v[0][c], v[2][c]), 0.5))));
+    px_vec3_t m = v3_scale(v3_add(v3_add(v[0][0], v[0][2]), v3_add(v[2][0], v[2][2])), 0.25);
+    return fmax(e, norm(ctx, v3_sub(v[1][1], m)));
   }
-  return ex + ey;
+  double ex = 0.0, ey = 0.0;
+  for (int e = 0; e < 2; e++) {
+    int r = q->qy + e, c = q->qx + e;
+    ex = fmax(ex, norm(ctx, v3_add(v3_sub(v[r][0], v3_scale(v[r][1], 2.0)), v[r][2])));
+    ey = fmax(ey, norm(ctx, v3_add(v3_sub(v[0][c], v3_scale(v[1][c], 2.0)), v[2][c])));
+  }
+  return (ex + ey) / 8.0;
 }
 
-/* Certified mode: the quad's centre traced through the paths into C->rec; 0 when it left them. */
-static int trace_centre(pt_ctx_t *C, const quad_t *q) {
-  pt_eval_t G = {.C = C, .mode = PT_EV_MATRIX, .rec = C->rec};
-  pt__xi_of(C, &G, q->x0 + 0.5 * q->w, q->y0 + 0.5 * q->h);
-  pt__eval(&G);
-  return !G.fallback;
+static double norm_pixels(const void *node, px_vec3_t e) {
+  return pt_pixels(node, e);
 }
 
-/* Whether the quad may be interpolated, and how (see the file comment). In certified mode also
- * the actual interpolation error at the quad's centre (traced), everything within
- * PT_CERTIFIED_MARGIN rho. (A bound of bilinear interpolation from C, (h^2 / 8)(2 C + 2 C) over
- * a cell of side h in xi, was tried as well: it holds but is so loose that it sent a quarter of
- * the image's quads to the matrices without changing any measured error.) */
-static int make_plan(pt_ctx_t *C, const quad_t *q, plan_t *pl) {
-  uint64_t *why = C->st.matrix_pixels;
-  if (!q->ok)
-    return (int)(why[1]++ & 0);
+static double norm_rgb(const void *unused, px_vec3_t e) {
+  (void)unused;
+  return fmax(fabs(e.x), fmax(fabs(e.y), fabs(e.z)));
+}
+
+static px_vec3_t rgb_vec(rt_rgb_t c) {
+  return px_vec3(c.r, c.g, c.b);
+}
+
+/* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
+ * what failed. */
+static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
+  const point_t(*R)[3] = grid_of(q);
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      if (!R[r][c].ok) {
+        *why = WHY_LEFT;
+        return 0;
+      }
   int cert = C->opt->certified;
-  if (cert && !trace_centre(C, q))
-    return (int)(why[1]++ & 0);
-  double rho = C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0);
+  double rho = C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (q->measured ? 1.0 : PT_EINT_MARGIN);
+  double ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
+  double xi2 = 0.0;
+  for (int i = 0; i < 4; i++)
+    xi2 = fmax(xi2, corner_of(q, i)->xi2);
+  grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
+  memset(&sm, 0, sizeof sm);
+  t0 = t1 = sm;
   pl->n = pl->nt = 0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
   for (int k = 0; k < C->nnode; k++) {
-    const pt_geom_t *g[4] = {&q->g[0][k], &q->g[1][k], &q->g[2][k], &q->g[3][k]};
-    int reached = (g[0]->ok != 0) + (g[1]->ok != 0) + (g[2]->ok != 0) + (g[3]->ok != 0);
-    int exact = (g[0]->ok == 2) + (g[1]->ok == 2) + (g[2]->ok == 2) + (g[3]->ok == 2);
-    if (reached == 0 || exact == 4)
-      continue; /* not reached, or traced exactly per sample through its parent */
-    if (reached != 4 || exact != 0)
-      return (int)(why[2]++ & 0);
-    const pt_node_t *n = &C->node[k];
-    int smooth = 1, exact_children = 0;
-    if (!n->miss) {
-      int ok = 1;
-      double e_mat = n->pencil == PT_NODE_PATH
-                         ? 0.0
-                         : fmax(n->c * q->xi2 / n->cos_in, n->e_check) / n->interval;
-      double e_int = e_int_quad(C, q, k, &ok);
-      if (cert && ok) {
-        if (C->rec[k].ok != 1)
-          return (int)(why[2]++ & 0);
-        px_vec3_t mid = v3_scale(v3_add(v3_add(g[0]->p, g[1]->p), v3_add(g[2]->p, g[3]->p)), 0.25);
-        e_int = fmax(e_int, pt_pixels(n, v3_sub(C->rec[k].p, mid)));
+    int reached = 0, exact = 0;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        reached += R[r][c].g[k].ok != 0;
+        exact += R[r][c].g[k].ok == 2;
       }
-      if (!ok || e_int + e_mat > rho)
-        return (int)(why[ok ? 3 : 2]++ & 0);
+    if (reached == 0 || exact == 9)
+      continue; /* not reached, or traced exactly per sample through its parent */
+    if (reached != 9 || exact != 0) {
+      *why = WHY_REACH;
+      return 0;
+    }
+    const pt_node_t *n = &C->node[k];
+    int smooth = 1, exact_children = 0, leaf_texture = 0;
+    if (!n->miss) {
+      grid3_t p;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+          p.v[r][c] = R[r][c].g[k].p;
+      double e_mat =
+          n->pencil == PT_NODE_PATH ? 0.0 : fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+      if (grid_error(q, &p, norm_pixels, n) + e_mat > rho) {
+        *why = WHY_ERROR;
+        return 0;
+      }
       int squares = 1;
       if (n->textured)
-        for (int i = 1; i < 4; i++)
-          squares = squares && g[i]->su == g[0]->su && g[i]->sv == g[0]->sv;
+        for (int i = 1; i < 4; i++) {
+          const pt_geom_t *a = &corner_of(q, i)->g[k], *b = &corner_of(q, 0)->g[k];
+          squares = squares && a->su == b->su && a->sv == b->sv;
+        }
       smooth = n->light_agree == ~0u;
       for (int c = 0; c < 2; c++)
         exact_children |= n->child[c] >= 0 && C->node[n->child[c]].pencil == PT_NODE_EXACT;
       if (smooth && !squares) {
         /* the direct term is linear for each material: the sample's square picks one. Children
          * would be weighted by the material too, so only for leaves */
-        if (n->child[0] >= 0)
-          return (int)(why[3]++ & 0);
+        if (n->child[0] >= 0) {
+          *why = WHY_ERROR;
+          return 0;
+        }
         pl->kt[pl->nt++] = k;
         smooth = 0;
-        if (!exact_children)
-          continue;
-        pl->k[pl->n] = k;
-        pl->direct[pl->n] = 0;
-        pl->exact[pl->n++] = 1;
-        continue;
+        leaf_texture = 1;
+        for (int r = 0; r < 3; r++)
+          for (int c = 0; c < 3; c++) {
+            t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[k].lt[0]));
+            t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[k].lt[1]));
+          }
       }
     }
-    if (smooth)
+    if (smooth) {
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+          sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[k].l));
       for (int i = 0; i < 4; i++)
-        pl->smooth[i] = rt_rgb_add(pl->smooth[i], g[i]->l);
+        pl->smooth[i] = rt_rgb_add(pl->smooth[i], corner_of(q, i)->g[k].l);
+    }
+    if (leaf_texture && !exact_children)
+      continue;
     if (!smooth || exact_children) {
       pl->k[pl->n] = k;
-      pl->direct[pl->n] = (uint8_t)!smooth;
+      pl->direct[pl->n] = (uint8_t)(!smooth && !leaf_texture);
       pl->exact[pl->n++] = (uint8_t)exact_children;
     }
+  }
+  /* brightness: is it linear over the quad? */
+  double el = grid_error(q, &sm, norm_rgb, NULL);
+  if (pl->nt)
+    el += fmax(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
+  if (el > ltol) {
+    *why = WHY_ERROR;
+    return 0;
   }
   return 1;
 }
@@ -155,35 +237,36 @@ static void weights(double u, double v, double w[4]) {
   w[3] = u * v;
 }
 
+static rt_rgb_t rgb_lerp4(const double w[4], rt_rgb_t a, rt_rgb_t b, rt_rgb_t c, rt_rgb_t d) {
+  return rt_rgb(w[0] * a.r + w[1] * b.r + w[2] * c.r + w[3] * d.r,
+                w[0] * a.g + w[1] * b.g + w[2] * c.g + w[3] * d.g,
+                w[0] * a.b + w[1] * b.b + w[2] * c.b + w[3] * d.b);
+}
+
+/* Parity of the checker square of textured leaf k at the interpolation with weights w. */
+static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
+  const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
+  px_vec3_t p =
+      v3_axpy(w[0], g0->p, v3_axpy(w[1], g1->p, v3_axpy(w[2], g2->p, v3_scale(g3->p, w[3]))));
+  const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
+  double u, v;
+  rt_plane_coords(pl0, p, &u, &v);
+  return (int)fmod(fabs(floor(u / pl0->check) + floor(v / pl0->check)), 2.0);
+}
+
 /* One interpolated sample with weights w (E->g holds the quad's corners). */
 static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4]) {
   const rt_rgb_t *c = pl->smooth;
   E->w = w;
-  rt_rgb_t sum = rt_rgb(w[0] * c[0].r + w[1] * c[1].r + w[2] * c[2].r + w[3] * c[3].r,
-                        w[0] * c[0].g + w[1] * c[1].g + w[2] * c[2].g + w[3] * c[3].g,
-                        w[0] * c[0].b + w[1] * c[1].b + w[2] * c[2].b + w[3] * c[3].b);
+  rt_rgb_t sum = rgb_lerp4(w, c[0], c[1], c[2], c[3]);
   for (int m = 0; m < pl->nt; m++) { /* textured leaves: the material of the sample's square */
-    int k = pl->kt[m];
-    const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
-    px_vec3_t p =
-        v3_axpy(w[0], g0->p, v3_axpy(w[1], g1->p, v3_axpy(w[2], g2->p, v3_scale(g3->p, w[3]))));
-    const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
-    double u, v;
-    rt_plane_coords(pl0, p, &u, &v);
-    int par = (int)fmod(fabs(floor(u / pl0->check) + floor(v / pl0->check)), 2.0);
-    sum.r +=
-        w[0] * g0->lt[par].r + w[1] * g1->lt[par].r + w[2] * g2->lt[par].r + w[3] * g3->lt[par].r;
-    sum.g +=
-        w[0] * g0->lt[par].g + w[1] * g1->lt[par].g + w[2] * g2->lt[par].g + w[3] * g3->lt[par].g;
-    sum.b +=
-        w[0] * g0->lt[par].b + w[1] * g1->lt[par].b + w[2] * g2->lt[par].b + w[3] * g3->lt[par].b;
+    int k = pl->kt[m], par = leaf_parity(E, k, w);
+    sum = rt_rgb_add(sum, rgb_lerp4(w, E->g[0][k].lt[par], E->g[1][k].lt[par], E->g[2][k].lt[par],
+                                    E->g[3][k].lt[par]));
   }
   for (int m = 0; m < pl->n; m++) {
     int k = pl->k[m];
-    const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
-    rt_rgb_t wk = rt_rgb(w[0] * g0->w.r + w[1] * g1->w.r + w[2] * g2->w.r + w[3] * g3->w.r,
-                         w[0] * g0->w.g + w[1] * g1->w.g + w[2] * g2->w.g + w[3] * g3->w.g,
-                         w[0] * g0->w.b + w[1] * g1->w.b + w[2] * g2->w.b + w[3] * g3->w.b);
+    rt_rgb_t wk = rgb_lerp4(w, E->g[0][k].w, E->g[1][k].w, E->g[2][k].w, E->g[3][k].w);
     sum = rt_rgb_add(sum, pt__eval_local(E, k, wk, pl->direct[m], pl->exact[m]));
   }
   return sum;
@@ -191,8 +274,8 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
 
 /* Certified mode: whether every miss node of an interpolated sample still meets no unbounded
  * plane (its ray interpolated from the quad's corners): a horizon can cross a quad between its
- * corners. Bounded objects were checked by intersecting the rays of the corners and, in certified
- * mode, of the centre with the scene (eval.c); between those points they are not. */
+ * corners. Bounded objects were checked by intersecting the rays of the lattice points with the
+ * scene (eval.c); between those points they are not. */
 static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[4]) {
   const rt_scene_t *s = C->s;
   for (int k = 0; k < C->nnode; k++) {
@@ -215,178 +298,289 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
   return 1;
 }
 
-/* Trace the lattice point at (x, y) through the paths into rec; returns 1 when it stayed on them.
- */
-static int trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *rec, double *xi2) {
-  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = rec, .lattice = 1};
+/* Trace the lattice point at (x, y) through the paths into g (cap nodes). */
+static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g) {
+  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = g, .lattice = 1};
   pt__xi_of(C, &E, x, y);
-  *xi2 = E.xi[0] * E.xi[0] + E.xi[1] * E.xi[1];
   pt__eval(&E);
-  return !E.fallback;
+  C->st.lattice_points++;
+  return (point_t){g, E.xi[0] * E.xi[0] + E.xi[1] * E.xi[1], !E.fallback};
 }
 
-static void quad_samples(pt_ctx_t *C, pixel_t *P, const quad_t *q, int level);
+/* The cell being interpolated: its pixels' accumulators. */
+typedef struct {
+  int x0, y0, x1, y1;
+  pixel_t *acc;
+} cellacc_t;
 
-/* Refine a failed quad: trace its edge midpoints and centre (a 3 x 3 grid with the corners) and
- * process its four halves, each with third points inside the grid. */
-static void refine(pt_ctx_t *C, pixel_t *P, const quad_t *q, int level) {
-  pt_geom_t *r = C->ref + (size_t)level * 5 * (size_t)C->cap;
-  const pt_geom_t *grid[3][3]; /* [row][column] */
-  double xi2[3][3] = {{0}};
-  int ok = q->ok;
-  grid[0][0] = q->g[0];
-  grid[0][2] = q->g[1];
-  grid[2][0] = q->g[2];
-  grid[2][2] = q->g[3];
-  const int mid[5][2] = {{0, 1}, {1, 0}, {1, 1}, {1, 2}, {2, 1}};
-  for (int m = 0; m < 5; m++) {
-    int row = mid[m][0], col = mid[m][1];
-    pt_geom_t *g = r + (size_t)m * (size_t)C->cap;
-    ok &= trace_point(C, q->x0 + 0.5 * col * q->w, q->y0 + 0.5 * row * q->h, g, &xi2[row][col]);
-    grid[row][col] = g;
-  }
-  for (int qy = 0; qy < 2; qy++)
-    for (int qx = 0; qx < 2; qx++) {
-      quad_t s = {q->x0 + 0.5 * qx * q->w,
-                  q->y0 + 0.5 * qy * q->h,
-                  0.5 * q->w,
-                  0.5 * q->h,
-                  {grid[qy][qx], grid[qy][qx + 1], grid[qy + 1][qx], grid[qy + 1][qx + 1]},
-                  {{NULL}},
-                  {{NULL}},
-                  ok,
-                  q->xi2};
-      for (int e = 0; e < 2; e++) { /* the third point is the grid line beyond */
-        int row = qy + e, col = qx + e, far = qx ? 0 : 2, farr = qy ? 0 : 2;
-        s.tx[e][0] = grid[row][far];
-        s.tx[e][1] = grid[row][qx ? 1 : 1];
-        s.tx[e][2] = grid[row][qx ? 2 : 0];
-        s.ty[e][0] = grid[farr][col];
-        s.ty[e][1] = grid[1][col];
-        s.ty[e][2] = grid[qy ? 2 : 0][col];
-      }
-      quad_samples(C, P, &s, level + 1);
-    }
+static pixel_t *pixel_at(const cellacc_t *A, int i, int j) {
+  return &A->acc[(j - A->y0) * (A->x1 - A->x0) + (i - A->x0)];
 }
 
-/* The samples of pixel P inside quad q: interpolated when its plan allows, else refined, else
- * through the matrices. */
-static void quad_samples(pt_ctx_t *C, pixel_t *P, const quad_t *q, int level) {
-  int s = C->opt->spp_side, planned = -1, partial = 0;
-  plan_t pl = {.k = C->loc, .direct = C->locd, .exact = C->loce, .kt = C->loct};
-  pt_eval_t E = {.C = C, .mode = PT_EV_INTERP, .shade = 1};
+/* Samples of the grid (global sample indices g = i s + a, at (g + 0.5) / s) in [x0, x0 + w). */
+static void sample_range(double x0, double w, int s, int *g0, int *g1) {
+  *g0 = (int)ceil(x0 * s - 0.5);
+  *g1 = (int)ceil((x0 + w) * s - 0.5);
+}
+
+/* Textured leaves whose square changes across a quad handled by the fast path at most. */
+#define PT_FAST_LEAVES 8
+
+/* What the samples of one accepted quad share. */
+typedef struct {
+  const lquad_t *q;
+  const plan_t *pl;
+  pt_eval_t E;     /* INTERP evaluation with the quad's corners */
+  int fast;        /* nothing is shaded per sample: sums of weights suffice */
+  double uv[PT_FAST_LEAVES][4][2]; /* fast: board coordinates / check of each leaf's corners */
+} qctx_t;
+
+static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
+  Q->q = q;
+  Q->pl = pl;
+  Q->E = (pt_eval_t){.C = C, .mode = PT_EV_INTERP, .shade = 1};
   for (int i = 0; i < 4; i++)
-    E.g[i] = q->g[i];
-  for (int b = 0; b < s; b++)
-    for (int a = 0; a < s; a++) {
-      double x = P->i + (a + 0.5) / s, y = P->j + (b + 0.5) / s;
-      double u = (x - q->x0) / q->w, v = (y - q->y0) / q->h;
-      if (!(u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0))
-        continue;
-      if (planned < 0) {
-        planned = make_plan(C, q, &pl);
-        /* certified mode does not refine: its extra checks fail where the map is curved, and
-         * refining there costs more than the matrices */
-        if (!planned && level < (C->opt->certified ? 0 : PT_REFINE_LEVELS)) {
-          refine(C, P, q, level);
-          return;
-        }
+    Q->E.g[i] = corner_of(q, i)->g;
+  Q->fast = pl->n == 0 && pl->nt <= PT_FAST_LEAVES;
+  for (int m = 0; m < pl->nt && Q->fast; m++) {
+    int k = pl->kt[m];
+    const rt_plane_t *bp = &C->s->prim[C->node[k].prim].plane;
+    for (int i = 0; i < 4; i++) {
+      rt_plane_coords(bp, Q->E.g[i][k].p, &Q->uv[m][i][0], &Q->uv[m][i][1]);
+      Q->uv[m][i][0] /= bp->check;
+      Q->uv[m][i][1] /= bp->check;
+    }
+  }
+}
+
+/* Checker parity of leaf m of the fast path at bilinear weights w (the board coordinates are
+ * linear in the hit point, so interpolating them is interpolating the point). */
+static int fast_parity(const qctx_t *Q, int m, const double w[4], double sq[2]) {
+  const double(*c)[2] = Q->uv[m];
+  for (int t = 0; t < 2; t++)
+    sq[t] = floor(w[0] * c[0][t] + w[1] * c[1][t] + w[2] * c[2][t] + w[3] * c[3][t]);
+  return (int)((int64_t)(sq[0] + sq[1]) & 1);
+}
+
+/* Fast path: pixel P's samples a in [a0, a1), b in [b0, b1). The sum of the bilinear
+ * interpolations is the bilinear form with the summed weights, and the weights are separable;
+ * a textured leaf adds the brightness of each sample's material, so its weights are summed per
+ * material - per sample only when its square is not one over the samples (the interpolated
+ * board point is bilinear in the sample position, so its square is one when it is one at the
+ * four extreme samples: squares are convex). */
+static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, int a0, int a1,
+                         int b0, int b1) {
+  const lquad_t *q = Q->q;
+  const plan_t *pl = Q->pl;
+  int s = C->opt->spp_side;
+  double su = 0.0, sv = 0.0, na = a1 - a0, nb = b1 - b0;
+  for (int a = a0; a < a1; a++)
+    su += (P->i + (a + 0.5) / s - q->x0) / q->w;
+  for (int b = b0; b < b1; b++)
+    sv += (P->j + (b + 0.5) / s - q->y0) / q->h;
+  const double W[4] = {(na - su) * (nb - sv), su * (nb - sv), (na - su) * sv, su * sv};
+  rt_rgb_t sum = rgb_lerp4(W, pl->smooth[0], pl->smooth[1], pl->smooth[2], pl->smooth[3]);
+  double ua = (P->i + (a0 + 0.5) / s - q->x0) / q->w, ub = (P->i + (a1 - 0.5) / s - q->x0) / q->w;
+  double va = (P->j + (b0 + 0.5) / s - q->y0) / q->h, vb = (P->j + (b1 - 0.5) / s - q->y0) / q->h;
+  for (int m = 0; m < pl->nt; m++) {
+    const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
+                    *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
+    double wx[4][4], sq[2], sq0[2];
+    weights(ua, va, wx[0]);
+    weights(ub, va, wx[1]);
+    weights(ua, vb, wx[2]);
+    weights(ub, vb, wx[3]);
+    int par = fast_parity(Q, m, wx[0], sq0), one = 1;
+    for (int e = 1; e < 4 && one; e++) {
+      fast_parity(Q, m, wx[e], sq);
+      one = sq[0] == sq0[0] && sq[1] == sq0[1];
+    }
+    if (one) {
+      sum = rt_rgb_add(sum, rgb_lerp4(W, g0->lt[par], g1->lt[par], g2->lt[par], g3->lt[par]));
+      continue;
+    }
+    double Wp[2][4] = {{0}};
+    for (int b = b0; b < b1; b++)
+      for (int a = a0; a < a1; a++) {
+        double w[4];
+        weights((P->i + (a + 0.5) / s - q->x0) / q->w, (P->j + (b + 0.5) / s - q->y0) / q->h, w);
+        int p = fast_parity(Q, m, w, sq);
+        for (int c = 0; c < 4; c++)
+          Wp[p][c] += w[c];
       }
-      if (!planned) {
+    for (int p = 0; p < 2; p++)
+      sum = rt_rgb_add(sum, rgb_lerp4(Wp[p], g0->lt[p], g1->lt[p], g2->lt[p], g3->lt[p]));
+  }
+  return sum;
+}
+
+/* The samples a in [a0, a1), b in [b0, b1) of pixel P inside quad q: interpolated (Q), or
+ * through the matrices when Q is NULL (*why counts them). */
+static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1, int b0,
+                       int b1) {
+  int s = C->opt->spp_side, count = (a1 - a0) * (b1 - b0);
+  uint64_t r0 = pt__rays_now(C);
+  if (!Q) {
+    C->st.matrix_samples[why] += (uint64_t)count;
+    for (int b = b0; b < b1; b++)
+      for (int a = a0; a < a1; a++)
         pt__matrix_sample(C, P, a, b);
-        continue;
-      }
+    P->rays += pt__rays_now(C) - r0;
+    return;
+  }
+  const lquad_t *q = Q->q;
+  pt_eval_t *E = &Q->E;
+  int cert = C->opt->certified, fast = Q->fast, partial = 0;
+  for (int b = b0; b < b1 && fast && cert; b++)
+    for (int a = a0; a < a1 && fast; a++) {
       double w[4];
-      weights(u, v, w);
-      if (C->opt->certified && !misses_nothing(C, &E, w)) {
-        pt__matrix_sample(C, P, a, b);
-        continue;
+      weights((P->i + (a + 0.5) / s - q->x0) / q->w, (P->j + (b + 0.5) / s - q->y0) / q->h, w);
+      fast = misses_nothing(C, E, w);
+    }
+  if (fast) {
+    P->sum = rt_rgb_add(P->sum, fast_sum(C, Q, P, a0, a1, b0, b1));
+    P->n[PT_METHOD_INTERP] += count;
+    C->st.lerp_samples += (uint64_t)count;
+  }
+  for (int b = b0; b < b1 && !(fast && !C->opt->measure); b++)
+    for (int a = a0; a < a1; a++) {
+      double x = P->i + (a + 0.5) / s, y = P->j + (b + 0.5) / s, w[4];
+      weights((x - q->x0) / q->w, (y - q->y0) / q->h, w);
+      if (!fast) {
+        if (cert && !misses_nothing(C, E, w)) {
+          pt__matrix_sample(C, P, a, b);
+          continue;
+        }
+        E->partial = E->fallback = 0;
+        P->sum = rt_rgb_add(P->sum, interp_sample(E, Q->pl, w));
+        P->n[PT_METHOD_INTERP]++;
+        partial |= E->partial;
+        C->st.fallbacks += (uint64_t)E->fallback;
       }
-      E.partial = E.fallback = 0;
-      P->sum = rt_rgb_add(P->sum, interp_sample(&E, &pl, w));
-      P->n[PT_METHOD_INTERP]++;
-      partial |= E.partial;
-      C->st.fallbacks += (uint64_t)E.fallback;
-      if (pl.n == 0 && pl.nt == 0)
-        C->st.lerp_samples++;
       if (C->opt->measure) {
-        E.w = w;
-        pt__geometry(C, &E);
+        E->w = w;
+        pt__geometry(C, E);
+        E->w = NULL;
         rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
         P->pmax = pt__measure_sample(C, &r, C->rec, P->i, P->j, a, b, P->pmax);
       }
-      E.w = NULL;
     }
   C->st.partial += (uint64_t)partial;
+  P->rays += pt__rays_now(C) - r0;
 }
 
-/* The lattice of a cell: points (x0 + i hx, y0 + j hy), i <= mx, j <= my. */
-typedef struct {
-  int x0, y0, mx, my;
-  double hx, hy;
-} lattice_t;
-
-static size_t lat_index(const lattice_t *L, int i, int j) {
-  return (size_t)(j * (L->mx + 1) + i);
-}
-
-static const pt_geom_t *lat_at(const pt_ctx_t *C, const lattice_t *L, int i, int j) {
-  return &C->lat[lat_index(L, i, j) * (size_t)C->cap];
-}
-
-/* Lattice cell (i, j) as a quad, the third points taken from the lattice line beyond it on
- * whichever side exists. */
-static quad_t lattice_quad(const pt_ctx_t *C, const lattice_t *L, int i, int j) {
-  quad_t q = {L->x0 + i * L->hx,
-              L->y0 + j * L->hy,
-              L->hx,
-              L->hy,
-              {lat_at(C, L, i, j), lat_at(C, L, i + 1, j), lat_at(C, L, i, j + 1),
-               lat_at(C, L, i + 1, j + 1)},
-              {{NULL}},
-              {{NULL}},
-              1,
-              0.0};
-  int ia = i >= 1 ? i - 1 : i + 2, ib = i >= 1 ? i : i + 1, ic = i >= 1 ? i + 1 : i;
-  int ja = j >= 1 ? j - 1 : j + 2, jb = j >= 1 ? j : j + 1, jc = j >= 1 ? j + 1 : j;
-  q.ok = ia <= L->mx && ja <= L->my;
-  for (int e = 0; e < 2 && q.ok; e++) {
-    q.tx[e][0] = lat_at(C, L, ia, j + e);
-    q.tx[e][1] = lat_at(C, L, ib, j + e);
-    q.tx[e][2] = lat_at(C, L, ic, j + e);
-    q.ty[e][0] = lat_at(C, L, i + e, ja);
-    q.ty[e][1] = lat_at(C, L, i + e, jb);
-    q.ty[e][2] = lat_at(C, L, i + e, jc);
-  }
-  for (int dj = 0; dj < 2; dj++)
-    for (int di = 0; di < 2; di++) {
-      size_t l = lat_index(L, i + di, j + dj);
-      q.ok = q.ok && C->latok[l];
-      q.xi2 = fmax(q.xi2, C->latxi2[l]);
+/* Every sample of quad q, interpolated with plan pl or (pl NULL) through the matrices. */
+static void quad_emit(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, const plan_t *pl, int why) {
+  int s = C->opt->spp_side, gx0, gx1, gy0, gy1;
+  sample_range(q->x0, q->w, s, &gx0, &gx1);
+  sample_range(q->y0, q->h, s, &gy0, &gy1);
+  if (gx0 >= gx1 || gy0 >= gy1)
+    return;
+  qctx_t Q;
+  if (pl)
+    qctx_make(C, q, pl, &Q);
+  for (int j = gy0 / s; j <= (gy1 - 1) / s; j++)
+    for (int i = gx0 / s; i <= (gx1 - 1) / s; i++) {
+      int a0 = gx0 - i * s, a1 = gx1 - i * s, b0 = gy0 - j * s, b1 = gy1 - j * s;
+      quad_pixel(C, pixel_at(A, i, j), pl ? &Q : NULL, why, a0 > 0 ? a0 : 0, a1 < s ? a1 : s,
+                 b0 > 0 ? b0 : 0, b1 < s ? b1 : s);
     }
-  return q;
+}
+
+/* Samples of quad q (about w h s^2). */
+static double quad_samples(const pt_ctx_t *C, const lquad_t *q) {
+  int s = C->opt->spp_side;
+  return q->w * q->h * s * s;
+}
+
+/* A quad is cut only when it holds more samples than this: a measured quarter traces 5 points. */
+#define PT_CUT_SAMPLES 10.0
+
+static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level);
+
+/* Trace the five interior points of q (its corners are set) at refinement level `level`. */
+static void measure(pt_ctx_t *C, lquad_t *q, int level) {
+  pt_geom_t *pool = C->ref + (size_t)level * 5 * (size_t)C->cap;
+  const int at[5][2] = {{0, 1}, {1, 0}, {1, 1}, {1, 2}, {2, 1}};
+  for (int m = 0; m < 5; m++) {
+    int r = at[m][0], c = at[m][1];
+    q->g[r][c] = trace_point(C, q->x0 + 0.5 * c * q->w, q->y0 + 0.5 * r * q->h,
+                             pool + (size_t)m * (size_t)C->cap);
+  }
+  q->measured = 1;
+}
+
+/* Cut a failed measured quad into its quarters. */
+static void cut(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level) {
+  for (int qy = 0; qy < 2; qy++)
+    for (int qx = 0; qx < 2; qx++) {
+      lquad_t s;
+      memset(&s, 0, sizeof s);
+      s.x0 = q->x0 + 0.5 * qx * q->w;
+      s.y0 = q->y0 + 0.5 * qy * q->h;
+      s.w = 0.5 * q->w;
+      s.h = 0.5 * q->h;
+      s.pg = (const point_t(*)[3])q->g;
+      s.qx = qx;
+      s.qy = qy;
+      for (int r = 0; r < 2; r++)
+        for (int c = 0; c < 2; c++)
+          s.g[2 * r][2 * c] = q->g[qy + r][qx + c];
+      quad_process(C, A, &s, level + 1);
+    }
+}
+
+/* Accept quad q, cut it, or send its samples to the matrices. An estimated quad (not measured)
+ * that fails is measured first. */
+static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level) {
+  plan_t pl = {.k = C->loc, .direct = C->locd, .exact = C->loce, .kt = C->loct};
+  int why = WHY_ERROR;
+  if (!q->measured && !C->opt->certified && make_plan(C, q, &pl, &why)) {
+    quad_emit(C, A, q, &pl, 0);
+    return;
+  }
+  int can_cut = level + 1 < PT_QUAD_LEVELS && quad_samples(C, q) > PT_CUT_SAMPLES;
+  if (!q->measured) {
+    if (!can_cut) { /* measuring costs 5 points: more than its samples through the matrices */
+      quad_emit(C, A, q, NULL, why);
+      return;
+    }
+    measure(C, q, level);
+  }
+  if (make_plan(C, q, &pl, &why)) {
+    quad_emit(C, A, q, &pl, 0);
+    return;
+  }
+  if (can_cut)
+    cut(C, A, q, level);
+  else
+    quad_emit(C, A, q, NULL, why);
 }
 
 void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
-  lattice_t L = {x0, y0, 0, 0, x1 - x0 >= 2 ? 1.0 : 0.5, y1 - y0 >= 2 ? 1.0 : 0.5};
-  L.mx = (int)lrint((x1 - x0) / L.hx);
-  L.my = (int)lrint((y1 - y0) / L.hy);
-  for (int j = 0; j <= L.my; j++)
-    for (int i = 0; i <= L.mx; i++) {
-      size_t l = lat_index(&L, i, j);
-      C->latok[l] = (uint8_t)trace_point(C, x0 + i * L.hx, y0 + j * L.hy,
-                                         C->lat + l * (size_t)C->cap, &C->latxi2[l]);
-    }
-  int px = (int)lrint(1.0 / L.hx), py = (int)lrint(1.0 / L.hy); /* lattice cells per pixel */
+  cellacc_t A = {x0, y0, x1, y1, C->acc};
+  for (int j = y0; j < y1; j++)
+    for (int i = x0; i < x1; i++)
+      *pixel_at(&A, i, j) = (pixel_t){i, j, {0, 0, 0}, NAN, {0, 0, 0}, 0};
+  lquad_t q;
+  memset(&q, 0, sizeof q);
+  q.x0 = x0;
+  q.y0 = y0;
+  q.w = x1 - x0;
+  q.h = y1 - y0;
+  if (quad_samples(C, &q) < 2.0 * 9.0) { /* a 3 x 3 grid would cost more than the samples */
+    quad_emit(C, &A, &q, NULL, WHY_OFF);
+  } else {
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        q.g[r][c] = trace_point(C, x0 + 0.5 * c * q.w, y0 + 0.5 * r * q.h,
+                                C->lat + (size_t)(3 * r + c) * (size_t)C->cap);
+    q.measured = 1;
+    quad_process(C, &A, &q, 0);
+  }
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++) {
-      pixel_t P = {i, j, {0, 0, 0}, NAN, {0, 0, 0}, pt__rays_now(C)};
-      for (int cj = (j - y0) * py; cj < (j - y0 + 1) * py; cj++)
-        for (int ci = (i - x0) * px; ci < (i - x0 + 1) * px; ci++) {
-          quad_t q = lattice_quad(C, &L, ci, cj);
-          quad_samples(C, &P, &q, 0);
-        }
-      pt__pixel_done(C, &P);
+      pt__pixel_done(C, pixel_at(&A, i, j));
       if (C->opt->aux)
         pt__aux_matrix(C, i, j);
     }

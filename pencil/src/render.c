@@ -31,8 +31,7 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->agree);
   free(C->light);
   free(C->lat);
-  free(C->latok);
-  free(C->latxi2);
+  free(C->acc);
   free(C->loc);
   free(C->locd);
   free(C->loce);
@@ -45,8 +44,6 @@ static void ctx_free(pt_ctx_t *C) {
 /* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
 static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   size_t side = (size_t)n + 1, corners = side * side;
-  /* pixel corners, or half-pixel steps along a 1-pixel-wide cell (3 x (N + 1), 3 x 3 at most) */
-  size_t lattice = corners > 3 * side ? corners : 3 * side > 9 ? 3 * side : 9;
   C->cap = cap;
   C->tree = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
   C->tree2 = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
@@ -56,18 +53,17 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->map = malloc(4 * (size_t)cap * sizeof *C->map);
   C->agree = malloc((size_t)cap);
   C->light = malloc((size_t)cap * sizeof *C->light);
-  C->lat = malloc(lattice * (size_t)cap * sizeof *C->lat);
-  C->latok = malloc(lattice);
-  C->latxi2 = malloc(lattice * sizeof *C->latxi2);
+  C->lat = malloc(9 * (size_t)cap * sizeof *C->lat);
+  C->acc = malloc((size_t)n * (size_t)n * sizeof *C->acc);
   C->loc = malloc((size_t)cap * sizeof *C->loc);
   C->locd = malloc((size_t)cap);
   C->loce = malloc((size_t)cap);
   C->loct = malloc((size_t)cap * sizeof *C->loct);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
-  C->ref = malloc((size_t)PT_REFINE_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
-  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->latok ||
-      !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->latxi2 || !C->loc ||
+  C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
+  if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->acc ||
+      !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->loc ||
       !C->locd || !C->loce || !C->loct) {
     C->corner_nodes = cn;
     return 0;
@@ -119,7 +115,8 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->fallbacks += b->fallbacks;
   a->lerp_samples += b->lerp_samples;
   for (int r = 0; r < 4; r++)
-    a->matrix_pixels[r] += b->matrix_pixels[r];
+    a->matrix_samples[r] += b->matrix_samples[r];
+  a->lattice_points += b->lattice_points;
   a->measured += b->measured;
   a->with_board += b->with_board;
   a->within += b->within;
@@ -135,7 +132,8 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
 
 static int options_ok(const pt_options_t *o) {
   return o->spp_side >= 1 && o->spp_side <= 7 && o->threads >= 0 && o->domain >= 1 &&
-         o->domain <= 32 && o->rho > 0.0 && isfinite(o->rho) && (unsigned)o->bound <= 2u;
+         o->domain <= 32 && o->rho > 0.0 && isfinite(o->rho) && (unsigned)o->bound <= 2u &&
+         o->brightness_tol >= 0.0 && isfinite(o->brightness_tol);
 }
 
 rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_options_t *opt,

@@ -22,10 +22,10 @@ uint64_t pt__rays_now(const pt_ctx_t *C) {
 }
 
 void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, double perr,
-                     uint64_t rays0) {
+                     uint64_t rays) {
   size_t k = pt__pixel_index(C, i, j);
   if (C->extra && C->extra->rays)
-    C->extra->rays[k] = (float)(pt__rays_now(C) - rays0);
+    C->extra->rays[k] = (float)rays;
   double w = 1.0 / (C->opt->spp_side * C->opt->spp_side);
   C->img->ch[RT_CH_R][k] = (float)(sum.r * w);
   C->img->ch[RT_CH_G][k] = (float)(sum.g * w);
@@ -87,7 +87,7 @@ void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
           }
         }
       C->st.samples[PT_METHOD_EXACT] += (uint64_t)(s * s);
-      pt__write_pixel(C, i, j, sum, PT_METHOD_EXACT, NAN, rays0);
+      pt__write_pixel(C, i, j, sum, PT_METHOD_EXACT, NAN, pt__rays_now(C) - rays0);
       if (C->opt->aux)
         pt__aux_exact(C, i, j);
     }
@@ -120,7 +120,7 @@ void pt__pixel_done(pt_ctx_t *C, pixel_t *P) {
       P->n[PT_METHOD_INTERP] >= P->n[PT_METHOD_MATRIX] ? PT_METHOD_INTERP : PT_METHOD_MATRIX;
   for (int k = 0; k < 3; k++)
     C->st.samples[k] += (uint64_t)P->n[k];
-  pt__write_pixel(C, P->i, P->j, P->sum, m, P->pmax, P->rays0);
+  pt__write_pixel(C, P->i, P->j, P->sum, m, P->pmax, P->rays);
 }
 
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
@@ -152,10 +152,12 @@ void pt__aux_matrix(pt_ctx_t *C, int i, int j) {
 /* Step 4a with matrices for every sample of pixel (i, j). */
 void pt__matrix_pixel(pt_ctx_t *C, int i, int j) {
   int s = C->opt->spp_side;
-  pixel_t P = {i, j, {0, 0, 0}, NAN, {0, 0, 0}, pt__rays_now(C)};
+  pixel_t P = {i, j, {0, 0, 0}, NAN, {0, 0, 0}, 0};
+  uint64_t rays0 = pt__rays_now(C);
   for (int b = 0; b < s; b++)
     for (int a = 0; a < s; a++)
       pt__matrix_sample(C, &P, a, b);
+  P.rays = pt__rays_now(C) - rays0;
   pt__pixel_done(C, &P);
   if (C->opt->aux)
     pt__aux_matrix(C, i, j);

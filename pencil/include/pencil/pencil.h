@@ -44,6 +44,9 @@ typedef enum {
   PT_METHOD_INTERP = 2  /**< ray interpolation from matrix-traced pixel corners (4.1 (2)) */
 } pt_method_t;
 
+/** Default brightness tolerance of ray interpolation: a quarter of an 8-bit display step. */
+#define PT_BRIGHTNESS_TOL (1.0 / 1024.0)
+
 typedef struct {
   int spp_side; /**< s: s x s samples per pixel, 1..7 */
   int threads;  /**< OpenMP threads; 0 = the OpenMP default */
@@ -55,13 +58,16 @@ typedef struct {
   int interp;    /**< 1: ray interpolation for s >= 2 (0: every sample by matrices) */
   int measure;   /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
   int aux;       /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
+  double brightness_tol; /**< ray interpolation: largest deviation (any colour channel) of the
+                              interpolated brightness from the traced one at a lattice cell's
+                              midpoints and centre, >= 0 (the paper assumes linearity) */
   /** Called after each finished row of domains with (rows done, rows total), serialised. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
-  { 1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, NULL, NULL }
+  { 1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, NULL, NULL }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
 typedef struct {
@@ -69,7 +75,8 @@ typedef struct {
                       sample has a pencil-traced checkerboard point, or when not measured) */
   float *method; /**< pt_method_t used for most of the pixel's samples */
   float *rays;   /**< exact rays traced for the pixel's samples (exact pixels, exactly traced
-                      subtrees, per-sample shadow rays; not the cells' axial and corner rays) */
+                      subtrees, per-sample shadow rays; not the cells' axial, corner and
+                      lattice rays) */
 } pt_extra_t;
 
 /** Number of bins of the error histogram; bin k holds errors in [k, k+1) * PT_HIST_STEP, the
@@ -94,10 +101,13 @@ typedef struct {
   uint64_t fallbacks;      /**< samples that left their cell's paths (an unforeseen exact trace) */
   uint64_t partial;        /**< samples with a subtree traced exactly where the corners differ */
   uint64_t lerp_samples;   /**< interpolated samples whose brightness was interpolated too */
-  uint64_t matrix_pixels[4]; /**< pixels of accepted cells traced by matrices because: 0 the cell
-                                  is under 2 x 2 pixels or interpolation is off, 1 a corner left
-                                  the cell's paths, 2 the corners reached different nodes, 3 e_int
-                                  plus the matrix error exceeds tau */
+  uint64_t matrix_samples[4]; /**< samples of accepted cells traced by matrices because: 0 the
+                                  cell has too few samples to interpolate, or interpolation is
+                                  off, 1 a lattice point left the cell's paths, 2 the lattice
+                                  points reached different nodes, 3 the interpolation error plus
+                                  the matrix error exceeds rho, or the brightness is not linear,
+                                  on the smallest lattice cell */
+  uint64_t lattice_points; /**< points traced through the paths for ray interpolation */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_board;     /**< ... with at least one pencil-traced checkerboard point */
