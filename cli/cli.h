@@ -56,6 +56,8 @@ int cmd_render(int argc, char **argv);
 /** `pencil render --method pencil` (cmd_render_pencil.c). */
 int cmd_render_pencil(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+/** `pencil bench pencil` (cmd_bench_pencil.c); argv[0] is "pencil". */
+int cmd_bench_pencil(int argc, char **argv);
 int cmd_bounds(int argc, char **argv);
 /** `pencil figures` and `pencil sweep` (cmd_figures.c). */
 int cmd_figures(int argc, char **argv);
