@@ -17,6 +17,11 @@
 #include "internal.h"
 #include "render/vec_inline.h"
 
+/* Whether accepted cells are ray-interpolated (4.1 (2)) rather than traced by matrices. */
+static int interpolating(const pt_ctx_t *C) {
+  return C->opt->interp && C->opt->spp_side >= 2;
+}
+
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
   pt_ctree_t *ct = &C->corner[(y - C->dom_y0) * side + (x - C->dom_x0)];
@@ -29,11 +34,6 @@ static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
     C->st.exact_traces++;
   }
   return ct;
-}
-
-/* Whether accepted cells are ray-interpolated (4.1 (2)) rather than traced by matrices. */
-static int interpolating(const pt_ctx_t *C) {
-  return C->opt->interp && C->opt->spp_side >= 2;
 }
 
 /* Step 4a for an accepted cell. */
@@ -99,14 +99,22 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, dou
     pt_path_topology(C->s, &C->tree, k, par >= 0 ? &C->node[par] : NULL, n);
     n->light_agree = C->light[k];
     int parent_ok = par < 0 || C->node[par].pencil != PT_NODE_EXACT;
-    int mode = C->agree[k] && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
+    /* with ray interpolation, a node below an edge is traced along its path at the lattice
+     * points with a scene search that must confirm it (the lattice then finds the edge) */
+    int verify = !C->agree[k] && parent_ok && par >= 0 && interpolating(C);
+    int mode = (C->agree[k] || verify) && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
     if (!C->agree[k] && parent_ok) { /* an edge below the primary ray */
       need = fmin(need, 0.5 * xi_cell);
       *cost += size[k];
     }
     if (mode && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
       mode = PT_NODE_EXACT;
-    if (mode && !n->miss) {
+    if (mode && verify) {
+      mode = PT_NODE_PATH;
+      n->verify = 1;
+      *partial = 1;
+    }
+    if (mode == PT_NODE_MATRIX && !n->miss) {
       (*paths)++;
       int checked = !p->check || n->e_check <= PT_CERTIFIED_MARGIN * n->tau;
       if (xi_cell > n->xi_max || !checked) {

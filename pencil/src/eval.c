@@ -54,6 +54,12 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
    * from, or one beyond PT_MAX_LIGHTS: a shadow ray per sample */
   E->C->ex.stats.shadow++;
   q->through = rt_transmittance(E->C->s, &q->ray);
+  if (E->lattice && E->rec && q->light < 32) { /* where the visibility changes over the cell */
+    pt_geom_t *g = &E->rec[E->cur];
+    rt_rgb_t t = q->through;
+    g->lit |= (uint32_t)(t.r == 1.0 && t.g == 1.0 && t.b == 1.0) << q->light;
+    g->dark |= (uint32_t)(t.r == 0.0 && t.g == 0.0 && t.b == 0.0) << q->light;
+  }
 }
 
 /* Radiance along a child ray by the exact tracer (unweighted). */
@@ -73,6 +79,15 @@ static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, int32_t *su, i
 
 static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,
                          rt_surface_t *sf);
+
+/* A verify node (path.h): whether ray r, which meets the node's primitive at t, meets nothing
+ * else first (for a miss node, t = INFINITY: nothing at all). */
+static int verified(pt_eval_t *E, const pt_node_t *n, const rt_ray_t *r, double t) {
+  rt_hit_t h;
+  if (!rt_intersect(E->C->s, r, &h))
+    return !isfinite(t);
+  return h.prim == n->prim && fabs(h.t - t) <= 1e-9 * (1.0 + t);
+}
 
 /* Node k's exact geometry for the sample in MATRIX mode: the sample's primary ray carried
  * exactly through the surfaces of the node's path (the reflected and refracted rays of shade.h
@@ -103,7 +118,8 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
     r = ch[i].ray;
   }
   double t;
-  if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t))
+  if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t) ||
+      (n->verify && !verified(E, n, &r, t)))
     return x;
   x->p = v3_axpy(t, r.d, r.o);
   x->d = r.d;
@@ -135,7 +151,8 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     int exact_parent = n->parent < 0 || E->C->node[n->parent].pencil == PT_NODE_PATH;
     if (from && exact_parent) { /* spawned at an exact hit: the sample's own ray */
       double t;
-      if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t))
+      if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t) ||
+          (n->verify && !verified(E, n, &from->ray, t)))
         return 0;
       *hit = v3_axpy(t, from->ray.d, from->ray.o);
       *d = from->ray.d;
@@ -176,7 +193,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
              : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
                                                    : -1;
-    if (kc >= 0 && E->C->node[kc].pencil != PT_NODE_EXACT) {
+    if (kc >= 0 && E->C->node[kc].pencil != PT_NODE_EXACT && !(E->xsub && E->xsub[kc])) {
       if (!only_exact)
         sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));
       continue;
@@ -195,6 +212,14 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   return sum;
 }
 
+/* The sample's ray left node n's path: an edge the cell's corners saw (verify node) or not. */
+static void left(pt_eval_t *E, const pt_node_t *n) {
+  if (n->verify)
+    E->vfail = E->partial = 1;
+  else
+    E->fallback = 1;
+}
+
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from) {
   pt_ctx_t *C = E->C;
   const pt_node_t *n = &C->node[k];
@@ -204,8 +229,8 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     rt_hit_t h;
     /* certified mode: the sample's own ray must still meet nothing (a horizon or an object
      * between the cell's corners would otherwise go unseen) */
-    if (C->opt->certified && r && rt_intersect(C->s, r, &h)) {
-      E->fallback = 1;
+    if ((C->opt->certified || n->verify) && r && rt_intersect(C->s, r, &h)) {
+      left(E, n);
       mark_exact(E, k);
       if (!E->shade)
         return rt_rgb(0, 0, 0);
@@ -223,7 +248,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   }
   px_vec3_t hit, d;
   if (!node_geometry(E, k, from, &hit, &d)) { /* left the cell's paths: exact from here */
-    E->fallback = 1;
+    left(E, n);
     mark_exact(E, k);
     if (!E->shade)
       return rt_rgb(0, 0, 0);
@@ -238,6 +263,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     g->ok = 1;
     g->fb = 0;
     g->su = g->sv = 0;
+    g->lit = g->dark = 0;
     if (n->textured)
       square_of(C->s, n->prim, hit, &g->su, &g->sv);
   }
@@ -273,6 +299,7 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
       E->rec[k].ok = E->rec[k].fb = 0;
   E->cur = -1;
   E->fallback = 0;
+  E->vfail = 0;
   E->partial = 0;
   E->stamp = ++E->C->stamp;
   return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);

@@ -20,6 +20,8 @@ typedef struct {
   rt_rgb_t lt[2]; /**< textured nodes at lattice points: W_k * direct_k with the material of
                        the even (0) and the odd (1) checker squares */
   int32_t su, sv; /**< checker square of the hit (textured nodes), else 0 */
+  uint32_t lit;   /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
+  uint32_t dark;  /**< ... and was fully blocked */
   uint8_t ok;     /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
   uint8_t fb;     /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
@@ -73,6 +75,7 @@ typedef struct {
   int *loc;             /**< per-pixel plan: nodes shaded per sample (cap) */
   uint8_t *locd, *loce; /**< ... with their direct term / with exactly traced children */
   int *loct;            /**< per-quad plan: textured nodes whose square changes (cap) */
+  uint8_t *xsub;        /**< per-quad plan: verify nodes (and below) traced exactly (cap) */
   pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
@@ -104,6 +107,8 @@ typedef struct {
   int cur;               /**< node being shaded */
   uint32_t stamp;        /**< this evaluation's xg stamp */
   int fallback;          /**< set when the sample left the cell's paths (traced exactly there) */
+  int vfail;             /**< set when a verify node's scene search failed (traced exactly) */
+  const uint8_t *xsub;   /**< INTERP: nodes whose subtrees are traced exactly in this quad */
   int partial;           /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;
 

@@ -130,6 +130,17 @@ static px_vec3_t rgb_vec(rt_rgb_t c) {
   return px_vec3(c.r, c.g, c.b);
 }
 
+/* Whether node k's shadow rays found the same lights unblocked and the same fully blocked at
+ * the nine points of grid R. */
+static int same_visibility(const point_t (*R)[3], int k) {
+  const pt_geom_t *b = &R[0][0].g[k];
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      if (R[r][c].g[k].lit != b->lit || R[r][c].g[k].dark != b->dark)
+        return 0;
+  return 1;
+}
+
 /* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
  * what failed. */
 static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
@@ -152,8 +163,20 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
   pl->n = pl->nt = 0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
+  /* a verify node (below an edge the corners saw) that some grid point did not confirm is traced
+   * exactly per sample in this quad, with its subtree */
+  uint8_t *xsub = C->xsub;
+  for (int k = 0; k < C->nnode; k++) {
+    const pt_node_t *n = &C->node[k];
+    xsub[k] = n->parent >= 0 && xsub[n->parent];
+    for (int r = 0; r < 3 && n->verify && !xsub[k]; r++)
+      for (int c = 0; c < 3; c++)
+        xsub[k] |= R[r][c].g[k].ok != 1;
+  }
   for (int k = 0; k < C->nnode; k++) {
     int reached = 0, exact = 0;
+    if (xsub[k])
+      continue;
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++) {
         reached += R[r][c].g[k].ok != 0;
@@ -184,9 +207,12 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
           const pt_geom_t *a = &corner_of(q, i)->g[k], *b = &corner_of(q, 0)->g[k];
           squares = squares && a->su == b->su && a->sv == b->sv;
         }
-      smooth = n->light_agree == ~0u;
+      /* every light's visibility agrees at the cell's centre and corners, or at least at the
+       * nine points of the grid (then the brightness test below checks the shading between) */
+      smooth = n->light_agree == ~0u || same_visibility(R, k);
       for (int c = 0; c < 2; c++)
-        exact_children |= n->child[c] >= 0 && C->node[n->child[c]].pencil == PT_NODE_EXACT;
+        exact_children |= n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT ||
+                                                xsub[n->child[c]]);
       if (smooth && !squares) {
         /* the direct term is linear for each material: the sample's square picks one. Children
          * would be weighted by the material too, so only for leaves */
@@ -338,7 +364,7 @@ typedef struct {
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
   Q->pl = pl;
-  Q->E = (pt_eval_t){.C = C, .mode = PT_EV_INTERP, .shade = 1};
+  Q->E = (pt_eval_t){.C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
   Q->fast = pl->n == 0 && pl->nt <= PT_FAST_LEAVES;

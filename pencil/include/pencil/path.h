@@ -45,7 +45,8 @@ typedef enum {
   PT_NODE_MATRIX = 1,
   /** Exactly along its known path: the sample's own ray (from shade.h at the parent's hit)
    *  meets the node's primitive, without a scene search (steps 4b and 4c when subdividing does
-   *  not pay). The corners agree on the surfaces as for MATRIX. */
+   *  not pay). The corners agree on the surfaces as for MATRIX, or (verify) the node's hit is
+   *  confirmed by a scene search. */
   PT_NODE_PATH = 2
 } pt_node_mode_t;
 
@@ -69,6 +70,9 @@ typedef struct {
   int child[2];         /**< tree indices of the children, -1 when absent */
   int child_kind[2];    /**< their rt_ray_kind_t */
   int pencil;           /**< pt_node_mode_t: how the samples' rays of this node are traced */
+  int verify;           /**< PATH with ray interpolation where the corners' trees differ at or
+                             above the node: the exact ray along the path must meet the node's
+                             own surface first in a scene search, else it is traced exactly */
   uint32_t light_agree; /**< bit l: light l's visibility is the same at the centre and corners */
   double ior;           /**< index of the medium the arriving ray travels in */
   /* psi' = T psi for psi = (0, 0, xi) at the eye: x' = B xi, xi' = D xi (Eqs. 1-2 cascaded) */
