@@ -4,6 +4,7 @@
 #include "render/scene.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -198,6 +199,13 @@ void rt_plane_coords(const rt_plane_t *pl, px_vec3_t p, double *u, double *v) {
   *v = px_vec3_dot(d, pl->v);
 }
 
+/* Parity of the integer-valued double k, as fmod(fabs(k), 2.0) gives it but without the libm
+ * call: below 2^53 the conversion to int64_t is exact; at and above it every double is even. */
+static int checker_parity(double k) {
+  double a = fabs(k);
+  return a < 0x1p53 ? (int)((int64_t)a & 1) : 0;
+}
+
 const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3_t p, int *texel) {
   const rt_object_t *o = &s->object[s->prim[prim].object];
   int parity = -1;
@@ -205,8 +213,7 @@ const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3
     const rt_plane_t *pl = &s->prim[prim].plane;
     double u, v;
     rt_plane_coords(pl, p, &u, &v);
-    double cu = floor(u / pl->check), cv = floor(v / pl->check);
-    parity = (int)fmod(fabs(cu + cv), 2.0);
+    parity = checker_parity(floor(u / pl->check) + floor(v / pl->check));
   }
   if (texel)
     *texel = parity;

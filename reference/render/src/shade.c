@@ -23,7 +23,7 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 
 px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side) {
   px_vec3_t p = sf->hit.p;
-  double scale = 1.0 + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
+  double scale = 1.0 + maxd(fabs(p.x), maxd(fabs(p.y), fabs(p.z))); /* p is finite */
   return v3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
 }
 
