@@ -11,6 +11,7 @@
 
 #include "bvh.h"
 #include "render/intersect.h"
+#include "render/vec_inline.h"
 
 const char *rt_strerror(rt_status_t s) {
   switch (s) {
@@ -194,9 +195,9 @@ void rt_scene_name_object(rt_scene_t *s, int object, const char *name) {
 }
 
 void rt_plane_coords(const rt_plane_t *pl, px_vec3_t p, double *u, double *v) {
-  px_vec3_t d = px_vec3_sub(p, pl->p);
-  *u = px_vec3_dot(d, pl->u);
-  *v = px_vec3_dot(d, pl->v);
+  px_vec3_t d = v3_sub(p, pl->p);
+  *u = v3_dot(d, pl->u);
+  *v = v3_dot(d, pl->v);
 }
 
 /* Parity of the integer-valued double k, as fmod(fabs(k), 2.0) gives it but without the libm

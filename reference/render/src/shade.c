@@ -37,11 +37,11 @@ static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
     *dist = INFINITY;
     return v3_scale(l->v, -1.0);
   }
-  px_vec3_t d = v3_sub(l->v, p), u;
+  px_vec3_t d = v3_sub(l->v, p);
   *dist = v3_norm(d);
-  if (px_vec3_normalize(d, &u) != PX_OK)
+  if (!(*dist > 0.0) || !isfinite(*dist))
     return v3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
-  return u;
+  return v3_scale(d, 1.0 / *dist);
 }
 
 /* Transmittance towards a light (white without the shadow effect). */
