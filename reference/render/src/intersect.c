@@ -27,18 +27,7 @@ int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 }
 
 px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p) {
-  const rt_prim_t *pr = &s->prim[prim];
-  switch (pr->kind) {
-  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
-    px_vec3_t d = v3_sub(p, pr->sphere.c);
-    return v3_scale(d, 1.0 / v3_norm(d));
-  }
-  case RT_PRIM_PLANE:
-    return pr->plane.n;
-  case RT_PRIM_POLYGON:
-    return pr->polygon.n;
-  }
-  return v3(0, 0, 1);
+  return prim_normal(&s->prim[prim], p);
 }
 
 int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi) {

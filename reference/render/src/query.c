@@ -33,7 +33,7 @@ static double box_entry(const rt_bvh_node_t *nd, const slab_ray_t *r, double t0,
 static void fill_hit(const rt_scene_t *s, const rt_ray_t *ray, int prim, double t, rt_hit_t *h) {
   h->t = t;
   h->p = v3_axpy(t, ray->d, ray->o);
-  h->n = rt_prim_normal(s, prim, h->p);
+  h->n = prim_normal(&s->prim[prim], h->p);
   h->prim = prim;
   h->object = s->prim[prim].object;
 }
@@ -120,8 +120,10 @@ static int attenuate(const rt_scene_t *s, int prim, const rt_ray_t *ray, double 
     *tr = rt_rgb(0, 0, 0);
     return 0;
   }
-  const rt_object_t *o = &s->object[s->prim[prim].object];
-  if (o->closed && v3_dot(rt_prim_normal(s, prim, p), ray->d) < 0.0)
+  const rt_prim_t *pr = &s->prim[prim];
+  /* outward normal, unnormalised for a sphere: only the sign of its dot with d is needed */
+  px_vec3_t out = pr->kind == RT_PRIM_SPHERE ? v3_sub(p, pr->sphere.c) : prim_normal(pr, p);
+  if (s->object[pr->object].closed && v3_dot(out, ray->d) < 0.0)
     return 1; /* entering a closed object: its factor is applied once, on the way out */
   *tr = rt_rgb_mul(*tr, rt_rgb_scale(m->transmittance, m->kt));
   return rt_rgb_max(*tr) > 0.0;

@@ -44,6 +44,20 @@ static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
   return v3_scale(d, 1.0 / *dist);
 }
 
+/* x^n for Phong's (R.V)^n, 0 < x <= 1: by repeated squaring when n is a whole number up to 1024
+ * (the usual case). Each squaring doubles the relative error it inherits and adds one rounding,
+ * so x^n comes out within (n - 1) roundings, 1.2e-13 relative at n = 1024: far below the float
+ * resolution of the image (6e-8) and far cheaper than pow(). pow() for other exponents. */
+static double phong_pow(double x, double n) {
+  if (!(n >= 0.0 && n <= 1024.0) || n != floor(n))
+    return pow(x, n);
+  double r = 1.0;
+  for (unsigned k = (unsigned)n; k; k >>= 1, x *= x)
+    if (k & 1u)
+      r *= x;
+  return r;
+}
+
 /* Transmittance towards a light (white without the shadow effect). */
 static rt_rgb_t shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                        const rt_ray_t *ray, int l, px_vec3_t dir, double dist,
@@ -82,7 +96,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
       px_vec3_t rd = v3_axpy(-2.0 * v3_dot(ray->d, sf->nf), sf->nf, ray->d);
       double rv = v3_dot(rd, L);
       if (rv > 0.0)
-        term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * pow(rv, m->phong)));
+        term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * phong_pow(rv, m->phong)));
     }
     c = rt_rgb_add(c, rt_rgb_mul(rt_rgb_mul(through, s->light[l].intensity), term));
   }
