@@ -13,17 +13,7 @@ int rt_prim_intersect(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 }
 
 int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double t[2]) {
-  const rt_prim_t *p = &s->prim[prim];
-  if (p->kind != RT_PRIM_SPHERE)
-    return rt_prim_intersect(s, prim, ray, ray->tmax, t);
-  double r[2];
-  int n = 0;
-  if (!sphere_roots(&p->sphere, ray, r))
-    return 0;
-  for (int k = 0; k < 2; k++)
-    if (r[k] > ray->tmin && r[k] < ray->tmax)
-      t[n++] = r[k];
-  return n;
+  return prim_crossings(s, prim, ray, t);
 }
 
 px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p) {

@@ -133,7 +133,7 @@ static int cross_prim(const rt_scene_t *s, int prim, const rt_ray_t *ray, rt_rgb
   double t[2];
   if (prim == ray->skip_prim)
     return 1;
-  int n = rt_prim_crossings(s, prim, ray, t);
+  int n = prim_crossings(s, prim, ray, t);
   for (int k = 0; k < n; k++)
     if (!attenuate(s, prim, ray, t[k], tr))
       return 0;
