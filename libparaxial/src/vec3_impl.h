@@ -53,7 +53,9 @@ static inline px_vec3_t vec3_cross(px_vec3_t a, px_vec3_t b) {
   return (px_vec3_t){diff_products(a.y, b.z, a.z, b.y), diff_products(a.z, b.x, a.x, b.z),
                      diff_products(a.x, b.y, a.y, b.x)};
 }
-static inline double vec3_norm(px_vec3_t a) { return sqrt(vec3_dot(a, a)); }
+static inline double vec3_norm(px_vec3_t a) {
+  return sqrt(vec3_dot(a, a));
+}
 
 static inline px_status_t vec3_normalize(px_vec3_t a, px_vec3_t *out) {
   double n = vec3_norm(a);

@@ -36,27 +36,49 @@ static double box_entry(const rt_bvh_node_t *nd, const slab_ray_t *r, double t0,
 #if defined(__SSE2__)
 #include <emmintrin.h>
 typedef __m128d v2d_t;
-static inline v2d_t v2_load(const double p[2]) { return _mm_loadu_pd(p); }
-static inline v2d_t v2_splat(double a) { return _mm_set1_pd(a); }
-static inline v2d_t v2_min(v2d_t a, v2d_t b) { return _mm_min_pd(a, b); }
-static inline v2d_t v2_max(v2d_t a, v2d_t b) { return _mm_max_pd(a, b); }
-static inline v2d_t v2_sub(v2d_t a, v2d_t b) { return _mm_sub_pd(a, b); }
-static inline v2d_t v2_mul(v2d_t a, v2d_t b) { return _mm_mul_pd(a, b); }
-static inline void v2_store(double p[2], v2d_t a) { _mm_storeu_pd(p, a); }
+static inline v2d_t v2_load(const double p[2]) {
+  return _mm_loadu_pd(p);
+}
+static inline v2d_t v2_splat(double a) {
+  return _mm_set1_pd(a);
+}
+static inline v2d_t v2_min(v2d_t a, v2d_t b) {
+  return _mm_min_pd(a, b);
+}
+static inline v2d_t v2_max(v2d_t a, v2d_t b) {
+  return _mm_max_pd(a, b);
+}
+static inline v2d_t v2_sub(v2d_t a, v2d_t b) {
+  return _mm_sub_pd(a, b);
+}
+static inline v2d_t v2_mul(v2d_t a, v2d_t b) {
+  return _mm_mul_pd(a, b);
+}
+static inline void v2_store(double p[2], v2d_t a) {
+  _mm_storeu_pd(p, a);
+}
 #else
 typedef struct {
   double v[2];
 } v2d_t;
-static inline v2d_t v2_load(const double p[2]) { return (v2d_t){{p[0], p[1]}}; }
-static inline v2d_t v2_splat(double a) { return (v2d_t){{a, a}}; }
+static inline v2d_t v2_load(const double p[2]) {
+  return (v2d_t){{p[0], p[1]}};
+}
+static inline v2d_t v2_splat(double a) {
+  return (v2d_t){{a, a}};
+}
 static inline v2d_t v2_min(v2d_t a, v2d_t b) {
   return (v2d_t){{mind(a.v[0], b.v[0]), mind(a.v[1], b.v[1])}};
 }
 static inline v2d_t v2_max(v2d_t a, v2d_t b) {
   return (v2d_t){{maxd(a.v[0], b.v[0]), maxd(a.v[1], b.v[1])}};
 }
-static inline v2d_t v2_sub(v2d_t a, v2d_t b) { return (v2d_t){{a.v[0] - b.v[0], a.v[1] - b.v[1]}}; }
-static inline v2d_t v2_mul(v2d_t a, v2d_t b) { return (v2d_t){{a.v[0] * b.v[0], a.v[1] * b.v[1]}}; }
+static inline v2d_t v2_sub(v2d_t a, v2d_t b) {
+  return (v2d_t){{a.v[0] - b.v[0], a.v[1] - b.v[1]}};
+}
+static inline v2d_t v2_mul(v2d_t a, v2d_t b) {
+  return (v2d_t){{a.v[0] * b.v[0], a.v[1] * b.v[1]}};
+}
 static inline void v2_store(double p[2], v2d_t a) {
   p[0] = a.v[0];
   p[1] = a.v[1];
