@@ -3,35 +3,17 @@
 
 #include <math.h>
 
+#include "vec3_impl.h"
+
 px_vec3_t px_vec3(double x, double y, double z) { return (px_vec3_t){x, y, z}; }
-px_vec3_t px_vec3_add(px_vec3_t a, px_vec3_t b) { return px_vec3(a.x + b.x, a.y + b.y, a.z + b.z); }
-px_vec3_t px_vec3_sub(px_vec3_t a, px_vec3_t b) { return px_vec3(a.x - b.x, a.y - b.y, a.z - b.z); }
-px_vec3_t px_vec3_scale(px_vec3_t a, double s) { return px_vec3(a.x * s, a.y * s, a.z * s); }
-px_vec3_t px_vec3_axpy(double s, px_vec3_t x, px_vec3_t y) {
-  return px_vec3(fma(s, x.x, y.x), fma(s, x.y, y.y), fma(s, x.z, y.z));
-}
-double px_vec3_dot(px_vec3_t a, px_vec3_t b) { return fma(a.x, b.x, fma(a.y, b.y, a.z * b.z)); }
-
-/* a*b - c*d with one rounding error less (Kahan's FMA trick, as in pbrt's DifferenceOfProducts) */
-static double diff_products(double a, double b, double c, double d) {
-  double cd = c * d;
-  double err = fma(-c, d, cd);
-  return fma(a, b, -cd) + err;
-}
-
-px_vec3_t px_vec3_cross(px_vec3_t a, px_vec3_t b) {
-  return px_vec3(diff_products(a.y, b.z, a.z, b.y), diff_products(a.z, b.x, a.x, b.z),
-                 diff_products(a.x, b.y, a.y, b.x));
-}
-double px_vec3_norm(px_vec3_t a) { return sqrt(px_vec3_dot(a, a)); }
-
-px_status_t px_vec3_normalize(px_vec3_t a, px_vec3_t *out) {
-  double n = px_vec3_norm(a);
-  if (!(n > 0.0) || !isfinite(n))
-    return PX_ESINGULAR;
-  *out = px_vec3_scale(a, 1.0 / n);
-  return PX_OK;
-}
+px_vec3_t px_vec3_add(px_vec3_t a, px_vec3_t b) { return vec3_add(a, b); }
+px_vec3_t px_vec3_sub(px_vec3_t a, px_vec3_t b) { return vec3_sub(a, b); }
+px_vec3_t px_vec3_scale(px_vec3_t a, double s) { return vec3_scale(a, s); }
+px_vec3_t px_vec3_axpy(double s, px_vec3_t x, px_vec3_t y) { return vec3_axpy(s, x, y); }
+double px_vec3_dot(px_vec3_t a, px_vec3_t b) { return vec3_dot(a, b); }
+px_vec3_t px_vec3_cross(px_vec3_t a, px_vec3_t b) { return vec3_cross(a, b); }
+double px_vec3_norm(px_vec3_t a) { return vec3_norm(a); }
+px_status_t px_vec3_normalize(px_vec3_t a, px_vec3_t *out) { return vec3_normalize(a, out); }
 
 px_mat2_t px_mat2(double a, double b, double c, double d) { return (px_mat2_t){{{a, b}, {c, d}}}; }
 px_mat2_t px_mat2_identity(void) { return px_mat2(1, 0, 0, 1); }

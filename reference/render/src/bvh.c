@@ -136,10 +136,29 @@ static int build_node(build_t *B, int start, int end, int depth) {
   return me;
 }
 
+/* Copy interior node `ni` of the built tree into pair[] (depth-first, left before right) and
+ * return its index there. */
+static int make_pairs(struct rt_bvh *b, int ni) {
+  const rt_bvh_node_t *nd = &b->node[ni];
+  int me = b->npair++;
+  const int child[2] = {ni + 1, nd->start};
+  for (int c = 0; c < 2; c++) {
+    const rt_bvh_node_t *ch = &b->node[child[c]];
+    for (int k = 0; k < 3; k++) {
+      b->pair[me].lo[k][c] = ch->lo[k];
+      b->pair[me].hi[k][c] = ch->hi[k];
+    }
+    b->pair[me].count[c] = ch->count;
+    b->pair[me].ref[c] = ch->count > 0 ? ch->start : make_pairs(b, child[c]);
+  }
+  return me;
+}
+
 void rt_bvh_free(struct rt_bvh *b) {
   if (!b)
     return;
   free(b->node);
+  free(b->pair);
   free(b->order);
   free(b);
 }
@@ -172,13 +191,16 @@ rt_status_t rt_bvh_build(const rt_scene_t *s, struct rt_bvh **out, int **unbound
   *unbounded = malloc(n * sizeof(int));
   if (B.b) {
     B.b->node = malloc((2 * n) * sizeof(rt_bvh_node_t));
+    B.b->pair = malloc(n * sizeof(rt_bvh_pair_t)); /* n leaves at most: n - 1 interior nodes */
     B.b->order = malloc(n * sizeof(int));
   }
   rt_status_t st = RT_ENOMEM;
-  if (B.b && B.b->node && B.b->order && B.pb && B.ct && *unbounded) {
+  if (B.b && B.b->node && B.b->pair && B.b->order && B.pb && B.ct && *unbounded) {
     collect(&B, unbounded, nunbounded);
     if (B.b->norder > 0)
       build_node(&B, 0, B.b->norder, 0);
+    if (B.b->nnode > 0 && B.b->node[0].count == 0)
+      make_pairs(B.b, 0);
     st = RT_OK;
   }
   free(B.pb);

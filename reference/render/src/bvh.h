@@ -5,6 +5,7 @@
 
 #include "render/scene.h"
 
+/* The binary tree as built: one box per node, depth-first (the left child follows its parent). */
 typedef struct {
   double lo[3], hi[3]; /**< bounds of everything below */
   int start;           /**< leaf: first entry of bvh->order; interior: index of the right child
@@ -12,9 +13,21 @@ typedef struct {
   int count;           /**< leaf: number of primitives (> 0); interior: 0 */
 } rt_bvh_node_t;
 
+/* The same tree as traversed: each interior node holds the boxes of its two children side by
+ * side, [axis][child], so that a ray tests both with one pass of 2-wide arithmetic (the same
+ * operations, lane by lane, as one box at a time) and one node fetch. */
+typedef struct {
+  double lo[3][2], hi[3][2]; /**< bounds of the left (0) and right (1) child */
+  int ref[2];                /**< leaf child: first entry of bvh->order; interior child: its
+                                  index in bvh->pair */
+  int count[2];              /**< leaf child: number of primitives (> 0); interior child: 0 */
+} rt_bvh_pair_t;
+
 struct rt_bvh {
-  rt_bvh_node_t *node;
+  rt_bvh_node_t *node; /**< node[0] is the root: its box, and its primitives when a leaf */
   int nnode;
+  rt_bvh_pair_t *pair; /**< interior nodes in traversal layout; pair[0] is the root's */
+  int npair;
   int *order; /**< primitive indices, grouped by leaf */
   int norder;
 };

@@ -4,6 +4,8 @@
 
 #include <math.h>
 
+#include "render/vec_inline.h"
+
 rt_status_t rt_view_make(const rt_camera_t *cam, rt_view_t *out) {
   rt_view_t v;
   if (!(cam->fov_deg > 0.0 && cam->fov_deg < 180.0) || cam->width < 1 || cam->height < 1)
@@ -27,7 +29,7 @@ rt_status_t rt_view_make(const rt_camera_t *cam, rt_view_t *out) {
 rt_ray_t rt_view_ray(const rt_view_t *v, double x, double y, double ior) {
   double sx = (2.0 * x / v->width - 1.0) * v->half_w;
   double sy = (2.0 * y / v->height - 1.0) * v->half_h;
-  px_vec3_t d = px_vec3_axpy(sx, v->right, px_vec3_axpy(sy, v->down, v->forward));
-  px_vec3_normalize(d, &d); /* |d| >= 1: forward is unit and orthogonal to the offsets */
-  return (rt_ray_t){v->eye, d, 0.0, INFINITY, ior, -1};
+  px_vec3_t d = v3_axpy(sx, v->right, v3_axpy(sy, v->down, v->forward));
+  /* |d| >= 1: forward is unit and orthogonal to the offsets */
+  return (rt_ray_t){v->eye, v3_unit(d), 0.0, INFINITY, ior, -1};
 }

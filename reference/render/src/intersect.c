@@ -13,32 +13,11 @@ int rt_prim_intersect(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 }
 
 int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double t[2]) {
-  const rt_prim_t *p = &s->prim[prim];
-  if (p->kind != RT_PRIM_SPHERE)
-    return rt_prim_intersect(s, prim, ray, ray->tmax, t);
-  double r[2];
-  int n = 0;
-  if (!sphere_roots(&p->sphere, ray, r))
-    return 0;
-  for (int k = 0; k < 2; k++)
-    if (r[k] > ray->tmin && r[k] < ray->tmax)
-      t[n++] = r[k];
-  return n;
+  return prim_crossings(s, prim, ray, t);
 }
 
 px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p) {
-  const rt_prim_t *pr = &s->prim[prim];
-  switch (pr->kind) {
-  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
-    px_vec3_t d = v3_sub(p, pr->sphere.c);
-    return v3_scale(d, 1.0 / v3_norm(d));
-  }
-  case RT_PRIM_PLANE:
-    return pr->plane.n;
-  case RT_PRIM_POLYGON:
-    return pr->polygon.n;
-  }
-  return v3(0, 0, 1);
+  return prim_normal(&s->prim[prim], p);
 }
 
 int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi) {

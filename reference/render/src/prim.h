@@ -29,15 +29,14 @@ static inline int sphere_roots(const rt_sphere_t *sp, const rt_ray_t *ray, doubl
   return 2;
 }
 
-/* Even-odd crossing test of p against the polygon projected along its dominant axis. A point on
- * an edge shared by two faces is counted in exactly one of them (half-open rule in y). */
-static inline int polygon_inside(const rt_scene_t *s, const rt_polygon_t *pg, px_vec3_t p) {
-  int ia = pg->axis == 0 ? 1 : 0, ib = pg->axis == 2 ? 1 : 2;
-  double px = v3_at(p, ia), py = v3_at(p, ib);
-  const px_vec3_t *v = s->vertex + pg->first;
+/* Even-odd crossing test of (px, py) against the polygon's vertices projected on axes ia, ib.
+ * A point on an edge shared by two faces is counted in exactly one of them (half-open rule in
+ * y). Called with constant axes so that the component selection folds away. */
+static inline int polygon_inside_2d(const px_vec3_t *v, int count, int ia, int ib, double px,
+                                    double py) {
   int inside = 0;
-  double xj = v3_at(v[pg->count - 1], ia), yj = v3_at(v[pg->count - 1], ib);
-  for (int i = 0; i < pg->count; i++) { /* edge from vertex j = i - 1 to vertex i */
+  double xj = v3_at(v[count - 1], ia), yj = v3_at(v[count - 1], ib);
+  for (int i = 0; i < count; i++) { /* edge from vertex j = i - 1 to vertex i */
     double xi = v3_at(v[i], ia), yi = v3_at(v[i], ib);
     if ((yi > py) != (yj > py) && px < (xj - xi) * (py - yi) / (yj - yi) + xi)
       inside = !inside;
@@ -45,6 +44,19 @@ static inline int polygon_inside(const rt_scene_t *s, const rt_polygon_t *pg, px
     yj = yi;
   }
   return inside;
+}
+
+/* Even-odd test of p against the polygon projected along its dominant axis. */
+static inline int polygon_inside(const rt_scene_t *s, const rt_polygon_t *pg, px_vec3_t p) {
+  const px_vec3_t *v = s->vertex + pg->first;
+  switch (pg->axis) {
+  case 0:
+    return polygon_inside_2d(v, pg->count, 1, 2, p.y, p.z);
+  case 1:
+    return polygon_inside_2d(v, pg->count, 0, 2, p.x, p.z);
+  default:
+    return polygon_inside_2d(v, pg->count, 0, 1, p.x, p.y);
+  }
 }
 
 /* Distance to the plane n.x = d along the ray; 0 when parallel or outside (tmin, tmax). */
@@ -57,6 +69,21 @@ static inline int plane_t(px_vec3_t n, double d, const rt_ray_t *ray, double tma
     return 0;
   *t = tt;
   return 1;
+}
+
+/* The body of rt_prim_normal(), inlined into the queries. */
+static inline px_vec3_t prim_normal(const rt_prim_t *pr, px_vec3_t p) {
+  switch (pr->kind) {
+  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
+    px_vec3_t d = v3_sub(p, pr->sphere.c);
+    return v3_scale(d, 1.0 / v3_norm(d));
+  }
+  case RT_PRIM_PLANE:
+    return pr->plane.n;
+  case RT_PRIM_POLYGON:
+    return pr->polygon.n;
+  }
+  return v3(0, 0, 1);
 }
 
 /* Nearest crossing in (ray->tmin, tmax); the body of rt_prim_intersect(), inlined into the BVH
@@ -91,6 +118,22 @@ static inline int prim_hit(const rt_scene_t *s, int prim, const rt_ray_t *ray, d
   }
   }
   return 0;
+}
+
+/* Every crossing in (ray->tmin, ray->tmax), ascending: the body of rt_prim_crossings(), inlined
+ * into the shadow query. */
+static inline int prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double t[2]) {
+  const rt_prim_t *p = &s->prim[prim];
+  if (p->kind != RT_PRIM_SPHERE)
+    return prim_hit(s, prim, ray, ray->tmax, t);
+  double r[2];
+  int n = 0;
+  if (!sphere_roots(&p->sphere, ray, r))
+    return 0;
+  for (int k = 0; k < 2; k++)
+    if (r[k] > ray->tmin && r[k] < ray->tmax)
+      t[n++] = r[k];
+  return n;
 }
 
 #endif

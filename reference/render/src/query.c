@@ -30,10 +30,84 @@ static double box_entry(const rt_bvh_node_t *nd, const slab_ray_t *r, double t0,
   return t0 <= t1 ? t0 : INFINITY;
 }
 
+/* Two doubles operated on lane by lane: SSE2 (part of every x86-64) where available, plain pairs
+ * elsewhere. Each lane does exactly what box_entry() does: minpd(a, b) is a < b ? a : b and
+ * maxpd(a, b) is a > b ? a : b, NaN included, as mind() and maxd(). */
+#if defined(__SSE2__)
+#include <emmintrin.h>
+typedef __m128d v2d_t;
+static inline v2d_t v2_load(const double p[2]) {
+  return _mm_loadu_pd(p);
+}
+static inline v2d_t v2_splat(double a) {
+  return _mm_set1_pd(a);
+}
+static inline v2d_t v2_min(v2d_t a, v2d_t b) {
+  return _mm_min_pd(a, b);
+}
+static inline v2d_t v2_max(v2d_t a, v2d_t b) {
+  return _mm_max_pd(a, b);
+}
+static inline v2d_t v2_sub(v2d_t a, v2d_t b) {
+  return _mm_sub_pd(a, b);
+}
+static inline v2d_t v2_mul(v2d_t a, v2d_t b) {
+  return _mm_mul_pd(a, b);
+}
+static inline void v2_store(double p[2], v2d_t a) {
+  _mm_storeu_pd(p, a);
+}
+#else
+typedef struct {
+  double v[2];
+} v2d_t;
+static inline v2d_t v2_load(const double p[2]) {
+  return (v2d_t){{p[0], p[1]}};
+}
+static inline v2d_t v2_splat(double a) {
+  return (v2d_t){{a, a}};
+}
+static inline v2d_t v2_min(v2d_t a, v2d_t b) {
+  return (v2d_t){{mind(a.v[0], b.v[0]), mind(a.v[1], b.v[1])}};
+}
+static inline v2d_t v2_max(v2d_t a, v2d_t b) {
+  return (v2d_t){{maxd(a.v[0], b.v[0]), maxd(a.v[1], b.v[1])}};
+}
+static inline v2d_t v2_sub(v2d_t a, v2d_t b) {
+  return (v2d_t){{a.v[0] - b.v[0], a.v[1] - b.v[1]}};
+}
+static inline v2d_t v2_mul(v2d_t a, v2d_t b) {
+  return (v2d_t){{a.v[0] * b.v[0], a.v[1] * b.v[1]}};
+}
+static inline void v2_store(double p[2], v2d_t a) {
+  p[0] = a.v[0];
+  p[1] = a.v[1];
+}
+#endif
+
+/* box_entry() for both children of an interior node at once: t[c] is the entry distance into
+ * child c's box within [t0, t1], or INFINITY. */
+static void pair_entry(const rt_bvh_pair_t *pr, const slab_ray_t *r, double t0, double t1,
+                       double t[2]) {
+  v2d_t lo = v2_splat(t0), hi = v2_splat(t1);
+  for (int k = 0; k < 3; k++) {
+    v2d_t o = v2_splat(r->o[k]), inv = v2_splat(r->inv[k]);
+    v2d_t a = v2_mul(v2_sub(v2_load(pr->lo[k]), o), inv);
+    v2d_t b = v2_mul(v2_sub(v2_load(pr->hi[k]), o), inv);
+    lo = v2_max(v2_min(a, b), lo);
+    hi = v2_min(v2_max(a, b), hi);
+  }
+  double l[2], h[2];
+  v2_store(l, lo);
+  v2_store(h, hi);
+  for (int c = 0; c < 2; c++)
+    t[c] = l[c] <= h[c] ? l[c] : INFINITY;
+}
+
 static void fill_hit(const rt_scene_t *s, const rt_ray_t *ray, int prim, double t, rt_hit_t *h) {
   h->t = t;
   h->p = v3_axpy(t, ray->d, ray->o);
-  h->n = rt_prim_normal(s, prim, h->p);
+  h->n = prim_normal(&s->prim[prim], h->p);
   h->prim = prim;
   h->object = s->prim[prim].object;
 }
@@ -48,35 +122,41 @@ static void test_prim(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 }
 
 /* Nearest hit among the BVH's primitives: depth-first, near child first; far children wait on a
- * stack with their entry distance and are skipped once a nearer hit is known. */
+ * stack with their entry distance and are skipped once a nearer hit is known. A node is named by
+ * (ref, count) as in rt_bvh_pair_t: a leaf's primitives or an interior node's pair. */
 static void traverse_nearest(const rt_scene_t *s, const rt_ray_t *ray, double *best, int *found) {
   const struct rt_bvh *b = s->bvh;
   slab_ray_t sr = slab_ray(ray);
   struct {
-    int node;
+    int ref, count;
     double t;
   } stack[RT_BVH_MAX_DEPTH + 1];
-  int sp = 0, ni = 0;
+  int sp = 0, ref = 0, count = b->node[0].count;
+  if (count > 0)
+    ref = b->node[0].start;
   if (box_entry(&b->node[0], &sr, ray->tmin, *best) == INFINITY)
     return;
   for (;;) {
-    const rt_bvh_node_t *nd = &b->node[ni];
-    if (nd->count > 0) {
-      for (int i = nd->start; i < nd->start + nd->count; i++)
+    if (count > 0) {
+      for (int i = ref; i < ref + count; i++)
         test_prim(s, b->order[i], ray, best, found);
     } else {
-      int l = ni + 1, r = nd->start;
-      double tl = box_entry(&b->node[l], &sr, ray->tmin, *best);
-      double tr = box_entry(&b->node[r], &sr, ray->tmin, *best);
-      if (tl != INFINITY && tr != INFINITY) {
-        int near = tl <= tr ? l : r;
-        stack[sp].node = tl <= tr ? r : l;
-        stack[sp++].t = tl <= tr ? tr : tl;
-        ni = near;
+      const rt_bvh_pair_t *pr = &b->pair[ref];
+      double t[2];
+      pair_entry(pr, &sr, ray->tmin, *best, t);
+      if (t[0] != INFINITY && t[1] != INFINITY) {
+        int near = t[0] <= t[1] ? 0 : 1;
+        stack[sp].ref = pr->ref[1 - near];
+        stack[sp].count = pr->count[1 - near];
+        stack[sp++].t = t[1 - near];
+        ref = pr->ref[near];
+        count = pr->count[near];
         continue;
       }
-      if (tl != INFINITY || tr != INFINITY) {
-        ni = tl != INFINITY ? l : r;
+      if (t[0] != INFINITY || t[1] != INFINITY) {
+        int c = t[0] != INFINITY ? 0 : 1;
+        ref = pr->ref[c];
+        count = pr->count[c];
         continue;
       }
     }
@@ -84,7 +164,8 @@ static void traverse_nearest(const rt_scene_t *s, const rt_ray_t *ray, double *b
       if (--sp < 0)
         return;
     } while (!(stack[sp].t < *best));
-    ni = stack[sp].node;
+    ref = stack[sp].ref;
+    count = stack[sp].count;
   }
 }
 
@@ -120,8 +201,10 @@ static int attenuate(const rt_scene_t *s, int prim, const rt_ray_t *ray, double 
     *tr = rt_rgb(0, 0, 0);
     return 0;
   }
-  const rt_object_t *o = &s->object[s->prim[prim].object];
-  if (o->closed && v3_dot(rt_prim_normal(s, prim, p), ray->d) < 0.0)
+  const rt_prim_t *pr = &s->prim[prim];
+  /* outward normal, unnormalised for a sphere: only the sign of its dot with d is needed */
+  px_vec3_t out = pr->kind == RT_PRIM_SPHERE ? v3_sub(p, pr->sphere.c) : prim_normal(pr, p);
+  if (s->object[pr->object].closed && v3_dot(out, ray->d) < 0.0)
     return 1; /* entering a closed object: its factor is applied once, on the way out */
   *tr = rt_rgb_mul(*tr, rt_rgb_scale(m->transmittance, m->kt));
   return rt_rgb_max(*tr) > 0.0;
@@ -131,7 +214,7 @@ static int cross_prim(const rt_scene_t *s, int prim, const rt_ray_t *ray, rt_rgb
   double t[2];
   if (prim == ray->skip_prim)
     return 1;
-  int n = rt_prim_crossings(s, prim, ray, t);
+  int n = prim_crossings(s, prim, ray, t);
   for (int k = 0; k < n; k++)
     if (!attenuate(s, prim, ray, t[k], tr))
       return 0;
@@ -146,19 +229,31 @@ rt_rgb_t rt_transmittance(const rt_scene_t *s, const rt_ray_t *ray) {
   const struct rt_bvh *b = s->bvh;
   if (!b || b->norder == 0)
     return tr;
+  /* every leaf whose box the segment meets, left subtree before right */
   slab_ray_t sr = slab_ray(ray);
-  int stack[RT_BVH_MAX_DEPTH + 1], sp = 0;
-  stack[sp++] = 0;
+  if (box_entry(&b->node[0], &sr, ray->tmin, ray->tmax) == INFINITY)
+    return tr;
+  struct {
+    int ref, count;
+  } stack[RT_BVH_MAX_DEPTH + 2];
+  int sp = 0;
+  stack[sp].ref = b->node[0].count > 0 ? b->node[0].start : 0;
+  stack[sp++].count = b->node[0].count;
   while (sp > 0) {
-    const rt_bvh_node_t *nd = &b->node[stack[--sp]];
-    if (box_entry(nd, &sr, ray->tmin, ray->tmax) == INFINITY)
-      continue;
-    if (nd->count == 0) {
-      stack[sp++] = nd->start;
-      stack[sp++] = (int)(nd - b->node) + 1;
+    sp--;
+    int ref = stack[sp].ref, count = stack[sp].count;
+    if (count == 0) {
+      const rt_bvh_pair_t *pr = &b->pair[ref];
+      double t[2];
+      pair_entry(pr, &sr, ray->tmin, ray->tmax, t);
+      for (int c = 1; c >= 0; c--) /* right pushed first, so the left is visited first */
+        if (t[c] != INFINITY) {
+          stack[sp].ref = pr->ref[c];
+          stack[sp++].count = pr->count[c];
+        }
       continue;
     }
-    for (int i = nd->start; i < nd->start + nd->count; i++)
+    for (int i = ref; i < ref + count; i++)
       if (!cross_prim(s, b->order[i], ray, &tr))
         return tr;
   }

@@ -4,12 +4,14 @@
 #include "render/scene.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bvh.h"
 #include "render/intersect.h"
+#include "render/vec_inline.h"
 
 const char *rt_strerror(rt_status_t s) {
   switch (s) {
@@ -193,9 +195,16 @@ void rt_scene_name_object(rt_scene_t *s, int object, const char *name) {
 }
 
 void rt_plane_coords(const rt_plane_t *pl, px_vec3_t p, double *u, double *v) {
-  px_vec3_t d = px_vec3_sub(p, pl->p);
-  *u = px_vec3_dot(d, pl->u);
-  *v = px_vec3_dot(d, pl->v);
+  px_vec3_t d = v3_sub(p, pl->p);
+  *u = v3_dot(d, pl->u);
+  *v = v3_dot(d, pl->v);
+}
+
+/* Parity of the integer-valued double k, as fmod(fabs(k), 2.0) gives it but without the libm
+ * call: below 2^53 the conversion to int64_t is exact; at and above it every double is even. */
+static int checker_parity(double k) {
+  double a = fabs(k);
+  return a < 0x1p53 ? (int)((int64_t)a & 1) : 0;
 }
 
 const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3_t p, int *texel) {
@@ -205,8 +214,7 @@ const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3
     const rt_plane_t *pl = &s->prim[prim].plane;
     double u, v;
     rt_plane_coords(pl, p, &u, &v);
-    double cu = floor(u / pl->check), cv = floor(v / pl->check);
-    parity = (int)fmod(fabs(cu + cv), 2.0);
+    parity = checker_parity(floor(u / pl->check) + floor(v / pl->check));
   }
   if (texel)
     *texel = parity;

@@ -23,7 +23,7 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 
 px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side) {
   px_vec3_t p = sf->hit.p;
-  double scale = 1.0 + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
+  double scale = 1.0 + maxd(fabs(p.x), maxd(fabs(p.y), fabs(p.z))); /* p is finite */
   return v3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
 }
 
@@ -37,11 +37,25 @@ static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
     *dist = INFINITY;
     return v3_scale(l->v, -1.0);
   }
-  px_vec3_t d = v3_sub(l->v, p), u;
+  px_vec3_t d = v3_sub(l->v, p);
   *dist = v3_norm(d);
-  if (px_vec3_normalize(d, &u) != PX_OK)
+  if (!(*dist > 0.0) || !isfinite(*dist))
     return v3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
-  return u;
+  return v3_scale(d, 1.0 / *dist);
+}
+
+/* x^n for Phong's (R.V)^n, 0 < x <= 1: by repeated squaring when n is a whole number up to 1024
+ * (the usual case). Each squaring doubles the relative error it inherits and adds one rounding,
+ * so x^n comes out within (n - 1) roundings, 1.2e-13 relative at n = 1024: far below the float
+ * resolution of the image (6e-8) and far cheaper than pow(). pow() for other exponents. */
+static double phong_pow(double x, double n) {
+  if (!(n >= 0.0 && n <= 1024.0) || n != floor(n))
+    return pow(x, n);
+  double r = 1.0;
+  for (unsigned k = (unsigned)n; k; k >>= 1, x *= x)
+    if (k & 1u)
+      r *= x;
+  return r;
 }
 
 /* Transmittance towards a light (white without the shadow effect). */
@@ -82,7 +96,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
       px_vec3_t rd = v3_axpy(-2.0 * v3_dot(ray->d, sf->nf), sf->nf, ray->d);
       double rv = v3_dot(rd, L);
       if (rv > 0.0)
-        term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * pow(rv, m->phong)));
+        term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * phong_pow(rv, m->phong)));
     }
     c = rt_rgb_add(c, rt_rgb_mul(rt_rgb_mul(through, s->light[l].intensity), term));
   }
