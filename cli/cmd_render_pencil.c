@@ -21,7 +21,8 @@ static void help(FILE *f) {
   fprintf(
       f, "usage: pencil render [SCENE.json] -o OUT.exr --method pencil [--spp N] [--threads N]\n"
          "                     [--size WxH] [--domain N] [--rho R] [--bounds B] [--certified]\n"
-         "                     [--no-interp] [--brightness-tol L] [--measure] [--explain]\n\n"
+         "                     [--no-interp] [--brightness-tol L] [--measure] [--no-aux]\n"
+         "                     [--explain]\n\n"
          "Renders SCENE.json or the built-in Fig. 8 scene by pencil tracing (paper section 4.1):\n"
          "initial domains of N x N pixels, the axial ray of each traced exactly with its ray\n"
          "tree, a system matrix per path, edges found by comparing ray trees, the tolerance of\n"
@@ -45,6 +46,8 @@ static void help(FILE *f) {
          "  --brightness-tol L    ray interpolation: largest deviation of interpolated from\n"
          "                        traced brightness on a lattice cell, >= 0 (default 1/1024)\n"
          "  --measure             trace every sample exactly too; Fig. 10 error statistics\n"
+         "  --no-aux              leave the auxiliary channels (Z, id, pathT.*, pathR.*) empty,\n"
+         "                        as the benchmarks render\n"
          "  --explain             print the effects plan\n"
          "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
 }
@@ -137,6 +140,8 @@ static int parse_args(int argc, char **argv, args_t *a) {
       a->opt.interp = 0;
     else if (strcmp(argv[i], "--measure") == 0)
       a->opt.measure = 1;
+    else if (strcmp(argv[i], "--no-aux") == 0)
+      a->opt.aux = 0;
     else if (strcmp(argv[i], "--explain") == 0)
       a->explain = 1;
     else if (argv[i][0] != '-' && !a->scene)
