@@ -133,6 +133,16 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
 static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
   const pt_node_t *n = &E->C->node[k];
+  if (E->mode == PT_EV_INTERP && E->own && E->own[k]) { /* this node: per sample */
+    if (n->pencil == PT_NODE_PATH) {
+      const pt_xgeom_t *x = exact_geom(E, k);
+      *hit = x->p;
+      *d = x->d;
+      return x->ok;
+    }
+    px_vec3_t p;
+    return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
+  }
   if (E->mode == PT_EV_INTERP) {
     const double *w = E->w;
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
@@ -278,7 +288,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
     if (g)
       g->l = l;
-    if (g && E->lattice && n->textured && n->light_agree == ~0u) {
+    if (g && E->lattice && n->textured) {
       /* the direct term with the other square's material, for interpolation across squares */
       const rt_object_t *o = &C->s->object[n->object];
       int par = abs(g->su + g->sv) % 2;
@@ -300,6 +310,7 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
   E->cur = -1;
   E->fallback = 0;
   E->vfail = 0;
+  E->ownfail = 0;
   E->partial = 0;
   E->stamp = ++E->C->stamp;
   return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);
@@ -307,7 +318,10 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
 
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children) {
   px_vec3_t hit, d;
-  node_geometry(E, k, NULL, &hit, &d); /* INTERP mode: always succeeds */
+  if (!node_geometry(E, k, NULL, &hit, &d)) { /* only an own node's ray can leave its path */
+    E->ownfail = 1;
+    return rt_rgb(0, 0, 0);
+  }
   rt_ray_t ray;
   rt_surface_t sf;
   node_surface(E, k, hit, d, &ray, &sf);

@@ -76,6 +76,7 @@ typedef struct {
   uint8_t *locd, *loce; /**< ... with their direct term / with exactly traced children */
   int *loct;            /**< per-quad plan: textured nodes whose square changes (cap) */
   uint8_t *xsub;        /**< per-quad plan: verify nodes (and below) traced exactly (cap) */
+  uint8_t *own;         /**< per-quad plan: nodes traced per sample by matrix or path (cap) */
   pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
@@ -109,6 +110,9 @@ typedef struct {
   int fallback;          /**< set when the sample left the cell's paths (traced exactly there) */
   int vfail;             /**< set when a verify node's scene search failed (traced exactly) */
   const uint8_t *xsub;   /**< INTERP: nodes whose subtrees are traced exactly in this quad */
+  const uint8_t *own;    /**< INTERP: nodes whose hits come from their matrices (or path) per
+                              sample in this quad (xi and primary set), not interpolated */
+  int ownfail;           /**< set when such a node's per-sample ray left its path */
   int partial;           /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;
 

@@ -61,6 +61,10 @@ typedef struct {
   uint8_t *direct, *exact; /* per entry: its direct term, its exactly traced children */
   int nt;                  /* textured leaves whose square changes across the quad: the sample's */
   int *kt;                 /* square picks the interpolated brightness of its material */
+  int nown;                /* nodes too curved to interpolate over the quad: traced per sample
+                              by their matrices (or along their paths), C->own */
+  double own_cost;         /* node evaluations per sample: own nodes, nodes shaded per sample,
+                              subtrees traced exactly (about 2 rays each) */
 } plan_t;
 
 /* The share of rho an estimated quad's e_int may use. e_int extrapolates the second-order
@@ -160,9 +164,11 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
   grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
   memset(&sm, 0, sizeof sm);
   t0 = t1 = sm;
-  pl->n = pl->nt = 0;
+  pl->n = pl->nt = pl->nown = 0;
+  pl->own_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
+  memset(C->own, 0, (size_t)C->nnode);
   /* a verify node (below an edge the corners saw) that some grid point did not confirm is traced
    * exactly per sample in this quad, with its subtree */
   uint8_t *xsub = C->xsub;
@@ -189,7 +195,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
       return 0;
     }
     const pt_node_t *n = &C->node[k];
-    int smooth = 1, exact_children = 0, leaf_texture = 0;
+    int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0;
     if (!n->miss) {
       grid3_t p;
       for (int r = 0; r < 3; r++)
@@ -197,9 +203,13 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
           p.v[r][c] = R[r][c].g[k].p;
       double e_mat =
           n->pencil == PT_NODE_PATH ? 0.0 : fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
-      if (grid_error(q, &p, norm_pixels, n) + e_mat > rho) {
-        *why = WHY_ERROR;
-        return 0;
+      /* too curved to interpolate here: this node is traced per sample (the caller decides
+       * whether that is cheaper than cutting the quad) */
+      own = grid_error(q, &p, norm_pixels, n) + e_mat > rho;
+      if (own) { /* cost per sample: a matrix product, or the path traced from the eye */
+        C->own[k] = 1;
+        pl->nown++;
+        pl->own_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
       }
       int squares = 1;
       if (n->textured)
@@ -209,11 +219,11 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
         }
       /* every light's visibility agrees at the cell's centre and corners, or at least at the
        * nine points of the grid (then the brightness test below checks the shading between) */
-      smooth = n->light_agree == ~0u || same_visibility(R, k);
+      smooth = !own && (n->light_agree == ~0u || same_visibility(R, k));
       for (int c = 0; c < 2; c++)
         exact_children |= n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT ||
                                                 xsub[n->child[c]]);
-      if (smooth && !squares) {
+      if (smooth && !squares && !own) {
         /* the direct term is linear for each material: the sample's square picks one. Children
          * would be weighted by the material too, so only for leaves */
         if (n->child[0] >= 0) {
@@ -240,6 +250,11 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
     if (leaf_texture && !exact_children)
       continue;
     if (!smooth || exact_children) {
+      if (!smooth && !own && !leaf_texture)
+        pl->own_cost += 1.0; /* shaded per sample (a shadow edge) */
+      if (exact_children)
+        for (int c = 0; c < 2; c++)
+          pl->own_cost += n->child[c] >= 0 && xsub[n->child[c]] ? 2.0 : 0.0;
       pl->k[pl->n] = k;
       pl->direct[pl->n] = (uint8_t)(!smooth && !leaf_texture);
       pl->exact[pl->n++] = (uint8_t)exact_children;
@@ -364,7 +379,8 @@ typedef struct {
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
   Q->pl = pl;
-  Q->E = (pt_eval_t){.C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub};
+  Q->E = (pt_eval_t){.C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub,
+                     .own = pl->nown ? C->own : NULL};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
   Q->fast = pl->n == 0 && pl->nt <= PT_FAST_LEAVES;
@@ -477,8 +493,17 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
           pt__matrix_sample(C, P, a, b);
           continue;
         }
-        E->partial = E->fallback = 0;
-        P->sum = rt_rgb_add(P->sum, interp_sample(E, Q->pl, w));
+        E->partial = E->fallback = E->ownfail = 0;
+        if (E->own) { /* the sample's own xi and primary ray for its own nodes */
+          pt__xi_of(C, E, x, y);
+          E->stamp = ++C->stamp;
+        }
+        rt_rgb_t v = interp_sample(E, Q->pl, w);
+        if (E->ownfail) { /* an own node's ray left its path: the whole sample by matrices */
+          pt__matrix_sample(C, P, a, b);
+          continue;
+        }
+        P->sum = rt_rgb_add(P->sum, v);
         P->n[PT_METHOD_INTERP]++;
         partial |= E->partial;
         C->st.fallbacks += (uint64_t)E->fallback;
@@ -524,6 +549,18 @@ static double quad_samples(const pt_ctx_t *C, const lquad_t *q) {
 
 static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level);
 
+/* Node evaluations per sample of own nodes that a quad may spend instead of being cut, in units
+ * of the tree's nodes: a cut traces up to 20 points (4 measured quarters) of the whole tree;
+ * measured on Fig. 8 at 49 spp (instructions of the render): budget 4: 3.04e9, 8: 2.78e9,
+ * 16: 2.58e9, 32: 2.60e9. */
+#define PT_OWN_BUDGET 16.0
+
+/* Whether a plan's per-sample work is cheaper than cutting the quad (always when it cannot be
+ * cut). */
+static int own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int can_cut) {
+  return !can_cut || pl->own_cost * quad_samples(C, q) <= PT_OWN_BUDGET * C->nnode;
+}
+
 /* Trace the five interior points of q (its corners are set) at refinement level `level`. */
 static void measure(pt_ctx_t *C, lquad_t *q, int level) {
   pt_geom_t *pool = C->ref + (size_t)level * 5 * (size_t)C->cap;
@@ -561,11 +598,11 @@ static void cut(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level) {
 static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level) {
   plan_t pl = {.k = C->loc, .direct = C->locd, .exact = C->loce, .kt = C->loct};
   int why = WHY_ERROR;
-  if (!q->measured && !C->opt->certified && make_plan(C, q, &pl, &why)) {
+  int can_cut = level + 1 < PT_QUAD_LEVELS && quad_samples(C, q) > PT_CUT_SAMPLES;
+  if (!q->measured && !C->opt->certified && make_plan(C, q, &pl, &why) && own_pays(C, q, &pl, 1)) {
     quad_emit(C, A, q, &pl, 0);
     return;
   }
-  int can_cut = level + 1 < PT_QUAD_LEVELS && quad_samples(C, q) > PT_CUT_SAMPLES;
   if (!q->measured) {
     if (!can_cut) { /* measuring costs 5 points: more than its samples through the matrices */
       quad_emit(C, A, q, NULL, why);
@@ -573,7 +610,7 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
     }
     measure(C, q, level);
   }
-  if (make_plan(C, q, &pl, &why)) {
+  if (make_plan(C, q, &pl, &why) && own_pays(C, q, &pl, can_cut)) {
     quad_emit(C, A, q, &pl, 0);
     return;
   }

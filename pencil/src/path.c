@@ -58,7 +58,7 @@ double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3
 double pt_pixels(const pt_node_t *n, px_vec3_t e) {
   double r0 = v3_dot(n->j[0], e), r1 = v3_dot(n->j[1], e);
   double a0 = n->ginv[0] * r0 + n->ginv[1] * r1, a1 = n->ginv[1] * r0 + n->ginv[2] * r1;
-  return hypot(a0, a1);
+  return sqrt(a0 * a0 + a1 * a1); /* pixel counts: far from overflow, hypot's care not needed */
 }
 
 double pt_spread_limit(double c, double k3, double tau, double cos_in) {
