@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/scene_json.h"
+#include "render/builtin.h"
+
 int cli_parse_double(const char *opt, const char *text, double *out) {
   char *end = NULL;
   errno = 0;
@@ -128,4 +131,18 @@ void cli_progress(void *label, int done, int total) {
           total > 0 ? (int)(100L * done / total) : 100);
   if (done >= total)
     fputc('\n', stderr);
+}
+
+int cli_load_scene(const char *cmd, const char *path, long width, long height, rt_scene_t *s) {
+  char err[1024];
+  rt_scene_init(s);
+  if (path && io_scene_load(path, s, err, sizeof err) != 0)
+    return fprintf(stderr, "pencil %s: %s\n", cmd, err), 0;
+  if (!path && rt_builtin_fig8(s) != RT_OK)
+    return fprintf(stderr, "pencil %s: cannot build the built-in Fig. 8 scene\n", cmd), 0;
+  if (width > 0) {
+    s->camera.width = (int)width;
+    s->camera.height = (int)height;
+  }
+  return 1;
 }

@@ -11,6 +11,7 @@
 #include <stdio.h>
 
 #include "paraxial/system.h"
+#include "render/scene.h"
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
@@ -23,6 +24,12 @@ int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *ou
 const char *cli_option(int argc, char **argv, int *i, const char *name, int *err);
 /** 1 when argv[i] is -h or --help. */
 int cli_is_help(const char *arg);
+
+/** Load SCENE.json (path) or, when path is NULL, the built-in Fig. 8 scene into s, and override
+ *  its image size when width > 0. On failure prints "pencil CMD: why" on stderr (the file and
+ *  line for a bad scene) and returns 0. */
+int cli_load_scene(const char *cmd, const char *path, long width, long height,
+                   rt_scene_t *s);
 /** A progress bar on stderr for long work: "\rLABEL [####    ]  42%", a newline when done.
  *  The signature is the renderers' and drivers' progress callback, with ctx = the label (a
  *  const char *). Callers install it only when isatty(2). */

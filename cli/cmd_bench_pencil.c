@@ -15,8 +15,6 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "io/scene_json.h"
-#include "render/builtin.h"
 #include "validation/figures.h"
 
 /* The targets of issue 5 (the paper's Fig. 9 falls below 0.1 at 49 spp; Fig. 10: 99.8%). */
@@ -145,17 +143,7 @@ static int parse(int argc, char **argv, args_t *a) {
 }
 
 static int load(const args_t *a, rt_scene_t *s) {
-  char err[1024];
-  rt_scene_init(s);
-  if (a->scene && io_scene_load(a->scene, s, err, sizeof err) != 0)
-    return fprintf(stderr, "pencil bench pencil: %s\n", err), 0;
-  if (!a->scene && rt_builtin_fig8(s) != RT_OK)
-    return fprintf(stderr, "pencil bench pencil: cannot build the built-in Fig. 8 scene\n"), 0;
-  if (a->width > 0) {
-    s->camera.width = (int)a->width;
-    s->camera.height = (int)a->height;
-  }
-  return 1;
+  return cli_load_scene("bench pencil", a->scene, a->width, a->height, s);
 }
 
 static uint64_t over_rho(const row_t *r) {

@@ -10,8 +10,6 @@
 #include "cli.h"
 #include "validation/timing.h"
 #include "io/image_io.h"
-#include "io/scene_json.h"
-#include "render/builtin.h"
 #include "render/render.h"
 
 static void help(FILE *f) {
@@ -123,21 +121,7 @@ static void explain(FILE *f, const rt_plan_t *p, const char *scene) {
 }
 
 static int load(const args_t *a, rt_scene_t *s) {
-  char err[1024];
-  rt_scene_init(s);
-  if (a->scene && io_scene_load(a->scene, s, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil render: %s\n", err);
-    return 0;
-  }
-  if (!a->scene && rt_builtin_fig8(s) != RT_OK) {
-    fprintf(stderr, "pencil render: cannot build the built-in scene\n");
-    return 0;
-  }
-  if (a->width > 0) {
-    s->camera.width = (int)a->width;
-    s->camera.height = (int)a->height;
-  }
-  return 1;
+  return cli_load_scene("render", a->scene, a->width, a->height, s);
 }
 
 static int write_outputs(const args_t *a, const rt_image_t *img, int spp) {

@@ -13,9 +13,7 @@
 #include "cli.h"
 #include "validation/timing.h"
 #include "io/image_io.h"
-#include "io/scene_json.h"
 #include "pencil/pencil.h"
-#include "render/builtin.h"
 
 static void help(FILE *f) {
   fprintf(
@@ -157,17 +155,7 @@ static int parse_args(int argc, char **argv, args_t *a) {
 }
 
 static int load(const args_t *a, rt_scene_t *s) {
-  char err[1024];
-  rt_scene_init(s);
-  if (a->scene && io_scene_load(a->scene, s, err, sizeof err) != 0)
-    return fprintf(stderr, "pencil render: %s\n", err), 0;
-  if (!a->scene && rt_builtin_fig8(s) != RT_OK)
-    return fprintf(stderr, "pencil render: cannot build the built-in scene\n"), 0;
-  if (a->width > 0) {
-    s->camera.width = (int)a->width;
-    s->camera.height = (int)a->height;
-  }
-  return 1;
+  return cli_load_scene("render", a->scene, a->width, a->height, s);
 }
 
 static int write_outputs(const args_t *a, const rt_image_t *img, const pt_extra_t *x, int spp) {
