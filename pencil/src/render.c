@@ -12,15 +12,6 @@
 
 #define PT_MAX_GUARD 4096
 
-static int thread_count(const pt_options_t *opt) {
-#ifdef _OPENMP
-  return opt->threads > 0 ? opt->threads : omp_get_max_threads();
-#else
-  (void)opt;
-  return 1;
-#endif
-}
-
 static void ctx_free(pt_ctx_t *C) {
   free(C->tree.node);
   free(C->tree2.node);
@@ -149,7 +140,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
       rt_view_make(&s->camera, &view) != RT_OK || img->width != s->camera.width ||
       img->height != s->camera.height)
     return RT_EINVAL;
-  int nt = thread_count(opt), n = opt->domain;
+  int nt = rt_thread_count(opt->threads), n = opt->domain;
   int nx = (img->width + n - 1) / n, ny = (img->height + n - 1) / n;
   pt_bsphere_t *guard = malloc(PT_MAX_GUARD * sizeof *guard);
   pt_ctx_t *ctx = calloc((size_t)nt, sizeof *ctx);

@@ -75,11 +75,11 @@ static void render_pixel(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int i,
   J->img->ch[RT_CH_B][k] = (float)(sum.b * w);
 }
 
-static int thread_count(const rt_render_options_t *opt) {
+int rt_thread_count(int requested) {
 #ifdef _OPENMP
-  return opt->threads > 0 ? opt->threads : omp_get_max_threads();
+  return requested > 0 ? requested : omp_get_max_threads();
 #else
-  (void)opt;
+  (void)requested;
   return 1;
 #endif
 }
@@ -124,7 +124,7 @@ rt_status_t rt_render(const rt_scene_t *s, const rt_plan_t *plan, const rt_rende
       rt_view_make(&s->camera, &view) != RT_OK || img->width != s->camera.width ||
       img->height != s->camera.height)
     return RT_EINVAL;
-  int nt = thread_count(opt);
+  int nt = rt_thread_count(opt->threads);
   rt_tree_node_t **buf = calloc((size_t)nt, sizeof *buf);
   rt_status_t st = buf ? RT_OK : RT_ENOMEM;
   for (int t = 0; t < nt && st == RT_OK && (opt->aux || opt->on_sample); t++)

@@ -98,6 +98,10 @@ typedef struct {
 #define RT_RENDER_OPTIONS_DEFAULT                                                                  \
   { 1, 0, 1, NULL, NULL, NULL, NULL }
 
+/** Threads a render with `requested` threads uses: requested when > 0, else the OpenMP
+ *  default (1 without OpenMP). */
+int rt_thread_count(int requested);
+
 /** Render the prepared scene with `plan` into img (allocated by the caller at the camera's
  *  size). Pixels are independent, so the image does not depend on the thread count.
  *  RT_EINVAL for a bad option or image size, RT_ENOTREADY for an unprepared scene, RT_ENOMEM. */
