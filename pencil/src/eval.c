@@ -216,7 +216,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
       if (E->rec)
         E->rec[k].fb |= (uint8_t)(1u << ch[i].kind);
     }
-    if (E->shade)
+    if (E->shade && !E->lattice) /* lattice points record where the paths end, not radiance */
       sum = rt_rgb_add(sum, rt_rgb_mul(wc, exact_child(E, &ch[i], n->depth + 1)));
   }
   return sum;
@@ -242,7 +242,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     if ((C->opt->certified || n->verify) && r && rt_intersect(C->s, r, &h)) {
       left(E, n);
       mark_exact(E, k);
-      if (!E->shade)
+      if (!E->shade || E->lattice)
         return rt_rgb(0, 0, 0);
       return from ? rt_rgb_mul(w, exact_child(E, from, n->depth)) : rt_exact_primary(&C->ex, r);
     }
@@ -260,7 +260,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   if (!node_geometry(E, k, from, &hit, &d)) { /* left the cell's paths: exact from here */
     left(E, n);
     mark_exact(E, k);
-    if (!E->shade)
+    if (!E->shade || E->lattice)
       return rt_rgb(0, 0, 0);
     return from ? rt_rgb_mul(w, exact_child(E, from, n->depth))
                 : rt_exact_primary(&C->ex, &E->primary);

@@ -104,7 +104,9 @@ typedef struct {
   pt_geom_t *rec;        /**< per-node geometry out (cap entries), or NULL */
   int shade;             /**< 0: geometry only */
   int record_shadow;     /**< 1: trace shadow rays and store them in the nodes (axial sample) */
-  int lattice;           /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes */
+  int lattice;           /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes;
+                              subtrees leaving the paths are marked, not traced (its radiance
+                              is not used) */
   int cur;               /**< node being shaded */
   uint32_t stamp;        /**< this evaluation's xg stamp */
   int fallback;          /**< set when the sample left the cell's paths (traced exactly there) */
