@@ -20,10 +20,10 @@ typedef struct {
   rt_rgb_t lt[2]; /**< textured nodes at lattice points: W_k * direct_k with the material of
                        the even (0) and the odd (1) checker squares */
   int32_t su, sv; /**< checker square of the hit (textured nodes), else 0 */
-  uint32_t lit;   /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
-  uint32_t dark;  /**< ... and was fully blocked */
-  uint8_t ok;     /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
-  uint8_t fb;     /**< bit k: the child of rt_ray_kind_t k was traced exactly */
+  uint32_t lit;  /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
+  uint32_t dark; /**< ... and was fully blocked */
+  uint8_t ok;    /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
+  uint8_t fb;    /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
 
 /** A node's exact geometry for one sample (exact along the known path, memoised per sample). */
@@ -35,11 +35,11 @@ typedef struct {
 
 /* A pixel being accumulated. */
 typedef struct {
-  int i, j;       /**< pixel */
-  rt_rgb_t sum;   /**< radiance summed over its samples */
-  double pmax;    /**< largest measured error (NaN: none) */
-  int n[3];       /**< samples by method */
-  uint64_t rays;  /**< exact rays traced for its samples */
+  int i, j;      /**< pixel */
+  rt_rgb_t sum;  /**< radiance summed over its samples */
+  double pmax;   /**< largest measured error (NaN: none) */
+  int n[3];      /**< samples by method */
+  uint64_t rays; /**< exact rays traced for its samples */
 } pixel_t;
 
 /** Per-thread state; every buffer is allocated once before the screen loop. */
@@ -75,6 +75,7 @@ typedef struct {
   int *loc;             /**< per-pixel plan: nodes shaded per sample (cap) */
   uint8_t *locd, *loce; /**< ... with their direct term / with exactly traced children */
   int *loct;            /**< per-quad plan: textured nodes whose square changes (cap) */
+  int *lsm;             /**< per-quad plan: the nodes whose brightness is interpolated (cap) */
   uint8_t *xsub;        /**< per-quad plan: verify nodes (and below) traced exactly (cap) */
   uint8_t *own;         /**< per-quad plan: nodes traced per sample by matrix or path (cap) */
   pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
@@ -131,7 +132,6 @@ void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 
 /** Steps 2-4 for the cell [x0, x1) x [y0, y1) of the current domain (recursive). */
 void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
-
 
 /* sample.c */
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j);

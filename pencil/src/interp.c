@@ -100,8 +100,8 @@ typedef struct {
  *             the centre from the mean of the corners (the bilinear interpolation there);
  *   estimated (quarter (qx, qy) of G): e_int, |x_a - 2 x_b + x_c| / 8 along each of the
  *             quarter's two horizontal grid lines (the larger) plus the same vertically. */
-static double grid_error(const lquad_t *q, const grid3_t *G, double (*norm)(const void *, px_vec3_t),
-                         const void *ctx) {
+static double grid_error(const lquad_t *q, const grid3_t *G,
+                         double (*norm)(const void *, px_vec3_t), const void *ctx) {
   const px_vec3_t(*v)[3] = G->v;
   if (q->measured) {
     double e = 0.0;
@@ -156,7 +156,8 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
         return 0;
       }
   int cert = C->opt->certified;
-  double rho = C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (q->measured ? 1.0 : PT_EINT_MARGIN);
+  double rho =
+      C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (q->measured ? 1.0 : PT_EINT_MARGIN);
   double ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
   double xi2 = 0.0;
   for (int i = 0; i < 4; i++)
@@ -172,6 +173,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
   /* a verify node (below an edge the corners saw) that some grid point did not confirm is traced
    * exactly per sample in this quad, with its subtree */
   uint8_t *xsub = C->xsub;
+  int *sml = C->lsm, nsm = 0; /* the linear nodes summed in sm */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
     xsub[k] = n->parent >= 0 && xsub[n->parent];
@@ -221,8 +223,8 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
        * nine points of the grid (then the brightness test below checks the shading between) */
       smooth = !own && (n->light_agree == ~0u || same_visibility(R, k));
       for (int c = 0; c < 2; c++)
-        exact_children |= n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT ||
-                                                xsub[n->child[c]]);
+        exact_children |=
+            n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT || xsub[n->child[c]]);
       if (smooth && !squares && !own) {
         /* the direct term is linear for each material: the sample's square picks one. Children
          * would be weighted by the material too, so only for leaves */
@@ -241,6 +243,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
       }
     }
     if (smooth) {
+      sml[nsm++] = k;
       for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
           sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[k].l));
@@ -264,9 +267,69 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
   double el = grid_error(q, &sm, norm_rgb, NULL);
   if (pl->nt)
     el += fmax(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
-  if (el > ltol) {
-    *why = WHY_ERROR;
-    return 0;
+  while (el > ltol) {
+    /* not linear: the node whose own brightness is least linear is shaded per sample at its
+     * interpolated hit (as at a shadow edge), while the rest is interpolated; the caller
+     * weighs that per-sample work against cutting the quad (own_pays) */
+    int best = -1, best_leaf = 0;
+    double eb = 0.0;
+    for (int m = 0; m < nsm; m++) {
+      grid3_t b;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+          b.v[r][c] = rgb_vec(R[r][c].g[sml[m]].l);
+      double e = grid_error(q, &b, norm_rgb, NULL);
+      if (e > eb)
+        eb = e, best = m, best_leaf = 0;
+    }
+    for (int m = 0; m < pl->nt; m++) {
+      grid3_t b0, b1;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+          b0.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[0]);
+          b1.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[1]);
+        }
+      double e = fmax(grid_error(q, &b0, norm_rgb, NULL), grid_error(q, &b1, norm_rgb, NULL));
+      if (e > eb)
+        eb = e, best = m, best_leaf = 1;
+    }
+    if (best < 0) {
+      *why = WHY_ERROR;
+      return 0;
+    }
+    int k = best_leaf ? pl->kt[best] : sml[best];
+    if (best_leaf) {
+      pl->kt[best] = pl->kt[--pl->nt];
+    } else {
+      sml[best] = sml[--nsm];
+      for (int i = 0; i < 4; i++)
+        pl->smooth[i] = rt_rgb_add(pl->smooth[i], rt_rgb_scale(corner_of(q, i)->g[k].l, -1.0));
+    }
+    int m = 0;
+    while (m < pl->n && pl->k[m] != k)
+      m++;
+    if (m == pl->n) {
+      pl->k[pl->n] = k;
+      pl->exact[pl->n++] = 0;
+    }
+    pl->direct[m] = 1;
+    pl->own_cost += 1.0;
+    /* the remaining sums */
+    memset(&sm, 0, sizeof sm);
+    t0 = t1 = sm;
+    for (int j = 0; j < nsm; j++)
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+          sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[sml[j]].l));
+    for (int j = 0; j < pl->nt; j++)
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+          t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[pl->kt[j]].lt[0]));
+          t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[pl->kt[j]].lt[1]));
+        }
+    el = grid_error(q, &sm, norm_rgb, NULL);
+    if (pl->nt)
+      el += fmax(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
   }
   return 1;
 }
@@ -371,16 +434,16 @@ static void sample_range(double x0, double w, int s, int *g0, int *g1) {
 typedef struct {
   const lquad_t *q;
   const plan_t *pl;
-  pt_eval_t E;     /* INTERP evaluation with the quad's corners */
-  int fast;        /* nothing is shaded per sample: sums of weights suffice */
+  pt_eval_t E;                     /* INTERP evaluation with the quad's corners */
+  int fast;                        /* nothing is shaded per sample: sums of weights suffice */
   double uv[PT_FAST_LEAVES][4][2]; /* fast: board coordinates / check of each leaf's corners */
 } qctx_t;
 
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
   Q->pl = pl;
-  Q->E = (pt_eval_t){.C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub,
-                     .own = pl->nown ? C->own : NULL};
+  Q->E = (pt_eval_t){
+      .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
   Q->fast = pl->n == 0 && pl->nt <= PT_FAST_LEAVES;
@@ -521,7 +584,8 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
 }
 
 /* Every sample of quad q, interpolated with plan pl or (pl NULL) through the matrices. */
-static void quad_emit(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, const plan_t *pl, int why) {
+static void quad_emit(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, const plan_t *pl,
+                      int why) {
   int s = C->opt->spp_side, gx0, gx1, gy0, gy1;
   sample_range(q->x0, q->w, s, &gx0, &gx1);
   sample_range(q->y0, q->h, s, &gy0, &gy1);

@@ -27,6 +27,7 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->locd);
   free(C->loce);
   free(C->loct);
+  free(C->lsm);
   free(C->xsub);
   free(C->own);
   free(C->rec);
@@ -52,14 +53,15 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->locd = malloc((size_t)cap);
   C->loce = malloc((size_t)cap);
   C->loct = malloc((size_t)cap * sizeof *C->loct);
+  C->lsm = malloc((size_t)cap * sizeof *C->lsm);
   C->xsub = calloc((size_t)cap, 1);
   C->own = calloc((size_t)cap, 1);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->acc ||
-      !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->loc ||
-      !C->locd || !C->loce || !C->loct || !C->xsub || !C->own) {
+      !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->loc || !C->locd ||
+      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own) {
     C->corner_nodes = cn;
     return 0;
   }
