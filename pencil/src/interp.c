@@ -358,6 +358,18 @@ static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
   return (int)fmod(fabs(floor(u / pl0->check) + floor(v / pl0->check)), 2.0);
 }
 
+/* The nodes of an interpolated sample with weights w that are shaded per sample. */
+static rt_rgb_t interp_local(pt_eval_t *E, const plan_t *pl, const double w[4]) {
+  rt_rgb_t sum = rt_rgb(0, 0, 0);
+  E->w = w;
+  for (int m = 0; m < pl->n; m++) {
+    int k = pl->k[m];
+    rt_rgb_t wk = rgb_lerp4(w, E->g[0][k].w, E->g[1][k].w, E->g[2][k].w, E->g[3][k].w);
+    sum = rt_rgb_add(sum, pt__eval_local(E, k, wk, pl->direct[m], pl->exact[m]));
+  }
+  return sum;
+}
+
 /* One interpolated sample with weights w (E->g holds the quad's corners). */
 static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4]) {
   const rt_rgb_t *c = pl->smooth;
@@ -435,7 +447,8 @@ typedef struct {
   const lquad_t *q;
   const plan_t *pl;
   pt_eval_t E;                     /* INTERP evaluation with the quad's corners */
-  int fast;                        /* nothing is shaded per sample: sums of weights suffice */
+  int fast;                        /* the linear nodes and textured leaves are summed per pixel
+                                      (sums of weights); nodes in pl->k are added per sample */
   double uv[PT_FAST_LEAVES][4][2]; /* fast: board coordinates / check of each leaf's corners */
 } qctx_t;
 
@@ -446,7 +459,7 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
       .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
-  Q->fast = pl->n == 0 && pl->nt <= PT_FAST_LEAVES;
+  Q->fast = pl->nt <= PT_FAST_LEAVES;
   for (int m = 0; m < pl->nt && Q->fast; m++) {
     int k = pl->kt[m];
     const rt_plane_t *bp = &C->s->prim[C->node[k].prim].plane;
@@ -465,6 +478,21 @@ static int fast_parity(const qctx_t *Q, int m, const double w[4], double sq[2]) 
   for (int t = 0; t < 2; t++)
     sq[t] = floor(w[0] * c[0][t] + w[1] * c[1][t] + w[2] * c[2][t] + w[3] * c[3][t]);
   return (int)((int64_t)(sq[0] + sq[1]) & 1);
+}
+
+/* The summed part (linear nodes and textured leaves) of one sample with weights w, as fast_sum
+ * counts it. */
+static rt_rgb_t fast_sample(const qctx_t *Q, const double w[4]) {
+  const plan_t *pl = Q->pl;
+  rt_rgb_t sum = rgb_lerp4(w, pl->smooth[0], pl->smooth[1], pl->smooth[2], pl->smooth[3]);
+  for (int m = 0; m < pl->nt; m++) {
+    const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
+                    *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
+    double sq[2];
+    int p = fast_parity(Q, m, w, sq);
+    sum = rt_rgb_add(sum, rgb_lerp4(w, g0->lt[p], g1->lt[p], g2->lt[p], g3->lt[p]));
+  }
+  return sum;
 }
 
 /* Fast path: pixel P's samples a in [a0, a1), b in [b0, b1). The sum of the bilinear
@@ -542,15 +570,34 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
       weights((P->i + (a + 0.5) / s - q->x0) / q->w, (P->j + (b + 0.5) / s - q->y0) / q->h, w);
       fast = misses_nothing(C, E, w);
     }
+  int local = fast && Q->pl->n > 0; /* the per-sample nodes on top of the summed rest */
   if (fast) {
     P->sum = rt_rgb_add(P->sum, fast_sum(C, Q, P, a0, a1, b0, b1));
     P->n[PT_METHOD_INTERP] += count;
-    C->st.lerp_samples += (uint64_t)count;
+    C->st.lerp_samples += local ? 0u : (uint64_t)count;
   }
-  for (int b = b0; b < b1 && !(fast && !C->opt->measure); b++)
+  for (int b = b0; b < b1 && !(fast && !local && !C->opt->measure); b++)
     for (int a = a0; a < a1; a++) {
       double x = P->i + (a + 0.5) / s, y = P->j + (b + 0.5) / s, w[4];
       weights((x - q->x0) / q->w, (y - q->y0) / q->h, w);
+      if (local) {
+        E->partial = E->fallback = E->ownfail = 0;
+        if (E->own) {
+          pt__xi_of(C, E, x, y);
+          E->stamp = ++C->stamp;
+        }
+        rt_rgb_t v = interp_local(E, Q->pl, w);
+        if (E->ownfail) { /* take the sample's summed part back: the whole sample by matrices */
+          v = fast_sample(Q, w);
+          P->sum = rt_rgb(P->sum.r - v.r, P->sum.g - v.g, P->sum.b - v.b);
+          P->n[PT_METHOD_INTERP]--;
+          pt__matrix_sample(C, P, a, b);
+          continue;
+        }
+        P->sum = rt_rgb_add(P->sum, v);
+        partial |= E->partial;
+        C->st.fallbacks += (uint64_t)E->fallback;
+      }
       if (!fast) {
         if (cert && !misses_nothing(C, E, w)) {
           pt__matrix_sample(C, P, a, b);
