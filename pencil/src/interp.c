@@ -145,9 +145,12 @@ static int same_visibility(const point_t (*R)[3], int k) {
   return 1;
 }
 
+static int own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int can_cut);
+
 /* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
- * what failed. */
-static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
+ * what failed. It stops as soon as the per-sample work exceeds what own_pays() allows (the
+ * caller cuts such a quad, when it can be cut). */
+static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *why) {
   const point_t(*R)[3] = grid_of(q);
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++)
@@ -212,6 +215,10 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
         C->own[k] = 1;
         pl->nown++;
         pl->own_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
+        if (!own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
+          *why = WHY_ERROR;
+          return 0;
+        }
       }
       int squares = 1;
       if (n->textured)
@@ -258,6 +265,10 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
       if (exact_children)
         for (int c = 0; c < 2; c++)
           pl->own_cost += n->child[c] >= 0 && xsub[n->child[c]] ? 2.0 : 0.0;
+      if (!own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
+        *why = WHY_ERROR;
+        return 0;
+      }
       pl->k[pl->n] = k;
       pl->direct[pl->n] = (uint8_t)(!smooth && !leaf_texture);
       pl->exact[pl->n++] = (uint8_t)exact_children;
@@ -314,6 +325,10 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int *why) {
     }
     pl->direct[m] = 1;
     pl->own_cost += 1.0;
+    if (!own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
+      *why = WHY_ERROR;
+      return 0;
+    }
     /* the remaining sums */
     memset(&sm, 0, sizeof sm);
     t0 = t1 = sm;
@@ -710,7 +725,8 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
   plan_t pl = {.k = C->loc, .direct = C->locd, .exact = C->loce, .kt = C->loct};
   int why = WHY_ERROR;
   int can_cut = level + 1 < PT_QUAD_LEVELS && quad_samples(C, q) > PT_CUT_SAMPLES;
-  if (!q->measured && !C->opt->certified && make_plan(C, q, &pl, &why) && own_pays(C, q, &pl, 1)) {
+  if (!q->measured && !C->opt->certified && make_plan(C, q, &pl, 1, &why) &&
+      own_pays(C, q, &pl, 1)) {
     quad_emit(C, A, q, &pl, 0);
     return;
   }
@@ -721,7 +737,7 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
     }
     measure(C, q, level);
   }
-  if (make_plan(C, q, &pl, &why) && own_pays(C, q, &pl, can_cut)) {
+  if (make_plan(C, q, &pl, can_cut, &why) && own_pays(C, q, &pl, can_cut)) {
     quad_emit(C, A, q, &pl, 0);
     return;
   }
