@@ -429,6 +429,35 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
   return 1;
 }
 
+/* Certified mode: whether misses_nothing() holds for every sample of the quad whose corners are
+ * E->g. side and towards are bilinear in the sample's weights (the ray's origin and its
+ * unnormalised direction are interpolated), so they take their extremes at the corners: when the
+ * corners agree in sign (with a margin for rounding), so do all the samples. */
+static int misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
+  const rt_scene_t *s = C->s;
+  for (int k = 0; k < C->nnode; k++) {
+    if (!C->node[k].miss || E->g[0][k].ok != 1)
+      continue;
+    for (int u = 0; u < s->nunbounded; u++) {
+      const rt_prim_t *pr = &s->prim[s->unbounded[u]];
+      if (pr->kind != RT_PRIM_PLANE)
+        continue;
+      int pos = 1, neg = 1;
+      for (int i = 0; i < 4; i++) {
+        const pt_geom_t *g = &E->g[i][k];
+        px_vec3_t r = v3_sub(g->p, pr->plane.p);
+        double side = v3_dot(pr->plane.n, r), towards = v3_dot(pr->plane.n, g->d);
+        double eps = 1e-9 * (1.0 + v3_norm(g->p) + v3_norm(pr->plane.p));
+        pos = pos && side > eps && towards >= 0.0;
+        neg = neg && side < -eps && towards <= 0.0;
+      }
+      if (!pos && !neg)
+        return 0;
+    }
+  }
+  return 1;
+}
+
 /* Trace the lattice point at (x, y) through the paths into g (cap nodes). */
 static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g) {
   pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = g, .lattice = 1};
@@ -462,6 +491,7 @@ typedef struct {
   const lquad_t *q;
   const plan_t *pl;
   pt_eval_t E;                     /* INTERP evaluation with the quad's corners */
+  int safe;                        /* certified: misses_nothing() holds for every sample */
   int fast;                        /* the linear nodes and textured leaves are summed per pixel
                                       (sums of weights); nodes in pl->k are added per sample */
   double uv[PT_FAST_LEAVES][4][2]; /* fast: board coordinates / check of each leaf's corners */
@@ -475,6 +505,7 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
   Q->fast = pl->nt <= PT_FAST_LEAVES;
+  Q->safe = !C->opt->certified || misses_nothing_quad(C, &Q->E);
   for (int m = 0; m < pl->nt && Q->fast; m++) {
     int k = pl->kt[m];
     const rt_plane_t *bp = &C->s->prim[C->node[k].prim].plane;
@@ -588,7 +619,7 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
   }
   const lquad_t *q = Q->q;
   pt_eval_t *E = &Q->E;
-  int cert = C->opt->certified, fast = Q->fast, partial = 0;
+  int cert = C->opt->certified && !Q->safe, fast = Q->fast, partial = 0;
   for (int b = b0; b < b1 && fast && cert; b++)
     for (int a = a0; a < a1 && fast; a++) {
       double w[4];
