@@ -90,9 +90,10 @@ static int verified(pt_eval_t *E, const pt_node_t *n, const rt_ray_t *r, double 
 }
 
 /* Node k's exact geometry for the sample in MATRIX mode: the sample's primary ray carried
- * exactly through the surfaces of the node's path (the reflected and refracted rays of shade.h
- * at each exact hit), each met as the path's own primitive, without a scene search. Memoised
- * per evaluation; 0 when the ray leaves the path (misses a primitive or lacks the child). */
+ * exactly through the surfaces of the node's path (at each exact hit, the child of the path's
+ * kind from shade.h's rt_shade_child(), the ray rt_shade_children() spawns), each met as the
+ * path's own primitive, without a scene search. Memoised per evaluation; 0 when the ray leaves
+ * the path (misses a primitive or lacks the child). */
 static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   pt_ctx_t *C = E->C;
   pt_xgeom_t *x = &C->xg[k];
@@ -108,14 +109,12 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
       return x;
     rt_ray_t ray;
     rt_surface_t sf;
-    rt_child_t ch[2];
+    rt_child_t ch; /* only the child of the path's kind (shading builds both) */
     node_surface(E, n->parent, px->p, px->d, &ray, &sf);
-    int nc = rt_shade_children(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, ch), i = 0;
-    while (i < nc && (int)ch[i].kind != n->kind)
-      i++;
-    if (i == nc)
+    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, (rt_ray_kind_t)n->kind,
+                        &ch))
       return x;
-    r = ch[i].ray;
+    r = ch.ray;
   }
   double t;
   if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t) ||
