@@ -226,7 +226,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_surface_t sf;
   rt_shade_surface(&s, &h, &r, &sf);
   probe_t probe = {0};
-  rt_tracer_t tr = {probe_child, probe_shadow, &probe};
+  rt_tracer_t tr = {probe_child, probe_shadow, &probe, NULL};
   rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
   double cosl = 4.0 / 5.0; /* N.L at the origin for a light at (3, 4, 0) */
   assert_close(c.r, 0.3 * 0.5 * 0.8 + 0.25 * 2 * 0.6 * 0.8 * cosl, 1e-14, 0);

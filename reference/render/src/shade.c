@@ -64,6 +64,9 @@ static rt_rgb_t shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surf
                        const rt_tracer_t *tr) {
   if (!rt_plan_has(plan, RT_EFFECT_SHADOWS))
     return rt_rgb(1, 1, 1);
+  rt_rgb_t known;
+  if (tr->known && tr->known(tr->ctx, l, &known))
+    return known;
   rt_shadow_t q;
   px_vec3_t o = rt__offset_origin(sf, 1.0);
   q.light = l;

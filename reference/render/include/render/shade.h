@@ -65,6 +65,11 @@ typedef struct {
    *  rt_transmittance(). */
   void (*shadow)(void *ctx, rt_shadow_t *q);
   void *ctx; /**< passed through */
+  /** Optional (NULL: every query goes to shadow()): 1 with *through filled when the tracer
+   *  already knows the transmittance towards light `light` from the surface being shaded (the
+   *  pencil tracer's transmittance recorded once per cell), so that the shadow segment is not
+   *  built; 0 to be asked through shadow(). */
+  int (*known)(void *ctx, int light, rt_rgb_t *through);
 } rt_tracer_t;
 
 /** Orient the hit for shading: facing normal, material and texel, media n1 (ray->ior) and n2. */
