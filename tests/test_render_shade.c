@@ -226,7 +226,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_surface_t sf;
   rt_shade_surface(&s, &h, &r, &sf);
   probe_t probe = {0};
-  rt_tracer_t tr = {probe_child, probe_shadow, &probe};
+  rt_tracer_t tr = {probe_child, probe_shadow, &probe, NULL};
   rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
   double cosl = 4.0 / 5.0; /* N.L at the origin for a light at (3, 4, 0) */
   assert_close(c.r, 0.3 * 0.5 * 0.8 + 0.25 * 2 * 0.6 * 0.8 * cosl, 1e-14, 0);
@@ -317,6 +317,66 @@ static void children_weights_fresnel_and_tir(void **state) {
   rt_scene_free(&s);
 }
 
+/* rt_shade_child() returns exactly the child of rt_shade_children() of its kind, bit for bit,
+ * and nothing when there is none: both kinds at an entry (Fresnel split), after total internal
+ * reflection (the mirror child carries kt, no refracted child), up to the depth limit, for a
+ * material without a mirror term (kr = 0, no Fresnel: no reflected child) and in a plan
+ * without refraction. */
+static void one_child_is_the_child_of_its_kind(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t g = rt_material_default("glass");
+  g.kr = 0.1;
+  g.kt = 0.8;
+  g.ior = 1.5;
+  g.fresnel = 1;
+  int gi, ci = add_mat(&s, "clear", 0.0, 0.9, 1.5);
+  rt_scene_add_material(&s, &g, &gi);
+  rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, gi, NULL);
+  rt_scene_add_sphere(&s, px_vec3(0, 0, 10), 1.0, ci, NULL);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plans[2] = {rt_plan_make(&s, 1), rt_plan_make(&s, 1)};
+  plans[1].on &= ~(1u << RT_EFFECT_REFRACTION);
+  const rt_ray_t rays[3] = {
+      ray_to(px_vec3(0.3, 0.2, -5), px_vec3(0, 0, 0)),              /* enters the glass ball */
+      {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1}, /* inside it: TIR */
+      ray_to(px_vec3(0.2, 0, 5), px_vec3(0, 0, 10))};               /* the clear ball: kr = 0 */
+  int seen[3] = {0, 0, 0}; /* children returned: reflected, refracted, with TIR */
+  for (int p = 0; p < 2; p++)
+    for (int i = 0; i < 3; i++)
+      for (int d = 0; d < 3; d++) { /* the first generation, the last, beyond the last */
+        int depth = d ? plans[p].max_depth - 2 + d : 0;
+        rt_hit_t h;
+        rt_surface_t sf;
+        rt_child_t ch[2], one;
+        assert_true(rt_intersect(&s, &rays[i], &h));
+        rt_shade_surface(&s, &h, &rays[i], &sf);
+        int n = rt_shade_children(&s, &plans[p], &sf, &rays[i], depth, ch);
+        for (int kind = RT_RAY_REFLECT; kind <= RT_RAY_REFRACT; kind++) {
+          int m = 0;
+          while (m < n && ch[m].kind != (rt_ray_kind_t)kind)
+            m++;
+          memset(&one, 0xa5, sizeof one);
+          int got = rt_shade_child(&s, &plans[p], &sf, &rays[i], depth, kind, &one);
+          assert_int_equal(got, m < n);
+          if (!got)
+            continue;
+          assert_memory_equal(&one.ray.o, &ch[m].ray.o, sizeof one.ray.o);
+          assert_memory_equal(&one.ray.d, &ch[m].ray.d, sizeof one.ray.d);
+          assert_true(one.ray.tmin == ch[m].ray.tmin && one.ray.tmax == ch[m].ray.tmax);
+          assert_true(one.ray.ior == ch[m].ray.ior && one.ray.skip_prim == ch[m].ray.skip_prim);
+          assert_memory_equal(&one.weight, &ch[m].weight, sizeof one.weight);
+          assert_int_equal(one.kind, ch[m].kind);
+          assert_int_equal(one.tir, ch[m].tir);
+          seen[kind - RT_RAY_REFLECT]++;
+          seen[2] += one.tir;
+        }
+      }
+  assert_true(seen[0] > 0 && seen[1] > 0 && seen[2] > 0);
+  rt_scene_free(&s);
+}
+
 /* A scene without transparent materials plans no refraction, and rendering it traces no
  * refracted ray; without mirrors either, the ray tree is one node. */
 static void plan_skips_effects_the_scene_does_not_use(void **state) {
@@ -363,6 +423,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(parallel_light_and_its_shadow),
       cmocka_unit_test(fresnel_limits),
       cmocka_unit_test(children_weights_fresnel_and_tir),
+      cmocka_unit_test(one_child_is_the_child_of_its_kind),
       cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),
   };
   if (argc > 1)

@@ -33,6 +33,18 @@ static void mark_exact(pt_eval_t *E, int k) {
       mark_exact(E, n->child[c]);
 }
 
+/* The transmittance towards light l recorded at the axial ray's node, when there is one (asked
+ * by shade.h before it builds the shadow segment; the axial sample records instead). */
+static int known_cb(void *ctx, int l, rt_rgb_t *through) {
+  const pt_eval_t *E = ctx;
+  const pt_node_t *n = &E->C->node[E->cur];
+  if (l >= PT_MAX_LIGHTS || !(n->known & (1u << l)) ||
+      (E->record_shadow && (n->light_agree & (1u << l))))
+    return 0;
+  *through = n->through[l];
+  return 1;
+}
+
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
   pt_eval_t *E = ctx;
   pt_node_t *n = &E->C->node[E->cur];
@@ -45,13 +57,10 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
       E->C->ex.stats.shadow++;
       return;
     }
-    if (n->known & bit) {
-      q->through = n->through[q->light];
-      return;
-    }
   }
   /* a light whose visibility differs across the cell, one the axial ray's surface faced away
-   * from, or one beyond PT_MAX_LIGHTS: a shadow ray per sample */
+   * from, or one beyond PT_MAX_LIGHTS (those known_cb() did not answer): a shadow ray per
+   * sample */
   E->C->ex.stats.shadow++;
   q->through = rt_transmittance(E->C->s, &q->ray);
   if (E->lattice && E->rec && q->light < 32) { /* where the visibility changes over the cell */
@@ -90,9 +99,10 @@ static int verified(pt_eval_t *E, const pt_node_t *n, const rt_ray_t *r, double 
 }
 
 /* Node k's exact geometry for the sample in MATRIX mode: the sample's primary ray carried
- * exactly through the surfaces of the node's path (the reflected and refracted rays of shade.h
- * at each exact hit), each met as the path's own primitive, without a scene search. Memoised
- * per evaluation; 0 when the ray leaves the path (misses a primitive or lacks the child). */
+ * exactly through the surfaces of the node's path (at each exact hit, the child of the path's
+ * kind from shade.h's rt_shade_child(), the ray rt_shade_children() spawns), each met as the
+ * path's own primitive, without a scene search. Memoised per evaluation; 0 when the ray leaves
+ * the path (misses a primitive or lacks the child). */
 static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   pt_ctx_t *C = E->C;
   pt_xgeom_t *x = &C->xg[k];
@@ -108,14 +118,12 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
       return x;
     rt_ray_t ray;
     rt_surface_t sf;
-    rt_child_t ch[2];
+    rt_child_t ch; /* only the child of the path's kind (shading builds both) */
     node_surface(E, n->parent, px->p, px->d, &ray, &sf);
-    int nc = rt_shade_children(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, ch), i = 0;
-    while (i < nc && (int)ch[i].kind != n->kind)
-      i++;
-    if (i == nc)
+    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, (rt_ray_kind_t)n->kind,
+                        &ch))
       return x;
-    r = ch[i].ray;
+    r = ch.ray;
   }
   double t;
   if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t) ||
@@ -284,7 +292,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   E->cur = k;
   rt_rgb_t l = rt_rgb(0, 0, 0);
   if (E->shade) {
-    rt_tracer_t tr = {NULL, shadow_cb, E};
+    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb};
     l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
     if (g)
       g->l = l;
@@ -329,7 +337,7 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
   E->cur = k;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
   if (direct) {
-    rt_tracer_t tr = {NULL, shadow_cb, E};
+    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb};
     sum = rt_rgb_mul(w, rt_shade_direct(E->C->s, E->C->plan, &sf, &ray, &tr));
   }
   if (exact_children)

@@ -35,6 +35,8 @@ int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_
     *extra_reflect = rt_rgb_add(*extra_reflect, rt_rgb(m->kt * f, m->kt * f, m->kt * f));
     wt = rt_rgb_scale(wt, 1.0 - f);
   }
+  if (!child) /* the caller wants the reflected share only */
+    return 1;
   int skip = s->prim[sf->hit.prim].kind != RT_PRIM_SPHERE ? sf->hit.prim : -1;
   child->ray = (rt_ray_t){rt__offset_origin(sf, -1.0), dir, 0.0, INFINITY, sf->n2, skip};
   child->weight = wt;

@@ -207,15 +207,12 @@ static int checker_parity(double k) {
   return a < 0x1p53 ? (int)((int64_t)a & 1) : 0;
 }
 
-const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3_t p, int *texel) {
-  const rt_object_t *o = &s->object[s->prim[prim].object];
-  int parity = -1;
-  if (o->material2 >= 0) {
-    const rt_plane_t *pl = &s->prim[prim].plane;
-    double u, v;
-    rt_plane_coords(pl, p, &u, &v);
-    parity = checker_parity(floor(u / pl->check) + floor(v / pl->check));
-  }
+const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t *o, int prim,
+                                          px_vec3_t p, int *texel) {
+  const rt_plane_t *pl = &s->prim[prim].plane;
+  double u, v;
+  rt_plane_coords(pl, p, &u, &v);
+  int parity = checker_parity(floor(u / pl->check) + floor(v / pl->check));
   if (texel)
     *texel = parity;
   return &s->material[parity == 1 ? o->material2 : o->material];

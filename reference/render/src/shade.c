@@ -64,6 +64,9 @@ static rt_rgb_t shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surf
                        const rt_tracer_t *tr) {
   if (!rt_plan_has(plan, RT_EFFECT_SHADOWS))
     return rt_rgb(1, 1, 1);
+  rt_rgb_t known;
+  if (tr->known && tr->known(tr->ctx, l, &known))
+    return known;
   rt_shadow_t q;
   px_vec3_t o = rt__offset_origin(sf, 1.0);
   q.light = l;
@@ -119,22 +122,46 @@ static int reflect_child(const rt_scene_t *s, const rt_surface_t *sf, const rt_r
   return 1;
 }
 
+/* The split of the hit's coherent light: the mirror child's weight *wr (kr, plus what the
+ * refraction passes on to it: its Fresnel share, or all of kt T after total internal reflection,
+ * *tir set) and whether the refracted child exists, built into *refr unless refr is NULL. */
+static int split(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                 const rt_ray_t *ray, rt_child_t *refr, rt_rgb_t *wr, int *tir) {
+  const rt_material_t *m = sf->mat;
+  *wr = rt_rgb(0, 0, 0);
+  if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
+    *wr = rt_rgb(m->kr, m->kr, m->kr);
+  *tir = 0;
+  if (rt_plan_has(plan, RT_EFFECT_REFRACTION) && m->kt > 0.0)
+    return rt__shade_refract(s, sf, ray, refr, wr, tir);
+  return 0;
+}
+
 int rt_shade_children(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                       const rt_ray_t *ray, int depth, rt_child_t out[2]) {
-  const rt_material_t *m = sf->mat;
   if (depth >= plan->max_depth)
     return 0;
-  rt_rgb_t wr = rt_rgb(0, 0, 0);
-  if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
-    wr = rt_rgb(m->kr, m->kr, m->kr);
-  rt_child_t refr;
-  int n = 0, has_t = 0, tir = 0;
-  if (rt_plan_has(plan, RT_EFFECT_REFRACTION) && m->kt > 0.0)
-    has_t = rt__shade_refract(s, sf, ray, &refr, &wr, &tir);
-  n += reflect_child(s, sf, ray, wr, tir, &out[n]);
-  if (has_t)
-    out[n++] = refr;
-  return n;
+  rt_rgb_t wr;
+  int tir;
+  int has_t = split(s, plan, sf, ray, &out[1], &wr, &tir); /* built in place: no copy */
+  int n = reflect_child(s, sf, ray, wr, tir, &out[0]);
+  if (has_t && !n)
+    out[0] = out[1];
+  return n + has_t;
+}
+
+int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                   const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_child_t *out) {
+  if (depth >= plan->max_depth)
+    return 0;
+  rt_rgb_t wr;
+  int tir;
+  if (kind == RT_RAY_REFRACT)
+    return split(s, plan, sf, ray, out, &wr, &tir);
+  if (kind != RT_RAY_REFLECT)
+    return 0;
+  split(s, plan, sf, ray, NULL, &wr, &tir);
+  return reflect_child(s, sf, ray, wr, tir, out);
 }
 
 rt_rgb_t rt_shade_hit(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,

@@ -10,8 +10,9 @@
 px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side);
 
 /** Build the refracted child of a transparent surface (kt > 0). Returns 1 and fills *child when
- *  a refracted ray exists; adds to *extra_reflect the weight that reflects instead (Fresnel
- *  share, or everything after total internal reflection, when *tir is set). */
+ *  a refracted ray exists (child NULL: only says whether); adds to *extra_reflect the weight
+ *  that reflects instead (Fresnel share, or everything after total internal reflection, when
+ *  *tir is set). */
 int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                       rt_child_t *child, rt_rgb_t *extra_reflect, int *tir);
 

@@ -26,7 +26,7 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
 }
 
 rt_tracer_t rt_exact_tracer(rt_exact_t *ex) {
-  return (rt_tracer_t){child_cb, shadow_cb, ex};
+  return (rt_tracer_t){child_cb, shadow_cb, ex, NULL}; /* every shadow segment is traced */
 }
 
 rt_exact_t rt_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {

@@ -175,10 +175,23 @@ void rt_scene_name_object(rt_scene_t *s, int object, const char *name);
  *  last change and before tracing. RT_EINVAL for bad settings, RT_ENOMEM. */
 rt_status_t rt_scene_prepare(rt_scene_t *s);
 
+/** rt_scene_material_at() for a checkerboard (o->material2 >= 0): scene.c. */
+const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t *o, int prim,
+                                          px_vec3_t p, int *texel);
+
 /** Material of primitive `prim` at point p: the object's material, or material2 on the odd
  *  squares of a checkerboard. *texel (may be NULL) gets the square's parity (0 or 1), or -1
- *  when the object has no texture. */
-const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3_t p, int *texel);
+ *  when the object has no texture. Inline: shading looks it up at every hit, and an object
+ *  without texture needs no more than two loads. */
+static inline const rt_material_t *rt_scene_material_at(const rt_scene_t *s, int prim, px_vec3_t p,
+                                                        int *texel) {
+  const rt_object_t *o = &s->object[s->prim[prim].object];
+  if (o->material2 >= 0)
+    return rt__scene_checker_at(s, o, prim, p, texel);
+  if (texel)
+    *texel = -1;
+  return &s->material[o->material];
+}
 
 /** Plane texture coordinates (u, v) of p, in scene units from the plane's point. */
 void rt_plane_coords(const rt_plane_t *pl, px_vec3_t p, double *u, double *v);

@@ -13,7 +13,8 @@
  *     rt_shade_surface(scene, &hit, &ray, &sf);
  *     rt_rgb_t c = rt_shade_hit(scene, plan, &sf, &ray, depth, &tracer);
  * rt_shade_hit() = rt_shade_direct() + sum over rt_shade_children() of weight * tracer child.
- * A pencil renderer may call the three parts itself (e.g. to trace children as pencils).
+ * A pencil renderer may call the three parts itself (e.g. to trace children as pencils), and
+ * rt_shade_child() for the one child of a known path.
  * All functions are thread-safe and allocate nothing.
  */
 #ifndef RENDER_SHADE_H
@@ -64,6 +65,11 @@ typedef struct {
    *  rt_transmittance(). */
   void (*shadow)(void *ctx, rt_shadow_t *q);
   void *ctx; /**< passed through */
+  /** Optional (NULL: every query goes to shadow()): 1 with *through filled when the tracer
+   *  already knows the transmittance towards light `light` from the surface being shaded (the
+   *  pencil tracer's transmittance recorded once per cell), so that the shadow segment is not
+   *  built; 0 to be asked through shadow(). */
+  int (*known)(void *ctx, int light, rt_rgb_t *through);
 } rt_tracer_t;
 
 /** Orient the hit for shading: facing normal, material and texel, media n1 (ray->ior) and n2. */
@@ -83,6 +89,15 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
  *  depth >= plan->max_depth. */
 int rt_shade_children(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                       const rt_ray_t *ray, int depth, rt_child_t out[2]);
+
+/** The one child of rt_shade_children() of the given kind (RT_RAY_REFLECT, including a total
+ *  internal reflection, or RT_RAY_REFRACT), bit for bit the same ray and weight, without building
+ *  the other: for a renderer that follows a known path of the ray tree. Returns 0, as
+ *  rt_shade_children() returns no such child, at the depth limit, when the plan or the material
+ *  has no such effect, for a mirror child of zero weight and for refraction under total internal
+ *  reflection. */
+int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                   const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_child_t *out);
 
 /** The full Whitted shading of a hit by a generation-`depth` ray: direct light plus the
  *  children's radiance from tr->child(). */
