@@ -188,10 +188,12 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
       (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
       (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
       (unsigned long long)st->paths_exact, (unsigned long long)rt_stats_total(&st->rays), a->out);
-  printf("ray interpolation: %llu lattice points; samples by matrices: %llu small cell, %llu "
+  printf("ray interpolation: %llu lattice points, %llu biquadratic lattice cells; samples by "
+         "matrices: %llu small cell, %llu "
          "left the paths, %llu reach, %llu error; "
          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
-         (unsigned long long)st->lattice_points, (unsigned long long)st->matrix_samples[0],
+         (unsigned long long)st->lattice_points, (unsigned long long)st->biquad_cells,
+         (unsigned long long)st->matrix_samples[0],
          (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
          (unsigned long long)st->matrix_samples[3],
          (unsigned long long)st->fallbacks, (unsigned long long)st->partial,

@@ -20,8 +20,8 @@
 #include <stdlib.h>
 
 #include "internal.h"
-#include "render/vec_inline.h"
 #include "render/intersect.h"
+#include "render/vec_inline.h"
 
 static void mark_exact(pt_eval_t *E, int k) {
   if (!E->rec)
@@ -150,6 +150,21 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     }
     px_vec3_t p;
     return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
+  }
+  if (E->mode == PT_EV_INTERP && E->q2 && E->q2[k]) { /* biquadratic over the quad's grid */
+    px_vec3_t p = {0, 0, 0}, dd = {0, 0, 0};
+    for (int i = 0; i < 9; i++) {
+      p = v3_axpy(E->w9[i], E->g9[i][k].p, p);
+      dd = v3_axpy(E->w9[i], E->g9[i][k].d, dd);
+    }
+    const rt_prim_t *pr = &E->C->s->prim[n->prim];
+    if (pr->kind == RT_PRIM_SPHERE) { /* back onto the sphere, as below */
+      px_vec3_t r = v3_sub(p, pr->sphere.c);
+      p = v3_axpy(pr->sphere.r / v3_norm(r), r, pr->sphere.c);
+    }
+    *hit = p;
+    *d = v3_unit(dd);
+    return 1;
   }
   if (E->mode == PT_EV_INTERP) {
     const double *w = E->w;

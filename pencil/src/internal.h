@@ -78,6 +78,8 @@ typedef struct {
   int *lsm;             /**< per-quad plan: the nodes whose brightness is interpolated (cap) */
   uint8_t *xsub;        /**< per-quad plan: verify nodes (and below) traced exactly (cap) */
   uint8_t *own;         /**< per-quad plan: nodes traced per sample by matrix or path (cap) */
+  uint8_t *q2;          /**< per-quad plan: nodes whose hits are interpolated biquadratically
+                             from the quad's 3 x 3 grid (cap) */
   pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
@@ -97,26 +99,29 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
 /** One sample's evaluation through the current cell's paths. */
 typedef struct {
   pt_ctx_t *C;
-  int mode;              /**< PT_EV_MATRIX or PT_EV_INTERP */
-  double xi[2];          /**< MATRIX: the sample's xi in the cell frame */
-  rt_ray_t primary;      /**< MATRIX: the sample's primary ray (for an exact fallback) */
-  const double *w;       /**< INTERP: bilinear weights of the 4 lattice points */
-  const pt_geom_t *g[4]; /**< INTERP: their geometry, indexed by node */
-  pt_geom_t *rec;        /**< per-node geometry out (cap entries), or NULL */
-  int shade;             /**< 0: geometry only */
-  int record_shadow;     /**< 1: trace shadow rays and store them in the nodes (axial sample) */
-  int lattice;           /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes;
-                              subtrees leaving the paths are marked, not traced (its radiance
-                              is not used) */
-  int cur;               /**< node being shaded */
-  uint32_t stamp;        /**< this evaluation's xg stamp */
-  int fallback;          /**< set when the sample left the cell's paths (traced exactly there) */
-  int vfail;             /**< set when a verify node's scene search failed (traced exactly) */
-  const uint8_t *xsub;   /**< INTERP: nodes whose subtrees are traced exactly in this quad */
-  const uint8_t *own;    /**< INTERP: nodes whose hits come from their matrices (or path) per
-                              sample in this quad (xi and primary set), not interpolated */
-  int ownfail;           /**< set when such a node's per-sample ray left its path */
-  int partial;           /**< set when a subtree where the corners differ was traced exactly */
+  int mode;               /**< PT_EV_MATRIX or PT_EV_INTERP */
+  double xi[2];           /**< MATRIX: the sample's xi in the cell frame */
+  rt_ray_t primary;       /**< MATRIX: the sample's primary ray (for an exact fallback) */
+  const double *w;        /**< INTERP: bilinear weights of the 4 lattice points */
+  const pt_geom_t *g[4];  /**< INTERP: their geometry, indexed by node */
+  pt_geom_t *rec;         /**< per-node geometry out (cap entries), or NULL */
+  int shade;              /**< 0: geometry only */
+  int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
+  int lattice;            /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes;
+                               subtrees leaving the paths are marked, not traced (its radiance
+                               is not used) */
+  int cur;                /**< node being shaded */
+  uint32_t stamp;         /**< this evaluation's xg stamp */
+  int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
+  int vfail;              /**< set when a verify node's scene search failed (traced exactly) */
+  const uint8_t *xsub;    /**< INTERP: nodes whose subtrees are traced exactly in this quad */
+  const uint8_t *own;     /**< INTERP: nodes whose hits come from their matrices (or path) per
+                               sample in this quad (xi and primary set), not interpolated */
+  const uint8_t *q2;      /**< INTERP: nodes interpolated biquadratically (g9, w9), or NULL */
+  const pt_geom_t *g9[9]; /**< INTERP with q2: the quad's 3 x 3 grid, row-major */
+  double w9[9];           /**< INTERP with q2: the sample's biquadratic (Lagrange) weights */
+  int ownfail;            /**< set when such a node's per-sample ray left its path */
+  int partial;            /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;
 
 /** Radiance of the sample (black when shade = 0). */

@@ -63,6 +63,7 @@ typedef struct {
   int *kt;                 /* square picks the interpolated brightness of its material */
   int nown;                /* nodes too curved to interpolate over the quad: traced per sample
                               by their matrices (or along their paths), C->own */
+  int nq2;                 /* nodes whose hits are interpolated biquadratically, C->q2 */
   double own_cost;         /* node evaluations per sample: own nodes, nodes shaded per sample,
                               subtrees traced exactly (about 2 rays each) */
 } plan_t;
@@ -73,6 +74,48 @@ typedef struct {
  * 99.91% of the samples within rho (largest 0.86); up to rho / 2, 99.996% (largest 0.54), for
  * 20% more lattice points at 49 spp (docs/pencil.md). */
 #define PT_EINT_MARGIN 0.5
+
+/* Biquadratic interpolation of a node's hits over a measured quarter q of a measured quad P,
+ * when bilinear interpolation is not accurate enough: P's biquadratic (through its 3 x 3 grid)
+ * predicts q's five new grid points, and its deviation there, d, is P's second-order
+ * interpolation error measured at those points. q's own biquadratic has half P's side, so where
+ * the third-order term dominates its error is about d / 8; it is accepted when
+ * PT_BIQUAD_FACTOR d + matrix error <= rho (a margin of 4 over d / 8). Not in certified mode,
+ * which accepts measured errors only. */
+#define PT_BIQUAD_FACTOR 0.5
+
+/* Lagrange basis of the nodes 0, 1/2, 1 at t. */
+static void lagrange3(double t, double L[3]) {
+  L[0] = 2.0 * (t - 0.5) * (t - 1.0);
+  L[1] = -4.0 * t * (t - 1.0);
+  L[2] = 2.0 * t * (t - 0.5);
+}
+
+/* Biquadratic weights at quad coordinates (u, v) for a row-major 3 x 3 grid. */
+static void weights9(double u, double v, double w[9]) {
+  double lu[3], lv[3];
+  lagrange3(u, lu);
+  lagrange3(v, lv);
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      w[3 * r + c] = lv[r] * lu[c];
+}
+
+/* The largest deviation, in pixel intervals of node n, of the biquadratic through the parent's
+ * grid q->pg from the measured quarter q's five new grid points. */
+static double biquad_deviation(const lquad_t *q, const pt_node_t *n, int k) {
+  static const int at[5][2] = {{0, 1}, {1, 0}, {1, 1}, {1, 2}, {2, 1}};
+  double d = 0.0;
+  for (int m = 0; m < 5; m++) {
+    double w[9];
+    weights9(0.5 * q->qx + 0.25 * at[m][1], 0.5 * q->qy + 0.25 * at[m][0], w);
+    px_vec3_t b = {0, 0, 0};
+    for (int i = 0; i < 9; i++)
+      b = v3_axpy(w[i], q->pg[i / 3][i % 3].g[k].p, b);
+    d = fmax(d, pt_pixels(n, v3_sub(q->g[at[m][0]][at[m][1]].g[k].p, b)));
+  }
+  return d;
+}
 
 /* Why a quad's samples went to the matrices (pt_stats_t.matrix_samples). */
 enum { WHY_OFF = 0, WHY_LEFT = 1, WHY_REACH = 2, WHY_ERROR = 3 };
@@ -168,11 +211,12 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
   memset(&sm, 0, sizeof sm);
   t0 = t1 = sm;
-  pl->n = pl->nt = pl->nown = 0;
+  pl->n = pl->nt = pl->nown = pl->nq2 = 0;
   pl->own_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
   memset(C->own, 0, (size_t)C->nnode);
+  memset(C->q2, 0, (size_t)C->nnode);
   /* a verify node (below an edge the corners saw) that some grid point did not confirm is traced
    * exactly per sample in this quad, with its subtree */
   uint8_t *xsub = C->xsub;
@@ -211,6 +255,15 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
       /* too curved to interpolate here: this node is traced per sample (the caller decides
        * whether that is cheaper than cutting the quad) */
       own = grid_error(q, &p, norm_pixels, n) + e_mat > rho;
+      /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is
+       * then found per sample) */
+      int q2 = own && !cert && q->measured && q->pg && (!n->textured || n->child[0] < 0) &&
+               PT_BIQUAD_FACTOR * biquad_deviation(q, n, k) + e_mat <= rho;
+      if (q2) {
+        own = 0;
+        C->q2[k] = 1;
+        pl->nq2++;
+      }
       if (own) { /* cost per sample: a matrix product, or the path traced from the eye */
         C->own[k] = 1;
         pl->nown++;
@@ -220,7 +273,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
           return 0;
         }
       }
-      int squares = 1;
+      int squares = !C->q2[k]; /* a biquadratic point may leave the corners' convex hull */
       if (n->textured)
         for (int i = 1; i < 4; i++) {
           const pt_geom_t *a = &corner_of(q, i)->g[k], *b = &corner_of(q, 0)->g[k];
@@ -367,6 +420,11 @@ static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
   const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
   px_vec3_t p =
       v3_axpy(w[0], g0->p, v3_axpy(w[1], g1->p, v3_axpy(w[2], g2->p, v3_scale(g3->p, w[3]))));
+  if (E->q2 && E->q2[k]) { /* biquadratic (E->w9) */
+    p = (px_vec3_t){0, 0, 0};
+    for (int i = 0; i < 9; i++)
+      p = v3_axpy(E->w9[i], E->g9[i][k].p, p);
+  }
   const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
   double u, v;
   rt_plane_coords(pl0, p, &u, &v);
@@ -490,11 +548,15 @@ static void sample_range(double x0, double w, int s, int *g0, int *g1) {
 typedef struct {
   const lquad_t *q;
   const plan_t *pl;
-  pt_eval_t E;                     /* INTERP evaluation with the quad's corners */
-  int safe;                        /* certified: misses_nothing() holds for every sample */
-  int fast;                        /* the linear nodes and textured leaves are summed per pixel
-                                      (sums of weights); nodes in pl->k are added per sample */
-  double uv[PT_FAST_LEAVES][4][2]; /* fast: board coordinates / check of each leaf's corners */
+  pt_eval_t E;                       /* INTERP evaluation with the quad's corners */
+  int safe;                          /* certified: misses_nothing() holds for every sample */
+  int fast;                          /* the linear nodes and textured leaves are summed per pixel
+                                        (sums of weights); nodes in pl->k are added per sample */
+  double uv[PT_FAST_LEAVES][9][2];   /* fast: board coordinates / check of each leaf's corners
+                                        (bilinear), or of the quad's 3 x 3 grid (biquadratic) */
+  uint8_t q2leaf[PT_FAST_LEAVES];    /* fast: the leaf is interpolated biquadratically */
+  double curv[PT_FAST_LEAVES][2][2]; /* ... bounds on |d2/du2| and |d2/dv2| of its board
+                                        coordinates over the quad, per coordinate */
 } qctx_t;
 
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
@@ -504,15 +566,33 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
       .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
+  if (pl->nq2) { /* only measured quads: the grid is the quad's own */
+    Q->E.q2 = C->q2;
+    for (int i = 0; i < 9; i++)
+      Q->E.g9[i] = q->g[i / 3][i % 3].g;
+  }
   Q->fast = pl->nt <= PT_FAST_LEAVES;
   Q->safe = !C->opt->certified || misses_nothing_quad(C, &Q->E);
   for (int m = 0; m < pl->nt && Q->fast; m++) {
-    int k = pl->kt[m];
+    int k = pl->kt[m], q2 = pl->nq2 && C->q2[k];
     const rt_plane_t *bp = &C->s->prim[C->node[k].prim].plane;
-    for (int i = 0; i < 4; i++) {
-      rt_plane_coords(bp, Q->E.g[i][k].p, &Q->uv[m][i][0], &Q->uv[m][i][1]);
+    Q->q2leaf[m] = (uint8_t)q2;
+    for (int i = 0; i < (q2 ? 9 : 4); i++) {
+      px_vec3_t p = q2 ? Q->E.g9[i][k].p : Q->E.g[i][k].p;
+      rt_plane_coords(bp, p, &Q->uv[m][i][0], &Q->uv[m][i][1]);
       Q->uv[m][i][0] /= bp->check;
       Q->uv[m][i][1] /= bp->check;
+    }
+    for (int t = 0; t < 2 && q2; t++) { /* second differences of the grid; 1.25 bounds the sum
+                                           of |Lagrange weights| of three nodes on [0, 1] */
+      double cu = 0.0, cv = 0.0;
+      const double(*g)[2] = Q->uv[m];
+      for (int r = 0; r < 3; r++) {
+        cu = fmax(cu, fabs(4.0 * (g[3 * r][t] - 2.0 * g[3 * r + 1][t] + g[3 * r + 2][t])));
+        cv = fmax(cv, fabs(4.0 * (g[r][t] - 2.0 * g[3 + r][t] + g[6 + r][t])));
+      }
+      Q->curv[m][t][0] = 1.25 * cu;
+      Q->curv[m][t][1] = 1.25 * cv;
     }
   }
 }
@@ -527,25 +607,40 @@ static inline double floor_fast(double x) {
   return t > x ? t - 1.0 : t;
 }
 
-/* Checker parity of leaf m of the fast path at bilinear weights w (the board coordinates are
- * linear in the hit point, so interpolating them is interpolating the point). */
-static int fast_parity(const qctx_t *Q, int m, const double w[4], double sq[2]) {
+/* Checker parity of leaf m of the fast path at quad coordinates (u, v) (the board coordinates
+ * are affine in the hit point, so interpolating them is interpolating the point). */
+static int fast_parity(const qctx_t *Q, int m, double u, double v, double sq[2]) {
   const double(*c)[2] = Q->uv[m];
-  for (int t = 0; t < 2; t++)
-    sq[t] = floor_fast(w[0] * c[0][t] + w[1] * c[1][t] + w[2] * c[2][t] + w[3] * c[3][t]);
+  if (Q->q2leaf[m]) {
+    double w[9];
+    weights9(u, v, w);
+    for (int t = 0; t < 2; t++) {
+      double x = 0.0;
+      for (int i = 0; i < 9; i++)
+        x += w[i] * c[i][t];
+      sq[t] = floor_fast(x);
+    }
+  } else {
+    double w[4];
+    weights(u, v, w);
+    for (int t = 0; t < 2; t++)
+      sq[t] = floor_fast(w[0] * c[0][t] + w[1] * c[1][t] + w[2] * c[2][t] + w[3] * c[3][t]);
+  }
   return (int)((int64_t)(sq[0] + sq[1]) & 1);
 }
 
 /* The summed part (linear nodes and textured leaves) of one sample with weights w, as fast_sum
  * counts it. */
-static rt_rgb_t fast_sample(const qctx_t *Q, const double w[4]) {
+static rt_rgb_t fast_sample(const qctx_t *Q, double u, double v) {
   const plan_t *pl = Q->pl;
+  double w[4];
+  weights(u, v, w);
   rt_rgb_t sum = rgb_lerp4(w, pl->smooth[0], pl->smooth[1], pl->smooth[2], pl->smooth[3]);
   for (int m = 0; m < pl->nt; m++) {
     const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
                     *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
     double sq[2];
-    int p = fast_parity(Q, m, w, sq);
+    int p = fast_parity(Q, m, u, v, sq);
     sum = rt_rgb_add(sum, rgb_lerp4(w, g0->lt[p], g1->lt[p], g2->lt[p], g3->lt[p]));
   }
   return sum;
@@ -574,15 +669,29 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
   for (int m = 0; m < pl->nt; m++) {
     const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
                     *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
-    double wx[4][4], sq[2], sq0[2];
-    weights(ua, va, wx[0]);
-    weights(ub, va, wx[1]);
-    weights(ua, vb, wx[2]);
-    weights(ub, vb, wx[3]);
-    int par = fast_parity(Q, m, wx[0], sq0), one = 1;
+    double sq[2], sq0[2];
+    const double ue[4] = {ua, ub, ua, ub}, ve[4] = {va, va, vb, vb};
+    int par = fast_parity(Q, m, ua, va, sq0), one = 1;
     for (int e = 1; e < 4 && one; e++) {
-      fast_parity(Q, m, wx[e], sq);
+      fast_parity(Q, m, ue[e], ve[e], sq);
       one = sq[0] == sq0[0] && sq[1] == sq0[1];
+    }
+    if (one && Q->q2leaf[m]) {
+      /* a biquadratic leaf's points are not convex combinations of the extreme samples': they
+       * deviate from the bilinear interpolation of those by at most (du^2 |f_uu| + dv^2
+       * |f_vv|) / 8, so the extreme samples must keep that far from their square's edges */
+      for (int t = 0; t < 2 && one; t++) {
+        double du = ub - ua, dv = vb - va;
+        double margin = (du * du * Q->curv[m][t][0] + dv * dv * Q->curv[m][t][1]) / 8.0;
+        for (int e = 0; e < 4 && one; e++) {
+          const double(*c)[2] = Q->uv[m];
+          double w[9], x = 0.0;
+          weights9(ue[e], ve[e], w);
+          for (int i = 0; i < 9; i++)
+            x += w[i] * c[i][t];
+          one = x - sq0[t] >= margin && sq0[t] + 1.0 - x >= margin;
+        }
+      }
     }
     if (one) {
       sum = rt_rgb_add(sum, rgb_lerp4(W, g0->lt[par], g1->lt[par], g2->lt[par], g3->lt[par]));
@@ -591,9 +700,10 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
     double Wp[2][4] = {{0}};
     for (int b = b0; b < b1; b++)
       for (int a = a0; a < a1; a++) {
-        double w[4];
-        weights((P->i + (a + 0.5) / s - q->x0) / q->w, (P->j + (b + 0.5) / s - q->y0) / q->h, w);
-        int p = fast_parity(Q, m, w, sq);
+        double w[4], u = (P->i + (a + 0.5) / s - q->x0) / q->w,
+                     v = (P->j + (b + 0.5) / s - q->y0) / q->h;
+        weights(u, v, w);
+        int p = fast_parity(Q, m, u, v, sq);
         for (int c = 0; c < 4; c++)
           Wp[p][c] += w[c];
       }
@@ -635,7 +745,10 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
   for (int b = b0; b < b1 && !(fast && !local && !C->opt->measure); b++)
     for (int a = a0; a < a1; a++) {
       double x = P->i + (a + 0.5) / s, y = P->j + (b + 0.5) / s, w[4];
-      weights((x - q->x0) / q->w, (y - q->y0) / q->h, w);
+      double qu = (x - q->x0) / q->w, qv = (y - q->y0) / q->h;
+      weights(qu, qv, w);
+      if (E->q2)
+        weights9(qu, qv, E->w9);
       if (local) {
         E->partial = E->fallback = E->ownfail = 0;
         if (E->own) {
@@ -644,8 +757,8 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
         }
         rt_rgb_t v = interp_local(E, Q->pl, w);
         if (E->ownfail) { /* take the sample's summed part back: the whole sample by matrices */
-          v = fast_sample(Q, w);
-          P->sum = rt_rgb(P->sum.r - v.r, P->sum.g - v.g, P->sum.b - v.b);
+          rt_rgb_t f = fast_sample(Q, qu, qv);
+          P->sum = rt_rgb(P->sum.r - f.r, P->sum.g - f.g, P->sum.b - f.b);
           P->n[PT_METHOD_INTERP]--;
           pt__matrix_sample(C, P, a, b);
           continue;
@@ -697,6 +810,7 @@ static void quad_emit(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, const p
   qctx_t Q;
   if (pl)
     qctx_make(C, q, pl, &Q);
+  C->st.biquad_cells += (uint64_t)(pl && pl->nq2);
   for (int j = gy0 / s; j <= (gy1 - 1) / s; j++)
     for (int i = gx0 / s; i <= (gx1 - 1) / s; i++) {
       int a0 = gx0 - i * s, a1 = gx1 - i * s, b0 = gy0 - j * s, b1 = gy1 - j * s;

@@ -30,6 +30,7 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->lsm);
   free(C->xsub);
   free(C->own);
+  free(C->q2);
   free(C->rec);
   free(C->xg);
   free(C->ref);
@@ -56,12 +57,13 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->lsm = malloc((size_t)cap * sizeof *C->lsm);
   C->xsub = calloc((size_t)cap, 1);
   C->own = calloc((size_t)cap, 1);
+  C->q2 = calloc((size_t)cap, 1);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->acc ||
       !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->loc || !C->locd ||
-      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own) {
+      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own || !C->q2) {
     C->corner_nodes = cn;
     return 0;
   }
@@ -114,6 +116,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   for (int r = 0; r < 4; r++)
     a->matrix_samples[r] += b->matrix_samples[r];
   a->lattice_points += b->lattice_points;
+  a->biquad_cells += b->biquad_cells;
   a->measured += b->measured;
   a->with_board += b->with_board;
   a->within += b->within;

@@ -108,6 +108,8 @@ typedef struct {
                                   the matrix error exceeds rho, or the brightness is not linear,
                                   on the smallest lattice cell */
   uint64_t lattice_points; /**< points traced through the paths for ray interpolation */
+  uint64_t biquad_cells;   /**< lattice cells where some node's hits were interpolated
+                                biquadratically (bilinear was not accurate enough) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_board;     /**< ... with at least one pencil-traced checkerboard point */
