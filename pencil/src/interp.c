@@ -697,16 +697,37 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
       sum = rt_rgb_add(sum, rgb_lerp4(W, g0->lt[par], g1->lt[par], g2->lt[par], g3->lt[par]));
       continue;
     }
+    /* per sample: its material's summed weights, row by row (the weights are separable: a row
+     * needs the count and the sum of u of its samples of each material) */
     double Wp[2][4] = {{0}};
-    for (int b = b0; b < b1; b++)
-      for (int a = a0; a < a1; a++) {
-        double w[4], u = (P->i + (a + 0.5) / s - q->x0) / q->w,
-                     v = (P->j + (b + 0.5) / s - q->y0) / q->h;
-        weights(u, v, w);
-        int p = fast_parity(Q, m, u, v, sq);
-        for (int c = 0; c < 4; c++)
-          Wp[p][c] += w[c];
+    const double(*c)[2] = Q->uv[m];
+    for (int b = b0; b < b1; b++) {
+      double v = (P->j + (b + 0.5) / s - q->y0) / q->h, n[2] = {0, 0}, su_p[2] = {0, 0};
+      /* a bilinear leaf's board coordinates are linear in u along the row: x = x0 + u dx */
+      double x0[2], dx[2];
+      for (int t = 0; t < 2; t++) {
+        x0[t] = (1 - v) * c[0][t] + v * c[2][t];
+        dx[t] = (1 - v) * (c[1][t] - c[0][t]) + v * (c[3][t] - c[2][t]);
       }
+      for (int a = a0; a < a1; a++) {
+        double u = (P->i + (a + 0.5) / s - q->x0) / q->w;
+        int p;
+        if (Q->q2leaf[m]) {
+          p = fast_parity(Q, m, u, v, sq);
+        } else {
+          double f0 = floor_fast(x0[0] + u * dx[0]), f1 = floor_fast(x0[1] + u * dx[1]);
+          p = (int)((int64_t)(f0 + f1) & 1);
+        }
+        n[p] += 1.0;
+        su_p[p] += u;
+      }
+      for (int p = 0; p < 2; p++) {
+        Wp[p][0] += (n[p] - su_p[p]) * (1 - v);
+        Wp[p][1] += su_p[p] * (1 - v);
+        Wp[p][2] += (n[p] - su_p[p]) * v;
+        Wp[p][3] += su_p[p] * v;
+      }
+    }
     for (int p = 0; p < 2; p++)
       sum = rt_rgb_add(sum, rgb_lerp4(Wp[p], g0->lt[p], g1->lt[p], g2->lt[p], g3->lt[p]));
   }
