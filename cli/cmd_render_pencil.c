@@ -25,7 +25,7 @@ static void help(FILE *f) {
          "initial domains of N x N pixels, the axial ray of each traced exactly with its ray\n"
          "tree, a system matrix per path, edges found by comparing ray trees, the tolerance of\n"
          "Eq. (3) and the spread limit of Eq. (6) deciding between matrices, exact tracing and\n"
-         "subdivision; sub-pixel samples by ray interpolation where e_int allows.\n"
+         "subdivision; samples by ray interpolation where e_int allows.\n"
          "Writes OUT.exr (the exact renderer's channels, plus pencil.error: largest Fig. 10 error\n"
          "of the pixel's samples when --measure is given, and pencil.method: 0 exact, 1 matrix,\n"
          "2 interpolated; pencil.rays: exact rays traced for the pixel's samples) and a PNG\n"

@@ -288,28 +288,36 @@ static void render_pencil(const rt_scene_t *s, int side, int threads, const pt_o
 
 /* Step 1 and steps 3-4: on the bare board every initial domain is smooth and accepted whole;
  * with the ball, domains on its outline are subdivided and some pixels traced exactly, but only
- * a minority. */
+ * a minority. Both with ray interpolation (the default, also at one sample per pixel) and with
+ * every sample through the matrices (--no-interp), where the accepted cells' samples are all
+ * matrix-traced. */
 static void subdivision_only_at_edges(void **state) {
   (void)state;
-  rt_scene_t s;
-  rt_image_t img;
-  pt_stats_t st;
-  board(&s, 40, 40);
-  render_pencil(&s, 1, 1, NULL, &img, NULL, &st);
-  assert_int_equal(st.cells, 64); /* 8 x 8 domains of 5 x 5 pixels */
-  assert_int_equal(st.cells_accepted, 64);
-  assert_int_equal(st.cells_edge, 0);
-  assert_int_equal(st.samples[PT_METHOD_EXACT], 0);
-  rt_image_free(&img);
-  rt_scene_free(&s);
-  fig8(&s, 40, 40);
-  render_pencil(&s, 1, 1, NULL, &img, NULL, &st);
-  assert_true(st.cells > 64);
-  assert_true(st.cells_edge > 0);
-  assert_true(st.samples[PT_METHOD_EXACT] > 0);
-  assert_true(st.samples[PT_METHOD_EXACT] < 40 * 40 / 4);
-  rt_image_free(&img);
-  rt_scene_free(&s);
+  for (int interp = 1; interp >= 0; interp--) {
+    rt_scene_t s;
+    rt_image_t img;
+    pt_stats_t st;
+    pt_options_t o = PT_OPTIONS_DEFAULT;
+    o.interp = interp;
+    board(&s, 40, 40);
+    render_pencil(&s, 1, 1, &o, &img, NULL, &st);
+    assert_int_equal(st.cells, 64); /* 8 x 8 domains of 5 x 5 pixels */
+    assert_int_equal(st.cells_accepted, 64);
+    assert_int_equal(st.cells_edge, 0);
+    assert_int_equal(st.samples[PT_METHOD_EXACT], 0);
+    assert_true(interp ? st.samples[PT_METHOD_INTERP] == 40 * 40
+                       : st.samples[PT_METHOD_MATRIX] == 40 * 40);
+    rt_image_free(&img);
+    rt_scene_free(&s);
+    fig8(&s, 40, 40);
+    render_pencil(&s, 1, 1, &o, &img, NULL, &st);
+    assert_true(st.cells > 64);
+    assert_true(st.cells_edge > 0);
+    assert_true(st.samples[PT_METHOD_EXACT] > 0);
+    assert_true(st.samples[PT_METHOD_EXACT] < 40 * 40 / 4);
+    rt_image_free(&img);
+    rt_scene_free(&s);
+  }
 }
 
 /* Ray interpolation (4.1 (2)) on the bare board: nearly every sample is interpolated, from a

@@ -19,7 +19,7 @@
 
 /* Whether accepted cells are ray-interpolated (4.1 (2)) rather than traced by matrices. */
 static int interpolating(const pt_ctx_t *C) {
-  return C->opt->interp && C->opt->spp_side >= 2;
+  return C->opt->interp;
 }
 
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {

@@ -55,7 +55,7 @@ typedef struct {
   pt_bound_t bound;
   int certified; /**< 1: also require an a-posteriori exact check of every path at the
                       domain's corners and edge midpoints to agree within tau */
-  int interp;    /**< 1: ray interpolation for s >= 2 (0: every sample by matrices) */
+  int interp;    /**< 1: ray interpolation (0: every sample by matrices) */
   int measure;   /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
   int aux;       /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
   double brightness_tol; /**< ray interpolation: largest deviation (any colour channel) of the
