@@ -48,6 +48,7 @@ typedef struct {
   rt_tree_t tree;
   pt_node_t node[256];
   pt_pencil_t p;
+  double chk[8][2]; /**< certified mode's boundary points, when p.check is set */
   pt_path_scratch_t w;
 } cell_t;
 
@@ -57,7 +58,9 @@ static void xi_at(const cell_t *c, double x, double y, double xi[2]) {
   xi[1] = px_vec3_dot(c->p.frame.x2, r.d);
 }
 
-static void build_cell(cell_t *c, double x, double y, pt_bound_t bound) {
+/* The cell's paths; with half > 0 in certified mode, for the cell of half-side `half` pixels
+ * around (x, y) (the boundary points in pt__cell's order: corner, edge midpoint, corner, ...). */
+static void build_cell_checked(cell_t *c, double x, double y, pt_bound_t bound, double half) {
   fig8(&c->s, 256, 256);
   c->plan = rt_plan_make(&c->s, 1);
   assert_int_equal(rt_view_make(&c->s.camera, &c->view), RT_OK);
@@ -81,11 +84,21 @@ static void build_cell(cell_t *c, double x, double y, pt_bound_t bound) {
   c->p.rho = 0.5;
   c->p.bound = bound;
   c->p.xi_cell = 0.005;
+  if (half > 0.0) {
+    const double px[8] = {-1, 0, 1, 1, 1, 0, -1, -1}, py[8] = {-1, -1, -1, 0, 1, 1, 1, 0};
+    for (int j = 0; j < 8; j++)
+      xi_at(c, x + half * px[j], y + half * py[j], c->chk[j]);
+    c->p.check = (const double(*)[2])c->chk;
+  }
   for (int k = 0; k < c->tree.n; k++) {
     int par = c->tree.node[k].parent;
     pt_path_topology(&c->s, &c->tree, k, par >= 0 ? &c->node[par] : NULL, &c->node[k]);
     assert_int_equal(pt_path_build(&c->s, &c->tree, k, c->node, &c->p, &c->w), PX_OK);
   }
+}
+
+static void build_cell(cell_t *c, double x, double y, pt_bound_t bound) {
+  build_cell_checked(c, x, y, bound, 0.0);
 }
 
 /* A pixel on the glass ball: its tree goes through several refractions and reflections. */
@@ -176,6 +189,43 @@ static void matrix_error_within_bound(void **state) {
     }
   }
   assert_true(checked >= 16);
+  rt_scene_free(&c.s);
+}
+
+/* Certified mode carries each boundary ray one step per node (the parent's exact ray vector
+ * through the parent's surface to the node); the whole path as one ex_system, traced from the
+ * eye, must give the same exact ray vectors. They differ by rounding and by the output frames
+ * (chained from the parent's versus re-traced from the eye, ~1e-13 rad as in the matrix test
+ * above) times the ray's offset x (B xi, up to ~1 scene unit for a 5 x 5 cell on the ball):
+ * 1e-10 absolute, and 1e-9 for the directions, are wide margins that a wrong frame, a missing
+ * or repeated surface (an error of order x itself) exceeds by orders of magnitude. e_check is
+ * the largest error along the boundary, so at least that of each boundary point. */
+static void certified_check_matches_whole_path(void **state) {
+  (void)state;
+  static cell_t c;
+  build_cell_checked(&c, BALL_X, BALL_Y, PT_BOUND_CORRECTED, 2.5);
+  int checked = 0, deepest = 0;
+  for (int k = 0; k < c.tree.n; k++) {
+    const pt_node_t *n = &c.node[k];
+    if (n->miss)
+      continue;
+    assert_int_equal(pt_path_full(&c.s, &c.tree, k, &c.p, &c.w), PX_OK);
+    double worst = 0.0;
+    for (int j = 0; j < 8; j++) {
+      double psi[4] = {0, 0, c.chk[j][0], c.chk[j][1]}, out[4];
+      assert_int_equal(ex_map(&c.w.sys, &c.w.ax, psi, out), PX_OK);
+      for (int i = 0; i < 4; i++)
+        assert_close(n->xcheck[j][i], out[i], 0.0, i < 2 ? 1e-10 : 1e-9);
+      worst = fmax(worst, hypot(out[0] - (n->b.m[0][0] * psi[2] + n->b.m[0][1] * psi[3]),
+                                out[1] - (n->b.m[1][0] * psi[2] + n->b.m[1][1] * psi[3])));
+    }
+    assert_true(isfinite(n->e_check));
+    assert_true(n->e_check >= worst / n->cos_in * (1.0 - 1e-6));
+    checked++;
+    deepest = n->depth > deepest ? n->depth : deepest;
+  }
+  assert_true(checked >= 5);
+  assert_true(deepest >= 3);
   rt_scene_free(&c.s);
 }
 
@@ -566,6 +616,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(path_matrices_match_whole_path_cascade),
       cmocka_unit_test(incremental_bound_equals_pencil_constants),
       cmocka_unit_test(matrix_error_within_bound),
+      cmocka_unit_test(certified_check_matches_whole_path),
       cmocka_unit_test(axis_ray_meets_axial_hit),
       cmocka_unit_test(tree_agreement_edges_not_textures),
       cmocka_unit_test(guard_catches_small_objects),

@@ -11,8 +11,8 @@
 
 #include "bound.h"
 #include "paraxial/bounds.h"
-#include "render/vec_inline.h"
 #include "render/intersect.h"
+#include "render/vec_inline.h"
 
 /* The quadric of a primitive: sphere, or the plane of a plane or polygon. */
 static ex_quadric_t prim_quadric(const rt_scene_t *s, int prim) {
@@ -115,11 +115,15 @@ int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t 
   return 1;
 }
 
-/* Exact error of the linear map in the plane normal to the output axis at the eye direction xi
- * (the x part of ex_map(psi) - T psi). */
-static px_status_t exact_error(const pt_path_scratch_t *w, const pt_node_t *n, const double xi[2],
-                               double e[2]) {
-  double psi[4] = {0.0, 0.0, xi[0], xi[1]}, out[4];
+/* Exact error of the linear map in the plane normal to the output axis at the eye direction xi:
+ * the x part of ex_map(psi) - T (0, 0, xi), where w's system carries psi to the node (the whole
+ * path from the eye, psi = (0, 0, xi), or one step of it). The exact ray vector at the node goes
+ * to out (may be NULL). */
+static px_status_t exact_error(const pt_path_scratch_t *w, const pt_node_t *n, const double psi[4],
+                               const double xi[2], double e[2], double *out) {
+  double tmp[4];
+  if (!out)
+    out = tmp;
   px_status_t st = ex_map(&w->sys, &w->ax, psi, out);
   if (st != PX_OK)
     return st;
@@ -129,7 +133,7 @@ static px_status_t exact_error(const pt_path_scratch_t *w, const pt_node_t *n, c
 }
 
 /* The probe "constant": the worst exact error on the spread circle |xi| = xi_cell over
- * xi_cell^2 (not a bound; for comparison with the Appendix bounds). */
+ * xi_cell^2 (not a bound; for comparison with the Appendix bounds). w holds the whole path. */
 static px_status_t probe_c(const pt_path_scratch_t *w, const pt_node_t *n, double xi_cell,
                            double *c) {
   double worst = 0.0;
@@ -139,7 +143,8 @@ static px_status_t probe_c(const pt_path_scratch_t *w, const pt_node_t *n, doubl
   }
   for (int j = 0; j < 8; j++) {
     double xi[2] = {xi_cell * cos(j * M_PI / 4), xi_cell * sin(j * M_PI / 4)}, e[2];
-    px_status_t st = exact_error(w, n, xi, e);
+    double psi[4] = {0.0, 0.0, xi[0], xi[1]};
+    px_status_t st = exact_error(w, n, psi, xi, e, NULL);
     if (st != PX_OK)
       return st;
     worst = fmax(worst, hypot(e[0], e[1]));
@@ -150,24 +155,34 @@ static px_status_t probe_c(const pt_path_scratch_t *w, const pt_node_t *n, doubl
 
 /* Certified mode: the exact error at the 8 boundary points, each edge's error interpolated by
  * the quadratic through its corner, midpoint and corner (exact for a second-order error), and
- * the largest magnitude along the four edges, carried onto the surface (/ cos). */
-static px_status_t check_boundary(const pt_path_scratch_t *w, const pt_node_t *n,
+ * the largest magnitude along the four edges, carried onto the surface (/ cos).
+ * The exact map of the whole path is the composition of its steps' exact maps, as its matrix is
+ * the product of theirs (section 2.2, T_k = S_k T_parent): each ex_map ends with the ray vector
+ * in the step's output frame, which is the next step's input frame. So each boundary ray is
+ * carried one step, w's system (the parent's surface and the transfer to the node), from the
+ * parent's exact ray vector (psi = (0, 0, xi) at the eye for the primary ray), and kept in
+ * n->xcheck for the node's children: one step per node and point instead of the whole path. */
+static px_status_t check_boundary(const pt_path_scratch_t *w, const pt_node_t *parent, pt_node_t *n,
                                   const double (*pts)[2], double *out) {
   double e[8][2], worst = 0.0;
   for (int j = 0; j < 8; j++) {
-    px_status_t st = exact_error(w, n, pts[j], e[j]);
+    double eye[4] = {0.0, 0.0, pts[j][0], pts[j][1]};
+    px_status_t st =
+        exact_error(w, n, parent ? parent->xcheck[j] : eye, pts[j], e[j], n->xcheck[j]);
     if (st != PX_OK)
       return st;
   }
-  for (int edge = 0; edge < 4; edge++) {
-    const double *a = e[2 * edge], *m = e[2 * edge + 1], *b = e[(2 * edge + 2) % 8];
-    for (int k = 0; k <= 16; k++) {
-      double t = k / 16.0, la = (1 - t) * (1 - 2 * t), lm = 4 * t * (1 - t), lb = t * (2 * t - 1);
-      worst =
-          fmax(worst, hypot(la * a[0] + lm * m[0] + lb * b[0], la * a[1] + lm * m[1] + lb * b[1]));
+  /* squared magnitudes; the quadratic's t = 1 point of an edge is the next edge's t = 0 */
+  for (int k = 0; k < 16; k++) {
+    double t = k / 16.0, la = (1 - t) * (1 - 2 * t), lm = 4 * t * (1 - t), lb = t * (2 * t - 1);
+    for (int edge = 0; edge < 4; edge++) {
+      const double *a = e[2 * edge], *m = e[2 * edge + 1], *b = e[(2 * edge + 2) % 8];
+      double v0 = la * a[0] + lm * m[0] + lb * b[0], v1 = la * a[1] + lm * m[1] + lb * b[1];
+      double v = v0 * v0 + v1 * v1;
+      worst = v > worst ? v : worst; /* fmax(worst, v): a NaN v is ignored */
     }
   }
-  *out = worst / n->cos_in;
+  *out = sqrt(worst) / n->cos_in;
   return PX_OK;
 }
 
@@ -309,19 +324,20 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   out->interval =
       pt_footprint(out->b, p->delta, out->e1, out->e2, out->ez, out->n, out->j, out->ginv);
   out->tau = p->rho * out->interval;
-  if (p->bound == PT_BOUND_PROBE || p->check) {
-    st = pt_path_full(s, tree, k, p, w);
+  if (p->check) { /* w still holds the step from the parent */
+    st = check_boundary(w, parent, out, p->check, &out->e_check);
     if (st != PX_OK)
       return st;
   }
-  if (p->bound == PT_BOUND_PROBE)
-    st = probe_c(w, out, p->xi_cell, &out->c);
-  else
+  if (p->bound == PT_BOUND_PROBE) {
+    st = pt_path_full(s, tree, k, p, w);
+    if (st == PX_OK)
+      st = probe_c(w, out, p->xi_cell, &out->c);
+  } else {
     st = pt__bound_step(parent, sm, p->bound, out, &out->c);
+  }
   if (st != PX_OK)
     return st;
   out->xi_max = pt_spread_limit(out->c, parent ? 0.0 : 0.77 * nd->t, out->tau, out->cos_in);
-  if (p->check)
-    st = check_boundary(w, out, p->check, &out->e_check);
-  return st;
+  return PX_OK;
 }

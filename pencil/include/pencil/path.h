@@ -10,8 +10,10 @@
  * it and build its cascade (ex_trace_axial, ex_axial_cascade: verified against exact tracing to
  * 1e-11); the node's system matrix is that step times its parent's, T_k = S_k T_parent, i.e. the
  * cascade of the whole path (section 2.2). pt_path_full() builds the same path as one system
- * (one stage per surface), whose exact map (ex_map) the probe and the certified check use; the
- * tests check that both give the same T. T maps a ray vector at the eye, psi = (0, 0, xi1, xi2)
+ * (one stage per surface), whose exact map (ex_map) the probe uses; the tests check that both
+ * give the same T. The certified check composes the exact map the same way as the matrices:
+ * each boundary ray's exact ray vector at the parent, carried through the node's step by ex_map
+ * (the tests check it against the whole path's ex_map). T maps a ray vector at the eye, psi = (0, 0, xi1, xi2)
  * (a pinhole pencil), to psi' = T psi in the ray frame at the node's hit.
  *
  * Tolerances are taken on the node's surface (the tangent plane at the axial hit), where Fig. 10
@@ -91,7 +93,10 @@ typedef struct {
                         PT_SPREAD_CAP (pt_spread_limit) */
   double e_check;  /**< certified mode: largest exact error on the cell boundary (surface units,
                         from ex_map at the corners and edge midpoints), else -1 */
-  unsigned known;  /**< bit l: through[l] recorded for light l */
+  double xcheck[8][4]; /**< certified mode: the exact ray vectors of the 8 boundary rays in the
+                            node's output frame (ex_map's psi'), which its children's checks
+                            carry on by one step */
+  unsigned known;      /**< bit l: through[l] recorded for light l */
   rt_rgb_t through[PT_MAX_LIGHTS]; /**< shadow transmittance of the axial hit, per light */
   int nstep; /**< elements of the step from the parent (transfer; interface + transfer) */
   px_element_t step[3]; /**< the step's cascade elements (the path's cascade is the chain of
