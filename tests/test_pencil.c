@@ -414,20 +414,11 @@ static double board_step(const rt_image_t *e, int k, int w, int h) {
   return m;
 }
 
-/* Pencil against exact tracing on a tiny Fig. 8 render at 4 spp. The Fig. 10 error must hold for
- * at least 99.5% of samples (the paper: 99.8% at 256 x 256), and for all of them in certified
- * mode. The images are compared at rho = 0.05, where they resolve the checkerboard (a pixel's
- * board point moves less than half a square to its neighbours): towards the horizon one pixel
- * covers several squares and any sub-pixel error, even far below rho, changes its aliased colour.
- * There, a sample changes colour only when its board point lies within its error (<= rho pixel)
- * of a square edge: that changes its pixel by one sample's share, 1/4 of the contrast (~0.8), so
- * at most 0.25, in at most 1% of the pixels; over the image the RMS stays below 0.01. (At
- * rho = 1/2 every sample within half a pixel of a square edge may change colour, and along an
- * edge that runs with the pixel rows a whole row of pixels does: docs/pencil.md.) */
 /* Biquadratic interpolation (interp.c, PT_BIQUAD_FACTOR) takes over where bilinear is not
  * accurate enough, on the glass ball of Fig. 8 at 49 spp, and the samples stay within rho as
- * the issue requires of the default mode (>= 99.8%); the same render at tiny rho interpolates
- * nothing biquadratically that it could not measure. */
+ * the issue requires of the default mode (>= 99.8%, largest error under 2 rho); certified mode,
+ * which accepts measured errors only, never interpolates biquadratically (the biquadratic's
+ * error is estimated from the parent's grid, not measured) and keeps every sample within rho. */
 static void biquadratic_cells_stay_within_rho(void **state) {
   (void)state;
   enum { W = 64, H = 64 };
@@ -453,6 +444,16 @@ static void biquadratic_cells_stay_within_rho(void **state) {
   rt_scene_free(&s);
 }
 
+/* Pencil against exact tracing on a tiny Fig. 8 render at 4 spp. The Fig. 10 error must hold for
+ * at least 99.5% of samples (the paper: 99.8% at 256 x 256), and for all of them in certified
+ * mode. The images are compared at rho = 0.05, where they resolve the checkerboard (a pixel's
+ * board point moves less than half a square to its neighbours): towards the horizon one pixel
+ * covers several squares and any sub-pixel error, even far below rho, changes its aliased colour.
+ * There, a sample changes colour only when its board point lies within its error (<= rho pixel)
+ * of a square edge: that changes its pixel by one sample's share, 1/4 of the contrast (~0.8), so
+ * at most 0.25, in at most 1% of the pixels; over the image the RMS stays below 0.01. (At
+ * rho = 1/2 every sample within half a pixel of a square edge may change colour, and along an
+ * edge that runs with the pixel rows a whole row of pixels does: docs/pencil.md.) */
 static void pencil_image_matches_exact(void **state) {
   (void)state;
   enum { W = 48, H = 48 };
