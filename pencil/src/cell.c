@@ -48,7 +48,8 @@ static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ra
     pt__interp_cell(C, x0, y0, x1, y1);
     return;
   }
-  C->st.matrix_samples[0] += (uint64_t)((x1 - x0) * (y1 - y0) * C->opt->spp_side * C->opt->spp_side);
+  C->st.matrix_samples[0] +=
+      (uint64_t)((x1 - x0) * (y1 - y0) * C->opt->spp_side * C->opt->spp_side);
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++)
       pt__matrix_pixel(C, i, j);
