@@ -80,9 +80,16 @@ typedef struct {
  * predicts q's five new grid points, and its deviation there, d, is P's second-order
  * interpolation error measured at those points. q's own biquadratic has half P's side, so where
  * the third-order term dominates its error is about d / 8; it is accepted when
- * PT_BIQUAD_FACTOR d + matrix error <= rho (a margin of 4 over d / 8). Not in certified mode,
- * which accepts measured errors only. */
+ * PT_BIQUAD_FACTOR d + matrix error <= rho (a margin of 4 over d / 8). Certified mode accepts
+ * measured errors only: there the quarter is interpolated by P's biquadratic itself, whose error
+ * d was measured at the quarter's five new points (as a measured quad's bilinear error is at its
+ * midpoints and centre), when PT_BIQUAD_CERT d + matrix error <= rho (with certified mode's
+ * margin in rho; PT_BIQUAD_CERT 1.5 leaves the largest measured error of the 49-spp Fig. 8
+ * render unchanged at 0.41, 1.0 let it rise to 0.48). */
 #define PT_BIQUAD_FACTOR 0.5
+#ifndef PT_BIQUAD_CERT
+#define PT_BIQUAD_CERT 1.5
+#endif
 
 /* Lagrange basis of the nodes 0, 1/2, 1 at t. */
 static void lagrange3(double t, double L[3]) {
@@ -257,8 +264,11 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
       own = grid_error(q, &p, norm_pixels, n) + e_mat > rho;
       /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is
        * then found per sample) */
-      int q2 = own && !cert && q->measured && q->pg && (!n->textured || n->child[0] < 0) &&
-               PT_BIQUAD_FACTOR * biquad_deviation(q, n, k) + e_mat <= rho;
+      /* (certified: the parent's biquadratic itself, over this quarter, where its deviation
+       * from the quarter's five new points - its measured error - is within the margin) */
+      int q2 =
+          own && q->measured && q->pg && (!n->textured || n->child[0] < 0) &&
+          (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * biquad_deviation(q, n, k) + e_mat <= rho;
       if (q2) {
         own = 0;
         C->q2[k] = 1;
@@ -556,8 +566,15 @@ typedef struct {
                                         (bilinear), or of the quad's 3 x 3 grid (biquadratic) */
   uint8_t q2leaf[PT_FAST_LEAVES];    /* fast: the leaf is interpolated biquadratically */
   double curv[PT_FAST_LEAVES][2][2]; /* ... bounds on |d2/du2| and |d2/dv2| of its board
-                                        coordinates over the quad, per coordinate */
+                                        coordinates over the grid, per coordinate */
+  double s9, o9[2];                  /* biquadratic: grid coordinates of quad coordinates (u, v) are
+                                        o9 + s9 (u, v) (the quad's own grid, or certified its parent's) */
 } qctx_t;
+
+/* Biquadratic weights of the plan's grid at quad coordinates (u, v). */
+static void qweights9(const qctx_t *Q, double u, double v, double w[9]) {
+  weights9(Q->o9[0] + Q->s9 * u, Q->o9[1] + Q->s9 * v, w);
+}
 
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
@@ -566,10 +583,18 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
       .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
-  if (pl->nq2) { /* only measured quads: the grid is the quad's own */
+  Q->s9 = 1.0;
+  Q->o9[0] = Q->o9[1] = 0.0;
+  if (pl->nq2) { /* measured quarters only: the quad's own grid, certified its parent's */
+    int par = C->opt->certified;
     Q->E.q2 = C->q2;
     for (int i = 0; i < 9; i++)
-      Q->E.g9[i] = q->g[i / 3][i % 3].g;
+      Q->E.g9[i] = par ? q->pg[i / 3][i % 3].g : q->g[i / 3][i % 3].g;
+    if (par) {
+      Q->s9 = 0.5;
+      Q->o9[0] = 0.5 * q->qx;
+      Q->o9[1] = 0.5 * q->qy;
+    }
   }
   Q->fast = pl->nt <= PT_FAST_LEAVES;
   Q->safe = !C->opt->certified || misses_nothing_quad(C, &Q->E);
@@ -613,7 +638,7 @@ static int fast_parity(const qctx_t *Q, int m, double u, double v, double sq[2])
   const double(*c)[2] = Q->uv[m];
   if (Q->q2leaf[m]) {
     double w[9];
-    weights9(u, v, w);
+    qweights9(Q, u, v, w);
     for (int t = 0; t < 2; t++) {
       double x = 0.0;
       for (int i = 0; i < 9; i++)
@@ -681,12 +706,12 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
        * deviate from the bilinear interpolation of those by at most (du^2 |f_uu| + dv^2
        * |f_vv|) / 8, so the extreme samples must keep that far from their square's edges */
       for (int t = 0; t < 2 && one; t++) {
-        double du = ub - ua, dv = vb - va;
+        double du = Q->s9 * (ub - ua), dv = Q->s9 * (vb - va);
         double margin = (du * du * Q->curv[m][t][0] + dv * dv * Q->curv[m][t][1]) / 8.0;
         for (int e = 0; e < 4 && one; e++) {
           const double(*c)[2] = Q->uv[m];
           double w[9], x = 0.0;
-          weights9(ue[e], ve[e], w);
+          qweights9(Q, ue[e], ve[e], w);
           for (int i = 0; i < 9; i++)
             x += w[i] * c[i][t];
           one = x - sq0[t] >= margin && sq0[t] + 1.0 - x >= margin;
@@ -769,7 +794,7 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
       double qu = (x - q->x0) / q->w, qv = (y - q->y0) / q->h;
       weights(qu, qv, w);
       if (E->q2)
-        weights9(qu, qv, E->w9);
+        qweights9(Q, qu, qv, E->w9);
       if (local) {
         E->partial = E->fallback = E->ownfail = 0;
         if (E->own) {
