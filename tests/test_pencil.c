@@ -441,6 +441,21 @@ static void biquadratic_cells_stay_within_rho(void **state) {
   assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
   assert_true(st.biquad_cells > 0);
   assert_int_equal(st.within, st.measured);
+  /* the sweep's settings (9 spp, rho from 0.05 to 1/2) in both modes: a biquadratic node that is
+   * not textured must not be taken for a textured leaf (it once picked a "checker square" on
+   * the sphere: NaN, and an out-of-range material index) */
+  rt_plan_t plan9 = rt_plan_make(&s, 9);
+  o.spp_side = 3;
+  const double rhos[3] = {0.05, 0.25, 0.5};
+  for (int c = 0; c < 2; c++)
+    for (int r = 0; r < 3; r++) {
+      o.certified = c;
+      o.rho = rhos[r];
+      assert_int_equal(pt_render(&s, &plan9, &o, &p, NULL, NULL, &st), RT_OK);
+      assert_true(st.within >= st.measured * (c ? 1000 : 998) / 1000);
+      for (int k = 0; k < W * H; k++)
+        assert_true(isfinite(p.ch[0][k]) && p.ch[0][k] >= 0.0f && p.ch[0][k] < 4.0f);
+    }
   rt_image_free(&p);
   rt_scene_free(&s);
 }

@@ -29,6 +29,7 @@
  * with the summed weights: the same sum, computed without visiting each sample. A quad too small
  * to be worth cutting (fewer samples than the points a cut would trace) sends its samples
  * through the matrices. */
+#include <assert.h>
 #include <math.h>
 #include <string.h>
 
@@ -109,10 +110,17 @@ static void weights9(double u, double v, double w[9]) {
 }
 
 /* The largest deviation, in pixel intervals of node n, of the biquadratic through the parent's
- * grid q->pg from the measured quarter q's five new grid points. */
+ * grid q->pg from the measured quarter q's five new grid points; INFINITY when a point of
+ * either grid did not reach node k along the cell's paths. */
 static double biquad_deviation(const lquad_t *q, const pt_node_t *n, int k) {
   static const int at[5][2] = {{0, 1}, {1, 0}, {1, 1}, {1, 2}, {2, 1}};
   double d = 0.0;
+  /* every point of both grids must have met the node through the cell's paths (a parent can
+   * have been cut because some of its points did not: their entries are not this node's) */
+  for (int i = 0; i < 9; i++)
+    if (!q->pg[i / 3][i % 3].ok || q->pg[i / 3][i % 3].g[k].ok != 1 || !q->g[i / 3][i % 3].ok ||
+        q->g[i / 3][i % 3].g[k].ok != 1)
+      return INFINITY;
   for (int m = 0; m < 5; m++) {
     double w[9];
     weights9(0.5 * q->qx + 0.25 * at[m][1], 0.5 * q->qy + 0.25 * at[m][0], w);
@@ -283,7 +291,9 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
           return 0;
         }
       }
-      int squares = !C->q2[k]; /* a biquadratic point may leave the corners' convex hull */
+      /* a textured node interpolated biquadratically: its points may leave the corners' convex
+       * hull, so its square is found per sample */
+      int squares = !(n->textured && C->q2[k]);
       if (n->textured)
         for (int i = 1; i < 4; i++) {
           const pt_geom_t *a = &corner_of(q, i)->g[k], *b = &corner_of(q, 0)->g[k];
@@ -302,6 +312,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
           *why = WHY_ERROR;
           return 0;
         }
+        assert(n->textured); /* only a checkerboard has squares to pick per sample */
         pl->kt[pl->nt++] = k;
         smooth = 0;
         leaf_texture = 1;
