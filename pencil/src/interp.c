@@ -474,12 +474,7 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
     sum = rt_rgb_add(sum, rgb_lerp4(w, E->g[0][k].lt[par], E->g[1][k].lt[par], E->g[2][k].lt[par],
                                     E->g[3][k].lt[par]));
   }
-  for (int m = 0; m < pl->n; m++) {
-    int k = pl->k[m];
-    rt_rgb_t wk = rgb_lerp4(w, E->g[0][k].w, E->g[1][k].w, E->g[2][k].w, E->g[3][k].w);
-    sum = rt_rgb_add(sum, pt__eval_local(E, k, wk, pl->direct[m], pl->exact[m]));
-  }
-  return sum;
+  return rt_rgb_add(sum, interp_local(E, pl, w));
 }
 
 /* Certified mode: whether every miss node of an interpolated sample still meets no unbounded
