@@ -28,6 +28,18 @@ static int add_mat(rt_scene_t *s, const char *name, double kr, double kt, double
   return i;
 }
 
+/* The Fresnel glass of the children tests: kr 0.1, kt 0.8, ior 1.5. */
+static int add_fresnel_glass(rt_scene_t *s) {
+  rt_material_t g = rt_material_default("glass");
+  g.kr = 0.1;
+  g.kt = 0.8;
+  g.ior = 1.5;
+  g.fresnel = 1;
+  int i;
+  assert_int_equal(rt_scene_add_material(s, &g, &i), RT_OK);
+  return i;
+}
+
 static rt_ray_t ray_to(px_vec3_t o, px_vec3_t target) {
   px_vec3_t d;
   px_vec3_normalize(px_vec3_sub(target, o), &d);
@@ -281,13 +293,7 @@ static void children_weights_fresnel_and_tir(void **state) {
   (void)state;
   rt_scene_t s;
   rt_scene_init(&s);
-  rt_material_t g = rt_material_default("glass");
-  g.kr = 0.1;
-  g.kt = 0.8;
-  g.ior = 1.5;
-  g.fresnel = 1;
-  int gi;
-  rt_scene_add_material(&s, &g, &gi);
+  int gi = add_fresnel_glass(&s);
   rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, gi, NULL);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
@@ -326,13 +332,7 @@ static void one_child_is_the_child_of_its_kind(void **state) {
   (void)state;
   rt_scene_t s;
   rt_scene_init(&s);
-  rt_material_t g = rt_material_default("glass");
-  g.kr = 0.1;
-  g.kt = 0.8;
-  g.ior = 1.5;
-  g.fresnel = 1;
-  int gi, ci = add_mat(&s, "clear", 0.0, 0.9, 1.5);
-  rt_scene_add_material(&s, &g, &gi);
+  int ci = add_mat(&s, "clear", 0.0, 0.9, 1.5), gi = add_fresnel_glass(&s);
   rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, gi, NULL);
   rt_scene_add_sphere(&s, px_vec3(0, 0, 10), 1.0, ci, NULL);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
