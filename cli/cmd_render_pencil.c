@@ -11,16 +11,16 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "validation/timing.h"
 #include "io/image_io.h"
 #include "pencil/pencil.h"
+#include "validation/timing.h"
 
 static void help(FILE *f) {
   fprintf(
       f, "usage: pencil render [SCENE.json] -o OUT.exr --method pencil [--spp N] [--threads N]\n"
          "                     [--size WxH] [--domain N] [--rho R] [--bounds B] [--certified]\n"
-         "                     [--no-interp] [--brightness-tol L] [--measure] [--no-aux]\n"
-         "                     [--explain]\n\n"
+         "                     [--no-interp] [--no-memo] [--brightness-tol L] [--measure]\n"
+         "                     [--no-aux] [--explain]\n\n"
          "Renders SCENE.json or the built-in Fig. 8 scene by pencil tracing (paper section 4.1):\n"
          "initial domains of N x N pixels, the axial ray of each traced exactly with its ray\n"
          "tree, a system matrix per path, edges found by comparing ray trees, the tolerance of\n"
@@ -41,6 +41,8 @@ static void help(FILE *f) {
          "                        errors on the spread circle; not a bound)\n"
          "  --certified           also check every path exactly on each domain's boundary\n"
          "  --no-interp           trace every sample with matrices (no ray interpolation)\n"
+         "  --no-memo             trace a lattice point again for each lattice cell that shares\n"
+         "                        it (slower; the image is the same)\n"
          "  --brightness-tol L    ray interpolation: largest deviation of interpolated from\n"
          "                        traced brightness on a lattice cell, >= 0 (default 1/1024)\n"
          "  --measure             trace every sample exactly too; Fig. 10 error statistics\n"
@@ -105,9 +107,9 @@ static int parse_value(args_t *a, const char *name, const char *v) {
 
 /* 1 ok, 0 usage error, -1 help printed. */
 static int parse_args(int argc, char **argv, args_t *a) {
-  static const char *const valued[] = {"--method", "--spp", "--threads", "--size",
-                                       "--domain", "--rho", "--bounds",  "--output",
-                                       "--brightness-tol"};
+  static const char *const valued[] = {"--method", "--spp",    "--threads",
+                                       "--size",   "--domain", "--rho",
+                                       "--bounds", "--output", "--brightness-tol"};
   for (int i = 1; i < argc; i++) {
     int err = 0, done = 0;
     if (cli_is_help(argv[i])) {
@@ -136,6 +138,8 @@ static int parse_args(int argc, char **argv, args_t *a) {
       a->opt.certified = 1;
     else if (strcmp(argv[i], "--no-interp") == 0)
       a->opt.interp = 0;
+    else if (strcmp(argv[i], "--no-memo") == 0)
+      a->opt.memo = 0;
     else if (strcmp(argv[i], "--measure") == 0)
       a->opt.measure = 1;
     else if (strcmp(argv[i], "--no-aux") == 0)
@@ -188,16 +192,16 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
       (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
       (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
       (unsigned long long)st->paths_exact, (unsigned long long)rt_stats_total(&st->rays), a->out);
-  printf("ray interpolation: %llu lattice points, %llu biquadratic lattice cells; samples by "
+  printf("ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
+         "cells; samples by "
          "matrices: %llu small cell, %llu "
          "left the paths, %llu reach, %llu error; "
          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
-         (unsigned long long)st->lattice_points, (unsigned long long)st->biquad_cells,
-         (unsigned long long)st->matrix_samples[0],
+         (unsigned long long)st->lattice_points, (unsigned long long)st->lattice_reused,
+         (unsigned long long)st->biquad_cells, (unsigned long long)st->matrix_samples[0],
          (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
-         (unsigned long long)st->matrix_samples[3],
-         (unsigned long long)st->fallbacks, (unsigned long long)st->partial,
-         (unsigned long long)st->lerp_samples);
+         (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
+         (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
   if (a->opt.measure)
     printf("Fig. 10 error: %llu samples, %.4f%% within rho = %g, max %.4g (transmission path: "
            "%.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), %llu path mismatches\n",

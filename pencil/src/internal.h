@@ -42,6 +42,22 @@ typedef struct {
   uint64_t rays; /**< exact rays traced for its samples */
 } pixel_t;
 
+/** The lattice points of the cell being interpolated, by their position: neighbouring lattice
+ *  cells share edge midpoints, which depend only on the position and the cell's paths, so each is
+ *  traced once per cell. Open addressing over `slot` (a slot is in use when its `gen` is the
+ *  current one, so a new cell only bumps `now`). */
+typedef struct {
+  pt_geom_t *g;  /**< storage: cap points x the context's cap nodes */
+  double *xy;    /**< position of each stored point, 2 per point */
+  double *xi2;   /**< |xi|^2 of its primary ray */
+  uint8_t *ok;   /**< traced without leaving the cell's paths */
+  int n, cap;    /**< points stored / room (a full memo traces into the caller's storage) */
+  int32_t *slot; /**< hash table, nslot entries: index of a stored point */
+  uint32_t *gen; /**< generation of each slot */
+  uint32_t now;  /**< the current cell's generation */
+  int nslot;     /**< a power of two, at least 2 cap */
+} pt_lmemo_t;
+
 /** Per-thread state; every buffer is allocated once before the screen loop. */
 typedef struct {
   const rt_scene_t *s;
@@ -81,6 +97,7 @@ typedef struct {
   uint8_t *q2;          /**< per-quad plan: nodes whose hits are interpolated biquadratically
                              from the quad's 3 x 3 grid (cap) */
   pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
+  pt_lmemo_t memo;      /**< the current cell's lattice points by position (interp.c) */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
   uint32_t stamp;       /**< evaluation counter for xg */

@@ -477,6 +477,19 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
   return rt_rgb_add(sum, interp_local(E, pl, w));
 }
 
+/* Whether node k is a miss whose ray an interpolated sample takes from the quad's corners E->g:
+ * computed by the pencil at all four (ok == 1) and not in a subtree traced exactly per sample
+ * (C->xsub). Only then are the corners' rays defined: a node a lattice point did not reach
+ * keeps whatever its storage held before. */
+static int interpolated_miss(const pt_ctx_t *C, const pt_eval_t *E, int k) {
+  if (!C->node[k].miss || (E->xsub && E->xsub[k]))
+    return 0;
+  for (int i = 0; i < 4; i++)
+    if (E->g[i][k].ok != 1)
+      return 0;
+  return 1;
+}
+
 /* Certified mode: whether every miss node of an interpolated sample still meets no unbounded
  * plane (its ray interpolated from the quad's corners): a horizon can cross a quad between its
  * corners. Bounded objects were checked by intersecting the rays of the lattice points with the
@@ -485,7 +498,7 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
   const rt_scene_t *s = C->s;
   for (int k = 0; k < C->nnode; k++) {
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
-    if (!C->node[k].miss || a->ok != 1)
+    if (!interpolated_miss(C, E, k))
       continue;
     px_vec3_t o =
         v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
@@ -510,7 +523,7 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
 static int misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
   const rt_scene_t *s = C->s;
   for (int k = 0; k < C->nnode; k++) {
-    if (!C->node[k].miss || E->g[0][k].ok != 1)
+    if (!interpolated_miss(C, E, k))
       continue;
     for (int u = 0; u < s->nunbounded; u++) {
       const rt_prim_t *pr = &s->prim[s->unbounded[u]];
@@ -532,13 +545,60 @@ static int misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
   return 1;
 }
 
-/* Trace the lattice point at (x, y) through the paths into g (cap nodes). */
+/* Slot of position (x, y) in the memo's hash table: its own, or the empty one where it would go. */
+static int memo_slot(const pt_lmemo_t *M, double x, double y) {
+  uint64_t a, b;
+  memcpy(&a, &x, sizeof a);
+  memcpy(&b, &y, sizeof b);
+  uint64_t h = (a ^ (b * 0x9E3779B97F4A7C15ull)) * 0xBF58476D1CE4E5B9ull;
+  int mask = M->nslot - 1, i = (int)((h >> 32) & (uint64_t)mask);
+  for (;; i = (i + 1) & mask) { /* never full: nslot >= 2 cap */
+    if (M->gen[i] != M->now)
+      return i;
+    const double *p = &M->xy[2 * M->slot[i]];
+    if (p[0] == x && p[1] == y)
+      return i;
+  }
+}
+
+/* The lattice point at (x, y) traced through the paths: the cell's memo holds it when a
+ * neighbouring quad traced it already (the evaluation depends on nothing but the position and the
+ * cell's paths, so it is the same point); otherwise it is traced into the memo, or into g (cap
+ * nodes) when the memo is full. */
 static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g) {
+  pt_lmemo_t *M = &C->memo;
+  int s = memo_slot(M, x, y);
+  if (M->gen[s] == M->now && C->opt->memo) {
+    int i = M->slot[s];
+    C->st.lattice_reused++;
+    return (point_t){M->g + (size_t)i * (size_t)C->cap, M->xi2[i], M->ok[i]};
+  }
+  int i = M->n < M->cap ? M->n++ : -1;
+  if (i >= 0)
+    g = M->g + (size_t)i * (size_t)C->cap;
   pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = g, .lattice = 1};
   pt__xi_of(C, &E, x, y);
   pt__eval(&E);
   C->st.lattice_points++;
-  return (point_t){g, E.xi[0] * E.xi[0] + E.xi[1] * E.xi[1], !E.fallback};
+  point_t pt = {g, E.xi[0] * E.xi[0] + E.xi[1] * E.xi[1], !E.fallback};
+  if (i >= 0) {
+    M->xy[2 * i] = x;
+    M->xy[2 * i + 1] = y;
+    M->xi2[i] = pt.xi2;
+    M->ok[i] = (uint8_t)pt.ok;
+    M->slot[s] = i;
+    M->gen[s] = M->now;
+  }
+  return pt;
+}
+
+/* Start the memo for a new cell (its points depend on the cell's paths). */
+static void memo_reset(pt_lmemo_t *M) {
+  M->n = 0;
+  if (++M->now == 0) { /* wrapped: old generations could look current */
+    memset(M->gen, 0, (size_t)M->nslot * sizeof *M->gen);
+    M->now = 1;
+  }
 }
 
 /* The cell being interpolated: its pixels' accumulators. */
@@ -956,6 +1016,7 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
 
 void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   cellacc_t A = {x0, y0, x1, y1, C->acc};
+  memo_reset(&C->memo);
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++)
       *pixel_at(&A, i, j) = (pixel_t){i, j, {0, 0, 0}, NAN, {0, 0, 0}, 0};

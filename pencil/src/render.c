@@ -34,6 +34,12 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->rec);
   free(C->xg);
   free(C->ref);
+  free(C->memo.g);
+  free(C->memo.xy);
+  free(C->memo.xi2);
+  free(C->memo.ok);
+  free(C->memo.slot);
+  free(C->memo.gen);
 }
 
 /* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
@@ -61,9 +67,25 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
+  /* lattice memo: a 5 x 5 domain at 49 spp needs at most 33 x 33 points; 8 MiB at the most */
+  size_t per = (size_t)cap * sizeof(pt_geom_t), mcap = (size_t)8 << 20;
+  mcap = mcap / per < 2048 ? mcap / per : 2048;
+  if (mcap < 64)
+    mcap = 64;
+  size_t nslot = 1;
+  while (nslot < 2 * mcap)
+    nslot *= 2;
+  C->memo = (pt_lmemo_t){.cap = (int)mcap, .nslot = (int)nslot};
+  C->memo.g = malloc(mcap * per);
+  C->memo.xy = malloc(2 * mcap * sizeof *C->memo.xy);
+  C->memo.xi2 = malloc(mcap * sizeof *C->memo.xi2);
+  C->memo.ok = malloc(mcap);
+  C->memo.slot = malloc(nslot * sizeof *C->memo.slot);
+  C->memo.gen = calloc(nslot, sizeof *C->memo.gen);
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->acc ||
       !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->loc || !C->locd ||
-      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own || !C->q2) {
+      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own || !C->q2 || !C->memo.g ||
+      !C->memo.xy || !C->memo.xi2 || !C->memo.ok || !C->memo.slot || !C->memo.gen) {
     C->corner_nodes = cn;
     return 0;
   }
@@ -116,6 +138,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   for (int r = 0; r < 4; r++)
     a->matrix_samples[r] += b->matrix_samples[r];
   a->lattice_points += b->lattice_points;
+  a->lattice_reused += b->lattice_reused;
   a->biquad_cells += b->biquad_cells;
   a->measured += b->measured;
   a->with_board += b->with_board;

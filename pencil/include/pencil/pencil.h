@@ -53,21 +53,24 @@ typedef struct {
   int domain;   /**< initial domain size N in pixels, 1..32 (paper: 5) */
   double rho;   /**< tolerance ratio of Eq. (3), > 0 (paper: 1/2) */
   pt_bound_t bound;
-  int certified; /**< 1: also require an a-posteriori exact check of every path at the
-                      domain's corners and edge midpoints to agree within tau */
-  int interp;    /**< 1: ray interpolation (0: every sample by matrices) */
-  int measure;   /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
-  int aux;       /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
+  int certified;         /**< 1: also require an a-posteriori exact check of every path at the
+                              domain's corners and edge midpoints to agree within tau */
+  int interp;            /**< 1: ray interpolation (0: every sample by matrices) */
+  int measure;           /**< 1: trace every sample exactly as well and measure the Fig. 10 error */
+  int aux;               /**< 1: fill the auxiliary channels (pencil's own checkerboard points) */
   double brightness_tol; /**< ray interpolation: largest deviation (any colour channel) of the
                               interpolated brightness from the traced one at a lattice cell's
                               midpoints and centre, >= 0 (the paper assumes linearity) */
+  int memo;              /**< ray interpolation: 1 traces a lattice point that neighbouring lattice
+                              cells share once per cell and reuses it (the same point: images are
+                              identical); 0 traces it for each lattice cell (for checking that) */
   /** Called after each finished row of domains with (rows done, rows total), serialised. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
-  { 1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, NULL, NULL }
+  { 1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
 typedef struct {
@@ -107,9 +110,11 @@ typedef struct {
                                   points reached different nodes, 3 the interpolation error plus
                                   the matrix error exceeds rho, or the brightness is not linear,
                                   on the smallest lattice cell */
-  uint64_t lattice_points; /**< points traced through the paths for ray interpolation */
-  uint64_t biquad_cells;   /**< lattice cells where some node's hits were interpolated
-                                biquadratically (bilinear was not accurate enough) */
+  uint64_t lattice_points;    /**< points traced through the paths for ray interpolation */
+  uint64_t lattice_reused;    /**< lattice points a cell needed again (a quad's edge midpoint is
+                                   its neighbour's): taken from the cell's memo, not traced */
+  uint64_t biquad_cells;      /**< lattice cells where some node's hits were interpolated
+                                   biquadratically (bilinear was not accurate enough) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_board;     /**< ... with at least one pencil-traced checkerboard point */
