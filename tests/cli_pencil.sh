@@ -37,8 +37,11 @@ $pencil sweep --spp 5 >/dev/null 2>"$tmp/err"; rc=$?
 check "sweep --spp 5: exit 2" "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err'"
 $pencil figures --bogus >/dev/null 2>"$tmp/err"; rc=$?
 check "figures --bogus: exit 2" "[ $rc -eq 2 ] && grep -q -- '--bogus' '$tmp/err'"
-$pencil figures "$tmp/missing.json" --quick --out "$tmp/f" >/dev/null 2>"$tmp/err"; rc=$?
-check "figures on a missing scene file: exit 1 naming it" "[ $rc -ne 0 ] && grep -q 'missing.json' '$tmp/err'"
+for cmd in figures sweep; do # a scene error is an input error, as for render; nothing written
+  $pencil $cmd "$tmp/missing.json" --quick --out "$tmp/f" >/dev/null 2>"$tmp/err"; rc=$?
+  check "$cmd on a missing scene file: exit 2 naming it, no output folder" \
+    "[ $rc -eq 2 ] && grep -q 'missing.json' '$tmp/err' && [ ! -e '$tmp/f' ]"
+done
 
 $pencil sweep --quick --size 24x24 --rho 0.5,1 --spp 4 --out "$tmp/s" >"$tmp/log"; rc=$?
 check "sweep exits 0" "[ $rc -eq 0 ]"

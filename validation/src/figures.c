@@ -197,16 +197,17 @@ static int close_out(FILE *f, const char *path) {
   return 0;
 }
 
+/* 0, or VAL_ESCENE (message on stderr) when the scene cannot be read or built. */
 static int load_scene(const val_figures_opts_t *o, rt_scene_t *s) {
   char err[1024];
   rt_scene_init(s);
   if (o->scene && io_scene_load(o->scene, s, err, sizeof err) != 0) {
     fprintf(stderr, "pencil: %s\n", err);
-    return -1;
+    return VAL_ESCENE;
   }
   if (!o->scene && rt_builtin_fig8(s) != RT_OK) {
     fprintf(stderr, "pencil: cannot build the built-in Fig. 8 scene\n");
-    return -1;
+    return VAL_ESCENE;
   }
   int w = o->width, h = o->height;
   if (o->quick && w == 0)
@@ -401,11 +402,11 @@ static void run_plot(const val_figures_opts_t *o) {
 int val_sweep(const val_figures_opts_t *o) {
   rt_scene_t s;
   sweep_row_t rows[3 * VAL_MAX_RHO];
-  int n = 0, rc = make_dir(o->out_dir) == 0 && load_scene(o, &s) == 0 ? 0 : -1;
-  if (rc == 0) {
-    rc = run_sweep(o, &s, rows, &n);
-    rt_scene_free(&s);
-  }
+  int n = 0, rc = load_scene(o, &s); /* a bad scene leaves the output folder alone */
+  if (rc != 0)
+    return rc;
+  rc = make_dir(o->out_dir) == 0 ? run_sweep(o, &s, rows, &n) : -1;
+  rt_scene_free(&s);
   char path[4096];
   FILE *f =
       rc == 0 && write_sweep(o, rows, n) == 0 ? open_out(o, "sweep.json", path, sizeof path) : NULL;
@@ -592,9 +593,14 @@ static int run_figures(const val_figures_opts_t *o, rt_scene_t *s, results_t *r)
 int val_figures(const val_figures_opts_t *o) {
   rt_scene_t s;
   results_t *r = calloc(1, sizeof *r);
-  if (!r || make_dir(o->out_dir) != 0 || load_scene(o, &s) != 0) {
-    free(r);
+  if (!r)
     return -1;
+  int ls = load_scene(o, &s); /* a bad scene leaves the output folder alone */
+  if (ls != 0 || make_dir(o->out_dir) != 0) {
+    if (ls == 0)
+      rt_scene_free(&s);
+    free(r);
+    return ls != 0 ? ls : -1;
   }
   if (o->log)
     fprintf(o->log, "pencil figures: %s, %dx%d, %d thread(s), median of %d runs -> %s/\n",
