@@ -75,6 +75,62 @@ static double xi_norm(const pt_ctx_t *C, double x, double y) {
   return hypot(xi[0], xi[1]);
 }
 
+/* Margin on the radius of a node's hits over the cell taken from its matrix at 8 boundary points
+ * (corners and edge midpoints): the boundary between them may bulge, and the paraxial rays are
+ * only first-order (a path over its spread limit is off by more than the tolerance, still far
+ * less than the radius). */
+#define PT_GUARD_INFLATE 1.5
+
+/* The cell's boundary points, corners and edge midpoints, and their primary xi (computed when
+ * first asked for: certified mode's check, or the guard below). */
+typedef struct {
+  double x[8], y[8], xi[8][2];
+  int have;
+} boundary_t;
+
+static boundary_t boundary_of(int x0, int y0, int x1, int y1) {
+  double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  return (boundary_t){{x0, cx, x1, x1, x1, cx, x0, x0}, {y0, y0, y0, cy, y1, y1, y1, cy}, {{0}}, 0};
+}
+
+static const double (*boundary_xi(const pt_ctx_t *C, boundary_t *b))[2] {
+  for (int i = 0; i < 8 && !b->have; i++)
+    pt__xi(C, b->x[i], b->y[i], b->xi[i]);
+  b->have = 1;
+  return (const double(*)[2])b->xi;
+}
+
+/* Radius about n->o of node n's hits for the cell's boundary rays (primary xi), from its
+ * matrix, on the surface (/ cos of incidence); memoised in n->guard_r. */
+static double hit_radius(const pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
+  if (n->guard_r >= 0.0)
+    return n->guard_r;
+  const double(*bxi)[2] = boundary_xi(C, b);
+  double r = 0.0;
+  for (int j = 0; j < 8 && isfinite(r); j++) {
+    px_vec3_t p, d;
+    r = pt_node_ray(n, bxi[j], &p, &d) ? fmax(r, v3_norm(v3_sub(p, n->o))) : INFINITY;
+  }
+  n->guard_r = PT_GUARD_INFLATE * r / n->cos_in;
+  return n->guard_r;
+}
+
+/* The small-object guard for node k's segment, from its parent's hit to its own (step 3 for
+ * what the cell's rays meet after the eye; the primary cone is pt__cell's guard): a bounded object
+ * near the segment's pencil, other than the two it joins, may lie between the traced rays,
+ * hiding the node from some samples while every traced tree agrees (found on scenes/balls.json:
+ * the small ball seen after five reflections inside the glass ball, 23 path mismatches). */
+static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
+  pt_node_t *n = &C->node[k], *par = &C->node[n->parent];
+  int any = 0;
+  for (int i = 0; i < C->nguard && !any; i++)
+    any = C->guard[i].object != n->object && C->guard[i].object != par->object;
+  if (!any)
+    return 0;
+  double r = fmax(hit_radius(C, par, b), hit_radius(C, n, b));
+  return pt_guard_segment(C->guard, C->nguard, par->o, n->o, r, par->object, n->object);
+}
+
 /* Step 2 for every node whose path agrees at the corners: topology for all, matrices for the
  * agreeing ones (a node whose path cannot be re-traced is treated as disagreeing, and so are its
  * descendants). Then step 4 per path: a path is traced with its matrix when the cell's spread is
@@ -83,8 +139,8 @@ static double xi_norm(const pt_ctx_t *C, double x, double y) {
  * paths over their limit whose pencil is not narrower than a pixel (4c candidates), *paths the
  * agreeing non-miss paths; the return value is the smallest limit among the 4c candidates. In
  * *cost: exact rays per sample that subtrees below disagreeing nodes need. */
-static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, double dmin,
-                          double *cost, int *over, int *paths, int *partial) {
+static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, double xi_cell,
+                          double dmin, double *cost, int *over, int *paths, int *partial) {
   double need = INFINITY;
   *cost = 0.0;
   *over = *paths = *partial = 0;
@@ -108,8 +164,17 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, double xi_cell, dou
       need = fmin(need, 0.5 * xi_cell);
       *cost += size[k];
     }
+    n->guard_r = -1.0;
     if (mode && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
       mode = PT_NODE_EXACT;
+    if (mode && par >= 0 && !n->miss && segment_guarded(C, k, b)) {
+      /* traced exactly per sample (a scene search), as below an edge */
+      mode = PT_NODE_EXACT;
+      verify = 0;
+      C->st.paths_guard++;
+      need = fmin(need, 0.5 * xi_cell);
+      *cost += size[k];
+    }
     if (mode && verify) {
       mode = PT_NODE_PATH;
       n->verify = 1;
@@ -173,7 +238,7 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
     return;
   }
   /* step 2: a system matrix per path; step 4: tolerance and spread limit */
-  double a[2], b[2], c[2], d[2], chk[8][2];
+  double a[2], b[2], c[2], d[2];
   pt__xi(C, cx + 0.5, cy, a);
   pt__xi(C, cx - 0.5, cy, b);
   pt__xi(C, cx, cy + 0.5, c);
@@ -182,17 +247,14 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
       C->view->eye, C->frame,      {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
       C->opt->rho,  C->opt->bound, xi_cell,
       NULL};
-  if (C->opt->certified) {
-    const double px[8] = {x0, cx, x1, x1, x1, cx, x0, x0}, py[8] = {y0, y0, y0, cy, y1, y1, y1, cy};
-    for (int i = 0; i < 8; i++)
-      pt__xi(C, px[i], py[i], chk[i]);
-    p.check = (const double(*)[2])chk;
-  }
+  boundary_t bnd = boundary_of(x0, y0, x1, y1);
+  if (C->opt->certified)
+    p.check = boundary_xi(C, &bnd);
   int partial, over, paths;
   double cost,
       dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
   C->dpix = fmax(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
-  double need = build_paths(C, &p, xi_cell, dmin, &cost, &over, &paths, &partial);
+  double need = build_paths(C, &p, &bnd, xi_cell, dmin, &cost, &over, &paths, &partial);
   if (C->node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
     st->cells_edge++;
     split(C, x0, y0, x1, y1, 2);

@@ -6,8 +6,8 @@
 
 #include <math.h>
 
-#include "render/vec_inline.h"
 #include "render/intersect.h"
+#include "render/vec_inline.h"
 
 static pt_cnode_t compact(const rt_tree_node_t *a) {
   return (pt_cnode_t){a->parent, a->object, a->prim, a->lit, a->blocked, a->kind, a->flags};
@@ -119,6 +119,22 @@ int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, 
     double ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dist)));
     if (ang < gamma + half && ang + half > gamma)
       return 1; /* intersects the cone without containing it */
+  }
+  return 0;
+}
+
+int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, double r, int skip_a,
+                     int skip_b) {
+  px_vec3_t pq = v3_sub(q, p);
+  double len2 = v3_dot(pq, pq);
+  for (int i = 0; i < n; i++) {
+    if (b[i].object == skip_a || b[i].object == skip_b)
+      continue;
+    px_vec3_t v = v3_sub(b[i].c, p);
+    double t = len2 > 0.0 ? fmax(0.0, fmin(1.0, v3_dot(v, pq) / len2)) : 0.0;
+    double dist = v3_norm(v3_sub(v, v3_scale(pq, t))); /* centre to the nearest segment point */
+    if (!(dist > b[i].r + r))                          /* a NaN radius fires */
+      return 1;
   }
   return 0;
 }

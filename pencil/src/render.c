@@ -128,6 +128,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->cells_accepted += b->cells_accepted;
   a->cells_split += b->cells_split;
   a->paths_exact += b->paths_exact;
+  a->paths_guard += b->paths_guard;
   a->cells_partial += b->cells_partial;
   a->partial += b->partial;
   a->exact_traces += b->exact_traces;

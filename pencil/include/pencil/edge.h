@@ -70,4 +70,11 @@ int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap);
  *  an object, or part of one, that none of its traced rays met. */
 int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half);
 
+/** The small-object guard for a secondary ray segment: 1 when some bounding sphere, other than
+ *  those of objects `skip_a` and `skip_b` (where the segment starts and ends), comes within
+ *  `r` of the segment from p to q: the segment's pencil, every ray from a ball of radius r about
+ *  p to one about q, lies in that capsule, so an object outside it cannot meet the pencil. */
+int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, double r, int skip_a,
+                     int skip_b);
+
 #endif

@@ -13,8 +13,8 @@
  * (one stage per surface), whose exact map (ex_map) the probe uses; the tests check that both
  * give the same T. The certified check composes the exact map the same way as the matrices:
  * each boundary ray's exact ray vector at the parent, carried through the node's step by ex_map
- * (the tests check it against the whole path's ex_map). T maps a ray vector at the eye, psi = (0, 0, xi1, xi2)
- * (a pinhole pencil), to psi' = T psi in the ray frame at the node's hit.
+ * (the tests check it against the whole path's ex_map). T maps a ray vector at the eye,
+ * psi = (0, 0, xi1, xi2) (a pinhole pencil), to psi' = T psi in the ray frame at the node's hit.
  *
  * Tolerances are taken on the node's surface (the tangent plane at the axial hit), where Fig. 10
  * measures. The pixel footprint there is J = [j1 j2], j_i = |(t1 t2) delta_i| of Eq. (3) for a
@@ -96,6 +96,8 @@ typedef struct {
   double xcheck[8][4]; /**< certified mode: the exact ray vectors of the 8 boundary rays in the
                             node's output frame (ex_map's psi'), which its children's checks
                             carry on by one step */
+  double guard_r;      /**< radius about o of the node's hits over the cell, for the small-object
+                            guard of secondary segments (pencil/src/cell.c); < 0: not computed */
   unsigned known;      /**< bit l: through[l] recorded for light l */
   rt_rgb_t through[PT_MAX_LIGHTS]; /**< shadow transmittance of the axial hit, per light */
   int nstep; /**< elements of the step from the parent (transfer; interface + transfer) */

@@ -97,6 +97,8 @@ typedef struct {
   uint64_t cells_split;    /**< ... subdivided for the spread limit (step 4c) */
   uint64_t paths_exact;    /**< paths of accepted or split cells over their spread limit or
                                 failing the certified check (traced exactly, or split) */
+  uint64_t paths_guard;    /**< paths of examined cells traced exactly per sample because a
+                                bounded object came near their segment (small-object guard) */
   uint64_t cells_partial;  /**< accepted cells whose corner trees differ below the primary ray:
                                 those subtrees (or shadow rays) are traced exactly per sample */
   uint64_t exact_traces;   /**< exact primary traces for axial and corner rays */
