@@ -7,30 +7,35 @@
 #include "validation/verify.h"
 
 static void help(FILE *f) {
-  fprintf(f, "usage: pencil verify matrices [--json FILE] [--csv FILE] [--quick]\n"
-             "       pencil verify bounds [--json FILE] [--csv DIR] [--quick] [--no-fit]\n\n"
-             "matrices  compare every system matrix (transfer Eq. 1, refraction Eq. 2, reflection,\n"
-             "          cascades) of a sweep of > 2,000 systems with the Jacobian of exact\n"
-             "          Snell-law tracing in __float128; prints a summary table per family and\n"
-             "          for the printed form of Eq. (2).\n"
-             "bounds    the error coefficients a-f of Appendix A-1 (printed and corrected) and the\n"
-             "          pencil constants A-F of Eq. (4) against the true worst-case second-order\n"
-             "          error of exact tracing (jets, checked by __float128 differences), over\n"
-             "          > 3,000 systems: min/max ratio bound / true per coefficient; the third-order\n"
-             "          onset of pinhole pencils; a Ceres fit of empirical A-F (docs/bounds.md).\n"
-             "          --csv DIR writes bounds_{systems,summary,families,onset,fit}.csv there;\n"
-             "          --no-fit skips the Ceres fit.\n\n"
-             "options:\n"
-             "  --json FILE   write the summary {\"systems\", \"worst_relative_error\", \"failures\", ...}\n"
-             "  --csv FILE    write one row per system\n"
-             "  --quick       a small sweep (for tests)\n\n"
-             "Exit codes: 0 all systems pass, 1 some fail, 2 usage or I/O error.\n");
+  fprintf(
+      f,
+      "usage: pencil verify matrices [--json FILE] [--csv FILE] [--quick]\n"
+      "       pencil verify bounds [--json FILE] [--csv DIR] [--quick] [--no-fit] [--threads N]\n\n"
+      "matrices  compare every system matrix (transfer Eq. 1, refraction Eq. 2, reflection,\n"
+      "          cascades) of a sweep of > 2,000 systems with the Jacobian of exact\n"
+      "          Snell-law tracing in __float128; prints a summary table per family and\n"
+      "          for the printed form of Eq. (2).\n"
+      "bounds    the error coefficients a-f of Appendix A-1 (printed and corrected) and the\n"
+      "          pencil constants A-F of Eq. (4) against the true worst-case second-order\n"
+      "          error of exact tracing (jets, checked by __float128 differences), over\n"
+      "          > 3,000 systems: min/max ratio bound / true per coefficient; the third-order\n"
+      "          onset of pinhole pencils; a Ceres fit of empirical A-F (docs/bounds.md).\n"
+      "          --csv DIR writes bounds_{systems,summary,families,onset,fit}.csv there;\n"
+      "          --no-fit skips the Ceres fit; --threads N verifies N systems at a time\n"
+      "          (default: all cores; the results are the same for any N).\n\n"
+      "options:\n"
+      "  --json FILE   write the summary {\"systems\", \"worst_relative_error\", \"failures\", "
+      "...}\n"
+      "  --csv FILE    write one row per system\n"
+      "  --quick       a small sweep (for tests)\n\n"
+      "Exit codes: 0 all systems pass, 1 some fail, 2 usage or I/O error.\n");
 }
 
 /* The options both verifications take. */
 typedef struct {
   const char *json, *csv;
   int quick, no_fit;
+  long threads; /**< bounds: 0 = all cores */
 } verify_args_t;
 
 /* Parse argv[2..] for `pencil verify WHAT`; --no-fit only when `what` is bounds. Returns -1 to
@@ -51,6 +56,9 @@ static int parse(int argc, char **argv, verify_args_t *a) {
       a->quick = 1;
     } else if (bounds && strcmp(opt, "--no-fit") == 0) {
       a->no_fit = 1;
+    } else if (bounds && (v = cli_option(argc, argv, &i, "--threads", &err))) {
+      if (!cli_parse_long("--threads", v, 1, 1024, &a->threads))
+        return CLI_USAGE;
     } else {
       if (!err)
         fprintf(stderr, "pencil verify %s: unknown option '%s'\n", argv[1], opt);
@@ -72,13 +80,13 @@ int cmd_verify(int argc, char **argv) {
     fprintf(stderr, "pencil verify: unknown verification '%s' (try: matrices, bounds)\n", argv[1]);
     return CLI_USAGE;
   }
-  verify_args_t a = {NULL, NULL, 0, 0};
+  verify_args_t a = {NULL, NULL, 0, 0, 0};
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
   int r;
   if (bounds) { /* issue 3: validation/src/verify_bounds.c */
-    val_bounds_opts_t o = {a.quick, a.no_fit, a.json, a.csv, stdout, NULL, NULL};
+    val_bounds_opts_t o = {a.quick, a.no_fit, a.json, a.csv, stdout, NULL, NULL, (int)a.threads};
     if (isatty(2)) {
       o.progress = cli_progress;
       o.progress_ctx = (void *)"verifying bounds";

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `pencil verify bounds --quick`: exit 0 (the corrected A-1 holds, the Ceres envelope agrees),
-# the JSON summary's documented keys, every CSV table, the errata visible in the printed variant.
+# the JSON summary's documented keys, every CSV table, the errata visible in the printed variant,
+# the same results on one thread as on all.
 # Leaves the CSV tables in $2 for the notebook test (ctest fixture bounds_csv).
 set -u
 pencil=$1
@@ -40,6 +41,17 @@ if $pencil verify bounds --quick --no-fit --csv /nonexistent/dir >/dev/null 2>"$
   echo "FAIL: unwritable CSV directory must fail"; exit 1
 fi
 grep -q "/nonexistent/dir" "$dir/err" || { echo "FAIL: error must name the file"; exit 1; }
+# the systems are verified in parallel: one thread gives the same tables, summary and report
+t1="$dir/one-thread" && mkdir -p "$t1"
+$pencil verify bounds --quick --threads 1 --json "$t1/summary.json" --csv "$t1" >"$t1/out.txt" ||
+  { echo "FAIL: verify bounds --quick --threads 1 must pass"; exit 1; }
+for f in summary.json out.txt bounds_systems.csv bounds_summary.csv bounds_families.csv \
+         bounds_onset.csv bounds_fit.csv; do
+  cmp -s "$dir/$f" "$t1/$f" || { echo "FAIL: $f differs between all threads and --threads 1"; exit 1; }
+done
+$pencil verify bounds --quick --threads 0 >/dev/null 2>"$dir/err"; rc=$?
+[ $rc -eq 2 ] && grep -q -- "--threads" "$dir/err" ||
+  { echo "FAIL: --threads 0 must exit 2 naming the option"; exit 1; }
 $pencil verify bounds --bogus >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || { echo "FAIL: unknown option must exit 2"; exit 1; }
 exit 0

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <vector>
 
 namespace {
@@ -33,13 +34,13 @@ private:
 
 // glog without InitGoogleLogging() writes warnings to stderr; a verification run must stay
 // quiet, so only fatal messages (which abort anyway) are let through.
+// Once per process, also when solves run on several threads at a time.
 void silence_logging() {
-  static bool done = false;
-  if (!done) {
+  static std::once_flag once;
+  std::call_once(once, [] {
     FLAGS_minloglevel = google::GLOG_FATAL;
     FLAGS_stderrthreshold = google::GLOG_FATAL;
-    done = true;
-  }
+  });
 }
 
 // One bounded solve; `fixed` parameters are held constant (a SubsetManifold).

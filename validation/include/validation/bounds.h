@@ -120,6 +120,8 @@ typedef struct {
   /** Called after each system with (done, total), or NULL. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx; /**< passed to progress */
+  int threads;        /**< OpenMP threads for the systems (independent); <= 0: all cores. The
+                           results do not depend on it */
 } val_bounds_opts_t;
 
 /** Run the verification; 0 when the corrected variant holds everywhere and the fit agrees, 1
