@@ -8,14 +8,14 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "validation/timing.h"
 #include "io/image_io.h"
 #include "render/render.h"
+#include "validation/timing.h"
 
 static void help(FILE *f) {
   fprintf(
       f, "usage: pencil render [SCENE.json] -o OUT.exr [--method exact] [--spp N] [--threads N]\n"
-         "                     [--size WxH] [--explain]\n\n"
+         "                     [--size WxH] [--no-aux] [--explain]\n\n"
          "Renders SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene\n"
          "(a glass sphere over a checkerboard; scenes/README.md) by exact recursive ray tracing.\n"
          "Writes OUT.exr (float R, G, B and, for each pixel's centre ray, Z, id and the points\n"
@@ -28,6 +28,8 @@ static void help(FILE *f) {
          "                        (default: the scene's, 9 for the built-in scene)\n"
          "  --threads N           OpenMP threads (default: all cores)\n"
          "  --size WxH            override the scene's image size\n"
+         "  --no-aux              leave the auxiliary channels empty (no centre-ray trees), as\n"
+         "                        the benchmarks render\n"
          "  --explain             print the effects plan (which effects run and why)\n\n"
          "A progress bar is drawn on stderr when it is a terminal; the closing line gives the\n"
          "time, rays traced and rays per second.\n"
@@ -37,7 +39,7 @@ static void help(FILE *f) {
 typedef struct {
   const char *scene, *out;
   long spp, threads, width, height;
-  int explain;
+  int explain, no_aux;
 } args_t;
 
 static int parse_size(const char *v, long *w, long *h) {
@@ -97,6 +99,8 @@ static int parse_args(int argc, char **argv, args_t *a) {
         return 0;
     } else if (strcmp(argv[i], "--explain") == 0) {
       a->explain = 1;
+    } else if (strcmp(argv[i], "--no-aux") == 0) {
+      a->no_aux = 1;
     } else if (!err && argv[i][0] != '-' && !a->scene) {
       a->scene = argv[i];
     } else {
@@ -154,6 +158,7 @@ static int render(const args_t *a, rt_scene_t *s) {
   rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
   opt.spp_side = side;
   opt.threads = (int)a->threads;
+  opt.aux = !a->no_aux;
   opt.progress = isatty(2) ? cli_progress : NULL;
   opt.progress_ctx = (void *)"rendering";
   rt_stats_t st;
@@ -180,7 +185,7 @@ int cmd_render(int argc, char **argv) {
     if (strcmp(argv[i], "--method=pencil") == 0 ||
         (strcmp(argv[i], "--method") == 0 && i + 1 < argc && strcmp(argv[i + 1], "pencil") == 0))
       return cmd_render_pencil(argc, argv);
-  args_t a = {NULL, NULL, 0, 0, 0, 0, 0};
+  args_t a = {NULL, NULL, 0, 0, 0, 0, 0, 0};
   int p = parse_args(argc, argv, &a);
   if (p <= 0)
     return p < 0 ? CLI_OK : CLI_USAGE;

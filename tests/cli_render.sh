@@ -21,6 +21,10 @@ check "no progress bar when stderr is not a terminal" "[ ! -s '$tmp/err' ]"
 check "PNG preview has the image size" \
   "$py -c 'import struct,sys; d=open(\"$tmp/a.png\",\"rb\").read(24); sys.exit(struct.unpack(\">II\", d[16:24]) != (24, 16))'"
 
+out2=$($pencil render -o "$tmp/n.exr" --size 24x16 --spp 4 --threads 2 --no-aux 2>/dev/null); rc=$?
+check "--no-aux renders the same image (PNG identical)" "[ $rc -eq 0 ] && cmp -s '$tmp/a.png' '$tmp/n.png'"
+check "--no-aux traces no centre-ray trees (384 fewer primary rays)" \
+  "[ \$(echo '$out' | sed -E 's/.*[(]([0-9]+) primary.*/\\1/') -eq \$((\$(echo '$out2' | sed -E 's/.*[(]([0-9]+) primary.*/\\1/') + 384)) ]"
 $pencil render "$src/scenes/balls.json" -o "$tmp/b.exr" --size 8x6 --explain >"$tmp/plan"; rc=$?
 check "scene file renders with --explain" "[ $rc -eq 0 ]"
 check "--explain names each effect and why" \
