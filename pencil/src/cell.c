@@ -15,6 +15,8 @@
 #include <string.h>
 
 #include "internal.h"
+#include "render/intersect.h"
+#include "render/shade.h"
 #include "render/vec_inline.h"
 
 /* Whether accepted cells are ray-interpolated (4.1 (2)) rather than traced by matrices. */
@@ -115,11 +117,38 @@ static double hit_radius(const pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   return n->guard_r;
 }
 
+/* Half-angle about `axis` of the directions of miss node n's rays over the cell: each boundary
+ * ray is carried by its parent's matrix to the parent's surface and given the child of n's kind
+ * there, as shade.h spawns it; INFINITY when one of them does not meet the surface or has no
+ * such child (the guard then fires). */
+static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par, px_vec3_t axis,
+                          boundary_t *b) {
+  const double(*bxi)[2] = boundary_xi(C, b);
+  double cmin = 1.0;
+  for (int j = 0; j < 8; j++) {
+    px_vec3_t p, d, hit;
+    if (!pt_node_ray(par, bxi[j], &p, &d) || !pt_node_hit(C->s, par, p, d, &hit))
+      return INFINITY;
+    rt_hit_t h = {0.0, hit, rt_prim_normal(C->s, par->prim, hit), par->prim, par->object};
+    rt_ray_t ray = {hit, d, 0.0, INFINITY, par->ior, -1};
+    rt_surface_t sf;
+    rt_child_t ch;
+    rt_shade_surface(C->s, &h, &ray, &sf);
+    if (!rt_shade_child(C->s, C->plan, &sf, &ray, par->depth, (rt_ray_kind_t)n->kind, &ch))
+      return INFINITY;
+    cmin = fmin(cmin, v3_dot(ch.ray.d, axis));
+  }
+  return PT_GUARD_INFLATE * acos(fmax(-1.0, cmin));
+}
+
 /* The small-object guard for node k's segment, from its parent's hit to its own (step 3 for
  * what the cell's rays meet after the eye; the primary cone is pt__cell's guard): a bounded object
  * near the segment's pencil, other than the two it joins, may lie between the traced rays,
  * hiding the node from some samples while every traced tree agrees (found on scenes/balls.json:
- * the small ball seen after five reflections inside the glass ball, 23 path mismatches). */
+ * the small ball seen after five reflections inside the glass ball, 23 path mismatches). For a
+ * ray that leaves the scene (a miss node) the pencil is the cone of its directions from the
+ * parent's hits: an object that cone comes near may be seen by samples between the traced rays
+ * (a small ball reflected against the sky, tests/test_pencil.c). */
 static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
   pt_node_t *n = &C->node[k], *par = &C->node[n->parent];
   int any = 0;
@@ -127,6 +156,11 @@ static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
     any = C->guard[i].object != n->object && C->guard[i].object != par->object;
   if (!any)
     return 0;
+  if (n->miss) {
+    px_vec3_t axis = C->tree.node[k].dir;
+    return pt_guard_cone(C->guard, C->nguard, par->o, hit_radius(C, par, b), axis,
+                         miss_spread(C, n, par, axis, b), par->object);
+  }
   double r = fmax(hit_radius(C, par, b), hit_radius(C, n, b));
   return pt_guard_segment(C->guard, C->nguard, par->o, n->o, r, par->object, n->object);
 }
@@ -167,7 +201,7 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
     n->guard_r = -1.0;
     if (mode && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
       mode = PT_NODE_EXACT;
-    if (mode && par >= 0 && !n->miss && segment_guarded(C, k, b)) {
+    if (mode && par >= 0 && segment_guarded(C, k, b)) {
       /* traced exactly per sample (a scene search), as below an edge */
       mode = PT_NODE_EXACT;
       verify = 0;

@@ -138,3 +138,20 @@ int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, dou
   }
   return 0;
 }
+
+int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t axis, double half,
+                  int skip) {
+  for (int i = 0; i < n; i++) {
+    if (b[i].object == skip)
+      continue;
+    px_vec3_t v = v3_sub(b[i].c, p);
+    double dist = v3_norm(v), grown = b[i].r + r;
+    if (!(dist > grown)) /* also a NaN radius */
+      return 1;
+    double gamma = asin(grown / dist);
+    double ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dist)));
+    if (!(ang > gamma + half)) /* also a NaN half-angle */
+      return 1;
+  }
+  return 0;
+}

@@ -77,4 +77,11 @@ int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, 
 int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, double r, int skip_a,
                      int skip_b);
 
+/** The same for a ray that leaves the scene: 1 when some bounding sphere, other than that of
+ *  object `skip`, may meet a ray from within `r` of p in a direction within `half` radians of the
+ *  unit `axis` (the sphere, grown by r, seen from p, overlaps that cone; or p is within r of it).
+ */
+int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t axis, double half,
+                  int skip);
+
 #endif
