@@ -185,14 +185,14 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
   printf(
       "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
       "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu partly exact, %llu edge, "
-      "%llu split), %llu paths exact, %llu guarded; %llu exact rays -> %s\n",
+      "%llu split), %llu paths exact, %llu guarded (and %llu shadows); %llu exact rays -> %s\n",
       s->camera.width, s->camera.height, spp, dt, a->opt.rho, pt_bound_name(a->opt.bound),
       a->opt.certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
       100.0 * st->samples[0] / n, (unsigned long long)st->cells,
       (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
       (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
       (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
-      (unsigned long long)rt_stats_total(&st->rays), a->out);
+      (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays), a->out);
   printf("ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
          "cells; samples by "
          "matrices: %llu small cell, %llu "

@@ -165,6 +165,30 @@ static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
   return pt_guard_segment(C->guard, C->nguard, par->o, n->o, r, par->object, n->object);
 }
 
+/* The small-object guard for node n's shadow rays: a light whose visibility the cell's corners
+ * agree on may still be cut off from part of the cell's hits by a bounded object smaller than
+ * the cell (a small ball's shadow between the corners is otherwise lost: tests/test_pencil.c);
+ * for such a light the node's direct term is shaded per sample (its shadow ray traced). */
+static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
+  int any = 0;
+  for (int i = 0; i < C->nguard && !any; i++)
+    any = C->guard[i].object != n->object;
+  for (int l = 0; any && l < C->s->nlight && l < 32; l++) {
+    uint32_t bit = 1u << l;
+    if (!(n->light_agree & bit))
+      continue;
+    const rt_light_t *L = &C->s->light[l];
+    int par = L->kind == RT_LIGHT_PARALLEL;
+    px_vec3_t at = par ? v3_scale(L->v, -1.0) : L->v;
+    double r = hit_radius(C, n, b); /* the corners and the centre leave no larger gap */
+    if (pt_guard_shadow(C->guard, C->nguard, n->o, r, r / PT_GUARD_INFLATE, at, par, n->object)) {
+      n->light_agree &= ~bit;
+      n->light_guard |= bit;
+      C->st.lights_guard++;
+    }
+  }
+}
+
 /* Step 2 for every node whose path agrees at the corners: topology for all, matrices for the
  * agreeing ones (a node whose path cannot be re-traced is treated as disagreeing, and so are its
  * descendants). Then step 4 per path: a path is traced with its matrix when the cell's spread is
@@ -209,6 +233,8 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
       need = fmin(need, 0.5 * xi_cell);
       *cost += size[k];
     }
+    if (mode && !n->miss && n->light_agree && rt_plan_has(C->plan, RT_EFFECT_SHADOWS))
+      shadow_guard(C, n, b);
     if (mode && verify) {
       mode = PT_NODE_PATH;
       n->verify = 1;

@@ -155,3 +155,46 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
   }
   return 0;
 }
+
+int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
+                    px_vec3_t light, int parallel, int skip) {
+  if (!(r >= 0.0) || !(gap >= 0.0))
+    return 1;
+  px_vec3_t axis = light; /* parallel: towards the light */
+  double dist = INFINITY, half = 0.0;
+  if (!parallel) { /* the cone from the light through the ball of radius r about p */
+    px_vec3_t d = v3_sub(p, light);
+    dist = v3_norm(d);
+    if (!(dist > r))
+      return 1;
+    axis = v3_scale(d, 1.0 / dist);
+    half = asin(r / dist);
+  }
+  for (int i = 0; i < n; i++) {
+    if (b[i].object == skip)
+      continue;
+    double R = b[i].r;
+    if (parallel) { /* the cylinder of radius r about the ray from p */
+      px_vec3_t w = v3_sub(b[i].c, p);
+      double t = v3_dot(w, axis), rho = v3_norm(v3_sub(w, v3_scale(axis, t)));
+      if (t < -(R + r) || !(rho < R + r))
+        continue; /* behind the hits, or beside the rays */
+      if (R >= gap)
+        continue; /* too large to fall between the traced rays */
+      return 1;
+    }
+    px_vec3_t v = v3_sub(b[i].c, light);
+    double dc = v3_norm(v);
+    if (!(dc > R))
+      return 1; /* the light is inside it */
+    if (dc - R >= dist + r)
+      continue; /* wholly beyond the hits */
+    double gamma = asin(R / dc), ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dc)));
+    if (!(ang < gamma + half))
+      continue; /* beside the rays */
+    if (gamma >= asin(fmin(1.0, gap / dist)) && dc + R < dist - r)
+      continue; /* too large to fall between the traced rays (wholly between them and the light) */
+    return 1;
+  }
+  return 0;
+}

@@ -31,9 +31,11 @@
  * through the matrices. */
 #include <assert.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
+#include "pencil/edge.h"
 #include "render/vec_inline.h"
 
 /* A traced lattice point. */
@@ -205,6 +207,42 @@ static int same_visibility(const point_t (*R)[3], int k) {
 
 static int own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int can_cut);
 
+/* The small-object guard on the shadows of node k over a quad's grid R, for the lights whose
+ * cell-level guard fired (pt_node_t.light_guard): the grid's points agreeing on a light's
+ * visibility do not show that it is the same between them when an object smaller than the
+ * pencil of their shadow rays comes near it (its whole shadow could fall between the points).
+ * The pencil: the ball about the grid's centre hit through the farthest of its points, grown by
+ * half again (cell.c's PT_GUARD_INFLATE). Cutting the quad shrinks it until the guard no longer
+ * fires; else the node's direct term is shaded per sample. */
+static int shadow_guarded(const pt_ctx_t *C, const point_t (*R)[3], int k) {
+  const pt_node_t *n = &C->node[k];
+  px_vec3_t c = R[1][1].g[k].p;
+  double r = 0.0, h = 0.0; /* reach from the centre; longest side between neighbouring points */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      const px_vec3_t p = R[i][j].g[k].p;
+      r = fmax(r, v3_norm(v3_sub(p, c)));
+      if (j < 2)
+        h = fmax(h, v3_norm(v3_sub(R[i][j + 1].g[k].p, p)));
+      if (i < 2)
+        h = fmax(h, v3_norm(v3_sub(R[i + 1][j].g[k].p, p)));
+    }
+  /* a disc free of the nine points lies within a grid square: radius at most h / sqrt 2; both
+   * grown by half again for the map's curvature between the points */
+  r *= 1.5;
+  h *= 1.5 / sqrt(2.0);
+  for (int l = 0; l < C->s->nlight && l < 32; l++) {
+    if (!(n->light_guard & (1u << l)))
+      continue;
+    const rt_light_t *L = &C->s->light[l];
+    int par = L->kind == RT_LIGHT_PARALLEL;
+    if (pt_guard_shadow(C->guard, C->nguard, c, r, h, par ? v3_scale(L->v, -1.0) : L->v, par,
+                        n->object))
+      return 1;
+  }
+  return 0;
+}
+
 /* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
  * what failed. It stops as soon as the per-sample work exceeds what own_pays() allows (the
  * caller cuts such a quad, when it can be cut). */
@@ -300,8 +338,10 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
           squares = squares && a->su == b->su && a->sv == b->sv;
         }
       /* every light's visibility agrees at the cell's centre and corners, or at least at the
-       * nine points of the grid (then the brightness test below checks the shading between) */
-      smooth = !own && (n->light_agree == ~0u || same_visibility(R, k));
+       * nine points of the grid (then the brightness test below checks the shading between);
+       * not where the small-object guard saw a shadow that may fall between them */
+      smooth = !own && (n->light_agree == ~0u || same_visibility(R, k)) &&
+               !(n->light_guard && shadow_guarded(C, R, k));
       for (int c = 0; c < 2; c++)
         exact_children |=
             n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT || xsub[n->child[c]]);

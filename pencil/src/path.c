@@ -240,6 +240,7 @@ void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const p
   out->pencil = 0;
   out->verify = 0;
   out->light_agree = 0;
+  out->light_guard = 0;
   out->known = 0;
   out->c = 0.0;
   out->xi_max = INFINITY;

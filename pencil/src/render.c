@@ -129,6 +129,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->cells_split += b->cells_split;
   a->paths_exact += b->paths_exact;
   a->paths_guard += b->paths_guard;
+  a->lights_guard += b->lights_guard;
   a->cells_partial += b->cells_partial;
   a->partial += b->partial;
   a->exact_traces += b->exact_traces;

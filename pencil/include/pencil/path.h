@@ -76,6 +76,9 @@ typedef struct {
                              above the node: the exact ray along the path must meet the node's
                              own surface first in a scene search, else it is traced exactly */
   uint32_t light_agree; /**< bit l: light l's visibility is the same at the centre and corners */
+  uint32_t light_guard; /**< bit l: a bounded object may shadow part of the cell's hits from light
+                             l although the corners agree (small-object guard): the direct term
+                             is shaded per sample */
   double ior;           /**< index of the medium the arriving ray travels in */
   /* psi' = T psi for psi = (0, 0, xi) at the eye: x' = B xi, xi' = D xi (Eqs. 1-2 cascaded) */
   px_mat2_t b;          /**< upper right block of T, scene units per unit of xi */

@@ -99,6 +99,8 @@ typedef struct {
                                 failing the certified check (traced exactly, or split) */
   uint64_t paths_guard;    /**< paths of examined cells traced exactly per sample because a
                                 bounded object came near their segment (small-object guard) */
+  uint64_t lights_guard;   /**< node-light pairs of examined cells whose direct term is shaded
+                                per sample because a bounded object may shadow part of the cell */
   uint64_t cells_partial;  /**< accepted cells whose corner trees differ below the primary ray:
                                 those subtrees (or shadow rays) are traced exactly per sample */
   uint64_t exact_traces;   /**< exact primary traces for axial and corner rays */
