@@ -343,15 +343,23 @@ static void guard_catches_small_objects(void **state) {
   px_vec3_t lamp = px_vec3(0, 0, 10), up = px_vec3(0, 0, 1);
   pt_bsphere_t tiny = {px_vec3(0.02, 0, 5), 0.01, 7}, wide = {px_vec3(0.1, 0, 5), 1.0, 7};
   pt_bsphere_t aside = {px_vec3(3, 0, 5), 0.01, 7}, past = {px_vec3(0, 0, -3), 0.01, 7};
-  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, lamp, 0, 1));
-  assert_false(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, lamp, 0, 7)); /* the hit's own object */
-  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, lamp, 0, 1));
-  assert_false(pt_guard_shadow(&aside, 1, p, 0.1, 0.05, lamp, 0, 1));
-  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, lamp, 0, 1)); /* beyond the hits */
-  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, up, 1, 1));    /* a parallel light */
-  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, up, 1, 1));
-  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, up, 1, 1));
-  assert_true(pt_guard_shadow(&aside, 1, p, NAN, 0.05, lamp, 0, 1)); /* an unknown reach fires */
+  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
+  assert_false(
+      pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, lamp, 0, 7)); /* the hit's own object */
+  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
+  assert_false(pt_guard_shadow(&aside, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
+  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, lamp, 0, 1)); /* beyond the hits */
+  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, up, 1, 1));    /* a parallel light */
+  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, up, 1, 1));
+  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, up, 1, 1));
+  assert_true(
+      pt_guard_shadow(&aside, 1, p, NAN, 0.05, NULL, lamp, 0, 1)); /* an unknown reach fires */
+  /* on a plane lit at 60 degrees a shadow is twice as long as wide: one that fits the light's
+   * view of the gap no longer fits the gap */
+  pt_bsphere_t medium = {px_vec3(0.02, 0, 5), 0.02, 7};
+  px_vec3_t tilted = px_vec3(sin(M_PI / 3), 0, cos(M_PI / 3));
+  assert_true(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
+  assert_false(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, &tilted, lamp, 0, 1));
   /* spheres of the Fig. 8 scene: one, exact */
   rt_scene_t s;
   fig8(&s, 8, 8);

@@ -157,7 +157,7 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
 }
 
 int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
-                    px_vec3_t light, int parallel, int skip) {
+                    const px_vec3_t *normal, px_vec3_t light, int parallel, int skip) {
   if (!(r >= 0.0) || !(gap >= 0.0))
     return 1;
   px_vec3_t axis = light; /* parallel: towards the light */
@@ -170,6 +170,10 @@ int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double 
     axis = v3_scale(d, 1.0 / dist);
     half = asin(r / dist);
   }
+  /* on a plane a shadow is stretched by 1 / cos of the light's incidence: a gap holds it only
+   * when its narrow width, the light's view of the gap shrunk by that cosine, exceeds it */
+  if (normal)
+    gap *= fabs(v3_dot(*normal, axis));
   for (int i = 0; i < n; i++) {
     if (b[i].object == skip)
       continue;

@@ -88,10 +88,11 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
  *  light, or along the unit `light` towards a parallel one (`parallel` set), traced at points
  *  that leave no disc of radius above `gap` free of them. 1 when some bounding sphere other than
  *  object `skip`'s meets the cone (cylinder) of those rays and could hide its shadow between
- *  the traced points: its angular radius from the light below gap's (its radius below gap). A
- *  larger object's shadow has an edge across the pencil, which the traced points' visibility
- *  sees, as the corners see other edges. */
+ *  the traced points: its angular radius from the light below gap's (its radius below gap),
+ *  the gap narrowed by the cosine of the light's incidence when the points lie on a plane of
+ *  unit `normal` (NULL for a curved surface). A larger object's shadow has an edge across the
+ *  pencil, which the traced points' visibility sees, as the corners see other edges. */
 int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
-                    px_vec3_t light, int parallel, int skip);
+                    const px_vec3_t *normal, px_vec3_t light, int parallel, int skip);
 
 #endif
