@@ -340,26 +340,26 @@ static void guard_catches_small_objects(void **state) {
   assert_true(pt_guard_cone(&ahead, 1, p, 0.0, z, NAN, 1));   /* an unknown spread fires */
   /* shadow rays from within 0.1 of the origin to a light at (0, 0, 10): an occluder smaller than
    * the gap between the traced points fires, a larger one or one beside the rays does not */
-  px_vec3_t lamp = px_vec3(0, 0, 10), up = px_vec3(0, 0, 1);
+  rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 10}, {1, 1, 1}};
+  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, 0, -1}, {1, 1, 1}};
   pt_bsphere_t tiny = {px_vec3(0.02, 0, 5), 0.01, 7}, wide = {px_vec3(0.1, 0, 5), 1.0, 7};
   pt_bsphere_t aside = {px_vec3(3, 0, 5), 0.01, 7}, past = {px_vec3(0, 0, -3), 0.01, 7};
-  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
-  assert_false(
-      pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, lamp, 0, 7)); /* the hit's own object */
-  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
-  assert_false(pt_guard_shadow(&aside, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
-  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, lamp, 0, 1)); /* beyond the hits */
-  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, up, 1, 1));    /* a parallel light */
-  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, up, 1, 1));
-  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, up, 1, 1));
+  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &lamp, 7)); /* the hit's own object */
+  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(&aside, 1, p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, &lamp, 1)); /* beyond the hits */
+  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &sun, 1));   /* a parallel light */
+  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, &sun, 1));
+  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, &sun, 1));
   assert_true(
-      pt_guard_shadow(&aside, 1, p, NAN, 0.05, NULL, lamp, 0, 1)); /* an unknown reach fires */
+      pt_guard_shadow(&aside, 1, p, NAN, 0.05, NULL, &lamp, 1)); /* an unknown reach fires */
   /* on a plane lit at 60 degrees a shadow is twice as long as wide: one that fits the light's
    * view of the gap no longer fits the gap */
   pt_bsphere_t medium = {px_vec3(0.02, 0, 5), 0.02, 7};
   px_vec3_t tilted = px_vec3(sin(M_PI / 3), 0, cos(M_PI / 3));
-  assert_true(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, NULL, lamp, 0, 1));
-  assert_false(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, &tilted, lamp, 0, 1));
+  assert_true(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, &tilted, &lamp, 1));
   /* spheres of the Fig. 8 scene: one, exact */
   rt_scene_t s;
   fig8(&s, 8, 8);
@@ -565,6 +565,39 @@ static void pencil_image_matches_exact(void **state) {
   rt_scene_free(&s);
 }
 
+/* The board() stage with a mirror ball of radius 1 at (0, 1, 0), the camera aimed at it (the
+ * scene is not prepared). Returns the ball's object index. */
+static int add_mirror_ball(rt_scene_t *s) {
+  rt_material_t m = rt_material_default("mirror");
+  m.ka = 0.05;
+  m.kd = 0.1;
+  m.kr = 0.8;
+  int mm, ball;
+  rt_scene_add_material(s, &m, &mm);
+  rt_scene_add_sphere(s, px_vec3(0.0, 1.0, 0.0), 1.0, mm, &ball);
+  s->camera.look_at = px_vec3(0.0, 1.0, 0.0);
+  return ball;
+}
+
+/* The largest difference of any channel of any pixel between image p and the exact renderer's
+ * image of s at side x side samples per pixel. */
+static double largest_difference_from_exact(const rt_scene_t *s, const rt_image_t *p, int side) {
+  rt_plan_t plan = rt_plan_make(s, side * side);
+  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
+  eo.spp_side = side;
+  eo.threads = 1;
+  rt_image_t e;
+  int w = s->camera.width, h = s->camera.height;
+  assert_int_equal(rt_image_alloc(&e, w, h), RT_OK);
+  assert_int_equal(rt_render(s, &plan, &eo, &e, NULL), RT_OK);
+  double worst = 0.0;
+  for (int k = 0; k < w * h; k++)
+    for (int c = 0; c < 3; c++)
+      worst = fmax(worst, fabs((double)p->ch[c][k] - (double)e.ch[c][k]));
+  rt_image_free(&e);
+  return worst;
+}
+
 /* Rays spawned at interpolated hits: a bilinear interpolation of points on a sphere lies inside
  * it (a chord), by about footprint^2 / (8 r), far more than the renderer's 1e-9 surface offset;
  * unless the point is put back on the surface, reflected rays start inside a mirror ball and
@@ -577,14 +610,7 @@ static void mirror_ball_reflections_match_exact(void **state) {
   enum { W = 48, H = 48 };
   rt_scene_t s;
   board(&s, W, H);
-  rt_material_t m = rt_material_default("mirror");
-  m.ka = 0.05;
-  m.kd = 0.1;
-  m.kr = 0.8;
-  int mm, ball;
-  rt_scene_add_material(&s, &m, &mm);
-  rt_scene_add_sphere(&s, px_vec3(0.0, 1.0, 0.0), 1.0, mm, &ball);
-  s.camera.look_at = px_vec3(0.0, 1.0, 0.0);
+  int ball = add_mirror_ball(&s);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 4);
   rt_image_t p, e;
@@ -625,16 +651,11 @@ static void mirror_ball_reflections_match_exact(void **state) {
  * camera aimed at the mirror ball. */
 static void mirror_and_small_ball(rt_scene_t *s, int w, int h, px_vec3_t c, double r) {
   board(s, w, h);
-  rt_material_t m = rt_material_default("mirror"), dull = rt_material_default("dull");
-  m.ka = 0.05;
-  m.kd = 0.1;
-  m.kr = 0.8;
-  int mm, md, ball, small;
-  rt_scene_add_material(s, &m, &mm);
+  add_mirror_ball(s);
+  rt_material_t dull = rt_material_default("dull");
+  int md, small;
   rt_scene_add_material(s, &dull, &md);
-  rt_scene_add_sphere(s, px_vec3(0.0, 1.0, 0.0), 1.0, mm, &ball);
   rt_scene_add_sphere(s, c, r, md, &small);
-  s->camera.look_at = px_vec3(0.0, 1.0, 0.0);
   s->camera.fov_deg = 25.0;
   assert_int_equal(rt_scene_prepare(s), RT_OK);
 }
@@ -670,25 +691,15 @@ static void guard_catches_objects_seen_in_mirrors(void **state) {
   }
   rt_scene_free(&s);
   mirror_and_small_ball(&s, W, H, px_vec3(0.0, 8.0, -10.0), 1.5);
-  rt_image_t p, e;
+  rt_image_t p;
   pt_stats_t st;
   render_pencil(&s, 3, 1, NULL, &p, NULL, &st);
-  rt_plan_t plan = rt_plan_make(&s, 9);
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = 3;
-  eo.threads = 1;
-  assert_int_equal(rt_image_alloc(&e, W, H), RT_OK);
-  assert_int_equal(rt_render(&s, &plan, &eo, &e, NULL), RT_OK);
-  double worst = 0.0;
-  for (int k = 0; k < W * H; k++)
-    for (int c = 0; c < 3; c++)
-      worst = fmax(worst, fabs((double)p.ch[c][k] - (double)e.ch[c][k]));
+  double worst = largest_difference_from_exact(&s, &p, 3);
   print_message("against the sky: %llu guarded paths, largest pixel difference %g\n",
                 (unsigned long long)st.paths_guard, worst);
   assert_true(st.paths_guard > 0);
   assert_true(worst <= 0.25);
   rt_image_free(&p);
-  rt_image_free(&e);
   rt_scene_free(&s);
 }
 
@@ -711,27 +722,17 @@ static void guard_catches_small_shadows(void **state) {
   rt_scene_add_sphere(&s, px_vec3(0.3, 0.5, -0.5), 0.12, md, &small);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   for (int cert = 0; cert <= 1; cert++) {
-    rt_image_t p, e;
+    rt_image_t p;
     pt_stats_t st;
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.certified = cert;
     render_pencil(&s, 3, 1, &o, &p, NULL, &st);
-    rt_plan_t plan = rt_plan_make(&s, 9);
-    rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-    eo.spp_side = 3;
-    eo.threads = 1;
-    assert_int_equal(rt_image_alloc(&e, W, H), RT_OK);
-    assert_int_equal(rt_render(&s, &plan, &eo, &e, NULL), RT_OK);
-    double worst = 0.0;
-    for (int k = 0; k < W * H; k++)
-      for (int c = 0; c < 3; c++)
-        worst = fmax(worst, fabs((double)p.ch[c][k] - (double)e.ch[c][k]));
+    double worst = largest_difference_from_exact(&s, &p, 3);
     print_message("certified %d: %llu guarded shadows, largest pixel difference %g\n", cert,
                   (unsigned long long)st.lights_guard, worst);
     assert_true(st.lights_guard > 0);
     assert_true(worst <= 0.2);
     rt_image_free(&p);
-    rt_image_free(&e);
   }
   rt_scene_free(&s);
 }

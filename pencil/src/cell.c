@@ -177,12 +177,9 @@ static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
     uint32_t bit = 1u << l;
     if (!(n->light_agree & bit))
       continue;
-    const rt_light_t *L = &C->s->light[l];
-    int par = L->kind == RT_LIGHT_PARALLEL;
-    px_vec3_t at = par ? v3_scale(L->v, -1.0) : L->v;
     double r = hit_radius(C, n, b); /* the corners and the centre leave no larger gap */
     const px_vec3_t *plane = C->s->prim[n->prim].kind == RT_PRIM_PLANE ? &n->n : NULL;
-    if (pt_guard_shadow(C->guard, C->nguard, n->o, r, r / PT_GUARD_INFLATE, plane, at, par,
+    if (pt_guard_shadow(C->guard, C->nguard, n->o, r, r / PT_GUARD_INFLATE, plane, &C->s->light[l],
                         n->object)) {
       n->light_agree &= ~bit;
       n->light_guard |= bit;

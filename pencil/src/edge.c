@@ -157,13 +157,14 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
 }
 
 int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
-                    const px_vec3_t *normal, px_vec3_t light, int parallel, int skip) {
+                    const px_vec3_t *normal, const rt_light_t *light, int skip) {
   if (!(r >= 0.0) || !(gap >= 0.0))
     return 1;
-  px_vec3_t axis = light; /* parallel: towards the light */
+  int parallel = light->kind == RT_LIGHT_PARALLEL;
+  px_vec3_t axis = v3_scale(light->v, -1.0); /* parallel: towards the light */
   double dist = INFINITY, half = 0.0;
   if (!parallel) { /* the cone from the light through the ball of radius r about p */
-    px_vec3_t d = v3_sub(p, light);
+    px_vec3_t d = v3_sub(p, light->v);
     dist = v3_norm(d);
     if (!(dist > r))
       return 1;
@@ -187,7 +188,7 @@ int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double 
         continue; /* too large to fall between the traced rays */
       return 1;
     }
-    px_vec3_t v = v3_sub(b[i].c, light);
+    px_vec3_t v = v3_sub(b[i].c, light->v);
     double dc = v3_norm(v);
     if (!(dc > R))
       return 1; /* the light is inside it */

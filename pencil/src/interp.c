@@ -232,15 +232,10 @@ static int shadow_guarded(const pt_ctx_t *C, const point_t (*R)[3], int k) {
   r *= 1.5;
   h *= 1.5 / sqrt(2.0);
   const px_vec3_t *plane = C->s->prim[n->prim].kind == RT_PRIM_PLANE ? &n->n : NULL;
-  for (int l = 0; l < C->s->nlight && l < 32; l++) {
-    if (!(n->light_guard & (1u << l)))
-      continue;
-    const rt_light_t *L = &C->s->light[l];
-    int par = L->kind == RT_LIGHT_PARALLEL;
-    if (pt_guard_shadow(C->guard, C->nguard, c, r, h, plane, par ? v3_scale(L->v, -1.0) : L->v, par,
-                        n->object))
+  for (int l = 0; l < C->s->nlight && l < 32; l++)
+    if ((n->light_guard & (1u << l)) &&
+        pt_guard_shadow(C->guard, C->nguard, c, r, h, plane, &C->s->light[l], n->object))
       return 1;
-  }
   return 0;
 }
 

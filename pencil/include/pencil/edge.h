@@ -84,8 +84,8 @@ int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, dou
 int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t axis, double half,
                   int skip);
 
-/** The same for shadow rays from within `r` of the hit p towards a light: at `light` for a point
- *  light, or along the unit `light` towards a parallel one (`parallel` set), traced at points
+/** The same for shadow rays from within `r` of the hit p towards `light` (point or parallel),
+ *  traced at points
  *  that leave no disc of radius above `gap` free of them. 1 when some bounding sphere other than
  *  object `skip`'s meets the cone (cylinder) of those rays and could hide its shadow between
  *  the traced points: its angular radius from the light below gap's (its radius below gap),
@@ -93,6 +93,6 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
  *  unit `normal` (NULL for a curved surface). A larger object's shadow has an edge across the
  *  pencil, which the traced points' visibility sees, as the corners see other edges. */
 int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
-                    const px_vec3_t *normal, px_vec3_t light, int parallel, int skip);
+                    const px_vec3_t *normal, const rt_light_t *light, int skip);
 
 #endif
