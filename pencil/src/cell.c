@@ -167,8 +167,9 @@ static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
 
 /* The small-object guard for node n's shadow rays: a light whose visibility the cell's corners
  * agree on may still be cut off from part of the cell's hits by a bounded object smaller than
- * the cell (a small ball's shadow between the corners is otherwise lost: tests/test_pencil.c);
- * for such a light the node's direct term is shaded per sample (its shadow ray traced). */
+ * the gaps between them (a small ball's shadow between the corners is otherwise lost:
+ * tests/test_pencil.c). Such a light no longer counts as agreeing for the node: the lattice
+ * points trace their shadow rays, and interp.c's shadow_guarded() decides per lattice cell. */
 static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   int any = 0;
   for (int i = 0; i < C->nguard && !any; i++)

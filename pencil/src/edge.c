@@ -184,8 +184,8 @@ int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double 
       double t = v3_dot(w, axis), rho = v3_norm(v3_sub(w, v3_scale(axis, t)));
       if (t < -(R + r) || !(rho < R + r))
         continue; /* behind the hits, or beside the rays */
-      if (R >= gap)
-        continue; /* too large to fall between the traced rays */
+      if (R >= gap && t - R > r)
+        continue; /* too large to fall between the traced rays (wholly towards the light) */
       return 1;
     }
     px_vec3_t v = v3_sub(b[i].c, light->v);
