@@ -31,7 +31,6 @@
  * through the matrices. */
 #include <assert.h>
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
@@ -211,9 +210,10 @@ static int own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int c
  * cell-level guard fired (pt_node_t.light_guard): the grid's points agreeing on a light's
  * visibility do not show that it is the same between them when an object smaller than the
  * pencil of their shadow rays comes near it (its whole shadow could fall between the points).
- * The pencil: the ball about the grid's centre hit through the farthest of its points, grown by
- * half again (cell.c's PT_GUARD_INFLATE). Cutting the quad shrinks it until the guard no longer
- * fires; else the node's direct term is shaded per sample. */
+ * The pencil: the ball about the grid's centre hit through the farthest of its points; the gap:
+ * the largest disc that can lie between the points; both grown by half again (cell.c's
+ * PT_GUARD_INFLATE). Cutting the quad shrinks them until the guard no longer fires; else the
+ * node's direct term is shaded per sample. */
 static int shadow_guarded(const pt_ctx_t *C, const point_t (*R)[3], int k) {
   const pt_node_t *n = &C->node[k];
   px_vec3_t c = R[1][1].g[k].p;
