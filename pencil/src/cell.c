@@ -228,7 +228,6 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
     if (mode && par >= 0 && segment_guarded(C, k, b)) {
       /* traced exactly per sample (a scene search), as below an edge */
       mode = PT_NODE_EXACT;
-      verify = 0;
       C->st.paths_guard++;
       need = fmin(need, 0.5 * xi_cell);
       *cost += size[k];
