@@ -34,6 +34,48 @@ int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *ou
   return 1;
 }
 
+int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out) {
+  char *end = NULL;
+  errno = 0;
+  long v = strtol(text, &end, 10), s = 1;
+  while (s * s < v && s <= RT_MAX_SPP_SIDE)
+    s++;
+  if (end == text || *end != '\0' || errno == ERANGE || v < 1 || v > RT_MAX_SPP || s * s != v) {
+    fprintf(stderr,
+            "pencil %s: %s: expected a square number of samples per pixel (1, 4, 9, ..., %d), got "
+            "'%s'\n",
+            cmd, opt, RT_MAX_SPP, text);
+    return 0;
+  }
+  *out = v;
+  return 1;
+}
+
+int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
+                       int *n) {
+  *n = 0;
+  for (const char *t = text;; t++) {
+    const char *end = strchr(t, ',');
+    size_t len = end ? (size_t)(end - t) : strlen(t);
+    char item[32];
+    if (*n >= max || len == 0 || len >= sizeof item) {
+      fprintf(stderr,
+              "pencil %s: %s: expected a comma-separated list of at most %d squares, got '%s'\n",
+              cmd, opt, max, text);
+      return 0;
+    }
+    memcpy(item, t, len);
+    item[len] = '\0';
+    long v;
+    if (!cli_parse_spp(cmd, opt, item, &v))
+      return 0;
+    out[(*n)++] = (int)v;
+    if (!end)
+      return 1;
+    t = end;
+  }
+}
+
 const char *cli_option(int argc, char **argv, int *i, const char *name, int *err) {
   const char *a = argv[*i];
   size_t n = strlen(name);
@@ -51,7 +93,9 @@ const char *cli_option(int argc, char **argv, int *i, const char *name, int *err
   return argv[++*i];
 }
 
-int cli_is_help(const char *arg) { return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0; }
+int cli_is_help(const char *arg) {
+  return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0;
+}
 
 void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]) {
   fprintf(f, "{\"%s\": [", key);
@@ -117,8 +161,8 @@ int cli_element_check(const char *cmd, cli_element_t *e) {
     return 0;
   }
   if (!(e->n1 > 0.0) || !(e->n2 > 0.0)) {
-    fprintf(stderr, "pencil %s %s: indices must be positive (got n1=%g, n2=%g)\n", cmd, kind,
-            e->n1, e->n2);
+    fprintf(stderr, "pencil %s %s: indices must be positive (got n1=%g, n2=%g)\n", cmd, kind, e->n1,
+            e->n2);
     return 0;
   }
   return 1;

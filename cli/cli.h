@@ -19,6 +19,12 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 int cli_parse_double(const char *opt, const char *text, double *out);
 /** Parse an integer in [lo, hi] for option `opt`; on failure print an error and return 0. */
 int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *out);
+/** Parse a number of samples per pixel for option `opt` of command `cmd`: a square s x s with
+ *  1 <= s <= RT_MAX_SPP_SIDE (1, 4, 9, ..., 256); on failure print an error and return 0. */
+int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out);
+/** A comma-separated list of such numbers, at most `max`, into out[0 .. *n - 1]. */
+int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
+                       int *n);
 /** "--name=value" or "--name value": return the value for `name` at argv[*i] or NULL. Advances
  *  *i past a separate value. Prints an error and sets *err when the value is missing. */
 const char *cli_option(int argc, char **argv, int *i, const char *name, int *err);
@@ -28,8 +34,7 @@ int cli_is_help(const char *arg);
 /** Load SCENE.json (path) or, when path is NULL, the built-in Fig. 8 scene into s, and override
  *  its image size when width > 0. On failure prints "pencil CMD: why" on stderr (the file and
  *  line for a bad scene) and returns 0. */
-int cli_load_scene(const char *cmd, const char *path, long width, long height,
-                   rt_scene_t *s);
+int cli_load_scene(const char *cmd, const char *path, long width, long height, rt_scene_t *s);
 /** A progress bar on stderr for long work: "\rLABEL [####    ]  42%", a newline when done.
  *  The signature is the renderers' and drivers' progress callback, with ctx = the label (a
  *  const char *). Callers install it only when isatty(2). */

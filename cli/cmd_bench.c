@@ -34,7 +34,7 @@ static void help(FILE *f) {
              "options:\n"
              "  --runs N      runs per configuration, 1..101 (default 5)\n"
              "  --size WxH    image size (default 256x256)\n"
-             "  --spp N       samples per pixel, 1, 4, ..., 49 (default 4)\n"
+             "  --spp N       samples per pixel, 1, 4, ..., 256 (default 4)\n"
              "  --json FILE   also write the results as JSON\n");
 }
 
@@ -159,13 +159,8 @@ int cmd_bench(int argc, char **argv) {
         return CLI_USAGE;
       }
     } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {
-      if (!cli_parse_long("--spp", v, 1, 49, &spp))
+      if (!cli_parse_spp("bench", "--spp", v, &spp))
         return CLI_USAGE;
-      long side = lrint(sqrt((double)spp));
-      if (side * side != spp) {
-        fprintf(stderr, "pencil bench: --spp: expected 1, 4, 9, ..., 49, got %ld\n", spp);
-        return CLI_USAGE;
-      }
     } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
       json = v;
     } else {

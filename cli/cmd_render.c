@@ -24,7 +24,7 @@ static void help(FILE *f) {
          "  -o, --output OUT.exr  output image (required unless --explain is given alone)\n"
          "  --method M            exact (default) or pencil ('pencil render --method pencil\n"
          "                        --help' lists the pencil tracer's options)\n"
-         "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 49\n"
+         "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 256\n"
          "                        (default: the scene's, 9 for the built-in scene)\n"
          "  --threads N           OpenMP threads (default: all cores)\n"
          "  --size WxH            override the scene's image size\n"
@@ -46,17 +46,6 @@ static int parse_size(const char *v, long *w, long *h) {
   char tail;
   if (sscanf(v, "%ldx%ld%c", w, h, &tail) != 2 || *w < 1 || *h < 1 || *w > 16384 || *h > 16384) {
     fprintf(stderr, "pencil render: --size: expected WxH with 1 <= W, H <= 16384, got '%s'\n", v);
-    return 0;
-  }
-  return 1;
-}
-
-static int parse_spp(const char *v, long *spp) {
-  if (!cli_parse_long("--spp", v, 1, 49, spp))
-    return 0;
-  long s = lrint(sqrt((double)*spp));
-  if (s * s != *spp) {
-    fprintf(stderr, "pencil render: --spp: expected a square (1, 4, 9, ..., 49), got %ld\n", *spp);
     return 0;
   }
   return 1;
@@ -89,7 +78,7 @@ static int parse_args(int argc, char **argv, args_t *a) {
       if (!parse_method(v))
         return 0;
     } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {
-      if (!parse_spp(v, &a->spp))
+      if (!cli_parse_spp("render", "--spp", v, &a->spp))
         return 0;
     } else if ((v = cli_option(argc, argv, &i, "--threads", &err))) {
       if (!cli_parse_long("--threads", v, 1, 1024, &a->threads))

@@ -228,7 +228,7 @@ static void bad_options_rejected(void **state) {
   assert_int_equal(rt_image_alloc(&img, 4, 4), RT_OK);
   opt.spp_side = 0;
   assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_EINVAL);
-  opt.spp_side = 8;
+  opt.spp_side = RT_MAX_SPP_SIDE + 1;
   assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_EINVAL);
   opt.spp_side = 1;
   assert_int_equal(rt_image_alloc(&small, 3, 4), RT_OK);

@@ -35,14 +35,14 @@ static int parse_settings(io_parse_t *P, json_t *o) {
   int ok = io_check_keys(P, o, keys) && io_get_rgb(P, o, "ambient", s->ambient, &s->ambient) &&
            io_get_rgb(P, o, "background", s->background, &s->background) &&
            io_get_int(P, o, "max_depth", 0, s->max_depth, 0, 32, &s->max_depth) &&
-           io_get_int(P, o, "spp", 0, s->spp, 1, 49, &s->spp) &&
+           io_get_int(P, o, "spp", 0, s->spp, 1, RT_MAX_SPP, &s->spp) &&
            io_get_bool(P, o, "shadows", 1, &s->shadows) &&
            io_get_number(P, o, "ior", 0, 1.0, 0.0, 100.0, 1, &s->ior);
   int root = (int)lrint(sqrt(s->spp));
   if (ok && root * root != s->spp) {
     io_push_key(P, "spp");
-    ok = io_fail(P, "expected a square number of samples per pixel (1, 4, 9, ..., 49), got %d",
-                 s->spp);
+    ok = io_fail(P, "expected a square number of samples per pixel (1, 4, 9, ..., %d), got %d",
+                 RT_MAX_SPP, s->spp);
     io_pop(P);
   }
   io_pop(P);

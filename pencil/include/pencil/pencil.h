@@ -48,7 +48,7 @@ typedef enum {
 #define PT_BRIGHTNESS_TOL (1.0 / 1024.0)
 
 typedef struct {
-  int spp_side; /**< s: s x s samples per pixel, 1..7 */
+  int spp_side; /**< s: s x s samples per pixel, 1..RT_MAX_SPP_SIDE */
   int threads;  /**< OpenMP threads; 0 = the OpenMP default */
   int domain;   /**< initial domain size N in pixels, 1..32 (paper: 5) */
   double rho;   /**< tolerance ratio of Eq. (3), > 0 (paper: 1/2) */

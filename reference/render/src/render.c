@@ -120,7 +120,7 @@ rt_status_t rt_render(const rt_scene_t *s, const rt_plan_t *plan, const rt_rende
   rt_view_t view;
   if (!s->bvh)
     return RT_ENOTREADY;
-  if (opt->spp_side < 1 || opt->spp_side > 7 || opt->threads < 0 ||
+  if (opt->spp_side < 1 || opt->spp_side > RT_MAX_SPP_SIDE || opt->threads < 0 ||
       rt_view_make(&s->camera, &view) != RT_OK || img->width != s->camera.width ||
       img->height != s->camera.height)
     return RT_EINVAL;

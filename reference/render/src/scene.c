@@ -221,7 +221,7 @@ const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t
 rt_status_t rt_scene_prepare(rt_scene_t *s) {
   const rt_camera_t *c = &s->camera;
   if (!(c->fov_deg > 0.0 && c->fov_deg < 180.0) || c->width < 1 || c->height < 1 ||
-      s->max_depth < 0 || s->max_depth > 64 || s->spp < 1 || s->spp > 49 || !(s->ior > 0.0))
+      s->max_depth < 0 || s->max_depth > 64 || s->spp < 1 || s->spp > RT_MAX_SPP || !(s->ior > 0.0))
     return RT_EINVAL;
   int side = (int)lrint(sqrt((double)s->spp));
   if (side * side != s->spp) /* s x s sub-pixel grids only */

@@ -81,7 +81,7 @@ rt_rgb_t rt_exact_primary(rt_exact_t *ex, const rt_ray_t *ray);
 rt_tracer_t rt_exact_tracer(rt_exact_t *ex);
 
 typedef struct {
-  int spp_side; /**< s: s x s samples per pixel, 1..7 */
+  int spp_side; /**< s: s x s samples per pixel, 1..RT_MAX_SPP_SIDE */
   int threads;  /**< OpenMP threads; 0 = the OpenMP default */
   int aux;      /**< 1: fill the auxiliary channels (traces trees of centre rays) */
   /** Called after each finished row with (rows done, rows total), serialised; may be NULL. */

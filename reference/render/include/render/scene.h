@@ -107,6 +107,11 @@ typedef struct {
   int height;        /**< pixels, >= 1 */
 } rt_camera_t;
 
+/** Sub-pixel grids: s x s samples per pixel with s = 1..RT_MAX_SPP_SIDE (1, 4, ..., 256). The
+ *  paper's Fig. 9 goes to 49 (s = 7); larger grids extend it. */
+#define RT_MAX_SPP_SIDE 16
+#define RT_MAX_SPP (RT_MAX_SPP_SIDE * RT_MAX_SPP_SIDE)
+
 struct rt_bvh;
 
 typedef struct {
@@ -114,7 +119,7 @@ typedef struct {
   rt_rgb_t ambient;    /**< Ia, the global ambient intensity */
   rt_rgb_t background; /**< radiance of rays that meet nothing */
   int max_depth;       /**< reflection/refraction generations after the primary ray, >= 0 */
-  int spp;             /**< default samples per pixel (s x s, s = 1..7) */
+  int spp;             /**< default samples per pixel (s x s, s = 1..RT_MAX_SPP_SIDE) */
   int shadows;         /**< 0 disables shadow rays (every light always reaches every point) */
   double ior;          /**< refractive index of the space between objects */
 
