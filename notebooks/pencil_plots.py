@@ -116,6 +116,10 @@ def plot_fig9(d, show=False):
     ax[0].set_xlabel("samples per pixel")
     ax[0].set_ylabel("time ratio pencil / exact")
     ax[0].set_yscale("log")
+    if max(t["spp"]) > 49:  # extended past the paper's grids (--fig9-spp)
+        ax[0].axhline(PAPER["ratio_49"], color="C3", lw=0.6, ls=":")
+        for a in ax:
+            a.set_xscale("log")
     ax[0].set_title("Fig. 9: CPU time ratio, rho = 1/2")
     ax[0].legend(fontsize=8)
     ax[1].plot(t["spp"], t["exact_s"], "o-", label="exact")
