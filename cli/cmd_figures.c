@@ -37,9 +37,11 @@ static void help_figures(FILE *f) {
       "  --runs N       timed renders per configuration, 3..101 (default 3)\n"
       "  --size WxH     override the image size\n"
       "  --no-sweep     skip the rho sweep\n"
-      "  --fig9-spp LIST  Fig. 9's samples per pixel, increasing squares up to 256 (default\n"
-      "                 the paper's 1,4,9,16,25,36,49; e.g. 1,9,49,100,144,256 extends it to\n"
-      "                 where the ratio falls below 0.10 here); the targets are read at 49\n"
+      "  --fig9-spp LIST\n"
+      "                 Fig. 9's samples per pixel, increasing squares up to 256 (default the\n"
+      "                 paper's 1,4,9,16,25,36,49; 1,...,49,100,144,256 extends it to where\n"
+      "                 the ratio falls below 0.10 here); the targets are read at 49 spp, or\n"
+      "                 at the largest when 49 is not listed\n"
       "Exit codes: 0 done (the table says whether the paper's numbers and the targets were\n"
       "met); 1 a render or a file failed; 2 usage or scene error.\n");
 }
