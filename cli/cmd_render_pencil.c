@@ -46,6 +46,7 @@ static void help(FILE *f) {
          "  --brightness-tol L    ray interpolation: largest deviation of interpolated from\n"
          "                        traced brightness on a lattice cell, >= 0 (default 1/1024)\n"
          "  --measure             trace every sample exactly too; Fig. 10 error statistics\n"
+         "                        (points on surfaces with a diffuse term: Fig. 8's board)\n"
          "  --no-aux              leave the auxiliary channels (Z, id, pathT.*, pathR.*) empty,\n"
          "                        as the benchmarks render\n"
          "  --explain             print the effects plan\n"
@@ -200,13 +201,19 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
          (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
          (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
          (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
-  if (a->opt.measure)
-    printf("Fig. 10 error: %llu samples, %.4f%% within rho = %g, max %.4g (transmission path: "
-           "%.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), %llu path mismatches\n",
-           (unsigned long long)st->measured, 100.0 * st->within / st->measured, a->opt.rho,
-           st->max_error, 100.0 * st->within_t / st->measured, st->max_error_t,
+  if (a->opt.measure) {
+    printf("Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "
+           "%.4g (transmission path: %.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), "
+           "%llu path mismatches\n",
+           (unsigned long long)st->measured, (unsigned long long)st->with_points,
+           100.0 * st->within / st->measured, a->opt.rho, st->max_error,
+           100.0 * st->within_t / st->measured, st->max_error_t,
            100.0 * st->within_strict / st->measured, st->max_error_strict,
            (unsigned long long)st->mismatches);
+    if (st->with_points == 0)
+      fprintf(stderr, "pencil: warning: no sample had a pencil-traced point on a surface with a "
+                      "diffuse term, so the Fig. 10 error compared nothing\n");
+  }
 }
 
 static int render(args_t *a, rt_scene_t *s) {

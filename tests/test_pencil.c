@@ -782,6 +782,60 @@ static void guard_catches_small_shadows(void **state) {
 
 /* Domains are independent and each is processed by one thread: bitwise equal images and the
  * same counters for 1 and 2 threads. */
+/* Which surfaces the Fig. 10 measure compares (pt_surface_measured): those with a diffuse term.
+ * In Fig. 8 that is the checkerboard alone, the paper's surface (the glass has kd = 0). A plane
+ * without a texture under the glass ball is measured too, so that a scene without a checkerboard
+ * does not pass as error-free because nothing was compared; a scene of glass alone has no
+ * measured point, and says so (with_points = 0). */
+static void measure_counts_diffuse_surfaces(void **state) {
+  (void)state;
+  rt_scene_t s;
+  fig8(&s, 32, 32);
+  assert_true(pt_surface_measured(&s, 0));  /* the checkerboard */
+  assert_false(pt_surface_measured(&s, 1)); /* the glass ball */
+  rt_scene_free(&s);
+  pt_options_t o = PT_OPTIONS_DEFAULT;
+  o.measure = 1;
+  for (int plain = 1; plain >= 0; plain--) {
+    rt_scene_init(&s);
+    rt_material_t grey = rt_material_default("grey"), glass = rt_material_default("glass");
+    glass.ka = glass.kd = 0.0;
+    glass.ks = 0.6;
+    glass.kr = 0.15;
+    glass.kt = 0.75;
+    glass.ior = 1.5;
+    int mg, ml, ball;
+    assert_int_equal(rt_scene_add_material(&s, &grey, &mg), RT_OK);
+    assert_int_equal(rt_scene_add_material(&s, &glass, &ml), RT_OK);
+    if (plain) /* no material2: one colour, no checkerboard anywhere */
+      assert_int_equal(rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0),
+                                          mg, -1, 1.0, NULL),
+                       RT_OK);
+    assert_int_equal(rt_scene_add_sphere(&s, px_vec3(0.0, 1.5, 0.0), 1.0, ml, &ball), RT_OK);
+    rt_light_t l = {RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1, 1, 1}};
+    rt_scene_add_light(&s, &l);
+    s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.9, 0.0}, {0, 1, 0}, 40.0, 32, 32};
+    assert_int_equal(rt_scene_prepare(&s), RT_OK);
+    rt_image_t img;
+    pt_stats_t st;
+    render_pencil(&s, 2, 1, &o, &img, NULL, &st);
+    print_message("plain plane %d: %llu of %llu samples with measured points, max %g\n", plain,
+                  (unsigned long long)st.with_points, (unsigned long long)st.measured,
+                  st.max_error);
+    assert_int_equal(st.measured, 32 * 32 * 4);
+    if (plain) {
+      assert_true(st.with_points > st.measured / 2); /* the plane fills most of the view */
+      assert_true(st.max_error > 0.0);               /* its points were compared */
+      assert_true(st.within >= st.measured * 998 / 1000);
+    } else {
+      assert_int_equal(st.with_points, 0);
+      assert_true(st.max_error == 0.0);
+    }
+    rt_image_free(&img);
+    rt_scene_free(&s);
+  }
+}
+
 static void image_does_not_depend_on_threads(void **state) {
   (void)state;
   rt_scene_t s;
@@ -877,6 +931,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(pencil_image_matches_exact),
       cmocka_unit_test(largest_sample_grid),
       cmocka_unit_test(mirror_ball_reflections_match_exact),
+      cmocka_unit_test(measure_counts_diffuse_surfaces),
       cmocka_unit_test(image_does_not_depend_on_threads),
       cmocka_unit_test(lattice_memo_changes_nothing),
       cmocka_unit_test(bad_options_rejected),

@@ -189,11 +189,11 @@ void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
 void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
 /** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h), tracing it exactly:
- *  e[0] the largest over its checkerboard points in pixels (|J+ e|), e[1] the same on the
- *  transmission-first path only, e[2] the largest |e| / sigma_min (strict). */
+ *  e[0] the largest over its measured points (pt_surface_measured) in pixels (|J+ e|), e[1]
+ *  the same on the transmission-first path only, e[2] the largest |e| / sigma_min (strict). */
 void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]);
 
 /** Record a finished sample's errors in the statistics (and e[0] in the caller's buffer). */
-void pt__account(pt_ctx_t *C, const double e[3], int has_board, float *slot);
+void pt__account(pt_ctx_t *C, const double e[3], int has_points, float *slot);
 
 #endif

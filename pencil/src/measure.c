@@ -2,17 +2,20 @@
  * (checkerboard) intersections obtained by the pencil tracer and by the ray tracer normalized by
  * one pixel interval on the checkerboard".
  *
- * For a sample, every checkerboard point the pencil computed (any node of its tree on a textured
- * plane, matrix-traced or interpolated) is compared with the point of the same path in the exact
+ * Measured surfaces are those with a diffuse term (pt_surface_measured): in Fig. 8 only the
+ * checkerboard, the paper's surface; elsewhere e.g. Fig. 11's rectangle or a matte ball, so that
+ * a scene without a checkerboard is not reported as error-free because nothing was compared.
+ * For a sample, every measured point the pencil computed (any node of its tree on a measured
+ * surface, matrix-traced or interpolated) is compared with the point of the same path in the exact
  * tracer's tree of the same ray (paths matched by their sequence of reflections/refractions):
- * error = |J+ (p_pencil - p_exact)|, the distance in pixel intervals on the board: J is the pixel
- * footprint of that path on the board (one pixel step along screen x and y, from the path's
+ * error = |J+ (p_pencil - p_exact)|, the distance in pixel intervals on the surface: J is the
+ * pixel footprint of that path on the surface (one pixel step along screen x and y, from the path's
  * system matrix at the cell's axial ray, pt_node_t.j), so that where the footprint is stretched
  * (a board seen at a grazing angle) a distance along the stretch counts in the stretched
  * interval. The strict variant divides |p_pencil - p_exact| by the smallest pixel interval over
- * all directions instead. The sample's error is the largest over its board points; a
- * board point of either tree without a counterpart in the other (the pencil missed an edge) is an
- * infinite error. Parts of a tree the pencil traced exactly have no error. */
+ * all directions instead. The sample's error is the largest over its measured points; a
+ * measured point of either tree without a counterpart in the other (the pencil missed an edge) is
+ * an infinite error. Parts of a tree the pencil traced exactly have no error. */
 #include <math.h>
 
 #include "internal.h"
@@ -56,7 +59,7 @@ void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double 
   /* pencil -> exact */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
-    if (!n->textured || rec[k].ok != 1)
+    if (!n->measured || rec[k].ok != 1)
       continue;
     int x = follow(A, k, X, &last, &next);
     double d = INFINITY, strict = INFINITY;
@@ -70,9 +73,9 @@ void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double 
     if (k == C->kt)
       e[1] = d;
   }
-  /* exact -> pencil: board points the pencil did not compute and did not trace exactly */
+  /* exact -> pencil: measured points the pencil did not compute and did not trace exactly */
   for (int x = 0; x < X->n; x++) {
-    if (X->node[x].texel < 0)
+    if (X->node[x].object < 0 || !pt_surface_measured(C->s, X->node[x].object))
       continue;
     int k = follow(X, x, A, &last, &next), lost = 0;
     if (k >= 0)
@@ -84,11 +87,11 @@ void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double 
   }
 }
 
-void pt__account(pt_ctx_t *C, const double e[3], int has_board, float *slot) {
+void pt__account(pt_ctx_t *C, const double e[3], int has_points, float *slot) {
   pt_stats_t *st = &C->st;
   double rho = C->opt->rho;
   st->measured++;
-  st->with_board += (uint64_t)(has_board != 0);
+  st->with_points += (uint64_t)(has_points != 0);
   st->within += (uint64_t)(e[0] <= rho);
   st->within_t += (uint64_t)(e[1] <= rho);
   st->within_strict += (uint64_t)(e[2] <= rho);

@@ -143,7 +143,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->lattice_reused += b->lattice_reused;
   a->biquad_cells += b->biquad_cells;
   a->measured += b->measured;
-  a->with_board += b->with_board;
+  a->with_points += b->with_points;
   a->within += b->within;
   a->within_t += b->within_t;
   a->mismatches += b->mismatches;

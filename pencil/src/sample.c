@@ -98,11 +98,11 @@ double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec
                           int a, int b, double pmax) {
   double e[3];
   pt__measure(C, ray, rec, e);
-  int board = 0;
-  for (int k = 0; k < C->nnode && !board; k++)
-    board = C->node[k].textured && rec[k].ok == 1;
-  pt__account(C, e, board, pt__error_slot(C, i, j, a, b));
-  if (board && (isnan(pmax) || e[0] > pmax))
+  int points = 0;
+  for (int k = 0; k < C->nnode && !points; k++)
+    points = C->node[k].measured && rec[k].ok == 1;
+  pt__account(C, e, points, pt__error_slot(C, i, j, a, b));
+  if (points && (isnan(pmax) || e[0] > pmax))
     pmax = e[0];
   return pmax;
 }

@@ -108,6 +108,7 @@ int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_erro
     const pt_stats_t *st = &out->stats;
     out->rho = po.rho;
     out->samples = st->measured;
+    out->samples_with_points = st->with_points;
     out->fraction_within = (double)st->within / (double)st->measured;
     out->max_error = st->max_error;
     out->mismatches = st->mismatches;
@@ -302,16 +303,17 @@ static int write_hist(const val_figures_opts_t *o, const pt_stats_t *st) {
 
 static void json_errors(FILE *f, const val_errors_t *e, int spp) {
   fprintf(f,
-          "{\"rho\": %g, \"spp\": %d, \"samples\": %llu, \"fraction_within\": %.9g, "
+          "{\"rho\": %g, \"spp\": %d, \"samples\": %llu, \"samples_with_points\": %llu, "
+          "\"fraction_within\": %.9g, "
           "\"max_error\": %.6g, \"p99\": %.6g, \"mismatches\": %llu, "
           "\"fraction_within_strict\": %.9g, \"max_error_strict\": %.6g, "
           "\"fraction_within_transmission\": %.9g, \"max_error_transmission\": %.6g, "
           "\"image_rms\": %.6g, \"image_max\": %.6g, \"samples_exact\": %llu, "
           "\"samples_matrix\": %llu, \"samples_interpolated\": %llu}",
-          e->rho, spp, (unsigned long long)e->samples, e->fraction_within, e->max_error, e->p99,
-          (unsigned long long)e->mismatches, e->fraction_within_strict, e->max_error_strict,
-          e->fraction_within_t, e->max_error_t, e->image_rms, e->image_max,
-          (unsigned long long)e->stats.samples[PT_METHOD_EXACT],
+          e->rho, spp, (unsigned long long)e->samples, (unsigned long long)e->samples_with_points,
+          e->fraction_within, e->max_error, e->p99, (unsigned long long)e->mismatches,
+          e->fraction_within_strict, e->max_error_strict, e->fraction_within_t, e->max_error_t,
+          e->image_rms, e->image_max, (unsigned long long)e->stats.samples[PT_METHOD_EXACT],
           (unsigned long long)e->stats.samples[PT_METHOD_MATRIX],
           (unsigned long long)e->stats.samples[PT_METHOD_INTERP]);
 }
@@ -365,14 +367,16 @@ static int write_sweep(const val_figures_opts_t *o, const sweep_row_t *rows, int
   if (!f)
     return -1;
   fprintf(f, "rho,variant,spp,exact_s,pencil_s,ratio,samples,fraction_within,p99,max_error,"
-             "mismatches,fraction_within_strict,max_error_strict,image_rms,samples_exact\n");
+             "mismatches,fraction_within_strict,max_error_strict,image_rms,samples_exact,"
+             "samples_with_points\n");
   for (int k = 0; k < n; k++) {
     const sweep_row_t *r = &rows[k];
-    fprintf(f, "%g,%s,%d,%.6g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu\n", r->rho,
-            variant_name(r), o->sweep_spp, r->t.exact_s, r->t.pencil_s, r->t.ratio,
+    fprintf(f, "%g,%s,%d,%.6g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%llu\n",
+            r->rho, variant_name(r), o->sweep_spp, r->t.exact_s, r->t.pencil_s, r->t.ratio,
             (unsigned long long)r->e.samples, r->e.fraction_within, r->e.p99, r->e.max_error,
             (unsigned long long)r->e.mismatches, r->e.fraction_within_strict, r->e.max_error_strict,
-            r->e.image_rms, (unsigned long long)r->e.stats.samples[PT_METHOD_EXACT]);
+            r->e.image_rms, (unsigned long long)r->e.stats.samples[PT_METHOD_EXACT],
+            (unsigned long long)r->e.samples_with_points);
   }
   return close_out(f, path);
 }
@@ -520,6 +524,8 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
   double ratio = tt ? tt->ratio : NAN;
   miss |= !(ratio <= PAPER_RATIO_49) || !(r->t49.fraction_within >= PAPER_WITHIN);
   miss |= !(r->tc49.ratio <= PAPER_RATIO_49) || !(r->c49.fraction_within >= 1.0);
+  /* an error measure that compared no point shows no accuracy */
+  miss |= r->t49.samples_with_points == 0 || r->c49.samples_with_points == 0;
   if (!f)
     return miss;
   fprintf(f, "\n%-8s %-46s %12s %12s\n", "figure", "quantity", "paper", "this run");
@@ -551,6 +557,12 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
           r->fig10.p99);
   fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "  strict (|e| / smallest interval): within",
           "-", 100.0 * r->fig10.fraction_within_strict);
+  fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10",
+          "samples with a measured point (the area measured)", "-",
+          100.0 * (double)r->fig10.samples_with_points / (double)r->fig10.samples);
+  if (r->fig10.samples_with_points == 0 || r->t49.samples_with_points == 0)
+    fprintf(f, "warning: no sample had a pencil-traced point on a surface with a diffuse term; the "
+               "Fig. 10 error compared nothing on this scene\n");
   fprintf(f, "%-8s target at %d spp: ratio <= 0.10, area >= 99.8%%     %12s %5.3f %7.5f%%\n",
           "issue 5", r->target_spp, "", ratio, 100.0 * r->t49.fraction_within);
   uint64_t over =
@@ -604,9 +616,11 @@ static int run_figures(const val_figures_opts_t *o, rt_scene_t *s, results_t *r)
   if (rc != 0)
     return -1;
   if (o->log)
-    fprintf(o->log, "  Fig. 10: %.5f%% of %llu samples within rho = %g, max %.3f, p99 %.3f\n",
+    fprintf(o->log,
+            "  Fig. 10: %.5f%% of %llu samples within rho = %g, max %.3f, p99 %.3f (%llu samples "
+            "with measured points)\n",
             100.0 * r->fig10.fraction_within, (unsigned long long)r->fig10.samples, po.rho,
-            r->fig10.max_error, r->fig10.p99);
+            r->fig10.max_error, r->fig10.p99, (unsigned long long)r->fig10.samples_with_points);
   /* the targets at the largest spp: errors of the plain and certified modes, certified time */
   pt_options_t pc = po;
   pc.certified = 1;

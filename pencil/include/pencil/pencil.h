@@ -75,7 +75,7 @@ typedef struct {
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
 typedef struct {
   float *error;  /**< largest Fig. 10 error of the pixel's samples (measure only; NaN when no
-                      sample has a pencil-traced checkerboard point, or when not measured) */
+                      sample has a pencil-traced point on a measured surface, or unmeasured) */
   float *method; /**< pt_method_t used for most of the pixel's samples */
   float *rays;   /**< exact rays traced for the pixel's samples (exact pixels, exactly traced
                       subtrees, per-sample shadow rays; not the cells' axial, corner and
@@ -121,7 +121,9 @@ typedef struct {
                                    biquadratically (bilinear was not accurate enough) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
-  uint64_t with_board;     /**< ... with at least one pencil-traced checkerboard point */
+  uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
+                                (pt_surface_measured: the checkerboard in Fig. 8); when 0 the
+                                measure has compared nothing */
   uint64_t within;         /**< ... whose error is <= rho (samples without such a point count) */
   uint64_t mismatches;     /**< ... whose exact ray tree lacks a path the pencil used */
   double max_error;        /**< largest finite error */
@@ -138,7 +140,7 @@ typedef struct {
 /** Render the prepared scene `s` with `plan` by pencil tracing into img (allocated by the
  *  caller at the camera's size); `extra` may be NULL. `sample_error`, when not NULL, receives
  *  the Fig. 10 error of every sample (width * height * s * s floats, pixel-major, INFINITY for a
- *  path mismatch, 0 for exactly traced samples and samples without a checkerboard point); it
+ *  path mismatch, 0 for exactly traced samples and samples without a measured point); it
  *  needs opt->measure. RT_EINVAL for a bad option or image, RT_ENOTREADY, RT_ENOMEM. */
 rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_options_t *opt,
                       rt_image_t *img, pt_extra_t *extra, float *sample_error, pt_stats_t *stats);
