@@ -98,10 +98,13 @@ typedef struct {
  * the error can reach 1.38 times the largest measured deviation. Found when the measure came to
  * count every diffuse surface: on scenes/balls.json (4 spp) the matte ball seen through the glass
  * ball at depth 3 had a 2.5-pixel quad with deviations up to 0.311 and samples at (0.7, 0.7)
- * off by 0.549, so 3 samples were over rho. With the factor none are: Fig. 8 at 49 spp costs
- * 2.227e9 instructions instead of 2.162e9 (+3%), and its largest error falls from 0.41 to 0.31.
- * PT_BIQUAD_CERT (below) is above this factor, so the biquadratic interpolation's error over a
- * quarter, measured at the same five points, is covered the same way. */
+ * off by 0.549, so 3 samples were over rho. With the factor none are. A node that fails only
+ * because of the factor gets the sum itself at the quad's own samples
+ * (bilinear_bound_at_samples), which is all the guarantee is about: Fig. 8 at 49 spp costs
+ * 2.206e9 instructions instead of 2.162e9 (+2.0%; the factor alone 2.227e9), its largest error
+ * 0.392 instead of 0.409. PT_BIQUAD_CERT (below) is above this factor, so the biquadratic
+ * interpolation's error over a quarter, measured at the same five points, is covered the same
+ * way. */
 #ifndef PT_BILINEAR_CERT
 #define PT_BILINEAR_CERT 1.3843
 #endif
@@ -198,6 +201,38 @@ static double grid_error(const lquad_t *q, const grid3_t *G,
 
 static double norm_pixels(const void *node, px_vec3_t e) {
   return pt_pixels(node, e);
+}
+
+static void sample_range(double x0, double w, int s, int *g0, int *g1);
+
+/* Certified mode, a measured quad q whose largest deviation times PT_BILINEAR_CERT is too much:
+ * the biquadratic part of its bilinear error at its own samples, sum_i |d_i| |L_i(u, v)| over
+ * the five non-corner grid points (d_i in node n's pixel intervals), largest over the samples.
+ * The basis is separable: L_i(u, v) = l_c(u) l_r(v) for grid column c and row r. */
+static double bilinear_bound_at_samples(const pt_ctx_t *C, const lquad_t *q, const grid3_t *G,
+                                        const pt_node_t *n) {
+  const px_vec3_t(*v)[3] = G->v;
+  double dt = pt_pixels(n, v3_sub(v[0][1], v3_scale(v3_add(v[0][0], v[0][2]), 0.5)));
+  double db = pt_pixels(n, v3_sub(v[2][1], v3_scale(v3_add(v[2][0], v[2][2]), 0.5)));
+  double dl = pt_pixels(n, v3_sub(v[1][0], v3_scale(v3_add(v[0][0], v[2][0]), 0.5)));
+  double dr = pt_pixels(n, v3_sub(v[1][2], v3_scale(v3_add(v[0][2], v[2][2]), 0.5)));
+  px_vec3_t m = v3_scale(v3_add(v3_add(v[0][0], v[0][2]), v3_add(v[2][0], v[2][2])), 0.25);
+  double dc = pt_pixels(n, v3_sub(v[1][1], m));
+  int s = C->opt->spp_side, gx0, gx1, gy0, gy1;
+  sample_range(q->x0, q->w, s, &gx0, &gx1);
+  sample_range(q->y0, q->h, s, &gy0, &gy1);
+  double worst = 0.0;
+  for (int gy = gy0; gy < gy1; gy++) {
+    double lv[3];
+    lagrange3(((gy + 0.5) / s - q->y0) / q->h, lv);
+    double row = dt * fabs(lv[0]) + db * fabs(lv[2]) + dc * fabs(lv[1]), col = fabs(lv[1]);
+    for (int gx = gx0; gx < gx1; gx++) {
+      double lu[3];
+      lagrange3(((gx + 0.5) / s - q->x0) / q->w, lu);
+      worst = fmax(worst, fabs(lu[1]) * row + col * (dl * fabs(lu[0]) + dr * fabs(lu[2])));
+    }
+  }
+  return worst;
 }
 
 static double norm_rgb(const void *unused, px_vec3_t e) {
@@ -319,7 +354,10 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
           n->pencil == PT_NODE_PATH ? 0.0 : fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
       /* too curved to interpolate here: this node is traced per sample (the caller decides
        * whether that is cheaper than cutting the quad) */
-      own = (cert ? PT_BILINEAR_CERT : 1.0) * grid_error(q, &p, norm_pixels, n) + e_mat > rho;
+      double eg = grid_error(q, &p, norm_pixels, n);
+      own = (cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat > rho;
+      if (own && cert && q->measured && eg + e_mat <= rho) /* the bound at the samples */
+        own = bilinear_bound_at_samples(C, q, &p, n) + e_mat > rho;
       /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is
        * then found per sample) */
       /* (certified: the parent's biquadratic itself, over this quarter, where its deviation
