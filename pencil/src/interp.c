@@ -178,17 +178,26 @@ typedef struct {
  *             the centre from the mean of the corners (the bilinear interpolation there);
  *   estimated (quarter (qx, qy) of G): e_int, |x_a - 2 x_b + x_c| / 8 along each of the
  *             quarter's two horizontal grid lines (the larger) plus the same vertically. */
+/* The deviations of a 3 x 3 grid's five non-corner points from the bilinear interpolation of
+ * its corners, measured by `norm`: top, bottom, left, right edge midpoints, centre. */
+static void grid_deviations(const grid3_t *G, double (*norm)(const void *, px_vec3_t),
+                            const void *ctx, double d[5]) {
+  const px_vec3_t(*v)[3] = G->v;
+  for (int r = 0; r < 3; r += 2) /* top and bottom edges; left and right edges */
+    d[r / 2] = norm(ctx, v3_sub(v[r][1], v3_scale(v3_add(v[r][0], v[r][2]), 0.5)));
+  for (int c = 0; c < 3; c += 2)
+    d[2 + c / 2] = norm(ctx, v3_sub(v[1][c], v3_scale(v3_add(v[0][c], v[2][c]), 0.5)));
+  px_vec3_t m = v3_scale(v3_add(v3_add(v[0][0], v[0][2]), v3_add(v[2][0], v[2][2])), 0.25);
+  d[4] = norm(ctx, v3_sub(v[1][1], m));
+}
+
 static double grid_error(const lquad_t *q, const grid3_t *G,
                          double (*norm)(const void *, px_vec3_t), const void *ctx) {
   const px_vec3_t(*v)[3] = G->v;
   if (q->measured) {
-    double e = 0.0;
-    for (int r = 0; r < 3; r += 2) /* top and bottom edges; left and right edges */
-      e = fmax(e, norm(ctx, v3_sub(v[r][1], v3_scale(v3_add(v[r][0], v[r][2]), 0.5))));
-    for (int c = 0; c < 3; c += 2)
-      e = fmax(e, norm(ctx, v3_sub(v[1][c], v3_scale(v3_add(v[0][c], v[2][c]), 0.5))));
-    px_vec3_t m = v3_scale(v3_add(v3_add(v[0][0], v[0][2]), v3_add(v[2][0], v[2][2])), 0.25);
-    return fmax(e, norm(ctx, v3_sub(v[1][1], m)));
+    double d[5];
+    grid_deviations(G, norm, ctx, d);
+    return fmax(fmax(fmax(d[0], d[1]), fmax(d[2], d[3])), d[4]);
   }
   double ex = 0.0, ey = 0.0;
   for (int e = 0; e < 2; e++) {
@@ -211,13 +220,9 @@ static void sample_range(double x0, double w, int s, int *g0, int *g1);
  * The basis is separable: L_i(u, v) = l_c(u) l_r(v) for grid column c and row r. */
 static double bilinear_bound_at_samples(const pt_ctx_t *C, const lquad_t *q, const grid3_t *G,
                                         const pt_node_t *n) {
-  const px_vec3_t(*v)[3] = G->v;
-  double dt = pt_pixels(n, v3_sub(v[0][1], v3_scale(v3_add(v[0][0], v[0][2]), 0.5)));
-  double db = pt_pixels(n, v3_sub(v[2][1], v3_scale(v3_add(v[2][0], v[2][2]), 0.5)));
-  double dl = pt_pixels(n, v3_sub(v[1][0], v3_scale(v3_add(v[0][0], v[2][0]), 0.5)));
-  double dr = pt_pixels(n, v3_sub(v[1][2], v3_scale(v3_add(v[0][2], v[2][2]), 0.5)));
-  px_vec3_t m = v3_scale(v3_add(v3_add(v[0][0], v[0][2]), v3_add(v[2][0], v[2][2])), 0.25);
-  double dc = pt_pixels(n, v3_sub(v[1][1], m));
+  double d[5];
+  grid_deviations(G, norm_pixels, n, d);
+  double dt = d[0], db = d[1], dl = d[2], dr = d[3], dc = d[4];
   int s = C->opt->spp_side, gx0, gx1, gy0, gy1;
   sample_range(q->x0, q->w, s, &gx0, &gx1);
   sample_range(q->y0, q->h, s, &gy0, &gy1);
