@@ -557,8 +557,7 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
           r->fig10.p99);
   fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "  strict (|e| / smallest interval): within",
           "-", 100.0 * r->fig10.fraction_within_strict);
-  fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10",
-          "samples with a measured point", "-",
+  fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "samples with a measured point", "-",
           100.0 * (double)r->fig10.samples_with_points / (double)r->fig10.samples);
   if (r->fig10.samples_with_points == 0 || r->t49.samples_with_points == 0)
     fprintf(f, "warning: no sample had a pencil-traced point on a surface with a diffuse term; the "
