@@ -780,8 +780,6 @@ static void guard_catches_small_shadows(void **state) {
   rt_scene_free(&s);
 }
 
-/* Domains are independent and each is processed by one thread: bitwise equal images and the
- * same counters for 1 and 2 threads. */
 /* Which surfaces the Fig. 10 measure compares (pt_surface_measured): those with a diffuse term.
  * In Fig. 8 that is the checkerboard alone, the paper's surface (the glass has kd = 0). A plane
  * without a texture under the glass ball is measured too, so that a scene without a checkerboard
@@ -836,6 +834,8 @@ static void measure_counts_diffuse_surfaces(void **state) {
   }
 }
 
+/* Domains are independent and each is processed by one thread: bitwise equal images and the
+ * same counters for 1 and 2 threads. */
 static void image_does_not_depend_on_threads(void **state) {
   (void)state;
   rt_scene_t s;

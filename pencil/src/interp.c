@@ -173,11 +173,6 @@ typedef struct {
   px_vec3_t v[3][3];
 } grid3_t;
 
-/* Interpolation error of a quad from its grid values G, as a vector measured by `norm`:
- *   measured: the largest deviation of an edge midpoint from the mean of its edge's ends, or of
- *             the centre from the mean of the corners (the bilinear interpolation there);
- *   estimated (quarter (qx, qy) of G): e_int, |x_a - 2 x_b + x_c| / 8 along each of the
- *             quarter's two horizontal grid lines (the larger) plus the same vertically. */
 /* The deviations of a 3 x 3 grid's five non-corner points from the bilinear interpolation of
  * its corners, measured by `norm`: top, bottom, left, right edge midpoints, centre. */
 static void grid_deviations(const grid3_t *G, double (*norm)(const void *, px_vec3_t),
@@ -191,6 +186,11 @@ static void grid_deviations(const grid3_t *G, double (*norm)(const void *, px_ve
   d[4] = norm(ctx, v3_sub(v[1][1], m));
 }
 
+/* Interpolation error of a quad from its grid values G, as a vector measured by `norm`:
+ *   measured: the largest deviation of an edge midpoint from the mean of its edge's ends, or of
+ *             the centre from the mean of the corners (the bilinear interpolation there);
+ *   estimated (quarter (qx, qy) of G): e_int, |x_a - 2 x_b + x_c| / 8 along each of the
+ *             quarter's two horizontal grid lines (the larger) plus the same vertically. */
 static double grid_error(const lquad_t *q, const grid3_t *G,
                          double (*norm)(const void *, px_vec3_t), const void *ctx) {
   const px_vec3_t(*v)[3] = G->v;
