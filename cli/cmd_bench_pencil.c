@@ -180,7 +180,7 @@ static void print_table(const rt_scene_t *s, const args_t *a, const row_t *rows,
     const row_t *r = &rows[k];
     printf("%4d %-10s %9.4f %9.4f %7.3f ", r->spp, mode_name(r), r->t.exact_s, r->t.pencil_s,
            r->t.ratio);
-    if (r->measured)
+    if (r->measured && r->e.samples_with_points > 0)
       printf("%10.4f%% %9llu %10.4f %7.4f  ", 100.0 * r->e.fraction_within,
              (unsigned long long)over_rho(r), r->e.max_error, r->e.p99);
     else
@@ -223,7 +223,7 @@ static void json_row(FILE *f, const row_t *r) {
           "\"ratio\": %.6g, \"exact_wall_s\": %.6g, \"pencil_wall_s\": %.6g",
           r->spp, mode_name(r), r->t.exact_s, r->t.pencil_s, r->t.ratio, r->t.exact_wall,
           r->t.pencil_wall);
-  if (r->measured) {
+  if (r->measured && r->e.samples_with_points > 0) {
     const pt_stats_t *st = &r->e.stats;
     fprintf(f,
             ", \"samples\": %llu, \"samples_with_points\": %llu, \"fraction_within\": %.9g, "
@@ -236,7 +236,12 @@ static void json_row(FILE *f, const row_t *r) {
             (unsigned long long)st->samples[PT_METHOD_MATRIX],
             (unsigned long long)st->samples[PT_METHOD_INTERP]);
   } else {
-    fprintf(f, ", \"samples\": null, \"samples_with_points\": null, \"fraction_within\": null, "
+    if (r->measured) /* measured, but nothing compared: the error fields say nothing */
+      fprintf(f, ", \"samples\": %llu, \"samples_with_points\": 0",
+              (unsigned long long)r->e.samples);
+    else
+      fprintf(f, ", \"samples\": null, \"samples_with_points\": null");
+    fprintf(f, ", \"fraction_within\": null, "
                "\"samples_over_rho\": null, "
                "\"max_error\": null, \"p99\": null");
   }
