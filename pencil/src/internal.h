@@ -47,15 +47,19 @@ typedef struct {
  *  traced once per cell. Open addressing over `slot` (a slot is in use when its `gen` is the
  *  current one, so a new cell only bumps `now`). */
 typedef struct {
-  pt_geom_t *g;  /**< storage: cap points x the context's cap nodes */
-  double *xy;    /**< position of each stored point, 2 per point */
-  double *xi2;   /**< |xi|^2 of its primary ray */
-  uint8_t *ok;   /**< traced without leaving the cell's paths */
-  int n, cap;    /**< points stored / room (a full memo traces into the caller's storage) */
-  int32_t *slot; /**< hash table, nslot entries: index of a stored point */
-  uint32_t *gen; /**< generation of each slot */
-  uint32_t now;  /**< the current cell's generation */
-  int nslot;     /**< a power of two, at least 2 cap */
+  pt_geom_t *g;   /**< storage: `entries` node records, a point's nodes contiguous */
+  size_t entries; /**< node records in g */
+  int stride;     /**< records per point: the current cell's node count */
+  double *xy;     /**< position of each stored point, 2 per point */
+  double *xi2;    /**< |xi|^2 of its primary ray */
+  uint8_t *ok;    /**< traced without leaving the cell's paths */
+  int n, cap;     /**< points stored / room this cell (a full memo traces into the caller's
+                       storage) */
+  int maxpts;     /**< room in xy, xi2 and ok: cap is at most this */
+  int32_t *slot;  /**< hash table, nslot entries: index of a stored point */
+  uint32_t *gen;  /**< generation of each slot */
+  uint32_t now;   /**< the current cell's generation */
+  int nslot;      /**< a power of two, at least 2 maxpts */
 } pt_lmemo_t;
 
 /** Per-thread state; every buffer is allocated once before the screen loop. */

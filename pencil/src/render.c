@@ -67,16 +67,16 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
-  /* lattice memo: a 5 x 5 domain at 49 spp needs at most 33 x 33 points; 8 MiB at the most */
-  size_t per = (size_t)cap * sizeof(pt_geom_t), mcap = (size_t)8 << 20;
-  mcap = mcap / per < 2048 ? mcap / per : 2048;
-  if (mcap < 64)
-    mcap = 64;
+  /* lattice memo: a 5 x 5 domain at 49 spp needs at most 33 x 33 points; 8 MiB of node records
+   * (at least one whole tree), a point taking as many as its cell's tree has nodes */
+  size_t mcap = 2048, entries = ((size_t)8 << 20) / sizeof(pt_geom_t);
+  if (entries < (size_t)cap)
+    entries = (size_t)cap;
   size_t nslot = 1;
   while (nslot < 2 * mcap)
     nslot *= 2;
-  C->memo = (pt_lmemo_t){.cap = (int)mcap, .nslot = (int)nslot};
-  C->memo.g = malloc(mcap * per);
+  C->memo = (pt_lmemo_t){.entries = entries, .maxpts = (int)mcap, .nslot = (int)nslot};
+  C->memo.g = malloc(entries * sizeof(pt_geom_t));
   C->memo.xy = malloc(2 * mcap * sizeof *C->memo.xy);
   C->memo.xi2 = malloc(mcap * sizeof *C->memo.xi2);
   C->memo.ok = malloc(mcap);
