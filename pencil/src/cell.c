@@ -40,16 +40,13 @@ static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
 
 /* Step 4a for an accepted cell. */
 static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
-  /* shadow transmittance once per cell, at the axial ray's nodes */
-  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .record_shadow = 1};
-  E.primary = *axial;
-  pt__eval(&E);
   C->kt = rt_tree_follow(&C->tree, RT_RAY_REFRACT);
   C->kr = rt_tree_follow(&C->tree, RT_RAY_REFLECT);
-  if (interpolating(C)) {
+  if (interpolating(C)) { /* its root lattice point at the centre records the shadows */
     pt__interp_cell(C, x0, y0, x1, y1);
     return;
   }
+  pt__record_shadows(C, axial);
   C->st.matrix_samples[0] +=
       (uint64_t)((x1 - x0) * (y1 - y0) * C->opt->spp_side * C->opt->spp_side);
   for (int j = y0; j < y1; j++)

@@ -179,6 +179,10 @@ double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec
 void pt__geometry(pt_ctx_t *C, pt_eval_t *E);
 /** Write a finished pixel. */
 void pt__pixel_done(pt_ctx_t *C, pixel_t *P);
+/** Step 4a's shadow transmittance once per cell: the axial ray through the cell's paths, tracing
+ *  the shadow rays of the lights whose visibility agrees over the cell and storing them in the
+ *  nodes (known_cb answers them for every other evaluation of the cell). */
+void pt__record_shadows(pt_ctx_t *C, const rt_ray_t *axial);
 /** The primary ray and xi of continuous pixel coordinates (x, y) into E. */
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y);
 /** Sample (a, b) of pixel P through the cell's paths (MATRIX evaluation). */

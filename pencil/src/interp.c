@@ -660,7 +660,7 @@ static int memo_slot(const pt_lmemo_t *M, double x, double y) {
  * neighbouring quad traced it already (the evaluation depends on nothing but the position and the
  * cell's paths, so it is the same point); otherwise it is traced into the memo, or into g (cap
  * nodes) when the memo is full. */
-static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g) {
+static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow) {
   pt_lmemo_t *M = &C->memo;
   int s = memo_slot(M, x, y);
   if (M->gen[s] == M->now && C->opt->memo) {
@@ -671,7 +671,12 @@ static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g) {
   int i = M->n < M->cap ? M->n++ : -1;
   if (i >= 0)
     g = M->g + (size_t)i * (size_t)M->stride;
-  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = g, .lattice = 1};
+  pt_eval_t E = {.C = C,
+                 .mode = PT_EV_MATRIX,
+                 .shade = 1,
+                 .rec = g,
+                 .lattice = 1,
+                 .record_shadow = record_shadow};
   pt__xi_of(C, &E, x, y);
   pt__eval(&E);
   C->st.lattice_points++;
@@ -1062,7 +1067,7 @@ static void measure(pt_ctx_t *C, lquad_t *q, int level) {
   for (int m = 0; m < 5; m++) {
     int r = at[m][0], c = at[m][1];
     q->g[r][c] = trace_point(C, q->x0 + 0.5 * c * q->w, q->y0 + 0.5 * r * q->h,
-                             pool + (size_t)m * (size_t)C->cap);
+                             pool + (size_t)m * (size_t)C->cap, 0);
   }
   q->measured = 1;
 }
@@ -1128,12 +1133,17 @@ void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   q.w = x1 - x0;
   q.h = y1 - y0;
   if (quad_samples(C, &q) < 2.0 * 9.0) { /* a 3 x 3 grid would cost more than the samples */
+    rt_ray_t axial = rt_view_ray(C->view, 0.5 * (x0 + x1), 0.5 * (y0 + y1), C->s->ior);
+    pt__record_shadows(C, &axial);
     quad_emit(C, &A, &q, NULL, WHY_OFF);
   } else {
+    /* the grid's centre is the cell's axial ray: traced first, it records the cell's shadow
+     * transmittances (pt__record_shadows) and is then found in the memo */
+    trace_point(C, x0 + 0.5 * q.w, y0 + 0.5 * q.h, C->lat + (size_t)4 * (size_t)C->cap, 1);
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++)
         q.g[r][c] = trace_point(C, x0 + 0.5 * c * q.w, y0 + 0.5 * r * q.h,
-                                C->lat + (size_t)(3 * r + c) * (size_t)C->cap);
+                                C->lat + (size_t)(3 * r + c) * (size_t)C->cap, 0);
     q.measured = 1;
     quad_process(C, &A, &q, 0);
   }

@@ -123,6 +123,12 @@ void pt__pixel_done(pt_ctx_t *C, pixel_t *P) {
   pt__write_pixel(C, P->i, P->j, P->sum, m, P->pmax, P->rays);
 }
 
+void pt__record_shadows(pt_ctx_t *C, const rt_ray_t *axial) {
+  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .record_shadow = 1};
+  E.primary = *axial;
+  pt__eval(&E);
+}
+
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->primary = rt_view_ray(C->view, x, y, C->s->ior);
   E->xi[0] = v3_dot(C->frame.x1, E->primary.d);
