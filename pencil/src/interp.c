@@ -659,7 +659,8 @@ static int memo_slot(const pt_lmemo_t *M, double x, double y) {
 /* The lattice point at (x, y) traced through the paths: the cell's memo holds it when a
  * neighbouring quad traced it already (the evaluation depends on nothing but the position and the
  * cell's paths, so it is the same point); otherwise it is traced into the memo, or into g (cap
- * nodes) when the memo is full. */
+ * nodes) when the memo is full. record_shadow: the point is the cell's axial ray, whose evaluation
+ * also records the cell's shadow transmittances (pt__record_shadows). */
 static point_t trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow) {
   pt_lmemo_t *M = &C->memo;
   int s = memo_slot(M, x, y);
