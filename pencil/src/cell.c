@@ -43,7 +43,7 @@ static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ra
   C->kt = rt_tree_follow(&C->tree, RT_RAY_REFRACT);
   C->kr = rt_tree_follow(&C->tree, RT_RAY_REFLECT);
   if (interpolating(C)) { /* its root lattice point at the centre records the shadows */
-    pt__interp_cell(C, x0, y0, x1, y1);
+    pt__interp_cell(C, x0, y0, x1, y1, axial);
     return;
   }
   pt__record_shadows(C, axial);

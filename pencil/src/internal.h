@@ -193,8 +193,9 @@ void pt__aux_matrix(pt_ctx_t *C, int i, int j);
 void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
 
 /* interp.c */
-/** Step 4a with ray interpolation for the accepted cell [x0, x1) x [y0, y1). */
-void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+/** Step 4a with ray interpolation for the accepted cell [x0, x1) x [y0, y1) whose axial ray (its
+ *  centre's) is `axial`. */
+void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
 
 /** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h), tracing it exactly:
  *  e[0] the largest over its measured points (pt_surface_measured) in pixels (|J+ e|), e[1]

@@ -1121,7 +1121,7 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
     quad_emit(C, A, q, NULL, why);
 }
 
-void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
+void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
   cellacc_t A = {x0, y0, x1, y1, C->acc};
   memo_reset(&C->memo, C->nnode);
   for (int j = y0; j < y1; j++)
@@ -1134,8 +1134,7 @@ void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   q.w = x1 - x0;
   q.h = y1 - y0;
   if (quad_samples(C, &q) < 2.0 * 9.0) { /* a 3 x 3 grid would cost more than the samples */
-    rt_ray_t axial = rt_view_ray(C->view, 0.5 * (x0 + x1), 0.5 * (y0 + y1), C->s->ior);
-    pt__record_shadows(C, &axial);
+    pt__record_shadows(C, axial);
     quad_emit(C, &A, &q, NULL, WHY_OFF);
   } else {
     /* the grid's centre is the cell's axial ray: traced first, it records the cell's shadow
