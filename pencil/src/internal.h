@@ -100,6 +100,8 @@ typedef struct {
   uint8_t *own;         /**< per-quad plan: nodes traced per sample by matrix or path (cap) */
   uint8_t *q2;          /**< per-quad plan: nodes whose hits are interpolated biquadratically
                              from the quad's 3 x 3 grid (cap) */
+  uint8_t *faint;       /**< per-quad plan: nodes whose shading is interpolated across a shadow
+                             edge, their brightness being within a bound (interp.c) (cap) */
   pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
   pt_lmemo_t memo;      /**< the current cell's lattice points by position (interp.c) */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */

@@ -24,7 +24,8 @@
  * square at the four corners, every light's visibility agreeing over the cell; a textured leaf
  * whose square changes across the quad takes the brightness of the sample's square's material).
  * Other nodes (a shadow edge, subtrees traced exactly) are shaded per sample at their
- * interpolated hits. When nothing is shaded per sample and every sample of a pixel lies in one
+ * interpolated hits, except a faint node, whose whole brightness is within a share of the
+ * tolerance and is interpolated across its shadow edge (faint_bound). When nothing is shaded per sample and every sample of a pixel lies in one
  * checker square on each textured leaf, the pixel's sum over its samples is the bilinear form
  * with the summed weights: the same sum, computed without visiting each sample. A quad too small
  * to be worth cutting (fewer samples than the points a cut would trace) sends its samples
@@ -66,6 +67,7 @@ typedef struct {
   int nown;                /* nodes too curved to interpolate over the quad: traced per sample
                               by their matrices (or along their paths), C->own */
   int nq2;                 /* nodes whose hits are interpolated biquadratically, C->q2 */
+  int nfaint;              /* nodes interpolated across a shadow edge (faint_bound) */
   double own_cost;         /* node evaluations per sample: own nodes, nodes shaded per sample,
                               subtrees traced exactly (about 2 rays each) */
 } plan_t;
@@ -295,6 +297,43 @@ static int shadow_guarded(const pt_ctx_t *C, const point_t (*R)[3], int k) {
   return 0;
 }
 
+/* Share of the brightness tolerance that faint nodes (below) may take together. */
+#define PT_FAINT_SHARE 0.5
+
+/* A bound on node k's brightness W_k direct_k over quad q, whatever hides the lights from part
+ * of it. rt_shade_direct() adds to the ambient term ka Ia color, for each light, at most
+ * I_l (kd color + ks): the cosine, the transmittance and the Phong factor are at most 1, and
+ * lights have no fall-off. W_k is taken at its largest over the grid plus its interpolation
+ * error there (its largest between the points). Such a node's brightness at a sample, and its
+ * bilinear interpolation from the quad's corners, both lie between 0 and this bound: a node
+ * faint enough (a board seen after several internal reflections in the glass ball, W_k about
+ * 5e-4) may be interpolated across a shadow edge, its error counted against the brightness
+ * tolerance, instead of being shaded per sample with a shadow ray. */
+static double faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3], int k) {
+  const rt_scene_t *s = C->s;
+  const pt_node_t *n = &C->node[k];
+  const rt_object_t *o = &s->object[n->object];
+  grid3_t w;
+  double wmax = 0.0;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      w.v[r][c] = rgb_vec(R[r][c].g[k].w);
+      wmax = fmax(wmax, norm_rgb(NULL, w.v[r][c]));
+    }
+  wmax += grid_error(q, &w, norm_rgb, NULL);
+  int spec = rt_plan_has(C->plan, RT_EFFECT_SPECULAR);
+  double dmax = 0.0;
+  for (int m = 0; m < (n->textured ? 2 : 1); m++) {
+    const rt_material_t *mt = &s->material[m ? o->material2 : o->material];
+    double d = mt->ka * norm_rgb(NULL, rgb_vec(rt_rgb_mul(s->ambient, mt->color)));
+    for (int l = 0; l < s->nlight; l++)
+      d += norm_rgb(NULL, rgb_vec(s->light[l].intensity)) *
+           (mt->kd * norm_rgb(NULL, rgb_vec(mt->color)) + (spec ? mt->ks : 0.0));
+    dmax = fmax(dmax, d);
+  }
+  return wmax * dmax;
+}
+
 /* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
  * what failed. It stops as soon as the per-sample work exceeds what own_pays() allows (the
  * caller cuts such a quad, when it can be cut). */
@@ -316,16 +355,18 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
   memset(&sm, 0, sizeof sm);
   t0 = t1 = sm;
-  pl->n = pl->nt = pl->nown = pl->nq2 = 0;
+  pl->n = pl->nt = pl->nown = pl->nq2 = pl->nfaint = 0;
   pl->own_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
   memset(C->own, 0, (size_t)C->nnode);
   memset(C->q2, 0, (size_t)C->nnode);
+  memset(C->faint, 0, (size_t)C->nnode);
   /* a verify node (below an edge the corners saw) that some grid point did not confirm is traced
    * exactly per sample in this quad, with its subtree */
   uint8_t *xsub = C->xsub;
   int *sml = C->lsm, nsm = 0; /* the linear nodes summed in sm */
+  double faint = 0.0;         /* the faint nodes' bounds, summed */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
     xsub[k] = n->parent >= 0 && xsub[n->parent];
@@ -349,7 +390,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
       return 0;
     }
     const pt_node_t *n = &C->node[k];
-    int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0;
+    int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0, is_faint = 0;
     if (!n->miss) {
       grid3_t p;
       for (int r = 0; r < 3; r++)
@@ -397,6 +438,17 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
        * not where the small-object guard saw a shadow that may fall between them */
       smooth = !own && (n->light_agree == ~0u || same_visibility(R, k)) &&
                !(n->light_guard && shadow_guarded(C, R, k));
+      /* a shadow edge on a faint node: interpolated, its bound counted against the tolerance
+       * (a textured node whose square changes over the quad only as a leaf, as below) */
+      if (!own && !smooth && (squares || n->child[0] < 0)) {
+        double b = faint_bound(C, q, R, k);
+        if (faint + b <= PT_FAINT_SHARE * ltol) {
+          faint += b;
+          smooth = is_faint = 1;
+          C->faint[k] = 1;
+          pl->nfaint++;
+        }
+      }
       for (int c = 0; c < 2; c++)
         exact_children |=
             n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT || xsub[n->child[c]]);
@@ -411,18 +463,20 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
         pl->kt[pl->nt++] = k;
         smooth = 0;
         leaf_texture = 1;
-        for (int r = 0; r < 3; r++)
+        for (int r = 0; r < 3 && !is_faint; r++) /* a faint leaf's error is its bound */
           for (int c = 0; c < 3; c++) {
             t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[k].lt[0]));
             t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[k].lt[1]));
           }
       }
     }
-    if (smooth) {
+    if (smooth && !is_faint) { /* the test below: a faint node's error is its bound */
       sml[nsm++] = k;
       for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
           sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[k].l));
+    }
+    if (smooth) {
       for (int i = 0; i < 4; i++)
         pl->smooth[i] = rt_rgb_add(pl->smooth[i], corner_of(q, i)->g[k].l);
     }
@@ -447,7 +501,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   double el = grid_error(q, &sm, norm_rgb, NULL);
   if (pl->nt)
     el += fmax(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
-  while (el > ltol) {
+  while (el + faint > ltol) {
     /* not linear: the node whose own brightness is least linear is shaded per sample at its
      * interpolated hit (as at a shadow edge), while the rest is interpolated; the caller
      * weighs that per-sample work against cutting the quad (own_pays) */
@@ -464,6 +518,8 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
     }
     for (int m = 0; m < pl->nt; m++) {
       grid3_t b0, b1;
+      if (C->faint[pl->kt[m]])
+        continue;
       for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) {
           b0.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[0]);
@@ -1030,6 +1086,7 @@ static void quad_emit(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, const p
   if (pl)
     qctx_make(C, q, pl, &Q);
   C->st.biquad_cells += (uint64_t)(pl && pl->nq2);
+  C->st.faint_cells += (uint64_t)(pl && pl->nfaint);
   for (int j = gy0 / s; j <= (gy1 - 1) / s; j++)
     for (int i = gx0 / s; i <= (gx1 - 1) / s; i++) {
       int a0 = gx0 - i * s, a1 = gx1 - i * s, b0 = gy0 - j * s, b1 = gy1 - j * s;

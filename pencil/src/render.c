@@ -31,6 +31,7 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->xsub);
   free(C->own);
   free(C->q2);
+  free(C->faint);
   free(C->rec);
   free(C->xg);
   free(C->ref);
@@ -64,6 +65,7 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->xsub = calloc((size_t)cap, 1);
   C->own = calloc((size_t)cap, 1);
   C->q2 = calloc((size_t)cap, 1);
+  C->faint = calloc((size_t)cap, 1);
   C->rec = calloc((size_t)cap, sizeof *C->rec);
   C->xg = calloc((size_t)cap, sizeof *C->xg);
   C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
@@ -84,7 +86,7 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->memo.gen = calloc(nslot, sizeof *C->memo.gen);
   if (!C->tree.node || !C->tree2.node || !C->corner || !cn || !C->node || !C->lat || !C->acc ||
       !C->rec || !C->xg || !C->ref || !C->map || !C->agree || !C->light || !C->loc || !C->locd ||
-      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own || !C->q2 || !C->memo.g ||
+      !C->loce || !C->loct || !C->lsm || !C->xsub || !C->own || !C->q2 || !C->faint || !C->memo.g ||
       !C->memo.xy || !C->memo.xi2 || !C->memo.ok || !C->memo.slot || !C->memo.gen) {
     C->corner_nodes = cn;
     return 0;
@@ -142,6 +144,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->lattice_points += b->lattice_points;
   a->lattice_reused += b->lattice_reused;
   a->biquad_cells += b->biquad_cells;
+  a->faint_cells += b->faint_cells;
   a->measured += b->measured;
   a->with_points += b->with_points;
   a->within += b->within;

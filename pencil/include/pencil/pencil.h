@@ -119,6 +119,9 @@ typedef struct {
                                    its neighbour's): taken from the cell's memo, not traced */
   uint64_t biquad_cells;      /**< lattice cells where some node's hits were interpolated
                                    biquadratically (bilinear was not accurate enough) */
+  uint64_t faint_cells;       /**< lattice cells where some node's shading was interpolated
+                                   across a shadow edge, its whole light term being within a
+                                   share of the brightness tolerance (interp.c) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
