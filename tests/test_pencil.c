@@ -9,6 +9,7 @@
 #include "bound.h"
 #include "cmocka_main.h"
 #include "exact/trace.h"
+#include "internal.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"
 #include "pencil/pencil.h"
@@ -836,6 +837,19 @@ static void faint_shadow_edges_interpolated(void **state) {
   }
 }
 
+/* pt_max (internal.h), the lattice's error maximum: the larger operand, and NaN when either
+ * is NaN (fmax would drop it), so that an error computed as NaN is rejected, not accepted. */
+static void error_maximum_keeps_nan(void **state) {
+  (void)state;
+  assert_true(pt_max(1.0, 2.0) == 2.0);
+  assert_true(pt_max(2.0, 1.0) == 2.0);
+  assert_true(pt_max(-1.0, INFINITY) == INFINITY);
+  assert_true(isnan(pt_max(NAN, 1.0)));
+  assert_true(isnan(pt_max(1.0, NAN)));
+  assert_true(isnan(pt_max(pt_max(0.0, NAN), 3.0)));
+  assert_false(pt_max(NAN, 0.0) <= 0.5); /* a test written as e <= tol rejects it */
+}
+
 /* Which surfaces the Fig. 10 measure compares (pt_surface_measured): those with a diffuse term.
  * In Fig. 8 that is the checkerboard alone, the paper's surface (the glass has kd = 0). A plane
  * without a texture under the glass ball is measured too, so that a scene without a checkerboard
@@ -982,6 +996,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(guard_catches_objects_seen_in_mirrors),
       cmocka_unit_test(guard_catches_small_shadows),
       cmocka_unit_test(faint_shadow_edges_interpolated),
+      cmocka_unit_test(error_maximum_keeps_nan),
       cmocka_unit_test(subdivision_only_at_edges),
       cmocka_unit_test(interpolation_error_on_board),
       cmocka_unit_test(biquadratic_cells_stay_within_rho),

@@ -149,7 +149,7 @@ static double biquad_deviation(const lquad_t *q, const pt_node_t *n, int k) {
     px_vec3_t b = {0, 0, 0};
     for (int i = 0; i < 9; i++)
       b = v3_axpy(w[i], q->pg[i / 3][i % 3].g[k].p, b);
-    d = fmax(d, pt_pixels(n, v3_sub(q->g[at[m][0]][at[m][1]].g[k].p, b)));
+    d = pt_max(d, pt_pixels(n, v3_sub(q->g[at[m][0]][at[m][1]].g[k].p, b)));
   }
   return d;
 }
@@ -199,13 +199,13 @@ static double grid_error(const lquad_t *q, const grid3_t *G,
   if (q->measured) {
     double d[5];
     grid_deviations(G, norm, ctx, d);
-    return fmax(fmax(fmax(d[0], d[1]), fmax(d[2], d[3])), d[4]);
+    return pt_max(pt_max(pt_max(d[0], d[1]), pt_max(d[2], d[3])), d[4]);
   }
   double ex = 0.0, ey = 0.0;
   for (int e = 0; e < 2; e++) {
     int r = q->qy + e, c = q->qx + e;
-    ex = fmax(ex, norm(ctx, v3_add(v3_sub(v[r][0], v3_scale(v[r][1], 2.0)), v[r][2])));
-    ey = fmax(ey, norm(ctx, v3_add(v3_sub(v[0][c], v3_scale(v[1][c], 2.0)), v[2][c])));
+    ex = pt_max(ex, norm(ctx, v3_add(v3_sub(v[r][0], v3_scale(v[r][1], 2.0)), v[r][2])));
+    ey = pt_max(ey, norm(ctx, v3_add(v3_sub(v[0][c], v3_scale(v[1][c], 2.0)), v[2][c])));
   }
   return (ex + ey) / 8.0;
 }
@@ -236,7 +236,7 @@ static double bilinear_bound_at_samples(const pt_ctx_t *C, const lquad_t *q, con
     for (int gx = gx0; gx < gx1; gx++) {
       double lu[3];
       lagrange3(((gx + 0.5) / s - q->x0) / q->w, lu);
-      worst = fmax(worst, fabs(lu[1]) * row + col * (dl * fabs(lu[0]) + dr * fabs(lu[2])));
+      worst = pt_max(worst, fabs(lu[1]) * row + col * (dl * fabs(lu[0]) + dr * fabs(lu[2])));
     }
   }
   return worst;
@@ -244,7 +244,7 @@ static double bilinear_bound_at_samples(const pt_ctx_t *C, const lquad_t *q, con
 
 static double norm_rgb(const void *unused, px_vec3_t e) {
   (void)unused;
-  return fmax(fabs(e.x), fmax(fabs(e.y), fabs(e.z)));
+  return pt_max(fabs(e.x), pt_max(fabs(e.y), fabs(e.z)));
 }
 
 static px_vec3_t rgb_vec(rt_rgb_t c) {
@@ -318,7 +318,7 @@ static double faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++) {
       w.v[r][c] = rgb_vec(R[r][c].g[k].w);
-      wmax = fmax(wmax, norm_rgb(NULL, w.v[r][c]));
+      wmax = pt_max(wmax, norm_rgb(NULL, w.v[r][c]));
     }
   wmax += grid_error(q, &w, norm_rgb, NULL);
   int spec = rt_plan_has(C->plan, RT_EFFECT_SPECULAR);
@@ -329,7 +329,7 @@ static double faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R
     for (int l = 0; l < s->nlight; l++)
       d += norm_rgb(NULL, rgb_vec(s->light[l].intensity)) *
            (mt->kd * norm_rgb(NULL, rgb_vec(mt->color)) + (spec ? mt->ks : 0.0));
-    dmax = fmax(dmax, d);
+    dmax = pt_max(dmax, d);
   }
   return wmax * dmax;
 }
@@ -351,7 +351,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   double ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
   double xi2 = 0.0;
   for (int i = 0; i < 4; i++)
-    xi2 = fmax(xi2, corner_of(q, i)->xi2);
+    xi2 = pt_max(xi2, corner_of(q, i)->xi2);
   grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
   memset(&sm, 0, sizeof sm);
   t0 = t1 = sm;
@@ -397,13 +397,13 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
         for (int c = 0; c < 3; c++)
           p.v[r][c] = R[r][c].g[k].p;
       double e_mat =
-          n->pencil == PT_NODE_PATH ? 0.0 : fmax(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+          n->pencil == PT_NODE_PATH ? 0.0 : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
       /* too curved to interpolate here: this node is traced per sample (the caller decides
        * whether that is cheaper than cutting the quad) */
       double eg = grid_error(q, &p, norm_pixels, n);
-      own = (cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat > rho;
+      own = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: own */
       if (own && cert && q->measured && eg + e_mat <= rho) /* the bound at the samples */
-        own = bilinear_bound_at_samples(C, q, &p, n) + e_mat > rho;
+        own = !(bilinear_bound_at_samples(C, q, &p, n) + e_mat <= rho);
       /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is
        * then found per sample) */
       /* (certified: the parent's biquadratic itself, over this quarter, where its deviation
@@ -500,8 +500,8 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   /* brightness: is it linear over the quad? */
   double el = grid_error(q, &sm, norm_rgb, NULL);
   if (pl->nt)
-    el += fmax(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
-  while (el + faint > ltol) {
+    el += pt_max(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
+  while (!(el + faint <= ltol)) { /* (a NaN error is never accepted) */
     /* not linear: the node whose own brightness is least linear is shaded per sample at its
      * interpolated hit (as at a shadow edge), while the rest is interpolated; the caller
      * weighs that per-sample work against cutting the quad (own_pays) */
@@ -525,7 +525,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
           b0.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[0]);
           b1.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[1]);
         }
-      double e = fmax(grid_error(q, &b0, norm_rgb, NULL), grid_error(q, &b1, norm_rgb, NULL));
+      double e = pt_max(grid_error(q, &b0, norm_rgb, NULL), grid_error(q, &b1, norm_rgb, NULL));
       if (e > eb)
         eb = e, best = m, best_leaf = 1;
     }
@@ -569,7 +569,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
         }
     el = grid_error(q, &sm, norm_rgb, NULL);
     if (pl->nt)
-      el += fmax(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
+      el += pt_max(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
   }
   return 1;
 }
@@ -842,8 +842,8 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
       double cu = 0.0, cv = 0.0;
       const double(*g)[2] = Q->uv[m];
       for (int r = 0; r < 3; r++) {
-        cu = fmax(cu, fabs(4.0 * (g[3 * r][t] - 2.0 * g[3 * r + 1][t] + g[3 * r + 2][t])));
-        cv = fmax(cv, fabs(4.0 * (g[r][t] - 2.0 * g[3 + r][t] + g[6 + r][t])));
+        cu = pt_max(cu, fabs(4.0 * (g[3 * r][t] - 2.0 * g[3 * r + 1][t] + g[3 * r + 2][t])));
+        cv = pt_max(cv, fabs(4.0 * (g[r][t] - 2.0 * g[3 + r][t] + g[6 + r][t])));
       }
       Q->curv[m][t][0] = 1.25 * cu;
       Q->curv[m][t][1] = 1.25 * cv;
