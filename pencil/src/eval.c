@@ -82,8 +82,8 @@ static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, int32_t *su, i
   const rt_plane_t *pl = &s->prim[prim].plane;
   double u, v;
   rt_plane_coords(pl, p, &u, &v);
-  *su = (int32_t)floor(u / pl->check);
-  *sv = (int32_t)floor(v / pl->check);
+  *su = (int32_t)floor(u * pl->inv_check); /* as rt__scene_checker_at() */
+  *sv = (int32_t)floor(v * pl->inv_check);
 }
 
 static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,

@@ -600,7 +600,7 @@ static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
   const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
   double u, v;
   rt_plane_coords(pl0, p, &u, &v);
-  return (int)fmod(fabs(floor(u / pl0->check) + floor(v / pl0->check)), 2.0);
+  return (int)fmod(fabs(floor(u * pl0->inv_check) + floor(v * pl0->inv_check)), 2.0);
 }
 
 /* The nodes of an interpolated sample with weights w that are shaded per sample. */
@@ -834,8 +834,8 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
     for (int i = 0; i < (q2 ? 9 : 4); i++) {
       px_vec3_t p = q2 ? Q->E.g9[i][k].p : Q->E.g[i][k].p;
       rt_plane_coords(bp, p, &Q->uv[m][i][0], &Q->uv[m][i][1]);
-      Q->uv[m][i][0] /= bp->check;
-      Q->uv[m][i][1] /= bp->check;
+      Q->uv[m][i][0] *= bp->inv_check;
+      Q->uv[m][i][1] *= bp->inv_check;
     }
     for (int t = 0; t < 2 && q2; t++) { /* second differences of the grid; 1.25 bounds the sum
                                            of |Lagrange weights| of three nodes on [0, 1] */

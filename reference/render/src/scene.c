@@ -170,7 +170,7 @@ rt_status_t rt_scene_add_plane(rt_scene_t *s, px_vec3_t p, px_vec3_t n, px_vec3_
   s->object[o].material2 = material2 < 0 ? -1 : material2;
   rt_prim_t *pr = &s->prim[s->object[o].first_prim];
   pr->kind = RT_PRIM_PLANE;
-  pr->plane = (rt_plane_t){p, nu, f.x2, px_vec3_cross(nu, f.x2), check};
+  pr->plane = (rt_plane_t){p, nu, f.x2, px_vec3_cross(nu, f.x2), check, 1.0 / check};
   if (object)
     *object = o;
   return RT_OK;
@@ -212,7 +212,7 @@ const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t
   const rt_plane_t *pl = &s->prim[prim].plane;
   double u, v;
   rt_plane_coords(pl, p, &u, &v);
-  int parity = checker_parity(floor(u / pl->check) + floor(v / pl->check));
+  int parity = checker_parity(floor(u * pl->inv_check) + floor(v * pl->inv_check));
   if (texel)
     *texel = parity;
   return &s->material[parity == 1 ? o->material2 : o->material];
