@@ -340,6 +340,8 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
 }
 
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children) {
+  if (E->C->node[k].miss) /* the sky: no surface to shade (and no children) */
+    return direct ? rt_rgb_mul(w, E->C->s->background) : rt_rgb(0, 0, 0);
   px_vec3_t hit, d;
   if (!node_geometry(E, k, NULL, &hit, &d)) { /* only an own node's ray can leave its path */
     E->ownfail = 1;

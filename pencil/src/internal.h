@@ -106,6 +106,9 @@ typedef struct {
   pt_lmemo_t memo;      /**< the current cell's lattice points by position (interp.c) */
   pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
   pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
+  int vary_w;           /**< the weights W_k vary with the hits (a Fresnel split): a lattice
+                             cell's nodes shaded per sample count the error of their interpolated
+                             W_k (interp.c) */
   uint32_t stamp;       /**< evaluation counter for xg */
   pt_stats_t st;
 } pt_ctx_t;
@@ -157,9 +160,9 @@ typedef struct {
 /** Radiance of the sample (black when shade = 0). */
 rt_rgb_t pt__eval(pt_eval_t *E);
 
-/** INTERP mode, one node of one sample: with `direct`, W * direct at node k's interpolated hit;
- *  with `exact_children`, plus the weighted radiance of those of its children that are traced
- *  exactly (children the corners' trees disagree on). */
+/** INTERP mode, one node of one sample: with `direct`, W * direct at node k's interpolated hit
+ *  (a miss node: W * background); with `exact_children`, plus the weighted radiance of those of
+ *  its children that are traced exactly (children the corners' trees disagree on). */
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children);
 
 /** xi of the primary ray through continuous pixel coordinates (x, y) in the cell frame. */

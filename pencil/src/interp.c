@@ -334,6 +334,33 @@ static double faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R
   return wmax * dmax;
 }
 
+/* With a Fresnel split (C->vary_w) a node's weight W_k varies over the quad, and a node shaded
+ * per sample takes the bilinear interpolation of the corners' W_k: its error is W_k's own
+ * interpolation error times the node's unweighted brightness (direct_k, both materials of a
+ * checkerboard; a miss node's background), at most. Without it W_k is constant over a quad
+ * whose points reached the same nodes, and this is 0. (The children a node traces exactly per
+ * sample take that W_k too; their error is not counted.) */
+static double weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3], int k) {
+  if (!C->vary_w)
+    return 0.0;
+  grid3_t w;
+  double dmax = 0.0;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      const pt_geom_t *g = &R[r][c].g[k];
+      w.v[r][c] = rgb_vec(g->w);
+      const double wc[3] = {g->w.r, g->w.g, g->w.b};
+      const rt_rgb_t *ls[3] = {&g->l, &g->lt[0], &g->lt[1]};
+      for (int i = 0; i < (C->node[k].textured ? 3 : 1); i++) {
+        const double lc[3] = {ls[i]->r, ls[i]->g, ls[i]->b};
+        for (int ch = 0; ch < 3; ch++)
+          if (wc[ch] > 0.0)
+            dmax = pt_max(dmax, fabs(lc[ch]) / wc[ch]);
+      }
+    }
+  return grid_error(q, &w, norm_rgb, NULL) * dmax;
+}
+
 /* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
  * what failed. It stops as soon as the per-sample work exceeds what own_pays() allows (the
  * caller cuts such a quad, when it can be cut). */
@@ -367,6 +394,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   uint8_t *xsub = C->xsub;
   int *sml = C->lsm, nsm = 0; /* the linear nodes summed in sm */
   double faint = 0.0;         /* the faint nodes' bounds, summed */
+  double werr = 0.0;          /* the weight errors of the nodes shaded per sample, summed */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
     xsub[k] = n->parent >= 0 && xsub[n->parent];
@@ -495,13 +523,15 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
       pl->k[pl->n] = k;
       pl->direct[pl->n] = (uint8_t)(!smooth && !leaf_texture);
       pl->exact[pl->n++] = (uint8_t)exact_children;
+      if (!smooth && !leaf_texture)
+        werr += weight_error(C, q, R, k);
     }
   }
   /* brightness: is it linear over the quad? */
   double el = grid_error(q, &sm, norm_rgb, NULL);
   if (pl->nt)
     el += pt_max(grid_error(q, &t0, norm_rgb, NULL), grid_error(q, &t1, norm_rgb, NULL));
-  while (!(el + faint <= ltol)) { /* (a NaN error is never accepted) */
+  while (!(el + faint + werr <= ltol)) { /* (a NaN error is never accepted) */
     /* not linear: the node whose own brightness is least linear is shaded per sample at its
      * interpolated hit (as at a shadow edge), while the rest is interpolated; the caller
      * weighs that per-sample work against cutting the quad (own_pays) */
@@ -550,6 +580,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
     }
     pl->direct[m] = 1;
     pl->own_cost += 1.0;
+    werr += weight_error(C, q, R, k);
     if (!own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
       *why = WHY_ERROR;
       return 0;

@@ -189,6 +189,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
                         .sample_error = sample_error,
                         .guard = guard,
                         .nguard = nguard,
+                        .vary_w = rt_plan_has(plan, RT_EFFECT_FRESNEL),
                         .ex = rt_exact_make(s, plan, NULL)};
     if (!ctx_alloc(&ctx[t], plan->tree_nodes, n))
       st = RT_ENOMEM;
