@@ -219,7 +219,20 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
                          rt_rgb_t w, int only_exact) {
   const pt_node_t *n = &E->C->node[k];
   rt_child_t ch[2];
-  int nc = rt_shade_children(E->C->s, E->C->plan, sf, ray, n->depth, ch);
+  int nc = -1;
+  if (only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
+    /* both children are in the cell's tree, so the sample cannot have one it lacks: when only
+     * one of them is traced exactly, only that one is built (the other is interpolated) */
+    int exact[2];
+    for (int c = 0; c < 2; c++)
+      exact[c] =
+          E->C->node[n->child[c]].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[n->child[c]]);
+    if (exact[0] != exact[1])
+      nc = rt_shade_child(E->C->s, E->C->plan, sf, ray, n->depth,
+                          (rt_ray_kind_t)n->child_kind[exact[0] ? 0 : 1], &ch[0]);
+  }
+  if (nc < 0)
+    nc = rt_shade_children(E->C->s, E->C->plan, sf, ray, n->depth, ch);
   rt_rgb_t sum = rt_rgb(0, 0, 0);
   for (int i = 0; i < nc; i++) {
     rt_rgb_t wc = rt_rgb_mul(w, ch[i].weight);
