@@ -372,6 +372,16 @@ static void guard_catches_small_objects(void **state) {
   rt_scene_free(&s);
 }
 
+/* The exact renderer's image of s at side x side samples per pixel, into e (allocated here). */
+static void render_exact(const rt_scene_t *s, int side, int threads, rt_image_t *e) {
+  rt_plan_t plan = rt_plan_make(s, side * side);
+  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
+  eo.spp_side = side;
+  eo.threads = threads;
+  assert_int_equal(rt_image_alloc(e, s->camera.width, s->camera.height), RT_OK);
+  assert_int_equal(rt_render(s, &plan, &eo, e, NULL), RT_OK);
+}
+
 static void render_pencil(const rt_scene_t *s, int side, int threads, const pt_options_t *base,
                           rt_image_t *img, pt_extra_t *x, pt_stats_t *st) {
   rt_plan_t plan = rt_plan_make(s, side * side);
@@ -471,13 +481,8 @@ typedef struct {
 
 static board_diff_t board_difference(const rt_scene_t *s, const rt_image_t *p, int side) {
   int w = s->camera.width, h = s->camera.height;
-  rt_plan_t plan = rt_plan_make(s, side * side);
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = side;
-  eo.threads = 1;
   rt_image_t e;
-  assert_int_equal(rt_image_alloc(&e, w, h), RT_OK);
-  assert_int_equal(rt_render(s, &plan, &eo, &e, NULL), RT_OK);
+  render_exact(s, side, 1, &e);
   board_diff_t r = {0.0, 0.0, 0, 0};
   double sq = 0.0;
   for (int k = 0; k < w * h; k++) {
@@ -591,14 +596,9 @@ static void pencil_image_matches_exact(void **state) {
  * channels and pixels. */
 static double largest_difference_from_exact(const rt_scene_t *s, const rt_image_t *p, int side,
                                             double *rms) {
-  rt_plan_t plan = rt_plan_make(s, side * side);
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = side;
-  eo.threads = 1;
   rt_image_t e;
   int w = s->camera.width, h = s->camera.height;
-  assert_int_equal(rt_image_alloc(&e, w, h), RT_OK);
-  assert_int_equal(rt_render(s, &plan, &eo, &e, NULL), RT_OK);
+  render_exact(s, side, 1, &e);
   double worst = 0.0, sq = 0.0;
   for (int k = 0; k < w * h; k++)
     for (int c = 0; c < 3; c++) {
@@ -858,12 +858,8 @@ static void fresnel_weights_match_exact(void **state) {
         s.material[m].fresnel = fresnel;
     rt_plan_t plan = rt_plan_make(&s, 4);
     assert_int_equal(rt_plan_has(&plan, RT_EFFECT_FRESNEL), fresnel);
-    rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-    eo.spp_side = 2;
-    eo.threads = 1;
     rt_image_t e, p;
-    assert_int_equal(rt_image_alloc(&e, W, H), RT_OK);
-    assert_int_equal(rt_render(&s, &plan, &eo, &e, NULL), RT_OK);
+    render_exact(&s, 2, 1, &e);
     for (int cert = 0; cert <= 1; cert++) {
       pt_options_t o = PT_OPTIONS_DEFAULT;
       o.certified = cert;
@@ -911,13 +907,8 @@ static void every_scene_unbiased_per_object(void **state) {
     int w = 96, h = (int)lrint(96.0 * s.camera.height / s.camera.width);
     s.camera.width = w;
     s.camera.height = h;
-    rt_plan_t plan = rt_plan_make(&s, 4);
-    rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-    eo.spp_side = 2;
-    eo.threads = 2;
     rt_image_t e;
-    assert_int_equal(rt_image_alloc(&e, w, h), RT_OK);
-    assert_int_equal(rt_render(&s, &plan, &eo, &e, NULL), RT_OK);
+    render_exact(&s, 2, 2, &e);
     for (int cert = 0; cert <= 1; cert++) {
       pt_options_t o = PT_OPTIONS_DEFAULT;
       o.certified = cert;
