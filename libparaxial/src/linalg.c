@@ -15,11 +15,21 @@ px_vec3_t px_vec3(double x, double y, double z) { return (px_vec3_t){x, y, z}; }
 px_vec3_t px_vec3_add(px_vec3_t a, px_vec3_t b) { return vec3_add(a, b); }
 px_vec3_t px_vec3_sub(px_vec3_t a, px_vec3_t b) { return vec3_sub(a, b); }
 px_vec3_t px_vec3_scale(px_vec3_t a, double s) { return vec3_scale(a, s); }
-PX_FMA_CLONES px_vec3_t px_vec3_axpy(double s, px_vec3_t x, px_vec3_t y) { return vec3_axpy(s, x, y); }
-PX_FMA_CLONES double px_vec3_dot(px_vec3_t a, px_vec3_t b) { return vec3_dot(a, b); }
-PX_FMA_CLONES px_vec3_t px_vec3_cross(px_vec3_t a, px_vec3_t b) { return vec3_cross(a, b); }
-PX_FMA_CLONES double px_vec3_norm(px_vec3_t a) { return vec3_norm(a); }
-PX_FMA_CLONES px_status_t px_vec3_normalize(px_vec3_t a, px_vec3_t *out) { return vec3_normalize(a, out); }
+PX_FMA_CLONES px_vec3_t px_vec3_axpy(double s, px_vec3_t x, px_vec3_t y) {
+  return vec3_axpy(s, x, y);
+}
+PX_FMA_CLONES double px_vec3_dot(px_vec3_t a, px_vec3_t b) {
+  return vec3_dot(a, b);
+}
+PX_FMA_CLONES px_vec3_t px_vec3_cross(px_vec3_t a, px_vec3_t b) {
+  return vec3_cross(a, b);
+}
+PX_FMA_CLONES double px_vec3_norm(px_vec3_t a) {
+  return vec3_norm(a);
+}
+PX_FMA_CLONES px_status_t px_vec3_normalize(px_vec3_t a, px_vec3_t *out) {
+  return vec3_normalize(a, out);
+}
 
 px_mat2_t px_mat2(double a, double b, double c, double d) { return (px_mat2_t){{{a, b}, {c, d}}}; }
 px_mat2_t px_mat2_identity(void) { return px_mat2(1, 0, 0, 1); }
@@ -41,7 +51,9 @@ px_mat2_t px_mat2_scale(px_mat2_t a, double s) {
   return px_mat2(a.m[0][0] * s, a.m[0][1] * s, a.m[1][0] * s, a.m[1][1] * s);
 }
 px_mat2_t px_mat2_transpose(px_mat2_t a) { return px_mat2(a.m[0][0], a.m[1][0], a.m[0][1], a.m[1][1]); }
-PX_FMA_CLONES double px_mat2_det(px_mat2_t a) { return diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]); }
+PX_FMA_CLONES double px_mat2_det(px_mat2_t a) {
+  return diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]);
+}
 
 PX_FMA_CLONES px_status_t px_mat2_inverse(px_mat2_t a, px_mat2_t *out) {
   double det = diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]); /* px_mat2_det */

@@ -25,11 +25,11 @@
  * whose square changes across the quad takes the brightness of the sample's square's material).
  * Other nodes (a shadow edge, subtrees traced exactly) are shaded per sample at their
  * interpolated hits, except a faint node, whose whole brightness is within a share of the
- * tolerance and is interpolated across its shadow edge (faint_bound). When nothing is shaded per sample and every sample of a pixel lies in one
- * checker square on each textured leaf, the pixel's sum over its samples is the bilinear form
- * with the summed weights: the same sum, computed without visiting each sample. A quad too small
- * to be worth cutting (fewer samples than the points a cut would trace) sends its samples
- * through the matrices. */
+ * tolerance and is interpolated across its shadow edge (faint_bound). When nothing is shaded
+ * per sample and every sample of a pixel lies in one checker square on each textured leaf, the
+ * pixel's sum over its samples is the bilinear form with the summed weights: the same sum,
+ * computed without visiting each sample. A quad too small to be worth cutting (fewer samples
+ * than the points a cut would trace) sends its samples through the matrices. */
 #include <assert.h>
 #include <math.h>
 #include <string.h>
@@ -424,8 +424,9 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
       for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
           p.v[r][c] = R[r][c].g[k].p;
-      double e_mat =
-          n->pencil == PT_NODE_PATH ? 0.0 : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+      double e_mat = n->pencil == PT_NODE_PATH
+                         ? 0.0
+                         : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
       /* too curved to interpolate here: this node is traced per sample (the caller decides
        * whether that is cheaper than cutting the quad) */
       double eg = grid_error(q, &p, norm_pixels, n);
