@@ -830,7 +830,18 @@ typedef struct {
                                         coordinates over the grid, per coordinate */
   double s9, o9[2];                  /* biquadratic: grid coordinates of quad coordinates (u, v) are
                                         o9 + s9 (u, v) (the quad's own grid, or certified its parent's) */
+  double off[RT_MAX_SPP_SIDE];       /* (a + 0.5) / s: a sample's offset in its pixel */
+  double inv_w, inv_h;               /* 1 / the quad's width and height: the samples' quad
+                                        coordinates by multiplications, not divisions per sample */
 } qctx_t;
+
+/* Quad coordinates of sample column a (row b) of the pixel at column i (row j). */
+static inline double quad_u(const qctx_t *Q, int i, int a) {
+  return (i + Q->off[a] - Q->q->x0) * Q->inv_w;
+}
+static inline double quad_v(const qctx_t *Q, int j, int b) {
+  return (j + Q->off[b] - Q->q->y0) * Q->inv_h;
+}
 
 /* Biquadratic weights of the plan's grid at quad coordinates (u, v). */
 static void qweights9(const qctx_t *Q, double u, double v, double w[9]) {
@@ -840,6 +851,11 @@ static void qweights9(const qctx_t *Q, double u, double v, double w[9]) {
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
   Q->pl = pl;
+  int s = C->opt->spp_side;
+  for (int a = 0; a < s; a++)
+    Q->off[a] = (a + 0.5) / s;
+  Q->inv_w = 1.0 / q->w;
+  Q->inv_h = 1.0 / q->h;
   Q->E = (pt_eval_t){
       .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
   for (int i = 0; i < 4; i++)
@@ -938,20 +954,17 @@ static rt_rgb_t fast_sample(const qctx_t *Q, double u, double v) {
  * material - per sample only when its square is not one over the samples (the interpolated
  * board point is bilinear in the sample position, so its square is one when it is one at the
  * four extreme samples: squares are convex). */
-static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, int a0, int a1,
-                         int b0, int b1) {
-  const lquad_t *q = Q->q;
+static rt_rgb_t fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int b0, int b1) {
   const plan_t *pl = Q->pl;
-  int s = C->opt->spp_side;
   double su = 0.0, sv = 0.0, na = a1 - a0, nb = b1 - b0;
   for (int a = a0; a < a1; a++)
-    su += (P->i + (a + 0.5) / s - q->x0) / q->w;
+    su += quad_u(Q, P->i, a);
   for (int b = b0; b < b1; b++)
-    sv += (P->j + (b + 0.5) / s - q->y0) / q->h;
+    sv += quad_v(Q, P->j, b);
   const double W[4] = {(na - su) * (nb - sv), su * (nb - sv), (na - su) * sv, su * sv};
   rt_rgb_t sum = rgb_lerp4(W, pl->smooth[0], pl->smooth[1], pl->smooth[2], pl->smooth[3]);
-  double ua = (P->i + (a0 + 0.5) / s - q->x0) / q->w, ub = (P->i + (a1 - 0.5) / s - q->x0) / q->w;
-  double va = (P->j + (b0 + 0.5) / s - q->y0) / q->h, vb = (P->j + (b1 - 0.5) / s - q->y0) / q->h;
+  double ua = quad_u(Q, P->i, a0), ub = quad_u(Q, P->i, a1 - 1);
+  double va = quad_v(Q, P->j, b0), vb = quad_v(Q, P->j, b1 - 1);
   for (int m = 0; m < pl->nt; m++) {
     const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
                     *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
@@ -988,7 +1001,7 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
     double Wp[2][4] = {{0}};
     const double(*c)[2] = Q->uv[m];
     for (int b = b0; b < b1; b++) {
-      double v = (P->j + (b + 0.5) / s - q->y0) / q->h, n[2] = {0, 0}, su_p[2] = {0, 0};
+      double v = quad_v(Q, P->j, b), n[2] = {0, 0}, su_p[2] = {0, 0};
       /* a bilinear leaf's board coordinates are linear in u along the row: x = x0 + u dx */
       double x0[2], dx[2];
       for (int t = 0; t < 2; t++) {
@@ -996,7 +1009,7 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
         dx[t] = (1 - v) * (c[1][t] - c[0][t]) + v * (c[3][t] - c[2][t]);
       }
       for (int a = a0; a < a1; a++) {
-        double u = (P->i + (a + 0.5) / s - q->x0) / q->w;
+        double u = quad_u(Q, P->i, a);
         int p;
         if (Q->q2leaf[m]) {
           p = fast_parity(Q, m, u, v, sq);
@@ -1024,7 +1037,7 @@ static rt_rgb_t fast_sum(const pt_ctx_t *C, const qctx_t *Q, const pixel_t *P, i
  * through the matrices when Q is NULL (*why counts them). */
 static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1, int b0,
                        int b1) {
-  int s = C->opt->spp_side, count = (a1 - a0) * (b1 - b0);
+  int count = (a1 - a0) * (b1 - b0);
   uint64_t r0 = pt__rays_now(C);
   if (!Q) {
     C->st.matrix_samples[why] += (uint64_t)count;
@@ -1040,19 +1053,19 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
   for (int b = b0; b < b1 && fast && cert; b++)
     for (int a = a0; a < a1 && fast; a++) {
       double w[4];
-      weights((P->i + (a + 0.5) / s - q->x0) / q->w, (P->j + (b + 0.5) / s - q->y0) / q->h, w);
+      weights(quad_u(Q, P->i, a), quad_v(Q, P->j, b), w);
       fast = misses_nothing(C, E, w);
     }
   int local = fast && Q->pl->n > 0; /* the per-sample nodes on top of the summed rest */
   if (fast) {
-    P->sum = rt_rgb_add(P->sum, fast_sum(C, Q, P, a0, a1, b0, b1));
+    P->sum = rt_rgb_add(P->sum, fast_sum(Q, P, a0, a1, b0, b1));
     P->n[PT_METHOD_INTERP] += count;
     C->st.lerp_samples += local ? 0u : (uint64_t)count;
   }
   for (int b = b0; b < b1 && !(fast && !local && !C->opt->measure); b++)
     for (int a = a0; a < a1; a++) {
-      double x = P->i + (a + 0.5) / s, y = P->j + (b + 0.5) / s, w[4];
-      double qu = (x - q->x0) / q->w, qv = (y - q->y0) / q->h;
+      double x = P->i + Q->off[a], y = P->j + Q->off[b], w[4];
+      double qu = (x - q->x0) * Q->inv_w, qv = (y - q->y0) * Q->inv_h;
       weights(qu, qv, w);
       if (E->q2)
         qweights9(Q, qu, qv, E->w9);
