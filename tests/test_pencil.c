@@ -18,6 +18,7 @@
 #include "render/builtin.h"
 #include "render/camera.h"
 #include "render/render.h"
+#include "validation/figures.h"
 
 static void fig8(rt_scene_t *s, int w, int h) {
   rt_scene_init(s);
@@ -939,6 +940,53 @@ static void every_scene_unbiased_per_object(void **state) {
   }
 }
 
+/* val_image_bias (bench pencil, figures): the largest mean difference over one object's
+ * pixels. Fig. 8 at 32 x 32: an image equal to the exact one has none; the ball's pixels all
+ * brighter by 0.02 give 0.02 on object 1; half of them brighter and half darker by 0.04, as
+ * the checkerboard's flips are, give none; objects of fewer than VAL_BIAS_PIXELS pixels are
+ * not judged. */
+static void image_bias_finds_systematic_errors(void **state) {
+  (void)state;
+  enum { W = 32, H = 32 };
+  rt_scene_t s;
+  fig8(&s, W, H);
+  rt_image_t x, p;
+  render_exact(&s, 1, 1, &x);
+  assert_int_equal(rt_image_alloc(&p, W, H), RT_OK);
+  int nball = 0;
+  for (int k = 0; k < W * H; k++)
+    nball += x.ch[RT_CH_ID][k] == 1.0f;
+  assert_true(nball >= VAL_BIAS_PIXELS);
+  double bias;
+  int obj;
+  for (int c = 0; c < 3; c++) /* case 1: equal */
+    memcpy(p.ch[c], x.ch[c], sizeof(float) * W * H);
+  assert_int_equal(val_image_bias(&s, &p, &x, &bias, &obj), 0);
+  assert_true(bias == 0.0 && obj >= -1);
+  for (int k = 0; k < W * H; k++) /* case 2: the ball brighter */
+    if (x.ch[RT_CH_ID][k] == 1.0f)
+      for (int c = 0; c < 3; c++)
+        p.ch[c][k] = x.ch[c][k] + 0.02f;
+  assert_int_equal(val_image_bias(&s, &p, &x, &bias, &obj), 0);
+  assert_int_equal(obj, 1);
+  assert_true(fabs(bias - 0.02) < 1e-6);
+  int m = 0; /* case 3: both ways, in equal numbers */
+  for (int k = 0; k < W * H; k++)
+    if (x.ch[RT_CH_ID][k] == 1.0f && m < nball / 2 * 2) {
+      for (int c = 0; c < 3; c++)
+        p.ch[c][k] = x.ch[c][k] + (m % 2 ? -0.04f : 0.04f);
+      m++;
+    } else if (x.ch[RT_CH_ID][k] == 1.0f) {
+      for (int c = 0; c < 3; c++)
+        p.ch[c][k] = x.ch[c][k];
+    }
+  assert_int_equal(val_image_bias(&s, &p, &x, &bias, &obj), 0);
+  assert_true(bias < 1e-6);
+  rt_image_free(&p);
+  rt_image_free(&x);
+  rt_scene_free(&s);
+}
+
 /* pt_max (internal.h), the lattice's error maximum: the larger operand, and NaN when either
  * is NaN (fmax would drop it), so that an error computed as NaN is rejected, not accepted. */
 static void error_maximum_keeps_nan(void **state) {
@@ -1101,6 +1149,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(error_maximum_keeps_nan),
       cmocka_unit_test(fresnel_weights_match_exact),
       cmocka_unit_test(every_scene_unbiased_per_object),
+      cmocka_unit_test(image_bias_finds_systematic_errors),
       cmocka_unit_test(subdivision_only_at_edges),
       cmocka_unit_test(interpolation_error_on_board),
       cmocka_unit_test(biquadratic_cells_stay_within_rho),

@@ -80,6 +80,37 @@ static int cmp_float(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+int val_image_bias(const rt_scene_t *s, const rt_image_t *P, const rt_image_t *X, double *bias,
+                   int *object) {
+  int no = s->nobject + 1; /* slot 0: the background */
+  double *sum = calloc((size_t)no, sizeof *sum);
+  long *cnt = calloc((size_t)no, sizeof *cnt);
+  *bias = 0.0;
+  *object = -2;
+  int rc = sum && cnt ? 0 : -1;
+  if (sum && cnt) {
+    size_t np = (size_t)X->width * (size_t)X->height;
+    for (size_t k = 0; k < np; k++) {
+      int o = (int)X->ch[RT_CH_ID][k] + 1;
+      if (o < 0 || o >= no)
+        continue;
+      for (int c = 0; c < 3; c++)
+        sum[o] += (double)P->ch[c][k] - (double)X->ch[c][k];
+      cnt[o]++;
+    }
+    for (int o = 0; o < no; o++) {
+      double m = cnt[o] >= VAL_BIAS_PIXELS ? fabs(sum[o] / (3.0 * (double)cnt[o])) : -1.0;
+      if (m > *bias || (m >= 0.0 && *object == -2)) {
+        *bias = m;
+        *object = o - 1;
+      }
+    }
+  }
+  free(sum);
+  free(cnt);
+  return rc;
+}
+
 int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_errors_t *out,
                 float *sample_error, rt_image_t *pencil_img, pt_extra_t *extra,
                 rt_image_t *exact_img) {
@@ -132,6 +163,7 @@ int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_erro
       }
     out->image_rms = sqrt(sq / (3.0 * w * h));
     out->image_max = mx;
+    val_image_bias(s, P, X, &out->image_bias, &out->image_bias_object);
     rc = 0;
   } else {
     fprintf(stderr, "pencil: a measured render failed\n");
@@ -308,12 +340,14 @@ static void json_errors(FILE *f, const val_errors_t *e, int spp) {
           "\"max_error\": %.6g, \"p99\": %.6g, \"mismatches\": %llu, "
           "\"fraction_within_strict\": %.9g, \"max_error_strict\": %.6g, "
           "\"fraction_within_transmission\": %.9g, \"max_error_transmission\": %.6g, "
-          "\"image_rms\": %.6g, \"image_max\": %.6g, \"samples_exact\": %llu, "
+          "\"image_rms\": %.6g, \"image_max\": %.6g, \"image_bias\": %.6g, "
+          "\"image_bias_object\": %d, \"samples_exact\": %llu, "
           "\"samples_matrix\": %llu, \"samples_interpolated\": %llu}",
           e->rho, spp, (unsigned long long)e->samples, (unsigned long long)e->samples_with_points,
           e->fraction_within, e->max_error, e->p99, (unsigned long long)e->mismatches,
           e->fraction_within_strict, e->max_error_strict, e->fraction_within_t, e->max_error_t,
-          e->image_rms, e->image_max, (unsigned long long)e->stats.samples[PT_METHOD_EXACT],
+          e->image_rms, e->image_max, e->image_bias, e->image_bias_object,
+          (unsigned long long)e->stats.samples[PT_METHOD_EXACT],
           (unsigned long long)e->stats.samples[PT_METHOD_MATRIX],
           (unsigned long long)e->stats.samples[PT_METHOD_INTERP]);
 }
@@ -559,6 +593,10 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
           "-", 100.0 * r->fig10.fraction_within_strict);
   fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "samples with a measured point", "-",
           100.0 * (double)r->fig10.samples_with_points / (double)r->fig10.samples);
+  fprintf(f, "%-8s %-46s %12s %12.4f\n", "Fig. 8", "image against exact: RMS difference", "-",
+          r->fig10.image_rms);
+  fprintf(f, "%-8s %-46s %12s %12.5f\n", "Fig. 8", "  largest mean difference on one object", "-",
+          r->fig10.image_bias);
   if (r->fig10.samples_with_points == 0 || r->t49.samples_with_points == 0)
     fprintf(f, "warning: no sample had a pencil-traced point on a surface with a diffuse term; the "
                "Fig. 10 error compared nothing on this scene\n");

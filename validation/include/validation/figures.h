@@ -33,6 +33,9 @@ typedef struct {
 int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int threads, int runs,
                   val_timing_t *out);
 
+/** Objects covering fewer pixels than this are not judged by val_errors_t.image_bias. */
+#define VAL_BIAS_PIXELS 100
+
 /** Error statistics of one measured pencil render (Fig. 10). */
 typedef struct {
   double rho;
@@ -48,8 +51,20 @@ typedef struct {
   double fraction_within_t, max_error_t;           /**< transmission-first path only */
   double image_rms; /**< RMS of the RGB difference from the exact image */
   double image_max; /**< largest per-pixel |RGB difference| */
+  double image_bias;     /**< largest |mean RGB difference| over the pixels whose centre ray (in the
+                              exact image) meets one object, among objects with at least
+                              VAL_BIAS_PIXELS such pixels: a systematic error the checkerboard's
+                              flips at rho = 1/2 (which go both ways) do not average out */
+  int image_bias_object; /**< that object's index, -1 the background (none: -2) */
   pt_stats_t stats;
 } val_errors_t;
+
+/** The largest |mean RGB difference| of image P from the exact image X (with its id channel)
+ *  over the pixels of one object of s, among objects (-1: the background) with at least
+ *  VAL_BIAS_PIXELS pixels; *object gets that object, -2 when none has that many. 0, or -1 when
+ *  out of memory (then *bias = 0, *object = -2). */
+int val_image_bias(const rt_scene_t *s, const rt_image_t *P, const rt_image_t *X, double *bias,
+                   int *object);
 
 /** Render s by pencil tracing with measurement and compare the image with an exact render.
  *  sample_error (w * h * spp floats) and the images may be NULL; when not, they receive the
