@@ -253,6 +253,65 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_scene_free(&s);
 }
 
+/* rt_shade_direct2() (a checkerboard's two materials at one point, for the pencil tracer's
+ * lattice points) gives each material's direct term bit for bit as rt_shade_direct() alone, with
+ * one shadow query per light the surface faces instead of one per material: for pairs where one
+ * material has a specular term, neither, or no light term at all (ambient only). */
+static void two_materials_shaded_at_once_match_each_alone(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m[3] = {rt_material_default("shiny"), rt_material_default("matte"),
+                        rt_material_default("dull")};
+  m[0].color = rt_rgb(0.9, 0.3, 0.1);
+  m[0].ka = 0.2, m[0].kd = 0.5, m[0].ks = 0.4, m[0].phong = 7;
+  m[1].color = rt_rgb(0.1, 0.6, 0.8);
+  m[1].ka = 0.1, m[1].kd = 0.7, m[1].ks = 0.0;
+  m[2].color = rt_rgb(0.5, 0.5, 0.5);
+  m[2].ka = 0.4, m[2].kd = 0.0, m[2].ks = 0.0; /* ambient only: no light term */
+  int mi[3];
+  for (int i = 0; i < 3; i++)
+    assert_int_equal(rt_scene_add_material(&s, &m[i], &mi[i]), RT_OK);
+  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi[0], -1, 1, NULL);
+  s.ambient = rt_rgb(0.5, 0.4, 0.3);
+  rt_light_t lights[3] = {{RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}},
+                          {RT_LIGHT_POINT, {-1, -3, 1}, {1, 1, 1}}, /* below: faced away from */
+                          {RT_LIGHT_PARALLEL, {0.3, -1, 0.2}, {0.5, 0.7, 0.9}}};
+  for (int l = 0; l < 3; l++)
+    rt_scene_add_light(&s, &lights[l]);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_ray_t r = ray_to(px_vec3(0.4, 2, -2), px_vec3(0.1, 0, 0.2));
+  rt_hit_t h;
+  assert_true(rt_intersect(&s, &r, &h));
+  const rt_material_t *mat[3] = {&s.material[mi[0]], &s.material[mi[1]], &s.material[mi[2]]};
+  int pairs = 0;
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      rt_surface_t sf, sb;
+      rt_shade_surface(&s, &h, &r, &sf);
+      sf.mat = mat[a];
+      sb = sf;
+      sb.mat = mat[b];
+      probe_t p1 = {0}, p2 = {0};
+      rt_tracer_t t1 = {probe_child, probe_shadow, &p1, NULL};
+      rt_tracer_t t2 = {probe_child, probe_shadow, &p2, NULL};
+      rt_rgb_t alone[2] = {rt_shade_direct(&s, &plan, &sf, &r, &t1),
+                           rt_shade_direct(&s, &plan, &sb, &r, &t1)};
+      rt_rgb_t both[2];
+      memset(both, 0xa5, sizeof both);
+      rt_shade_direct2(&s, &plan, &sf, mat[b], &r, &t2, both);
+      assert_memory_equal(&both[0], &alone[0], sizeof both[0]);
+      assert_memory_equal(&both[1], &alone[1], sizeof both[1]);
+      /* two lights face the surface: one query each, unless neither material is lit */
+      assert_int_equal(p2.shadow_calls, a == 2 && b == 2 ? 0 : 2);
+      assert_int_equal(p1.shadow_calls, (a == 2 ? 0 : 2) + (b == 2 ? 0 : 2));
+      pairs += both[0].r != both[1].r; /* the pair's materials do differ in the result */
+    }
+  assert_int_equal(pairs, 6);
+  rt_scene_free(&s);
+}
+
 /* A parallel light: the same N.L everywhere on a plane, an unbounded shadow ray (an opaque ball
  * far above still shadows), and the ball's shadow is exactly below it. */
 static void parallel_light_and_its_shadow(void **state) {
@@ -420,6 +479,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(refraction_through_polyhedron_matches_exact),
       cmocka_unit_test(shadow_attenuation_is_product_of_kt),
       cmocka_unit_test(direct_light_follows_illumination_equation),
+      cmocka_unit_test(two_materials_shaded_at_once_match_each_alone),
       cmocka_unit_test(parallel_light_and_its_shadow),
       cmocka_unit_test(fresnel_limits),
       cmocka_unit_test(children_weights_fresnel_and_tir),

@@ -321,18 +321,22 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   rt_rgb_t l = rt_rgb(0, 0, 0);
   if (E->shade) {
     rt_tracer_t tr = {NULL, shadow_cb, E, known_cb};
-    l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
-    if (g)
-      g->l = l;
     if (g && E->lattice && n->textured) {
-      /* the direct term with the other square's material, for interpolation across squares */
+      /* with the direct term of the other square's material too, for interpolation across
+       * squares (one shadow query for both) */
       const rt_object_t *o = &C->s->object[n->object];
       int par = abs(g->su + g->sv) % 2;
-      rt_surface_t other = sf;
-      other.mat = &C->s->material[par ? o->material : o->material2];
+      rt_rgb_t both[2];
+      rt_shade_direct2(C->s, C->plan, &sf, &C->s->material[par ? o->material : o->material2],
+                       &ray, &tr, both);
+      l = rt_rgb_mul(w, both[0]);
       g->lt[par] = l;
-      g->lt[!par] = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &other, &ray, &tr));
+      g->lt[!par] = rt_rgb_mul(w, both[1]);
+    } else {
+      l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
     }
+    if (g)
+      g->l = l;
   }
   rt_rgb_t sum = rt_rgb_add(l, children(E, k, &sf, &ray, w, 0));
   E->cur = saved;

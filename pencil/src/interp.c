@@ -1008,6 +1008,28 @@ static rt_rgb_t fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int 
         x0[t] = (1 - v) * c[0][t] + v * c[2][t];
         dx[t] = (1 - v) * (c[1][t] - c[0][t]) + v * (c[3][t] - c[2][t]);
       }
+      if (!Q->q2leaf[m]) {
+        /* x is monotonic in u (so is each rounding step), u in a, and floor in x: when the
+         * row's two end samples are in one square, so is every sample between them, and the
+         * row adds its count and its sum of u (su, summed in the same order) at once */
+        double f[2][2];
+        for (int t = 0; t < 2; t++) {
+          f[0][t] = floor_fast(x0[t] + ua * dx[t]);
+          f[1][t] = floor_fast(x0[t] + ub * dx[t]);
+        }
+        if (f[0][0] == f[1][0] && f[0][1] == f[1][1]) {
+          int p = (int)((int64_t)(f[0][0] + f[0][1]) & 1);
+          n[p] = na;
+          su_p[p] = su;
+          for (int q = 0; q < 2; q++) {
+            Wp[q][0] += (n[q] - su_p[q]) * (1 - v);
+            Wp[q][1] += su_p[q] * (1 - v);
+            Wp[q][2] += (n[q] - su_p[q]) * v;
+            Wp[q][3] += su_p[q] * v;
+          }
+          continue;
+        }
+      }
       for (int a = a0; a < a1; a++) {
         double u = quad_u(Q, P->i, a);
         int p;

@@ -82,6 +82,14 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                          const rt_ray_t *ray, const rt_tracer_t *tr);
 
+/** rt_shade_direct() at one point for its own material (out[0]) and for `other` in its place
+ *  (out[1]), each bit for bit as rt_shade_direct() gives it, with each light's direction and
+ *  shadow transmittance found once for both: a checkerboard's two materials at a lattice point
+ *  of the pencil tracer. */
+void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                      const rt_material_t *other, const rt_ray_t *ray, const rt_tracer_t *tr,
+                      rt_rgb_t out[2]);
+
 /** The coherent children of the hit, at most 2, in out[]: returns how many. Reflection when the
  *  plan has RT_EFFECT_REFLECTION and the material reflects; refraction (or its total internal
  *  reflection) only when the plan has RT_EFFECT_REFRACTION and kt > 0. Children with zero
