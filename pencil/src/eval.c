@@ -327,8 +327,8 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
       const rt_object_t *o = &C->s->object[n->object];
       int par = abs(g->su + g->sv) % 2;
       rt_rgb_t both[2];
-      rt_shade_direct2(C->s, C->plan, &sf, &C->s->material[par ? o->material : o->material2],
-                       &ray, &tr, both);
+      rt_shade_direct2(C->s, C->plan, &sf, &C->s->material[par ? o->material : o->material2], &ray,
+                       &tr, both);
       l = rt_rgb_mul(w, both[0]);
       g->lt[par] = l;
       g->lt[!par] = rt_rgb_mul(w, both[1]);

@@ -61,9 +61,9 @@ static double phong_pow(double x, double n) {
 /* Transmittance towards a light (white without the shadow effect). Always inlined: it was when
  * rt_shade_direct() was its only caller, and out of line it costs the exact renderer 2.4% more
  * instructions. */
-static inline __attribute__((always_inline)) rt_rgb_t shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
-                       const rt_ray_t *ray, int l, px_vec3_t dir, double dist,
-                       const rt_tracer_t *tr) {
+static inline __attribute__((always_inline)) rt_rgb_t
+shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const rt_ray_t *ray,
+       int l, px_vec3_t dir, double dist, const rt_tracer_t *tr) {
   if (!rt_plan_has(plan, RT_EFFECT_SHADOWS))
     return rt_rgb(1, 1, 1);
   rt_rgb_t known;
@@ -81,9 +81,10 @@ static inline __attribute__((always_inline)) rt_rgb_t shadow(const rt_scene_t *s
 }
 
 /* Light l's diffuse and specular term for material m, as rt_shade_direct() adds it. */
-static inline __attribute__((always_inline)) rt_rgb_t
-light_term(const rt_material_t *m, int spec, const rt_surface_t *sf, const rt_ray_t *ray,
-           px_vec3_t L, double ndl) {
+static inline __attribute__((always_inline)) rt_rgb_t light_term(const rt_material_t *m, int spec,
+                                                                 const rt_surface_t *sf,
+                                                                 const rt_ray_t *ray, px_vec3_t L,
+                                                                 double ndl) {
   rt_rgb_t term = rt_rgb_scale(m->color, m->kd * ndl);
   if (spec) { /* Phong: (R.V)^n with R the mirror image of L, V = -d; R.V = L.reflect(d) */
     px_vec3_t rd = v3_axpy(-2.0 * v3_dot(ray->d, sf->nf), sf->nf, ray->d);
