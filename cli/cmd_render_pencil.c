@@ -192,16 +192,16 @@ static void report(const rt_scene_t *s, int spp, double dt, const pt_stats_t *st
       (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
       (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays), a->out);
   printf("ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
-         "cells, %llu with faint shadow edges; samples by "
+         "cells, %llu with faint shadow edges, %llu halves; samples by "
          "matrices: %llu small cell, %llu "
          "left the paths, %llu reach, %llu error; "
          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
          (unsigned long long)st->lattice_points, (unsigned long long)st->lattice_reused,
          (unsigned long long)st->biquad_cells, (unsigned long long)st->faint_cells,
-         (unsigned long long)st->matrix_samples[0], (unsigned long long)st->matrix_samples[1],
-         (unsigned long long)st->matrix_samples[2], (unsigned long long)st->matrix_samples[3],
-         (unsigned long long)st->fallbacks, (unsigned long long)st->partial,
-         (unsigned long long)st->lerp_samples);
+         (unsigned long long)st->halved_cells, (unsigned long long)st->matrix_samples[0],
+         (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
+         (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
+         (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
   if (a->opt.measure) {
     printf("Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "
            "%.4g (transmission path: %.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), "

@@ -940,6 +940,51 @@ static void every_scene_unbiased_per_object(void **state) {
   }
 }
 
+/* Certified mode halves a measured lattice cell whose nodes are too curved in one direction
+ * only (interp.c, halve_dir) instead of cutting it into four measured quarters: it fires on
+ * Fig. 8 at 49 spp, where the board seen through the glass ball is compressed vertically, and
+ * every sample stays within rho there and on scenes/balls.json; the default mode, whose
+ * quarters are first estimated at no cost, never halves. */
+static void certified_halves_stay_within_rho(void **state) {
+  (void)state;
+  rt_scene_t s;
+  fig8(&s, 64, 64);
+  pt_options_t o = PT_OPTIONS_DEFAULT;
+  o.measure = 1;
+  rt_image_t p;
+  pt_stats_t st;
+  render_pencil(&s, 7, 1, &o, &p, NULL, &st);
+  assert_int_equal(st.halved_cells, 0);
+  rt_image_free(&p);
+  o.certified = 1;
+  render_pencil(&s, 7, 1, &o, &p, NULL, &st);
+  print_message("fig8 64x64 49 spp certified: %llu halves, %llu of %llu samples within rho, "
+                "largest %.3f\n",
+                (unsigned long long)st.halved_cells, (unsigned long long)st.within,
+                (unsigned long long)st.measured, st.max_error);
+  assert_true(st.halved_cells > 0);
+  assert_true(st.with_points > 0);
+  assert_int_equal(st.within, st.measured);
+  assert_true(st.max_error <= o.rho);
+  rt_image_free(&p);
+  rt_scene_free(&s);
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/scenes/balls.json", PENCIL_SOURCE_DIR);
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  s.camera.height = (int)lrint(128.0 * s.camera.height / s.camera.width);
+  s.camera.width = 128;
+  render_pencil(&s, 4, 2, &o, &p, NULL, &st);
+  print_message("balls 128 wide 16 spp certified: %llu halves, %llu of %llu samples within rho, "
+                "largest %.3f\n",
+                (unsigned long long)st.halved_cells, (unsigned long long)st.within,
+                (unsigned long long)st.measured, st.max_error);
+  assert_true(st.with_points > 0);
+  assert_int_equal(st.within, st.measured);
+  rt_image_free(&p);
+  rt_scene_free(&s);
+}
+
 /* val_image_bias (bench pencil, figures): the largest mean difference over one object's
  * pixels. Fig. 8 at 32 x 32: an image equal to the exact one has none; the ball's pixels all
  * brighter by 0.02 give 0.02 on object 1; half of them brighter and half darker by 0.04, as
@@ -1150,6 +1195,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(fresnel_weights_match_exact),
       cmocka_unit_test(every_scene_unbiased_per_object),
       cmocka_unit_test(image_bias_finds_systematic_errors),
+      cmocka_unit_test(certified_halves_stay_within_rho),
       cmocka_unit_test(subdivision_only_at_edges),
       cmocka_unit_test(interpolation_error_on_board),
       cmocka_unit_test(biquadratic_cells_stay_within_rho),

@@ -70,6 +70,8 @@ typedef struct {
   int nfaint;              /* nodes interpolated across a shadow edge (faint_bound) */
   double own_cost;         /* node evaluations per sample: own nodes, nodes shaded per sample,
                               subtrees traced exactly (about 2 rays each) */
+  int halve;               /* on failure: 1 (2) when halving the quad across its columns (rows)
+                              makes every node's hits interpolable (halve_dir) */
 } plan_t;
 
 /* The share of rho an estimated quad's e_int may use. e_int extrapolates the second-order
@@ -361,6 +363,57 @@ static double weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*
   return grid_error(q, &w, norm_rgb, NULL) * dmax;
 }
 
+/* Certified mode: whether halving measured quad q, across its columns (1: left and right
+ * halves) or its rows (2: top and bottom), would make every node's hits interpolable; 0 when
+ * neither would. A quad whose nodes are too curved to interpolate is cut into quarters, and in
+ * certified mode every quarter is measured: up to 16 new points. A half takes 3. Most such
+ * quads in Fig. 8 are curved in one direction (the board seen through the glass ball is
+ * compressed vertically): a bilinear interpolation's error is A u(1-u) + B v(1-v), the top and
+ * bottom edge midpoints measure A / 4 and the left and right ones B / 4, so halving across the
+ * columns leaves about A / 16 + B / 4 at the halves' centres (across the rows A / 4 + B / 16).
+ * The halves are measured, so their plans test their own errors. In default mode quarters are
+ * first estimated from the parent's grid (e_int) at no cost, and halving did not pay there
+ * (docs/pencil.md, "Tenth pass"). */
+static int halve_dir(const pt_ctx_t *C, const lquad_t *q, double rho, double xi2) {
+  const point_t(*R)[3] = grid_of(q);
+  const uint8_t *xsub = C->xsub;
+  double f = C->opt->certified ? PT_BILINEAR_CERT : 1.0;
+  int okx = 1, oky = 1;
+  double ex = 0.0, ey = 0.0;
+  for (int k = 0; k < C->nnode && (okx || oky); k++) {
+    const pt_node_t *n = &C->node[k];
+    if (xsub[k] || n->miss)
+      continue;
+    int reached = 0, exact = 0;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        reached += R[r][c].g[k].ok != 0;
+        exact += R[r][c].g[k].ok == 2;
+      }
+    if (reached == 0 || exact == 9)
+      continue;
+    if (reached != 9 || exact != 0)
+      return 0;
+    grid3_t p;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        p.v[r][c] = R[r][c].g[k].p;
+    double e_mat =
+        n->pencil == PT_NODE_PATH ? 0.0 : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+    double d[5];
+    grid_deviations(&p, norm_pixels, n, d);
+    double eu = pt_max(d[0], d[1]), ev = pt_max(d[2], d[3]);
+    double hx = f * (eu / 4.0 + ev) + e_mat, hy = f * (eu + ev / 4.0) + e_mat;
+    okx = okx && hx <= rho;
+    oky = oky && hy <= rho;
+    ex = pt_max(ex, hx);
+    ey = pt_max(ey, hy);
+  }
+  if (okx && oky)
+    return ex <= ey ? 1 : 2;
+  return okx ? 1 : oky ? 2 : 0;
+}
+
 /* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
  * what failed. It stops as soon as the per-sample work exceeds what own_pays() allows (the
  * caller cuts such a quad, when it can be cut). */
@@ -382,7 +435,7 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
   grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
   memset(&sm, 0, sizeof sm);
   t0 = t1 = sm;
-  pl->n = pl->nt = pl->nown = pl->nq2 = pl->nfaint = 0;
+  pl->n = pl->nt = pl->nown = pl->nq2 = pl->nfaint = pl->halve = 0;
   pl->own_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
@@ -451,6 +504,8 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
         pl->own_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
         if (!own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
           *why = WHY_ERROR;
+          if (cert && q->measured)
+            pl->halve = halve_dir(C, q, rho, xi2);
           return 0;
         }
       }
@@ -1217,6 +1272,36 @@ static void cut(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level) {
     }
 }
 
+/* Halve measured quad q (halve_dir's direction `dir`): each half keeps three of q's grid lines
+ * and traces its three new midpoints. */
+static void halve(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level, int dir) {
+  pt_geom_t *pool = C->ref + (size_t)(level + 1) * 5 * (size_t)C->cap;
+  for (int h = 0; h < 2; h++) {
+    lquad_t s;
+    memset(&s, 0, sizeof s);
+    if (dir == 1) {
+      s.x0 = q->x0 + 0.5 * h * q->w, s.y0 = q->y0, s.w = 0.5 * q->w, s.h = q->h;
+      for (int r = 0; r < 3; r++) {
+        s.g[r][0] = q->g[r][h];
+        s.g[r][2] = q->g[r][h + 1];
+        s.g[r][1] = trace_point(C, s.x0 + 0.5 * s.w, q->y0 + 0.5 * r * q->h,
+                                pool + (size_t)r * (size_t)C->cap, 0);
+      }
+    } else {
+      s.x0 = q->x0, s.y0 = q->y0 + 0.5 * h * q->h, s.w = q->w, s.h = 0.5 * q->h;
+      for (int c = 0; c < 3; c++) {
+        s.g[0][c] = q->g[h][c];
+        s.g[2][c] = q->g[h + 1][c];
+        s.g[1][c] = trace_point(C, q->x0 + 0.5 * c * q->w, s.y0 + 0.5 * s.h,
+                                pool + (size_t)c * (size_t)C->cap, 0);
+      }
+    }
+    s.measured = 1;
+    C->st.halved_cells++;
+    quad_process(C, A, &s, level + 1);
+  }
+}
+
 /* Accept quad q, cut it, or send its samples to the matrices. An estimated quad (not measured)
  * that fails is measured first. */
 static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level) {
@@ -1239,7 +1324,9 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
     quad_emit(C, A, q, &pl, 0);
     return;
   }
-  if (can_cut)
+  if (can_cut && pl.halve)
+    halve(C, A, q, level, pl.halve);
+  else if (can_cut)
     cut(C, A, q, level);
   else
     quad_emit(C, A, q, NULL, why);

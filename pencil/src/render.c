@@ -145,6 +145,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->lattice_reused += b->lattice_reused;
   a->biquad_cells += b->biquad_cells;
   a->faint_cells += b->faint_cells;
+  a->halved_cells += b->halved_cells;
   a->measured += b->measured;
   a->with_points += b->with_points;
   a->within += b->within;

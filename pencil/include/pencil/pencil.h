@@ -122,6 +122,8 @@ typedef struct {
   uint64_t faint_cells;       /**< lattice cells where some node's shading was interpolated
                                    across a shadow edge, its whole light term being within a
                                    share of the brightness tolerance (interp.c) */
+  uint64_t halved_cells;      /**< certified mode: lattice cells made by halving a cell whose
+                                   nodes were too curved in one direction (interp.c) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
