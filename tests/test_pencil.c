@@ -940,6 +940,15 @@ static void every_scene_unbiased_per_object(void **state) {
   }
 }
 
+/* A certified render's statistics: something was measured, and every sample within rho. */
+static void all_within(const char *what, const pt_stats_t *st) {
+  print_message("%s certified: %llu halves, %llu of %llu samples within rho, largest %.3f\n", what,
+                (unsigned long long)st->halved_cells, (unsigned long long)st->within,
+                (unsigned long long)st->measured, st->max_error);
+  assert_true(st->with_points > 0);
+  assert_int_equal(st->within, st->measured);
+}
+
 /* Certified mode halves a measured lattice cell whose nodes are too curved in one direction
  * only (interp.c, halve_dir) instead of cutting it into four measured quarters: it fires on
  * Fig. 8 at 49 spp, where the board seen through the glass ball is compressed vertically, and
@@ -958,13 +967,8 @@ static void certified_halves_stay_within_rho(void **state) {
   rt_image_free(&p);
   o.certified = 1;
   render_pencil(&s, 7, 1, &o, &p, NULL, &st);
-  print_message("fig8 64x64 49 spp certified: %llu halves, %llu of %llu samples within rho, "
-                "largest %.3f\n",
-                (unsigned long long)st.halved_cells, (unsigned long long)st.within,
-                (unsigned long long)st.measured, st.max_error);
+  all_within("fig8 64x64 49 spp", &st);
   assert_true(st.halved_cells > 0);
-  assert_true(st.with_points > 0);
-  assert_int_equal(st.within, st.measured);
   assert_true(st.max_error <= o.rho);
   rt_image_free(&p);
   rt_scene_free(&s);
@@ -975,12 +979,7 @@ static void certified_halves_stay_within_rho(void **state) {
   s.camera.height = (int)lrint(128.0 * s.camera.height / s.camera.width);
   s.camera.width = 128;
   render_pencil(&s, 4, 2, &o, &p, NULL, &st);
-  print_message("balls 128 wide 16 spp certified: %llu halves, %llu of %llu samples within rho, "
-                "largest %.3f\n",
-                (unsigned long long)st.halved_cells, (unsigned long long)st.within,
-                (unsigned long long)st.measured, st.max_error);
-  assert_true(st.with_points > 0);
-  assert_int_equal(st.within, st.measured);
+  all_within("balls 128 wide 16 spp", &st);
   rt_image_free(&p);
   rt_scene_free(&s);
 }
