@@ -363,6 +363,31 @@ static double weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*
   return grid_error(q, &w, norm_rgb, NULL) * dmax;
 }
 
+/* How many of a grid's nine points reached node k, and how many of those traced it exactly. */
+static void reach(const point_t (*R)[3], int k, int *reached, int *exact) {
+  *reached = *exact = 0;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      *reached += R[r][c].g[k].ok != 0;
+      *exact += R[r][c].g[k].ok == 2;
+    }
+}
+
+/* Node k's hit points at a grid's nine points. */
+static void hits_of(const point_t (*R)[3], int k, grid3_t *p) {
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      p->v[r][c] = R[r][c].g[k].p;
+}
+
+/* A node's matrix error at a point with |xi|^2 = xi2 (the worst corner's), in pixel intervals
+ * on its surface: C |xi|^2 / |cos| (Eq. 4), or the certified check's; 0 for a path traced
+ * exactly. */
+static double matrix_error(const pt_node_t *n, double xi2) {
+  return n->pencil == PT_NODE_PATH ? 0.0
+                                   : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+}
+
 /* Certified mode: whether halving measured quad q, across its columns (1: left and right
  * halves) or its rows (2: top and bottom), would make every node's hits interpolable; 0 when
  * neither would. A quad whose nodes are too curved to interpolate is cut into quarters, and in
@@ -384,22 +409,15 @@ static int halve_dir(const pt_ctx_t *C, const lquad_t *q, double rho, double xi2
     const pt_node_t *n = &C->node[k];
     if (xsub[k] || n->miss)
       continue;
-    int reached = 0, exact = 0;
-    for (int r = 0; r < 3; r++)
-      for (int c = 0; c < 3; c++) {
-        reached += R[r][c].g[k].ok != 0;
-        exact += R[r][c].g[k].ok == 2;
-      }
+    int reached, exact;
+    reach(R, k, &reached, &exact);
     if (reached == 0 || exact == 9)
       continue;
     if (reached != 9 || exact != 0)
       return 0;
     grid3_t p;
-    for (int r = 0; r < 3; r++)
-      for (int c = 0; c < 3; c++)
-        p.v[r][c] = R[r][c].g[k].p;
-    double e_mat =
-        n->pencil == PT_NODE_PATH ? 0.0 : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+    hits_of(R, k, &p);
+    double e_mat = matrix_error(n, xi2);
     double d[5];
     grid_deviations(&p, norm_pixels, n, d);
     double eu = pt_max(d[0], d[1]), ev = pt_max(d[2], d[3]);
@@ -456,14 +474,10 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
         xsub[k] |= R[r][c].g[k].ok != 1;
   }
   for (int k = 0; k < C->nnode; k++) {
-    int reached = 0, exact = 0;
+    int reached, exact;
     if (xsub[k])
       continue;
-    for (int r = 0; r < 3; r++)
-      for (int c = 0; c < 3; c++) {
-        reached += R[r][c].g[k].ok != 0;
-        exact += R[r][c].g[k].ok == 2;
-      }
+    reach(R, k, &reached, &exact);
     if (reached == 0 || exact == 9)
       continue; /* not reached, or traced exactly per sample through its parent */
     if (reached != 9 || exact != 0) {
@@ -474,12 +488,8 @@ static int make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int
     int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0, is_faint = 0;
     if (!n->miss) {
       grid3_t p;
-      for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-          p.v[r][c] = R[r][c].g[k].p;
-      double e_mat = n->pencil == PT_NODE_PATH
-                         ? 0.0
-                         : pt_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+      hits_of(R, k, &p);
+      double e_mat = matrix_error(n, xi2);
       /* too curved to interpolate here: this node is traced per sample (the caller decides
        * whether that is cheaper than cutting the quad) */
       double eg = grid_error(q, &p, norm_pixels, n);
@@ -1063,6 +1073,7 @@ static rt_rgb_t fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int 
         x0[t] = (1 - v) * c[0][t] + v * c[2][t];
         dx[t] = (1 - v) * (c[1][t] - c[0][t]) + v * (c[3][t] - c[2][t]);
       }
+      int one_square = 0;
       if (!Q->q2leaf[m]) {
         /* x is monotonic in u (so is each rounding step), u in a, and floor in x: when the
          * row's two end samples are in one square, so is every sample between them, and the
@@ -1076,16 +1087,10 @@ static rt_rgb_t fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int 
           int p = (int)((int64_t)(f[0][0] + f[0][1]) & 1);
           n[p] = na;
           su_p[p] = su;
-          for (int q = 0; q < 2; q++) {
-            Wp[q][0] += (n[q] - su_p[q]) * (1 - v);
-            Wp[q][1] += su_p[q] * (1 - v);
-            Wp[q][2] += (n[q] - su_p[q]) * v;
-            Wp[q][3] += su_p[q] * v;
-          }
-          continue;
+          one_square = 1;
         }
       }
-      for (int a = a0; a < a1; a++) {
+      for (int a = a0; a < a1 && !one_square; a++) {
         double u = quad_u(Q, P->i, a);
         int p;
         if (Q->q2leaf[m]) {
@@ -1280,7 +1285,10 @@ static void halve(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level, 
     lquad_t s;
     memset(&s, 0, sizeof s);
     if (dir == 1) {
-      s.x0 = q->x0 + 0.5 * h * q->w, s.y0 = q->y0, s.w = 0.5 * q->w, s.h = q->h;
+      s.x0 = q->x0 + 0.5 * h * q->w;
+      s.y0 = q->y0;
+      s.w = 0.5 * q->w;
+      s.h = q->h;
       for (int r = 0; r < 3; r++) {
         s.g[r][0] = q->g[r][h];
         s.g[r][2] = q->g[r][h + 1];
@@ -1288,7 +1296,10 @@ static void halve(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level, 
                                 pool + (size_t)r * (size_t)C->cap, 0);
       }
     } else {
-      s.x0 = q->x0, s.y0 = q->y0 + 0.5 * h * q->h, s.w = q->w, s.h = 0.5 * q->h;
+      s.x0 = q->x0;
+      s.y0 = q->y0 + 0.5 * h * q->h;
+      s.w = q->w;
+      s.h = 0.5 * q->h;
       for (int c = 0; c < 3; c++) {
         s.g[0][c] = q->g[h][c];
         s.g[2][c] = q->g[h + 1][c];
