@@ -383,6 +383,16 @@ static void render_exact(const rt_scene_t *s, int side, int threads, rt_image_t 
   assert_int_equal(rt_render(s, &plan, &eo, e, NULL), RT_OK);
 }
 
+/* scenes/NAME.json, its image rescaled to `width` pixels across (the aspect kept). */
+static void scene_file(const char *name, int width, rt_scene_t *s) {
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/scenes/%s.json", PENCIL_SOURCE_DIR, name);
+  rt_scene_init(s);
+  assert_int_equal(io_scene_load(path, s, err, sizeof err), 0);
+  s->camera.height = (int)lrint((double)width * s->camera.height / s->camera.width);
+  s->camera.width = width;
+}
+
 static void render_pencil(const rt_scene_t *s, int side, int threads, const pt_options_t *base,
                           rt_image_t *img, pt_extra_t *x, pt_stats_t *st) {
   rt_plan_t plan = rt_plan_make(s, side * side);
@@ -900,14 +910,9 @@ static void every_scene_unbiased_per_object(void **state) {
   (void)state;
   const char *names[] = {"fig8", "balls", "mesh1000", "fig11"};
   for (int sc = 0; sc < 4; sc++) {
-    char path[1024], err[512];
-    snprintf(path, sizeof path, "%s/scenes/%s.json", PENCIL_SOURCE_DIR, names[sc]);
     rt_scene_t s;
-    rt_scene_init(&s);
-    assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
-    int w = 96, h = (int)lrint(96.0 * s.camera.height / s.camera.width);
-    s.camera.width = w;
-    s.camera.height = h;
+    scene_file(names[sc], 96, &s);
+    int w = s.camera.width, h = s.camera.height;
     rt_image_t e;
     render_exact(&s, 2, 2, &e);
     for (int cert = 0; cert <= 1; cert++) {
@@ -972,12 +977,7 @@ static void certified_halves_stay_within_rho(void **state) {
   assert_true(st.max_error <= o.rho);
   rt_image_free(&p);
   rt_scene_free(&s);
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/scenes/balls.json", PENCIL_SOURCE_DIR);
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
-  s.camera.height = (int)lrint(128.0 * s.camera.height / s.camera.width);
-  s.camera.width = 128;
+  scene_file("balls", 128, &s);
   render_pencil(&s, 4, 2, &o, &p, NULL, &st);
   all_within("balls 128 wide 16 spp", &st);
   rt_image_free(&p);
