@@ -24,6 +24,7 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 assert d['benchmark'] == 'pencil' and d['width'] == 32 and d['height'] == 32, d
 assert d['runs'] == 3 and d['threads'] == 1 and d['rho'] == 0.5 and d['measured'] is True
+assert d['brightness_tol'] == 1 / 1024, d
 assert d['targets'] == {'spp': 49, 'rho': 0.5, 'ratio_max': 0.1,
                         'fraction_within_default_min': 0.998, 'fraction_within_certified_min': 1}
 r = d['results']
@@ -55,11 +56,17 @@ for m, x in r.items():
 assert d['targets_met'] is all(x['target_met'] for x in r.values())
 PY"
 
+# a looser brightness tolerance changes the image, which Fig. 10's measure does not see: no verdict
+$pencil bench pencil --size 12x12 --runs 3 --rho 0.5 --brightness-tol 100 --json "$tmp/l.json" >"$tmp/out"; rc=$?
+check "--brightness-tol 100 at 49 spp: exit 0, recorded, no verdict, and the table says why" \
+  "[ $rc -eq 0 ] && grep -q 'brightness tolerance 100' '$tmp/out' && grep -q 'not judged above the default brightness tolerance' '$tmp/out' && $py -c 'import json; d=json.load(open(\"$tmp/l.json\")); assert d[\"brightness_tol\"] == 100 and d[\"targets_met\"] is None and all(x[\"target_met\"] is None and x[\"fraction_within\"] is not None for x in d[\"results\"])'"
+
 $pencil bench pencil --size 12x12 --spp 1,4 --runs 3 --no-measure --json "$tmp/n.json" >"$tmp/out"; rc=$?
 check "--no-measure: exit 0, four rows, accuracy and verdict null" \
   "[ $rc -eq 0 ] && $py -c 'import json; d=json.load(open(\"$tmp/n.json\")); r=d[\"results\"]; assert d[\"measured\"] is False and [x[\"spp\"] for x in r] == [1,1,4,4] and all(x[\"fraction_within\"] is None and x[\"target_met\"] is None and x[\"ratio\"] > 0 for x in r)'"
 
 for bad in "--runs 2" "--runs 102" "--spp 5" "--spp 4,x" "--spp 289" "--spp 1,4,9,16,25,36,49,64,81" "--spp 4," "--rho 0" "--rho nan" \
+           "--brightness-tol -1" "--brightness-tol nan" "--brightness-tol x" \
            "--threads 0" "--size 10" "--size 0x8" "--json" "--bogus"; do
   opt=${bad%% *}
   $pencil bench pencil --size 8x8 --json "$tmp/bad.json" $bad >/dev/null 2>"$tmp/err"; rc=$?
