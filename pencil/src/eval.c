@@ -151,6 +151,18 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     px_vec3_t p;
     return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
   }
+  if (E->mode == PT_EV_INTERP && E->exact_primary && n->parent < 0) {
+    /* the sample's own primary ray met with the node's primitive: the exact tracer takes the rays
+     * spawned here, and an interpolated hit and direction, though within the tolerance, put
+     * their error into every surface below (a glass polyhedron's facets turn it into another
+     * colour: Fig. 11). Missing the primitive, the sample has left the cell's paths. */
+    double t;
+    if (!rt_prim_intersect(E->C->s, n->prim, &E->primary, E->primary.tmax, &t))
+      return 0;
+    *hit = v3_axpy(t, E->primary.d, E->primary.o);
+    *d = E->primary.d;
+    return 1;
+  }
   if (E->mode == PT_EV_INTERP && E->q2 && E->q2[k]) { /* biquadratic over the quad's grid */
     px_vec3_t p = {0, 0, 0}, dd = {0, 0, 0};
     for (int i = 0; i < 9; i++) {

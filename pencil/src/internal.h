@@ -153,6 +153,9 @@ typedef struct {
   const uint8_t *q2;      /**< INTERP: nodes interpolated biquadratically (g9, w9), or NULL */
   const pt_geom_t *g9[9]; /**< INTERP with q2: the quad's 3 x 3 grid, row-major */
   double w9[9];           /**< INTERP with q2: the sample's biquadratic (Lagrange) weights */
+  int exact_primary;      /**< INTERP: the primary node's hit is the sample's own ray (primary
+                               set) met with the node's primitive, not interpolated: rays
+                               spawned there are traced exactly (pt__interp_cell) */
   int ownfail;            /**< set when such a node's per-sample ray left its path */
   int partial;            /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;

@@ -913,6 +913,19 @@ static void qweights9(const qctx_t *Q, double u, double v, double w[9]) {
   weights9(Q->o9[0] + Q->s9 * u, Q->o9[1] + Q->s9 * v, w);
 }
 
+/* Whether a child of the primary node is traced exactly per sample in the current quad (the
+ * cell's tree marks it exact, or the quad's plan traces it below an edge): then each sample's
+ * primary hit is its own ray met with the primitive (pt_eval_t.exact_primary). */
+static int exact_below_primary(const pt_ctx_t *C) {
+  const pt_node_t *n = &C->node[0];
+  for (int c = 0; c < 2 && !n->miss; c++) {
+    int k = n->child[c];
+    if (k >= 0 && (C->node[k].pencil == PT_NODE_EXACT || (C->xsub && C->xsub[k])))
+      return 1;
+  }
+  return 0;
+}
+
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
   Q->pl = pl;
@@ -921,8 +934,12 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
     Q->off[a] = (a + 0.5) / s;
   Q->inv_w = 1.0 / q->w;
   Q->inv_h = 1.0 / q->h;
-  Q->E = (pt_eval_t){
-      .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
+  Q->E = (pt_eval_t){.C = C,
+                     .mode = PT_EV_INTERP,
+                     .shade = 1,
+                     .xsub = C->xsub,
+                     .own = pl->nown ? C->own : NULL,
+                     .exact_primary = exact_below_primary(C)};
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
   Q->s9 = 1.0;
@@ -1153,10 +1170,10 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
         qweights9(Q, qu, qv, E->w9);
       if (local) {
         E->partial = E->fallback = E->ownfail = 0;
-        if (E->own) {
+        if (E->own || E->exact_primary)
           pt__xi_of(C, E, x, y);
+        if (E->own)
           E->stamp = ++C->stamp;
-        }
         rt_rgb_t v = interp_local(E, Q->pl, w);
         if (E->ownfail) { /* take the sample's summed part back: the whole sample by matrices */
           rt_rgb_t f = fast_sample(Q, qu, qv);
@@ -1175,10 +1192,10 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
           continue;
         }
         E->partial = E->fallback = E->ownfail = 0;
-        if (E->own) { /* the sample's own xi and primary ray for its own nodes */
+        if (E->own || E->exact_primary) /* the sample's own xi and primary ray */
           pt__xi_of(C, E, x, y);
+        if (E->own)
           E->stamp = ++C->stamp;
-        }
         rt_rgb_t v = interp_sample(E, Q->pl, w);
         if (E->ownfail) { /* an own node's ray left its path: the whole sample by matrices */
           pt__matrix_sample(C, P, a, b);
