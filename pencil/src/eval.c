@@ -141,16 +141,6 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
 static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
   const pt_node_t *n = &E->C->node[k];
-  if (E->mode == PT_EV_INTERP && E->own && E->own[k]) { /* this node: per sample */
-    if (n->pencil == PT_NODE_PATH) {
-      const pt_xgeom_t *x = exact_geom(E, k);
-      *hit = x->p;
-      *d = x->d;
-      return x->ok;
-    }
-    px_vec3_t p;
-    return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
-  }
   if (E->mode == PT_EV_INTERP && E->exact_primary && n->parent < 0) {
     /* the sample's own primary ray met with the node's primitive: the exact tracer takes the rays
      * spawned here, and an interpolated hit and direction, though within the tolerance, put
@@ -162,6 +152,16 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     *hit = v3_axpy(t, E->primary.d, E->primary.o);
     *d = E->primary.d;
     return 1;
+  }
+  if (E->mode == PT_EV_INTERP && E->own && E->own[k]) { /* this node: per sample */
+    if (n->pencil == PT_NODE_PATH) {
+      const pt_xgeom_t *x = exact_geom(E, k);
+      *hit = x->p;
+      *d = x->d;
+      return x->ok;
+    }
+    px_vec3_t p;
+    return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
   }
   if (E->mode == PT_EV_INTERP && E->q2 && E->q2[k]) { /* biquadratic over the quad's grid */
     px_vec3_t p = {0, 0, 0}, dd = {0, 0, 0};
