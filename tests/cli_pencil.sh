@@ -71,6 +71,8 @@ for list in 1,4,64 1,49,64; do # Fig. 9 beyond the paper's 49; the targets stay 
   check "figures --fig9-spp $list: fig9.csv rows, targets at $want spp, the crossing in JSON and table" \
     "[ $rc -eq 0 ] && [ \$(wc -l < '$tmp/f$list/fig9.csv') -eq 4 ] && grep -q 'ratio <= 0.10 from this spp on' '$tmp/log' && $py -c 'import json; d=json.load(open(\"$tmp/f$list/summary.json\")); assert [r[\"spp\"] for r in d[\"fig9\"]] == [int(x) for x in \"$list\".split(\",\")] and d[\"targets\"][\"spp\"] == $want and \"fig9_below_0_1_from_spp\" in d'"
 done
+check "figures: the targets' cost with no accuracy asked, in JSON and the table" \
+  "grep -q 'with no accuracy asked (rho 100, brightness 100)' '$tmp/log' && $py -c 'import json; t=json.load(open(\"$tmp/f1,49,64/summary.json\"))[\"targets\"][\"no_accuracy\"]; assert t[\"rho\"] == 100 and t[\"brightness_tol\"] == 100 and t[\"ratio\"] > 0 and t[\"certified_ratio\"] > 0, t'"
 $pencil figures --bogus >/dev/null 2>"$tmp/err"; rc=$?
 check "figures --bogus: exit 2" "[ $rc -eq 2 ] && grep -q -- '--bogus' '$tmp/err'"
 for cmd in figures sweep; do # a scene error is an input error, as for render; nothing written
