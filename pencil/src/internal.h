@@ -155,7 +155,8 @@ typedef struct {
   double w9[9];           /**< INTERP with q2: the sample's biquadratic (Lagrange) weights */
   int exact_primary;      /**< INTERP: the primary node's hit is the sample's own ray (primary
                                set) met with the node's primitive, not interpolated: rays
-                               spawned there are traced exactly (pt__interp_cell) */
+                               spawned there are traced exactly (interp.c,
+                               exact_below_primary) */
   int ownfail;            /**< set when such a node's per-sample ray left its path */
   int partial;            /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;

@@ -1132,6 +1132,16 @@ static rt_rgb_t fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int 
   return sum;
 }
 
+/* Start the evaluation of the sample at (x, y): its flags cleared, and its own xi and primary ray
+ * when its own nodes or its exact primary hit need them. */
+static void sample_start(pt_ctx_t *C, pt_eval_t *E, double x, double y) {
+  E->partial = E->fallback = E->ownfail = 0;
+  if (E->own || E->exact_primary)
+    pt__xi_of(C, E, x, y);
+  if (E->own)
+    E->stamp = ++C->stamp;
+}
+
 /* The samples a in [a0, a1), b in [b0, b1) of pixel P inside quad q: interpolated (Q), or
  * through the matrices when Q is NULL (*why counts them). */
 static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1, int b0,
@@ -1169,11 +1179,7 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
       if (E->q2)
         qweights9(Q, qu, qv, E->w9);
       if (local) {
-        E->partial = E->fallback = E->ownfail = 0;
-        if (E->own || E->exact_primary)
-          pt__xi_of(C, E, x, y);
-        if (E->own)
-          E->stamp = ++C->stamp;
+        sample_start(C, E, x, y);
         rt_rgb_t v = interp_local(E, Q->pl, w);
         if (E->ownfail) { /* take the sample's summed part back: the whole sample by matrices */
           rt_rgb_t f = fast_sample(Q, qu, qv);
@@ -1191,11 +1197,7 @@ static void quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int 
           pt__matrix_sample(C, P, a, b);
           continue;
         }
-        E->partial = E->fallback = E->ownfail = 0;
-        if (E->own || E->exact_primary) /* the sample's own xi and primary ray */
-          pt__xi_of(C, E, x, y);
-        if (E->own)
-          E->stamp = ++C->stamp;
+        sample_start(C, E, x, y);
         rt_rgb_t v = interp_sample(E, Q->pl, w);
         if (E->ownfail) { /* an own node's ray left its path: the whole sample by matrices */
           pt__matrix_sample(C, P, a, b);
