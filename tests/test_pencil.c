@@ -901,6 +901,27 @@ static void fresnel_weights_match_exact(void **state) {
   }
 }
 
+/* Over the pixels whose centre ray meets object obj first in the exact image e (-1: nothing):
+ * their number, and the mean (over channels too) and the largest difference of image p there. */
+static int object_difference(const rt_image_t *e, const rt_image_t *p, int obj, double *mean,
+                             double *worst) {
+  double sum = 0.0;
+  int n = 0;
+  *worst = 0.0;
+  for (int k = 0; k < e->width * e->height; k++) {
+    if (e->ch[RT_CH_ID][k] != (float)obj)
+      continue;
+    n++;
+    for (int c = 0; c < 3; c++) {
+      double d = (double)p->ch[c][k] - (double)e->ch[c][k];
+      sum += d;
+      *worst = fmax(*worst, fabs(d));
+    }
+  }
+  *mean = n ? sum / (3.0 * n) : 0.0;
+  return n;
+}
+
 /* Every scene of scenes/ (scaled to 96 pixels wide, 4 spp), both modes: on each object that
  * covers at least 100 pixels (by the exact image's centre rays), the pencil image's mean
  * difference from the exact one stays within 0.003. The checkerboard's flips at rho = 1/2 move
@@ -912,7 +933,6 @@ static void every_scene_unbiased_per_object(void **state) {
   for (int sc = 0; sc < 4; sc++) {
     rt_scene_t s;
     scene_file(names[sc], 96, &s);
-    int w = s.camera.width, h = s.camera.height;
     rt_image_t e;
     render_exact(&s, 2, 2, &e);
     for (int cert = 0; cert <= 1; cert++) {
@@ -922,18 +942,10 @@ static void every_scene_unbiased_per_object(void **state) {
       pt_stats_t st;
       render_pencil(&s, 2, 2, &o, &p, NULL, &st);
       for (int obj = -1; obj < s.nobject; obj++) {
-        double sum = 0.0;
-        int n = 0;
-        for (int k = 0; k < w * h; k++) {
-          if (e.ch[RT_CH_ID][k] != (float)obj)
-            continue;
-          for (int c = 0; c < 3; c++)
-            sum += (double)p.ch[c][k] - (double)e.ch[c][k];
-          n++;
-        }
+        double mean, worst;
+        int n = object_difference(&e, &p, obj, &mean, &worst);
         if (n < 100)
           continue;
-        double mean = sum / (3.0 * n);
         print_message("%s certified %d object %d: %d pixels, mean difference %.5f\n", names[sc],
                       cert, obj, n, mean);
         assert_true(fabs(mean) < 0.003);
@@ -957,7 +969,7 @@ static void exact_subtrees_start_at_exact_primary_hits(void **state) {
   (void)state;
   rt_scene_t s;
   scene_file("fig11", 192, &s);
-  int torus = -1, w = s.camera.width, h = s.camera.height;
+  int torus = -1;
   for (int i = 0; i < s.nobject; i++)
     if (strcmp(s.object[i].name, "glass torus") == 0)
       torus = i;
@@ -970,15 +982,8 @@ static void exact_subtrees_start_at_exact_primary_hits(void **state) {
     rt_image_t p;
     pt_stats_t st;
     render_pencil(&s, 1, 2, &o, &p, NULL, &st);
-    double worst = 0.0;
-    int n = 0;
-    for (int k = 0; k < w * h; k++) {
-      if (e.ch[RT_CH_ID][k] != (float)torus)
-        continue;
-      n++;
-      for (int c = 0; c < 3; c++)
-        worst = fmax(worst, fabs((double)p.ch[c][k] - (double)e.ch[c][k]));
-    }
+    double mean, worst;
+    int n = object_difference(&e, &p, torus, &mean, &worst);
     print_message("fig11 192x192 certified %d: %d torus pixels, %llu partly exact cells, largest "
                   "difference %.3g\n",
                   cert, n, (unsigned long long)st.cells_partial, worst);
