@@ -962,10 +962,12 @@ static void every_scene_unbiased_per_object(void **state) {
  * the sample's primary hit. That hit was interpolated - within the tolerance, but through up to
  * six facets of a polyhedron that is not convex its error turned 9 of the torus's pixels into
  * other colours, by up to 0.68 (an interpolated direction's error of ~1e-5 rad suffices near a
- * facet edge). Fig. 10's measure cannot see it: the subtree is "traced exactly". Now the primary
- * hit of such samples is their own ray met with the facet (pt_eval_t.exact_primary), and the
- * torus is the exact image in both modes. */
-static void exact_subtrees_start_at_exact_primary_hits(void **state) {
+ * facet edge), and Fig. 10's measure did not see it: it took the subtree for exact. Now such
+ * subtrees start at the sample's exact hit (pt_eval_t.exact_spawn), the torus is the exact image
+ * in both modes, and the measure compares the subtrees' points too: the rectangle seen through
+ * the torus gives most samples a measured point (without the subtrees' points 47% of them at
+ * 512 x 512, with them 68%), all within rho. */
+static void exact_subtrees_start_at_exact_hits_and_are_measured(void **state) {
   (void)state;
   rt_scene_t s;
   scene_file("fig11", 192, &s);
@@ -979,16 +981,22 @@ static void exact_subtrees_start_at_exact_primary_hits(void **state) {
   for (int cert = 0; cert <= 1; cert++) {
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.certified = cert;
+    o.measure = 1;
     rt_image_t p;
     pt_stats_t st;
     render_pencil(&s, 1, 2, &o, &p, NULL, &st);
     double mean, worst;
     int n = object_difference(&e, &p, torus, &mean, &worst);
     print_message("fig11 192x192 certified %d: %d torus pixels, %llu partly exact cells, largest "
-                  "difference %.3g\n",
-                  cert, n, (unsigned long long)st.cells_partial, worst);
+                  "difference %.3g; %llu of %llu samples with measured points, %llu within rho\n",
+                  cert, n, (unsigned long long)st.cells_partial, worst,
+                  (unsigned long long)st.with_points, (unsigned long long)st.measured,
+                  (unsigned long long)st.within);
     assert_true(n > 5000 && st.cells_partial > 0);
     assert_true(worst < 0.01);
+    assert_true(st.with_points * 100 > st.measured * 55); /* 46% without the subtrees' points */
+    assert_int_equal(st.within, st.measured);
+    assert_int_equal(st.mismatches, 0);
     rt_image_free(&p);
   }
   rt_image_free(&e);
@@ -1243,7 +1251,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(error_maximum_keeps_nan),
       cmocka_unit_test(fresnel_weights_match_exact),
       cmocka_unit_test(every_scene_unbiased_per_object),
-      cmocka_unit_test(exact_subtrees_start_at_exact_primary_hits),
+      cmocka_unit_test(exact_subtrees_start_at_exact_hits_and_are_measured),
       cmocka_unit_test(image_bias_finds_systematic_errors),
       cmocka_unit_test(certified_halves_stay_within_rho),
       cmocka_unit_test(subdivision_only_at_edges),

@@ -71,10 +71,37 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
   }
 }
 
-/* Radiance along a child ray by the exact tracer (unweighted). */
-static rt_rgb_t exact_child(pt_eval_t *E, const rt_child_t *c, int depth) {
-  rt_tracer_t ex = rt_exact_tracer(&E->C->ex);
-  return ex.child(ex.ctx, c, depth);
+/* Radiance along child ray c of pencil node k by the exact tracer (unweighted). With
+ * E->record_sub the subtree's rays are recorded in C->sub under a root standing for node k, so
+ * that the measure compares its points with the exact tracer's: they start at the pencil's hit
+ * of k, which may be interpolated. */
+static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth) {
+  pt_ctx_t *C = E->C;
+  rt_tracer_t ex = rt_exact_tracer(&C->ex);
+  rt_tree_t *t = &C->sub;
+  if (!E->record_sub || k < 0)
+    return ex.child(ex.ctx, c, depth);
+  if (t->n >= t->cap || C->nsub >= C->cap) { /* not recorded: the measure cannot compare it */
+    t->overflow = 1;
+    return ex.child(ex.ctx, c, depth);
+  }
+  int r = t->n++;
+  t->node[r] = (rt_tree_node_t){.parent = -1,
+                                .object = -1,
+                                .prim = -1,
+                                .texel = -1,
+                                .t = INFINITY,
+                                .weight = rt_rgb(1, 1, 1)};
+  C->sub_root[C->nsub] = r;
+  C->sub_from[C->nsub++] = k;
+  rt_tree_t *saved = C->ex.tree;
+  int saved_node = C->ex.node;
+  C->ex.tree = t;
+  C->ex.node = r;
+  rt_rgb_t l = ex.child(ex.ctx, c, depth);
+  C->ex.tree = saved;
+  C->ex.node = saved_node;
+  return l;
 }
 
 /* Checker square of a hit on a textured plane. */
@@ -135,23 +162,35 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   return x;
 }
 
+/* Whether a child of node n is traced exactly per sample in this evaluation (the cell's tree marks
+ * it exact, or the quad's plan traces it below an edge). */
+static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
+  for (int c = 0; c < 2; c++) {
+    int kc = n->child[c];
+    if (kc >= 0 && (E->C->node[kc].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[kc])))
+      return 1;
+  }
+  return 0;
+}
+
 /* Node k's hit point and arriving direction for this sample; 0 when the sample's ray misses the
  * node's primitive (it left the cell's paths). `from` is the ray arriving at the node as shading
  * spawned it (NULL for the primary ray). */
 static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
   const pt_node_t *n = &E->C->node[k];
-  if (E->mode == PT_EV_INTERP && E->exact_primary && n->parent < 0) {
-    /* the sample's own primary ray met with the node's primitive: the exact tracer takes the rays
-     * spawned here, and an interpolated hit and direction, though within the tolerance, put
-     * their error into every surface below (a glass polyhedron's facets turn it into another
-     * colour: Fig. 11). Missing the primitive, the sample has left the cell's paths. */
-    double t;
-    if (!rt_prim_intersect(E->C->s, n->prim, &E->primary, E->primary.tmax, &t))
-      return 0;
-    *hit = v3_axpy(t, E->primary.d, E->primary.o);
-    *d = E->primary.d;
-    return 1;
+  if (E->exact_spawn && !E->lattice && spawns_exact(E, n)) {
+    /* the exact tracer takes the rays spawned here: an interpolated (or matrix) hit and
+     * direction, though within the tolerance, would put their error into every surface below,
+     * where nothing bounds it (a glass polyhedron's facets turn it into another colour: Fig. 11;
+     * a ray leaving the glass ball near grazing meets the board hundreds of pixel intervals
+     * away). So the sample's own ray carried along the node's path (exact_geom; for the primary
+     * node one primitive test). Leaving the path, the sample has left the cell's paths. */
+    const pt_xgeom_t *x = exact_geom(E, k);
+    E->spawnfail |= !x->ok;
+    *hit = x->p;
+    *d = x->d;
+    return x->ok;
   }
   if (E->mode == PT_EV_INTERP && E->own && E->own[k]) { /* this node: per sample */
     if (n->pencil == PT_NODE_PATH) {
@@ -264,8 +303,10 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
       if (E->rec)
         E->rec[k].fb |= (uint8_t)(1u << ch[i].kind);
     }
-    if (E->shade && !E->lattice) /* lattice points record where the paths end, not radiance */
-      sum = rt_rgb_add(sum, rt_rgb_mul(wc, exact_child(E, &ch[i], n->depth + 1)));
+    /* lattice points record where the paths end, not radiance; a measured geometry-only
+     * evaluation traces the subtree for its points */
+    if ((E->shade || E->record_sub) && !E->lattice)
+      sum = rt_rgb_add(sum, rt_rgb_mul(wc, exact_child(E, k, &ch[i], n->depth + 1)));
   }
   return sum;
 }
@@ -290,9 +331,10 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     if ((C->opt->certified || n->verify) && r && rt_intersect(C->s, r, &h)) {
       left(E, n);
       mark_exact(E, k);
-      if (!E->shade || E->lattice)
+      if (E->lattice || !(E->shade || (E->record_sub && from)))
         return rt_rgb(0, 0, 0);
-      return from ? rt_rgb_mul(w, exact_child(E, from, n->depth)) : rt_exact_primary(&C->ex, r);
+      return from ? rt_rgb_mul(w, exact_child(E, n->parent, from, n->depth))
+                  : rt_exact_primary(&C->ex, r);
     }
     rt_rgb_t l = rt_rgb_mul(w, C->s->background);
     if (g) {
@@ -308,9 +350,9 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   if (!node_geometry(E, k, from, &hit, &d)) { /* left the cell's paths: exact from here */
     left(E, n);
     mark_exact(E, k);
-    if (!E->shade || E->lattice)
+    if (E->lattice || !(E->shade || (E->record_sub && from)))
       return rt_rgb(0, 0, 0);
-    return from ? rt_rgb_mul(w, exact_child(E, from, n->depth))
+    return from ? rt_rgb_mul(w, exact_child(E, n->parent, from, n->depth))
                 : rt_exact_primary(&C->ex, &E->primary);
   }
   if (g) {
@@ -359,10 +401,15 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
   if (E->rec)
     for (int k = 0; k < E->C->nnode; k++)
       E->rec[k].ok = E->rec[k].fb = 0;
+  if (E->record_sub) {
+    E->C->sub.n = E->C->sub.overflow = 0;
+    E->C->nsub = 0;
+  }
   E->cur = -1;
   E->fallback = 0;
   E->vfail = 0;
   E->ownfail = 0;
+  E->spawnfail = 0;
   E->partial = 0;
   E->stamp = ++E->C->stamp;
   return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);
@@ -390,6 +437,14 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
     sum = rt_rgb_add(sum, children(E, k, &sf, &ray, w, 1));
   E->cur = saved;
   return sum;
+}
+
+int pt__spawns_exact(const pt_eval_t *E) {
+  const pt_ctx_t *C = E->C;
+  for (int k = 0; k < C->nnode; k++)
+    if (!C->node[k].miss && spawns_exact(E, &C->node[k]))
+      return 1;
+  return 0;
 }
 
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]) {

@@ -77,6 +77,12 @@ typedef struct {
   rt_exact_t ex;            /**< the exact tracer (axial, corner, fallback and edge rays) */
   rt_tree_t tree;           /**< the current cell's axial tree */
   rt_tree_t tree2;          /**< corner and measurement trees */
+  rt_tree_t sub;            /**< measure: the subtrees one sample's evaluation traced exactly,
+                                 each under a root node standing for the pencil node it hangs
+                                 from (PT_SUB_TREES x cap nodes; pt__measure compares their
+                                 points with the exact tracer's) */
+  int *sub_root, *sub_from; /**< ... each subtree's root in `sub` and its pencil node (cap) */
+  int nsub;
   pt_ctree_t *corner;       /**< corner tree cache of the current domain, (N+1)^2 */
   pt_cnode_t *corner_nodes; /**< their node storage (one block; entries are swapped) */
   int dom_x0, dom_y0;       /**< the current domain's top-left pixel */
@@ -114,6 +120,11 @@ typedef struct {
 } pt_ctx_t;
 
 enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
+
+/** Subtrees traced exactly that one sample's measurement can hold, in whole trees (the subtrees
+ *  of one sample are disjoint parts of its tree, so one tree's capacity is enough but for the
+ *  root node each adds). */
+#define PT_SUB_TREES 2
 
 /** Share of rho that the certified mode's checks may use (the margin covers third-order
  *  variation between the checked points; docs/pencil.md). */
@@ -153,14 +164,21 @@ typedef struct {
   const uint8_t *q2;      /**< INTERP: nodes interpolated biquadratically (g9, w9), or NULL */
   const pt_geom_t *g9[9]; /**< INTERP with q2: the quad's 3 x 3 grid, row-major */
   double w9[9];           /**< INTERP with q2: the sample's biquadratic (Lagrange) weights */
-  int exact_primary;      /**< INTERP: the primary node's hit is the sample's own ray (primary
-                               set) met with the node's primitive, not interpolated: rays
-                               spawned there are traced exactly (interp.c,
-                               exact_below_primary) */
+  int record_sub;         /**< measure: subtrees traced exactly are recorded in C->sub (reset
+                               by pt__eval) */
+  int exact_spawn;        /**< some node has a child traced exactly per sample: such a node
+                               spawns it from the sample's exact hit (primary set; the sample's
+                               ray carried along the node's path), not from an interpolated or
+                               matrix hit (pt__spawns_exact) */
+  int spawnfail;          /**< set when such a node's exact path left the cell's paths (the
+                               sample is then traced exactly) */
   int ownfail;            /**< set when such a node's per-sample ray left its path */
   int partial;            /**< set when a subtree where the corners differ was traced exactly */
 } pt_eval_t;
 
+/** pt_eval_t.exact_spawn for evaluations of the current cell with E's xsub (the quad's plan):
+ *  whether some node has a child traced exactly per sample. */
+int pt__spawns_exact(const pt_eval_t *E);
 /** Radiance of the sample (black when shade = 0). */
 rt_rgb_t pt__eval(pt_eval_t *E);
 
@@ -213,10 +231,12 @@ void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
  *  centre's) is `axial`. */
 void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
 
-/** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h), tracing it exactly:
- *  e[0] the largest over its measured points (pt_surface_measured) in pixels (|J+ e|), e[1]
- *  the same on the transmission-first path only, e[2] the largest |e| / sigma_min (strict). */
-void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]);
+/** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h) and the subtrees its
+ *  evaluation traced exactly (C->sub), tracing it exactly: e[0] the largest over its measured
+ *  points (pt_surface_measured) in pixels (|J+ e|), e[1] the same on the transmission-first path
+ *  only, e[2] the largest |e| / sigma_min (strict). Returns the number of pencil points
+ *  compared. */
+int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]);
 
 /** Record a finished sample's errors in the statistics (and e[0] in the caller's buffer). */
 void pt__account(pt_ctx_t *C, const double e[3], int has_points, float *slot);

@@ -913,19 +913,6 @@ static void qweights9(const qctx_t *Q, double u, double v, double w[9]) {
   weights9(Q->o9[0] + Q->s9 * u, Q->o9[1] + Q->s9 * v, w);
 }
 
-/* Whether a child of the primary node is traced exactly per sample in the current quad (the
- * cell's tree marks it exact, or the quad's plan traces it below an edge): then each sample's
- * primary hit is its own ray met with the primitive (pt_eval_t.exact_primary). */
-static int exact_below_primary(const pt_ctx_t *C) {
-  const pt_node_t *n = &C->node[0];
-  for (int c = 0; c < 2 && !n->miss; c++) {
-    int k = n->child[c];
-    if (k >= 0 && (C->node[k].pencil == PT_NODE_EXACT || (C->xsub && C->xsub[k])))
-      return 1;
-  }
-  return 0;
-}
-
 static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->q = q;
   Q->pl = pl;
@@ -934,12 +921,9 @@ static void qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q
     Q->off[a] = (a + 0.5) / s;
   Q->inv_w = 1.0 / q->w;
   Q->inv_h = 1.0 / q->h;
-  Q->E = (pt_eval_t){.C = C,
-                     .mode = PT_EV_INTERP,
-                     .shade = 1,
-                     .xsub = C->xsub,
-                     .own = pl->nown ? C->own : NULL,
-                     .exact_primary = exact_below_primary(C)};
+  Q->E = (pt_eval_t){
+      .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
+  Q->E.exact_spawn = pt__spawns_exact(&Q->E);
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
   Q->s9 = 1.0;
@@ -1133,13 +1117,13 @@ static rt_rgb_t fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int 
 }
 
 /* Start the evaluation of the sample at (x, y): its flags cleared, and its own xi and primary ray
- * when its own nodes or its exact primary hit need them. */
+ * when its own nodes or its exact spawn hits need them. */
 static void sample_start(pt_ctx_t *C, pt_eval_t *E, double x, double y) {
-  E->partial = E->fallback = E->ownfail = 0;
-  if (E->own || E->exact_primary)
+  E->partial = E->fallback = E->ownfail = E->spawnfail = 0;
+  if (E->own || E->exact_spawn) {
     pt__xi_of(C, E, x, y);
-  if (E->own)
     E->stamp = ++C->stamp;
+  }
 }
 
 /* The samples a in [a0, a1), b in [b0, b1) of pixel P inside quad q: interpolated (Q), or

@@ -15,7 +15,11 @@
  * interval. The strict variant divides |p_pencil - p_exact| by the smallest pixel interval over
  * all directions instead. The sample's error is the largest over its measured points; a
  * measured point of either tree without a counterpart in the other (the pencil missed an edge) is
- * an infinite error. Parts of a tree the pencil traced exactly have no error. */
+ * an infinite error. A subtree the pencil traced exactly per sample starts at the pencil's hit of
+ * the node it hangs from, which may be interpolated: its points (recorded in C->sub) are compared
+ * in the same way, in the pixel intervals of the cell's node on the same path (a subtree off the
+ * cell's paths has none: there only its surfaces are compared). Samples traced exactly from the
+ * eye have no error. */
 #include <math.h>
 
 #include "internal.h"
@@ -49,18 +53,89 @@ static int follow(const rt_tree_t *a, int k, const rt_tree_t *b, int *last, int 
   return cur;
 }
 
-void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]) {
+/* The kinds of the rays from node x of tree t up to node `stop`, which is not included, deepest
+ * first, into kinds[64]; their number, or -1 when `stop` is not an ancestor of x. */
+static int kinds_up(const rt_tree_t *t, int x, int stop, int kinds[64]) {
+  int m = 0;
+  for (; x != stop; x = t->node[x].parent) {
+    if (x < 0 || m == 64)
+      return -1;
+    kinds[m++] = t->node[x].kind;
+  }
+  return m;
+}
+
+/* From node `from` of tree b down the rays of kinds[m - 1], ..., kinds[0]: the node reached, or
+ * -1. */
+static int follow_down(const rt_tree_t *b, int from, const int *kinds, int m) {
+  int cur = from;
+  for (int step = m - 1; step >= 0 && cur >= 0; step--) {
+    int found = -1;
+    for (int j = cur + 1; j < b->n && found < 0; j++)
+      if (b->node[j].parent == cur && b->node[j].kind == kinds[step])
+        found = j;
+    cur = found;
+  }
+  return cur;
+}
+
+/* The recorded subtree i (C->sub): its points against the exact tree X, whose node on the path of
+ * the pencil node the subtree hangs from is xk (-1: none). Its measured points without a
+ * counterpart on the same primitive are infinite errors; the others are measured in the pixel
+ * intervals of the cell's node on the same path, when it has one. Returns the points compared. */
+static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, double e[3]) {
+  const rt_tree_t *S = &C->sub, *A = &C->tree;
+  int r = C->sub_root[i], end = i + 1 < C->nsub ? C->sub_root[i + 1] : S->n, points = 0;
+  for (int x = r + 1; x < end; x++) {
+    const rt_tree_node_t *sn = &S->node[x];
+    if (sn->object < 0 || !pt_surface_measured(C->s, sn->object))
+      continue;
+    int kinds[64], m = kinds_up(S, x, r, kinds);
+    int xx = m >= 0 && xk >= 0 ? follow_down(X, xk, kinds, m) : -1;
+    int ka = m >= 0 ? follow_down(A, C->sub_from[i], kinds, m) : -1;
+    double d = INFINITY, strict = INFINITY;
+    if (xx >= 0 && X->node[xx].prim == sn->prim) {
+      d = strict = 0.0;
+      if (ka >= 0 && C->node[ka].measured && C->node[ka].prim == sn->prim) {
+        px_vec3_t v = v3_sub(sn->point, X->node[xx].point);
+        d = pt_pixels(&C->node[ka], v);
+        strict = v3_norm(v) / C->node[ka].interval;
+      }
+    }
+    e[0] = fmax(e[0], d);
+    e[2] = fmax(e[2], strict);
+    if (ka >= 0 && ka == C->kt)
+      e[1] = fmax(e[1], d);
+    points++;
+  }
+  return points;
+}
+
+/* Whether exact node x lies in the part of X that recorded subtree i stands for (under the exact
+ * node xk of the pencil node it hangs from, through the subtree's first ray), and then whether
+ * the subtree has a node on the same path and primitive: 1 yes, 0 no, -1 not its part. */
+static int sub_has(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, int x) {
+  const rt_tree_t *S = &C->sub;
+  int r = C->sub_root[i], kinds[64], m = xk >= 0 ? kinds_up(X, x, xk, kinds) : -1;
+  if (m <= 0 || r + 1 >= S->n || S->node[r + 1].parent != r || S->node[r + 1].kind != kinds[m - 1])
+    return -1;
+  int s = follow_down(S, r, kinds, m);
+  return s >= 0 && S->node[s].prim == X->node[x].prim;
+}
+
+int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]) {
   C->ex.tree = &C->tree2;
   rt_exact_primary(&C->ex, ray);
   C->ex.tree = NULL;
   const rt_tree_t *A = &C->tree, *X = &C->tree2;
   e[0] = e[1] = e[2] = 0.0;
-  int last, next;
+  int last, next, points = 0;
   /* pencil -> exact */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
     if (!n->measured || rec[k].ok != 1)
       continue;
+    points++;
     int x = follow(A, k, X, &last, &next);
     double d = INFINITY, strict = INFINITY;
     if (x >= 0 && X->node[x].prim == n->prim) {
@@ -73,9 +148,22 @@ void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double 
     if (k == C->kt)
       e[1] = d;
   }
-  /* exact -> pencil: measured points the pencil did not compute and did not trace exactly */
+  /* the subtrees traced exactly, where the exact tree has their nodes' counterparts (a
+   * recording that overflowed is not compared) */
+  int nsub = C->sub.overflow ? 0 : C->nsub;
+  for (int i = 0; i < nsub; i++)
+    points += measure_sub(C, i, X, follow(A, C->sub_from[i], X, &last, &next), e);
+  /* exact -> pencil: measured points the pencil did not compute and did not trace exactly (or
+   * whose subtree traced exactly has no such point) */
   for (int x = 0; x < X->n; x++) {
     if (X->node[x].object < 0 || !pt_surface_measured(C->s, X->node[x].object))
+      continue;
+    int claimed = -1;
+    for (int i = 0; i < nsub && claimed < 0; i++)
+      claimed = sub_has(C, i, X, follow(A, C->sub_from[i], X, &last, &next), x);
+    if (claimed == 0)
+      e[0] = e[2] = INFINITY;
+    if (claimed >= 0)
       continue;
     int k = follow(X, x, A, &last, &next), lost = 0;
     if (k >= 0)
@@ -85,6 +173,7 @@ void pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double 
     if (lost)
       e[0] = e[2] = INFINITY;
   }
+  return points;
 }
 
 void pt__account(pt_ctx_t *C, const double e[3], int has_points, float *slot) {

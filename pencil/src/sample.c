@@ -97,10 +97,7 @@ void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
 double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
                           int a, int b, double pmax) {
   double e[3];
-  pt__measure(C, ray, rec, e);
-  int points = 0;
-  for (int k = 0; k < C->nnode && !points; k++)
-    points = C->node[k].measured && rec[k].ok == 1;
+  int points = pt__measure(C, ray, rec, e);
   pt__account(C, e, points, pt__error_slot(C, i, j, a, b));
   if (points && (isnan(pmax) || e[0] > pmax))
     pmax = e[0];
@@ -112,6 +109,7 @@ void pt__geometry(pt_ctx_t *C, pt_eval_t *E) {
   pt_eval_t G = *E;
   G.shade = 0;
   G.rec = C->rec;
+  G.record_sub = C->opt->measure;
   pt__eval(&G);
 }
 
@@ -138,9 +136,24 @@ void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
 /* Step 4a with matrices: sample (a, b) of pixel P through the paths. */
 void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
   int s = C->opt->spp_side;
-  pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX, .shade = 1, .rec = C->opt->measure ? C->rec : NULL};
+  pt_eval_t E = {.C = C,
+                 .mode = PT_EV_MATRIX,
+                 .shade = 1,
+                 .rec = C->opt->measure ? C->rec : NULL,
+                 .record_sub = C->opt->measure};
   pt__xi_of(C, &E, P->i + (a + 0.5) / s, P->j + (b + 0.5) / s);
-  P->sum = rt_rgb_add(P->sum, pt__eval(&E));
+  E.exact_spawn = pt__spawns_exact(&E);
+  rt_rgb_t v = pt__eval(&E);
+  if (E.spawnfail) { /* a node's exact path left the cell's paths: the whole sample exactly */
+    P->sum = rt_rgb_add(P->sum, rt_exact_primary(&C->ex, &E.primary));
+    P->n[PT_METHOD_EXACT]++;
+    if (C->opt->measure) {
+      const double zero[3] = {0.0, 0.0, 0.0};
+      pt__account(C, zero, 0, pt__error_slot(C, P->i, P->j, a, b));
+    }
+    return;
+  }
+  P->sum = rt_rgb_add(P->sum, v);
   P->n[PT_METHOD_MATRIX]++;
   C->st.fallbacks += (uint64_t)E.fallback;
   C->st.partial += (uint64_t)E.partial;
