@@ -82,6 +82,7 @@ typedef struct {
                                  from (PT_SUB_TREES x cap nodes; pt__measure compares their
                                  points with the exact tracer's) */
   int *sub_root, *sub_from; /**< ... each subtree's root in `sub` and its pencil node (cap) */
+  int *sub_xk;              /**< ... pt__measure: the exact tree's node on that node's path (cap) */
   int nsub;
   pt_ctree_t *corner;       /**< corner tree cache of the current domain, (N+1)^2 */
   pt_cnode_t *corner_nodes; /**< their node storage (one block; entries are swapped) */

@@ -25,34 +25,6 @@
 #include "internal.h"
 #include "render/vec_inline.h"
 
-/* Follow the path of node k of tree `a` (its kinds from the root) in tree `b`. Returns the
- * matching node of b, or -1; *last = deepest node of b matched (-1 if not even the root) and
- * *next = the kind of the first step not matched. */
-static int follow(const rt_tree_t *a, int k, const rt_tree_t *b, int *last, int *next) {
-  int kinds[64], m = 0;
-  for (int x = k; x >= 0 && m < 64; x = a->node[x].parent)
-    kinds[m++] = a->node[x].kind;
-  *last = -1;
-  *next = -1;
-  if (b->n == 0)
-    return -1;
-  int cur = 0;
-  *last = 0;
-  for (int step = m - 2; step >= 0; step--) {
-    int found = -1;
-    for (int j = cur + 1; j < b->n && found < 0; j++)
-      if (b->node[j].parent == cur && b->node[j].kind == kinds[step])
-        found = j;
-    if (found < 0) {
-      *next = kinds[step];
-      return -1;
-    }
-    cur = found;
-    *last = cur;
-  }
-  return cur;
-}
-
 /* The kinds of the rays from node x of tree t up to node `stop`, which is not included, deepest
  * first, into kinds[64]; their number, or -1 when `stop` is not an ancestor of x. */
 static int kinds_up(const rt_tree_t *t, int x, int stop, int kinds[64]) {
@@ -66,17 +38,38 @@ static int kinds_up(const rt_tree_t *t, int x, int stop, int kinds[64]) {
 }
 
 /* From node `from` of tree b down the rays of kinds[m - 1], ..., kinds[0]: the node reached, or
- * -1. */
-static int follow_down(const rt_tree_t *b, int from, const int *kinds, int m) {
-  int cur = from;
+ * -1; *last (when not NULL) = the deepest node matched, *next = the kind of the first step not
+ * matched (-1 when all were). */
+static int follow_down(const rt_tree_t *b, int from, const int *kinds, int m, int *last,
+                       int *next) {
+  int cur = from, miss = -1;
   for (int step = m - 1; step >= 0 && cur >= 0; step--) {
     int found = -1;
     for (int j = cur + 1; j < b->n && found < 0; j++)
       if (b->node[j].parent == cur && b->node[j].kind == kinds[step])
         found = j;
+    if (found < 0)
+      miss = kinds[step];
+    else if (last)
+      *last = found;
     cur = found;
   }
+  if (next)
+    *next = miss;
   return cur;
+}
+
+/* Follow the path of node k of tree `a` (its kinds from the root) in tree `b`. Returns the
+ * matching node of b, or -1; *last = deepest node of b matched (-1 if not even the root) and
+ * *next = the kind of the first step not matched. */
+static int follow(const rt_tree_t *a, int k, const rt_tree_t *b, int *last, int *next) {
+  int kinds[64], m = kinds_up(a, k, -1, kinds);
+  *last = -1;
+  *next = -1;
+  if (b->n == 0 || m < 1)
+    return -1;
+  *last = 0; /* both roots are primary rays */
+  return follow_down(b, 0, kinds, m - 1, last, next);
 }
 
 /* The recorded subtree i (C->sub): its points against the exact tree X, whose node on the path of
@@ -91,8 +84,8 @@ static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, dou
     if (sn->object < 0 || !pt_surface_measured(C->s, sn->object))
       continue;
     int kinds[64], m = kinds_up(S, x, r, kinds);
-    int xx = m >= 0 && xk >= 0 ? follow_down(X, xk, kinds, m) : -1;
-    int ka = m >= 0 ? follow_down(A, C->sub_from[i], kinds, m) : -1;
+    int xx = m >= 0 && xk >= 0 ? follow_down(X, xk, kinds, m, NULL, NULL) : -1;
+    int ka = m >= 0 ? follow_down(A, C->sub_from[i], kinds, m, NULL, NULL) : -1;
     double d = INFINITY, strict = INFINITY;
     if (xx >= 0 && X->node[xx].prim == sn->prim) {
       d = strict = 0.0;
@@ -119,7 +112,7 @@ static int sub_has(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, int x) 
   int r = C->sub_root[i], kinds[64], m = xk >= 0 ? kinds_up(X, x, xk, kinds) : -1;
   if (m <= 0 || r + 1 >= S->n || S->node[r + 1].parent != r || S->node[r + 1].kind != kinds[m - 1])
     return -1;
-  int s = follow_down(S, r, kinds, m);
+  int s = follow_down(S, r, kinds, m, NULL, NULL);
   return s >= 0 && S->node[s].prim == X->node[x].prim;
 }
 
@@ -151,8 +144,10 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
   /* the subtrees traced exactly, where the exact tree has their nodes' counterparts (a
    * recording that overflowed is not compared) */
   int nsub = C->sub.overflow ? 0 : C->nsub;
-  for (int i = 0; i < nsub; i++)
-    points += measure_sub(C, i, X, follow(A, C->sub_from[i], X, &last, &next), e);
+  for (int i = 0; i < nsub; i++) {
+    C->sub_xk[i] = follow(A, C->sub_from[i], X, &last, &next);
+    points += measure_sub(C, i, X, C->sub_xk[i], e);
+  }
   /* exact -> pencil: measured points the pencil did not compute and did not trace exactly (or
    * whose subtree traced exactly has no such point) */
   for (int x = 0; x < X->n; x++) {
@@ -160,7 +155,7 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
       continue;
     int claimed = -1;
     for (int i = 0; i < nsub && claimed < 0; i++)
-      claimed = sub_has(C, i, X, follow(A, C->sub_from[i], X, &last, &next), x);
+      claimed = sub_has(C, i, X, C->sub_xk[i], x);
     if (claimed == 0)
       e[0] = e[2] = INFINITY;
     if (claimed >= 0)

@@ -18,6 +18,7 @@ static void ctx_free(pt_ctx_t *C) {
   free(C->sub.node);
   free(C->sub_root);
   free(C->sub_from);
+  free(C->sub_xk);
   free(C->corner_nodes);
   free(C->corner);
   free(C->node);
@@ -56,6 +57,7 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
                         PT_SUB_TREES * cap);
   C->sub_root = malloc((size_t)cap * sizeof *C->sub_root);
   C->sub_from = malloc((size_t)cap * sizeof *C->sub_from);
+  C->sub_xk = malloc((size_t)cap * sizeof *C->sub_xk);
   C->corner = calloc(corners, sizeof *C->corner);
   pt_cnode_t *cn = malloc(corners * (size_t)cap * sizeof *cn);
   C->node = malloc((size_t)cap * sizeof *C->node);
@@ -92,10 +94,10 @@ static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
   C->memo.slot = malloc(nslot * sizeof *C->memo.slot);
   C->memo.gen = calloc(nslot, sizeof *C->memo.gen);
   if (!C->tree.node || !C->tree2.node || !C->sub.node || !C->sub_root || !C->sub_from ||
-      !C->corner || !cn || !C->node || !C->lat || !C->acc || !C->rec || !C->xg || !C->ref ||
-      !C->map || !C->agree || !C->light || !C->loc || !C->locd || !C->loce || !C->loct || !C->lsm ||
-      !C->xsub || !C->own || !C->q2 || !C->faint || !C->memo.g || !C->memo.xy || !C->memo.xi2 ||
-      !C->memo.ok || !C->memo.slot || !C->memo.gen) {
+      !C->sub_xk || !C->corner || !cn || !C->node || !C->lat || !C->acc || !C->rec || !C->xg ||
+      !C->ref || !C->map || !C->agree || !C->light || !C->loc || !C->locd || !C->loce || !C->loct ||
+      !C->lsm || !C->xsub || !C->own || !C->q2 || !C->faint || !C->memo.g || !C->memo.xy ||
+      !C->memo.xi2 || !C->memo.ok || !C->memo.slot || !C->memo.gen) {
     C->corner_nodes = cn;
     return 0;
   }
