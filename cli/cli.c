@@ -76,23 +76,6 @@ int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *
   }
 }
 
-const char *cli_option(int argc, char **argv, int *i, const char *name, int *err) {
-  const char *a = argv[*i];
-  size_t n = strlen(name);
-  if (strncmp(a, name, n) != 0)
-    return NULL;
-  if (a[n] == '=')
-    return a + n + 1;
-  if (a[n] != '\0')
-    return NULL;
-  if (*i + 1 >= argc) {
-    fprintf(stderr, "pencil: %s needs a value\n", name);
-    *err = 1;
-    return NULL;
-  }
-  return argv[++*i];
-}
-
 int cli_is_help(const char *arg) {
   return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0;
 }
@@ -108,30 +91,44 @@ void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]) {
   fprintf(f, "]}\n");
 }
 
-int cli_element_option(const char *cmd, int argc, char **argv, int *i, cli_element_t *e) {
-  int err = 0;
-  const char *v;
+int cli_element_specs(const cli_element_t *e, cli_spec_t *specs) {
+  int n = 0;
+  specs[n++] = (cli_spec_t){"--theta-deg", 0, 1, CLI_EL_THETA};
+  specs[n++] = (cli_spec_t){"--n1", 0, 1, CLI_EL_N1};
+  if (!e->reflect)
+    specs[n++] = (cli_spec_t){"--n2", 0, 1, CLI_EL_N2};
+  specs[n++] = (cli_spec_t){"--radius", 0, 1, CLI_EL_RADIUS};
+  specs[n++] = (cli_spec_t){"--variant", 0, 1, CLI_EL_VARIANT};
+  return n;
+}
+
+int cli_element_apply(const char *cmd, const cli_arg_t *g, cli_element_t *e) {
   double *target = NULL;
-  const char *name = NULL;
-  if ((v = cli_option(argc, argv, i, "--theta-deg", &err)))
-    target = &e->theta_deg, name = "--theta-deg";
-  else if (!err && (v = cli_option(argc, argv, i, "--n1", &err)))
-    target = &e->n1, name = "--n1";
-  else if (!err && !e->reflect && (v = cli_option(argc, argv, i, "--n2", &err)))
-    target = &e->n2, name = "--n2";
-  else if (!err && (v = cli_option(argc, argv, i, "--radius", &err)))
-    target = &e->radius, name = "--radius";
-  else if (!err && (v = cli_option(argc, argv, i, "--variant", &err))) {
-    if (px_variant_parse(v, &e->variant) == PX_OK)
-      return 1;
-    fprintf(stderr, "pencil %s: --variant: expected corrected or printed, got '%s'\n", cmd, v);
-    return -1;
-  }
-  if (err)
-    return -1;
-  if (!target)
+  if (!g->spec)
     return 0;
-  if (!cli_parse_double(name, v, target))
+  switch (g->spec->id) {
+  case CLI_EL_THETA:
+    target = &e->theta_deg;
+    break;
+  case CLI_EL_N1:
+    target = &e->n1;
+    break;
+  case CLI_EL_N2:
+    target = &e->n2;
+    break;
+  case CLI_EL_RADIUS:
+    target = &e->radius;
+    break;
+  case CLI_EL_VARIANT:
+    if (px_variant_parse(g->value, &e->variant) == PX_OK)
+      return 1;
+    fprintf(stderr, "pencil %s: --variant: expected corrected or printed, got '%s'\n", cmd,
+            g->value);
+    return -1;
+  default:
+    return 0;
+  }
+  if (!cli_parse_double(g->name, g->value, target))
     return -1;
   if (target == &e->radius && e->radius == 0.0) {
     fprintf(stderr, "pencil %s: --radius must be non-zero (omit it for a plane)\n", cmd);

@@ -10,6 +10,7 @@
 
 #include <stdio.h>
 
+#include "args.h"
 #include "paraxial/system.h"
 #include "render/scene.h"
 
@@ -25,9 +26,6 @@ int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out)
 /** A comma-separated list of such numbers, at most `max`, into out[0 .. *n - 1]. */
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
                        int *n);
-/** "--name=value" or "--name value": return the value for `name` at argv[*i] or NULL. Advances
- *  *i past a separate value. Prints an error and sets *err when the value is missing. */
-const char *cli_option(int argc, char **argv, int *i, const char *name, int *err);
 /** 1 when argv[i] is -h or --help. */
 int cli_is_help(const char *arg);
 
@@ -53,10 +51,15 @@ typedef struct {
   px_variant_t variant; /**< corrected unless --variant printed */
 } cli_element_t;
 
-/** Parse argv[*i] when it is --theta-deg, --n1, --n2 (refraction only), --radius or --variant.
- *  Returns 1 when it was one (advancing *i past a separate value), 0 when it is another
- *  option, -1 after printing a usage error that names `cmd` and the option. */
-int cli_element_option(const char *cmd, int argc, char **argv, int *i, cli_element_t *e);
+/** The options of an element (args.h ids CLI_EL_*): --theta-deg, --n1, --n2 (refraction only),
+ *  --radius, --variant. */
+enum { CLI_EL_THETA = 100, CLI_EL_N1, CLI_EL_N2, CLI_EL_RADIUS, CLI_EL_VARIANT };
+/** The specs of those options into specs[] (room for 5); returns how many (4 for a reflection,
+ *  which has no --n2). */
+int cli_element_specs(const cli_element_t *e, cli_spec_t *specs);
+/** Apply a parsed argument: 1 when it was an element option and valid, 0 when it is another
+ *  argument, -1 after printing a usage error that names `cmd` and the option. */
+int cli_element_apply(const char *cmd, const cli_arg_t *g, cli_element_t *e);
 
 /** After parsing: check that the angle (in [0, 90]) and the indices (> 0) are given; fills in
  *  n1 = n2 for a reflection. Returns 1, or 0 after printing a usage error. */

@@ -9,6 +9,8 @@
 #include <string.h>
 
 #include "cli.h"
+#include "io/json.h"
+#include "io/output.h"
 #include "render/builtin.h"
 #include "render/render.h"
 #include "validation/timing.h"
@@ -83,23 +85,22 @@ static void print_table(const result_t *r, int n, int w, int h, int spp, int run
 }
 
 static int write_json(const char *path, const result_t *r, int n, int w, int h, int spp, int runs) {
-  FILE *f = fopen(path, "w");
-  if (!f) {
-    fprintf(stderr, "pencil bench: cannot write %s\n", path);
-    return 0;
-  }
-  fprintf(f,
-          "{\"benchmark\": \"render\", \"method\": \"exact\", \"width\": %d, \"height\": %d, "
-          "\"spp\": %d, \"runs\": %d, \"results\": [",
-          w, h, spp, runs);
+  json_t *results = json_array();
   for (int k = 0; k < n; k++)
-    fprintf(f,
-            "%s\n  {\"scene\": \"%s\", \"primitives\": %d, \"threads\": %d, \"rays\": %llu, "
-            "\"median_seconds\": %.6g, \"rays_per_second\": %.6g}",
-            k ? "," : "", r[k].scene, r[k].primitives, r[k].threads, (unsigned long long)r[k].rays,
-            r[k].median_s, r[k].median_rps);
-  fprintf(f, "\n]}\n");
-  return fclose(f) == 0;
+    json_array_append_new(results, json_pack("{s:s, s:i, s:i, s:I, s:o, s:o}", "scene", r[k].scene,
+                                             "primitives", r[k].primitives, "threads", r[k].threads,
+                                             "rays", (json_int_t)r[k].rays, "median_seconds",
+                                             io_json_number(r[k].median_s), "rays_per_second",
+                                             io_json_number(r[k].median_rps)));
+  json_t *root =
+      json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:o}", "benchmark", "render", "method", "exact",
+                "width", w, "height", h, "spp", spp, "runs", runs, "results", results);
+  char err[1024];
+  int rc = root ? io_json_write(path, root, err, sizeof err) : -1;
+  if (rc != 0)
+    fprintf(stderr, "pencil bench: %s\n", root ? err : "out of memory");
+  json_decref(root);
+  return rc == 0;
 }
 
 static int run(int runs, long w, long h, int side, const char *json) {
@@ -143,30 +144,37 @@ int cmd_bench(int argc, char **argv) {
   }
   long runs = 5, w = 256, h = 256, spp = 4;
   const char *json = NULL;
-  for (int i = 2; i < argc; i++) {
-    int err = 0;
-    const char *v;
-    char tail;
-    if (cli_is_help(argv[i])) {
-      help(stdout);
-      return CLI_OK;
-    } else if ((v = cli_option(argc, argv, &i, "--runs", &err))) {
-      if (!cli_parse_long("--runs", v, 1, MAX_RUNS, &runs))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--size", &err))) {
-      if (sscanf(v, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 4096 || h > 4096) {
-        fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n", v);
-        return CLI_USAGE;
-      }
-    } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {
-      if (!cli_parse_spp("bench", "--spp", v, &spp))
-        return CLI_USAGE;
-    } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
-      json = v;
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil bench: unexpected argument '%s' (see --help)\n", argv[i]);
+  static const cli_spec_t specs[] = {
+      {"--runs", 0, 1, 1}, {"--size", 0, 1, 2}, {"--spp", 0, 1, 3}, {"--json", 0, 1, 4}};
+  cli_arg_t args[64];
+  if (argc - 1 > 64)
+    return fprintf(stderr, "pencil bench render: too many arguments\n"), CLI_USAGE;
+  int n = cli_parse("bench render", argc - 1, argv + 1, specs, 4, args);
+  if (n == CLI_ARGS_HELP) {
+    help(stdout);
+    return CLI_OK;
+  }
+  if (n < 0)
+    return CLI_USAGE;
+  for (int k = 0; k < n; k++) {
+    const char *v = args[k].value;
+    char tail, err[1024];
+    int id = args[k].spec ? args[k].spec->id : 0;
+    if (id == 0) {
+      fprintf(stderr, "pencil bench render: unexpected argument '%s' (see --help)\n", v);
       return CLI_USAGE;
+    } else if (id == 1 && !cli_parse_long("--runs", v, 1, MAX_RUNS, &runs)) {
+      return CLI_USAGE;
+    } else if (id == 2 && (sscanf(v, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 ||
+                           w > 4096 || h > 4096)) {
+      fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n", v);
+      return CLI_USAGE;
+    } else if (id == 3 && !cli_parse_spp("bench", "--spp", v, &spp)) {
+      return CLI_USAGE;
+    } else if (id == 4) {
+      json = v;
+      if (io_output_check(json, err, sizeof err) != 0) /* before minutes of rendering */
+        return fprintf(stderr, "pencil bench render: %s\n", err), CLI_FAIL;
     }
   }
   return run((int)runs, w, h, (int)lrint(sqrt((double)spp)), json);

@@ -14,7 +14,11 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "args.h"
 #include "cli.h"
+#include "io/json.h"
+#include "io/output.h"
+#include "pencil/pencil.h"
 #include "validation/figures.h"
 
 /* The targets of issue 5 (the paper's Fig. 9 falls below 0.1 at 49 spp; Fig. 10: 99.8%). */
@@ -90,53 +94,67 @@ static int usage_err(const char *opt, const char *v, const char *want) {
   return 0;
 }
 
+enum { OPT_SPP = 1, OPT_RUNS, OPT_THREADS, OPT_RHO, OPT_BTOL, OPT_SIZE, OPT_JSON, OPT_NO_MEASURE };
+
+static const cli_spec_t specs[] = {{"--spp", 0, 1, OPT_SPP},
+                                   {"--runs", 0, 1, OPT_RUNS},
+                                   {"--threads", 0, 1, OPT_THREADS},
+                                   {"--rho", 0, 1, OPT_RHO},
+                                   {"--brightness-tol", 0, 1, OPT_BTOL},
+                                   {"--size", 0, 1, OPT_SIZE},
+                                   {"--json", 0, 1, OPT_JSON},
+                                   {"--no-measure", 0, 0, OPT_NO_MEASURE}};
+
+/* One argument; 1 ok, 0 usage error (printed). */
+static int apply(args_t *a, const cli_arg_t *g) {
+  const char *v = g->value;
+  char tail;
+  if (!g->spec) {
+    if (a->scene)
+      return fprintf(stderr, "pencil bench pencil: unexpected argument '%s' (see --help)\n", v), 0;
+    a->scene = v;
+    return 1;
+  }
+  switch (g->spec->id) {
+  case OPT_SPP:
+    return cli_parse_spp_list("bench pencil", "--spp", v, a->spp, MAX_SPP, &a->nspp);
+  case OPT_RUNS:
+    return cli_parse_long("--runs", v, 3, 101, &a->runs);
+  case OPT_THREADS:
+    return cli_parse_long("--threads", v, 1, 1024, &a->threads);
+  case OPT_RHO:
+    return cli_parse_double("--rho", v, &a->rho) &&
+           (a->rho > 0.0 || usage_err("--rho", v, "a number > 0"));
+  case OPT_BTOL:
+    return cli_parse_double("--brightness-tol", v, &a->btol) &&
+           (a->btol >= 0.0 || usage_err("--brightness-tol", v, "a number >= 0"));
+  case OPT_SIZE:
+    if (sscanf(v, "%ldx%ld%c", &a->width, &a->height, &tail) != 2 || a->width < 1 ||
+        a->height < 1 || a->width > 4096 || a->height > 4096)
+      return usage_err("--size", v, "WxH with 1 <= W, H <= 4096");
+    return 1;
+  case OPT_JSON:
+    a->json = v;
+    return 1;
+  default:
+    a->measure = 0;
+    return 1;
+  }
+}
+
 /* Options; argv[0] is "pencil". 1 ok, 0 usage error (message printed), -1 help printed. */
 static int parse(int argc, char **argv, args_t *a) {
-  for (int i = 1; i < argc; i++) {
-    int err = 0;
-    const char *v;
-    if (cli_is_help(argv[i])) {
-      help(stdout);
-      return -1;
-    } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {
-      if (!cli_parse_spp_list("bench pencil", "--spp", v, a->spp, MAX_SPP, &a->nspp))
-        return 0;
-    } else if ((v = cli_option(argc, argv, &i, "--runs", &err))) {
-      if (!cli_parse_long("--runs", v, 3, 101, &a->runs))
-        return 0;
-    } else if ((v = cli_option(argc, argv, &i, "--threads", &err))) {
-      if (!cli_parse_long("--threads", v, 1, 1024, &a->threads))
-        return 0;
-    } else if ((v = cli_option(argc, argv, &i, "--rho", &err))) {
-      if (!cli_parse_double("--rho", v, &a->rho))
-        return 0;
-      if (!(a->rho > 0.0))
-        return usage_err("--rho", v, "a number > 0");
-    } else if ((v = cli_option(argc, argv, &i, "--brightness-tol", &err))) {
-      if (!cli_parse_double("--brightness-tol", v, &a->btol))
-        return 0;
-      if (!(a->btol >= 0.0))
-        return usage_err("--brightness-tol", v, "a number >= 0");
-    } else if ((v = cli_option(argc, argv, &i, "--size", &err))) {
-      char tail;
-      if (sscanf(v, "%ldx%ld%c", &a->width, &a->height, &tail) != 2 || a->width < 1 ||
-          a->height < 1 || a->width > 4096 || a->height > 4096)
-        return usage_err("--size", v, "WxH with 1 <= W, H <= 4096");
-    } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
-      a->json = v;
-    } else if (!err && strcmp(argv[i], "--no-measure") == 0) {
-      a->measure = 0;
-    } else if (!err && argv[i][0] != '-' && !a->scene) {
-      a->scene = argv[i];
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil bench pencil: unexpected argument '%s' (see --help)\n", argv[i]);
-      return 0;
-    }
-    if (err)
-      return 0;
-  }
-  return 1;
+  cli_arg_t *args = malloc((size_t)argc * sizeof *args);
+  int n = args ? cli_parse("bench pencil", argc, argv, specs, (int)(sizeof specs / sizeof specs[0]),
+                           args)
+               : -1;
+  if (n == CLI_ARGS_HELP)
+    help(stdout);
+  int ok = n >= 0;
+  for (int k = 0; ok && k < n; k++)
+    ok = apply(a, &args[k]);
+  free(args);
+  return n == CLI_ARGS_HELP ? -1 : ok;
 }
 
 static int load(const args_t *a, rt_scene_t *s) {
@@ -144,7 +162,7 @@ static int load(const args_t *a, rt_scene_t *s) {
 }
 
 static uint64_t over_rho(const row_t *r) {
-  return r->e.stats.measured - r->e.stats.within;
+  return r->e.counts.measured - r->e.counts.within;
 }
 
 /* The issue's verdict for one row: only at 49 spp, rho = 1/2, a brightness tolerance no looser
@@ -167,16 +185,22 @@ static void judge(row_t *r, const args_t *a) {
 
 /* Time and measure one row; 0 ok, -1 a render failed (message printed). */
 static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r) {
-  pt_options_t po = PT_OPTIONS_DEFAULT;
-  po.rho = a->rho;
-  po.brightness_tol = a->btol;
-  po.certified = r->certified;
-  po.threads = (int)a->threads;
-  if (val_time_pair(s, &po, r->spp, (int)a->threads, (int)a->runs, &r->t) != 0)
+  const rn_renderer_t *p = rn_find("pencil");
+  pt_options_t po;
+  char rho[32], btol[32], err[256];
+  snprintf(rho, sizeof rho, "%.17g", a->rho);
+  snprintf(btol, sizeof btol, "%.17g", a->btol);
+  rn_defaults(p, &po);
+  if (!rn_set(p, &po, "--rho", rho, err, sizeof err) ||
+      !rn_set(p, &po, "--brightness-tol", btol, err, sizeof err) ||
+      (r->certified && !rn_set(p, &po, "--certified", NULL, err, sizeof err)))
+    return fprintf(stderr, "pencil bench pencil: %s\n", err), -1;
+  val_method_t m = {p, &po};
+  if (val_time_pair(s, m, r->spp, (int)a->threads, (int)a->runs, &r->t) != 0)
     return -1;
   r->measured = 0;
   if (a->measure) {
-    if (val_measure(s, &po, r->spp, &r->e, NULL, NULL, NULL, NULL) != 0)
+    if (val_measure(s, m, r->spp, (int)a->threads, &r->e, NULL, NULL, NULL, NULL) != 0)
       return -1;
     r->measured = 1;
   }
@@ -229,82 +253,66 @@ static void print_table(const rt_scene_t *s, const args_t *a, const row_t *rows,
                                        : "");
 }
 
-/* A JSON string literal (quotes, backslashes and control characters escaped). */
-static void json_string(FILE *f, const char *s) {
-  fputc('"', f);
-  for (; *s; s++) {
-    unsigned char c = (unsigned char)*s;
-    if (c == '"' || c == '\\')
-      fprintf(f, "\\%c", c);
-    else if (c < 0x20)
-      fprintf(f, "\\u%04x", c);
-    else
-      fputc(c, f);
+static json_t *json_row(const row_t *r) {
+  json_t *j =
+      json_pack("{s:i, s:s, s:o, s:o, s:o, s:o, s:o}", "spp", r->spp, "mode", mode_name(r),
+                "exact_s", io_json_number(r->t.exact_s), "pencil_s", io_json_number(r->t.pencil_s),
+                "ratio", io_json_number(r->t.ratio), "exact_wall_s",
+                io_json_number(r->t.exact_wall), "pencil_wall_s", io_json_number(r->t.pencil_wall));
+  int compared = r->measured && r->e.samples_with_points > 0;
+  /* measured but nothing compared, or not measured: the error fields say nothing */
+  json_object_set_new(j, "samples",
+                      r->measured ? json_integer((json_int_t)r->e.samples) : json_null());
+  json_object_set_new(j, "samples_with_points",
+                      r->measured ? json_integer((json_int_t)r->e.samples_with_points)
+                                  : json_null());
+  json_object_set_new(j, "fraction_within",
+                      compared ? io_json_number(r->e.fraction_within) : json_null());
+  json_object_set_new(j, "samples_over_rho",
+                      compared ? json_integer((json_int_t)over_rho(r)) : json_null());
+  json_object_set_new(j, "max_error", compared ? io_json_number(r->e.max_error) : json_null());
+  json_object_set_new(j, "p99", compared ? io_json_number(r->e.p99) : json_null());
+  if (compared) {
+    const rn_errors_t *c = &r->e.counts;
+    json_object_set_new(j, "mismatches", json_integer((json_int_t)r->e.mismatches));
+    json_object_set_new(j, "samples_exact", json_integer((json_int_t)c->samples_exact));
+    json_object_set_new(j, "samples_matrix", json_integer((json_int_t)c->samples_matrix));
+    json_object_set_new(j, "samples_interpolated",
+                        json_integer((json_int_t)c->samples_interpolated));
+    json_object_set_new(j, "image_rms", io_json_number(r->e.image_rms));
+    json_object_set_new(j, "image_max", io_json_number(r->e.image_max));
+    json_object_set_new(j, "image_bias", io_json_number(r->e.image_bias));
+    json_object_set_new(j, "image_bias_object", json_integer(r->e.image_bias_object));
   }
-  fputc('"', f);
+  json_object_set_new(j, "target_met", r->target < 0 ? json_null() : json_boolean(r->target));
+  return j;
 }
 
-static void json_row(FILE *f, const row_t *r) {
-  fprintf(f,
-          "    {\"spp\": %d, \"mode\": \"%s\", \"exact_s\": %.6g, \"pencil_s\": %.6g, "
-          "\"ratio\": %.6g, \"exact_wall_s\": %.6g, \"pencil_wall_s\": %.6g",
-          r->spp, mode_name(r), r->t.exact_s, r->t.pencil_s, r->t.ratio, r->t.exact_wall,
-          r->t.pencil_wall);
-  if (r->measured && r->e.samples_with_points > 0) {
-    const pt_stats_t *st = &r->e.stats;
-    fprintf(f,
-            ", \"samples\": %llu, \"samples_with_points\": %llu, \"fraction_within\": %.9g, "
-            "\"samples_over_rho\": %llu, "
-            "\"max_error\": %.6g, \"p99\": %.6g, \"mismatches\": %llu, \"samples_exact\": %llu, "
-            "\"samples_matrix\": %llu, \"samples_interpolated\": %llu, \"image_rms\": %.6g, "
-            "\"image_max\": %.6g, \"image_bias\": %.6g, \"image_bias_object\": %d",
-            (unsigned long long)r->e.samples, (unsigned long long)r->e.samples_with_points,
-            r->e.fraction_within, (unsigned long long)over_rho(r), r->e.max_error, r->e.p99,
-            (unsigned long long)r->e.mismatches, (unsigned long long)st->samples[PT_METHOD_EXACT],
-            (unsigned long long)st->samples[PT_METHOD_MATRIX],
-            (unsigned long long)st->samples[PT_METHOD_INTERP], r->e.image_rms, r->e.image_max,
-            r->e.image_bias, r->e.image_bias_object);
-  } else {
-    if (r->measured) /* measured, but nothing compared: the error fields say nothing */
-      fprintf(f, ", \"samples\": %llu, \"samples_with_points\": 0",
-              (unsigned long long)r->e.samples);
-    else
-      fprintf(f, ", \"samples\": null, \"samples_with_points\": null");
-    fprintf(f, ", \"fraction_within\": null, "
-               "\"samples_over_rho\": null, "
-               "\"max_error\": null, \"p99\": null");
-  }
-  fprintf(f, ", \"target_met\": %s}", r->target < 0 ? "null" : r->target ? "true" : "false");
-}
-
-/* Write the results to the already open f; 0, or -1 when writing failed (message printed). */
-static int write_json(FILE *f, const char *path, const rt_scene_t *s, const args_t *a,
-                      const row_t *rows, int n) {
+/* Write the results to a->json; 0, or -1 when writing failed (message printed). */
+static int write_json(const rt_scene_t *s, const args_t *a, const row_t *rows, int n) {
   int judged = 0, met = 1;
   for (int k = 0; k < n; k++)
     if (rows[k].target >= 0)
       judged = 1, met &= rows[k].target;
-  fprintf(f, "{\"benchmark\": \"pencil\", \"scene\": ");
-  json_string(f, a->scene ? a->scene : "built-in fig8");
-  fprintf(f,
-          ", \"width\": %d, \"height\": %d, \"rho\": %g, \"brightness_tol\": %.17g, "
-          "\"threads\": %ld, \"runs\": %ld, "
-          "\"clock\": \"process_cpu\", \"statistic\": \"median\", \"measured\": %s,\n"
-          "  \"targets\": {\"spp\": %d, \"rho\": %g, \"ratio_max\": %g, "
-          "\"fraction_within_default_min\": %g, \"fraction_within_certified_min\": 1},\n"
-          "  \"results\": [\n",
-          s->camera.width, s->camera.height, a->rho, a->btol, a->threads, a->runs,
-          a->measure ? "true" : "false", TARGET_SPP, TARGET_RHO, TARGET_RATIO, TARGET_WITHIN);
-  for (int k = 0; k < n; k++) {
-    json_row(f, &rows[k]);
-    fprintf(f, "%s\n", k + 1 < n ? "," : "");
-  }
-  fprintf(f, "  ],\n  \"targets_met\": %s}\n", !judged ? "null" : met ? "true" : "false");
-  if (fclose(f) != 0) {
-    fprintf(stderr, "pencil bench pencil: error writing %s\n", path);
-    return -1;
-  }
-  return 0;
+  json_t *results = json_array();
+  for (int k = 0; k < n; k++)
+    json_array_append_new(results, json_row(&rows[k]));
+  json_t *root = json_pack(
+      "{s:s, s:s, s:i, s:i, s:o, s:o, s:i, s:i, s:s, s:s, s:b, s:{s:i, s:o, s:o, s:o, s:i}, "
+      "s:o, s:o}",
+      "benchmark", "pencil", "scene", a->scene ? a->scene : "built-in fig8", "width",
+      s->camera.width, "height", s->camera.height, "rho", io_json_number(a->rho), "brightness_tol",
+      io_json_number(a->btol), "threads", (int)a->threads, "runs", (int)a->runs, "clock",
+      "process_cpu", "statistic", "median", "measured", a->measure, "targets", "spp", TARGET_SPP,
+      "rho", io_json_number(TARGET_RHO), "ratio_max", io_json_number(TARGET_RATIO),
+      "fraction_within_default_min", io_json_number(TARGET_WITHIN), "fraction_within_certified_min",
+      1, "results", results, "targets_met", judged ? json_boolean(met) : json_null());
+  char err[1024];
+  int rc = root ? io_json_write(a->json, root, err, sizeof err) : -1;
+  if (rc != 0)
+    fprintf(stderr, "pencil bench pencil: %s\n", root ? err : "out of memory");
+  json_decref(root);
+  return rc;
 }
 
 static int run(const args_t *a) {
@@ -313,10 +321,10 @@ static int run(const args_t *a) {
     rt_scene_free(&s);
     return CLI_USAGE;
   }
-  /* open the JSON file first, so that an unwritable path fails before minutes of rendering */
-  FILE *jf = NULL;
-  if (a->json && !(jf = fopen(a->json, "w"))) {
-    fprintf(stderr, "pencil bench pencil: cannot write %s\n", a->json);
+  /* check the JSON path first, so that an unwritable path fails before minutes of rendering */
+  char err[1024];
+  if (a->json && io_output_check(a->json, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench pencil: %s\n", err);
     rt_scene_free(&s);
     return CLI_FAIL;
   }
@@ -335,15 +343,11 @@ static int run(const args_t *a) {
   if (rc != 0) {
     if (progress)
       fputc('\n', stderr);
-    if (jf) {
-      fclose(jf);
-      remove(a->json);
-    }
     rt_scene_free(&s);
     return CLI_FAIL;
   }
   print_table(&s, a, rows, n);
-  int wrc = jf ? write_json(jf, a->json, &s, a, rows, n) : 0;
+  int wrc = a->json ? write_json(&s, a, rows, n) : 0;
   rt_scene_free(&s);
   return wrc == 0 ? CLI_OK : CLI_FAIL;
 }

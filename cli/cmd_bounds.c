@@ -50,28 +50,35 @@ int cmd_bounds(int argc, char **argv) {
   }
   cli_element_t el = {is_reflect, NAN, NAN, NAN, INFINITY, PX_VARIANT_CORRECTED};
   double d3m = 0.0;
-  for (int i = 2; i < argc; i++) {
-    int err = 0;
-    const char *v, *opt = argv[i];
-    if (cli_is_help(opt)) {
-      help(stdout);
-      return CLI_OK;
-    }
-    int r = cli_element_option("bounds", argc, argv, &i, &el);
+  cli_spec_t specs[6];
+  int ns = cli_element_specs(&el, specs);
+  specs[ns++] = (cli_spec_t){"--d3m", 0, 1, 1};
+  char cmd[32];
+  snprintf(cmd, sizeof cmd, "bounds %s", kind);
+  cli_arg_t args[64];
+  int n = argc - 1 <= 64 ? cli_parse(cmd, argc - 1, argv + 1, specs, ns, args) : -1;
+  if (argc - 1 > 64)
+    fprintf(stderr, "pencil %s: too many arguments\n", cmd);
+  if (n == CLI_ARGS_HELP) {
+    help(stdout);
+    return CLI_OK;
+  }
+  if (n < 0)
+    return CLI_USAGE;
+  for (int k = 0; k < n; k++) {
+    int r = cli_element_apply("bounds", &args[k], &el);
     if (r < 0)
       return CLI_USAGE;
     if (r > 0)
       continue;
-    if ((v = cli_option(argc, argv, &i, "--d3m", &err))) {
-      if (!cli_parse_double("--d3m", v, &d3m))
-        return CLI_USAGE;
-      if (d3m < 0.0) {
-        fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
-        return CLI_USAGE;
-      }
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil bounds %s: unknown or misplaced option '%s'\n", kind, opt);
+    if (!args[k].spec) {
+      fprintf(stderr, "pencil bounds %s: unexpected argument '%s'\n", kind, args[k].value);
+      return CLI_USAGE;
+    }
+    if (!cli_parse_double("--d3m", args[k].value, &d3m))
+      return CLI_USAGE;
+    if (d3m < 0.0) {
+      fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
       return CLI_USAGE;
     }
   }

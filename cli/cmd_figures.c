@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "args.h"
 #include "cli.h"
 #include "validation/figures.h"
 
@@ -16,7 +17,7 @@ static void help_figures(FILE *f) {
   fprintf(
       f,
       "usage: pencil figures [SCENE.json] [--out DIR] [--quick] [--threads N] [--runs N]\n"
-      "                      [--size WxH] [--no-sweep] [--fig9-spp LIST]\n\n"
+      "                      [--size WxH] [--no-sweep] [--fig9-spp LIST] [--method NAME]\n\n"
       "The paper's section 5 with the pencil renderer, on SCENE.json or the built-in Fig. 8\n"
       "scene (a glass sphere over a checkerboard, 256x256):\n"
       "  Fig. 8   DIR/fig8.exr, fig8.png: the pencil-traced image at 9 samples per pixel\n"
@@ -38,6 +39,7 @@ static void help_figures(FILE *f) {
       "  --runs N       timed renders per configuration, 3..101 (default 3)\n"
       "  --size WxH     override the image size\n"
       "  --no-sweep     skip the rho sweep\n"
+      "  --method NAME  the renderer compared with exact tracing (default pencil)\n"
       "  --fig9-spp LIST\n"
       "                 Fig. 9's samples per pixel, increasing squares up to 256 (default the\n"
       "                 paper's 1,4,9,16,25,36,49; 1,...,49,100,144,256 extends it to where\n"
@@ -50,7 +52,7 @@ static void help_figures(FILE *f) {
 static void help_sweep(FILE *f) {
   fprintf(f,
           "usage: pencil sweep [SCENE.json] [--rho R1,R2,...] [--spp N] [--out DIR] [--quick]\n"
-          "                    [--threads N] [--runs N] [--size WxH]\n\n"
+          "                    [--threads N] [--runs N] [--size WxH] [--method NAME]\n\n"
           "What accuracy costs in time: for each rho, the CPU-time ratio pencil / exact (median\n"
           "of N interleaved runs) and the Fig. 10 error statistics (fraction of samples within\n"
           "rho, 99th percentile, maximum) for the corrected and printed bounds and the certified\n"
@@ -60,6 +62,8 @@ static void help_sweep(FILE *f) {
           "  --spp N        samples per pixel, a square 1..256 (default 9)\n"
           "  --out DIR      output directory (default figures)\n"
           "  --quick        64x64 image, rho 0.5,1 (tests)\n"
+          "  --method NAME  the renderer compared with exact tracing (default pencil); its\n"
+          "                 --rho, --bounds and --certified options are swept\n"
           "  --threads N    threads (default 1); --runs N timed runs (default 3); --size WxH\n"
           "Exit codes: 0 done; 1 a render or a file failed; 2 usage or scene error.\n");
 }
@@ -83,80 +87,124 @@ static int parse_rho(const char *v, val_figures_opts_t *o) {
   return o->nrho > 0 || (fprintf(stderr, "pencil sweep: --rho: empty list\n"), 0);
 }
 
-/* Options shared by both commands; 1 ok, 0 usage error, -1 help printed. */
-static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
-  int quick_rho = 1, quick_spp = 1, quick_fig9 = 1;
-  for (int i = 1; i < argc; i++) {
-    int err = 0;
-    long l;
-    const char *v;
-    if (cli_is_help(argv[i])) {
-      (sweep ? help_sweep : help_figures)(stdout);
-      return -1;
-    } else if ((v = cli_option(argc, argv, &i, "--out", &err))) {
-      o->out_dir = v;
-    } else if ((v = cli_option(argc, argv, &i, "--threads", &err))) {
-      if (!cli_parse_long("--threads", v, 1, 1024, &l))
-        return 0;
-      o->threads = (int)l;
-    } else if ((v = cli_option(argc, argv, &i, "--runs", &err))) {
-      if (!cli_parse_long("--runs", v, 3, 101, &l))
-        return 0;
-      o->runs = (int)l;
-    } else if ((v = cli_option(argc, argv, &i, "--size", &err))) {
-      char tail;
-      if (sscanf(v, "%dx%d%c", &o->width, &o->height, &tail) != 2 || o->width < 8 ||
-          o->height < 8 || o->width > 4096 || o->height > 4096)
-        return fprintf(stderr, "pencil: --size: expected WxH with 8 <= W, H <= 4096, got '%s'\n",
-                       v),
-               0;
-    } else if (sweep && (v = cli_option(argc, argv, &i, "--rho", &err))) {
-      if (!parse_rho(v, o))
-        return 0;
-      quick_rho = 0;
-    } else if (sweep && (v = cli_option(argc, argv, &i, "--spp", &err))) {
-      if (!cli_parse_spp("sweep", "--spp", v, &l))
-        return 0;
-      o->sweep_spp = (int)l;
-      quick_spp = 0;
-    } else if (!sweep && (v = cli_option(argc, argv, &i, "--fig9-spp", &err))) {
-      if (!cli_parse_spp_list("figures", "--fig9-spp", v, o->spp, VAL_MAX_SPP, &o->nspp))
-        return 0;
-      for (int k = 1; k < o->nspp; k++)
-        if (o->spp[k] <= o->spp[k - 1])
-          return fprintf(stderr,
-                         "pencil figures: --fig9-spp: expected increasing values, got '%s'\n", v),
-                 0;
-      quick_fig9 = 0;
-    } else if (strcmp(argv[i], "--quick") == 0) {
-      o->quick = 1;
-    } else if (!sweep && strcmp(argv[i], "--no-sweep") == 0) {
-      o->sweep = 0;
-    } else if (!err && argv[i][0] != '-' && !o->scene) {
-      o->scene = argv[i];
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil %s: unexpected argument '%s' (see --help)\n",
-                sweep ? "sweep" : "figures", argv[i]);
-      return 0;
-    }
-    if (err)
-      return 0;
+enum {
+  OPT_OUT = 1,
+  OPT_THREADS,
+  OPT_RUNS,
+  OPT_SIZE,
+  OPT_RHO,
+  OPT_SPP,
+  OPT_FIG9,
+  OPT_QUICK,
+  OPT_NO_SWEEP,
+  OPT_METHOD
+};
+
+static const cli_spec_t figures_specs[] = {
+    {"--out", 0, 1, OPT_OUT},           {"--threads", 0, 1, OPT_THREADS},
+    {"--runs", 0, 1, OPT_RUNS},         {"--size", 0, 1, OPT_SIZE},
+    {"--fig9-spp", 0, 1, OPT_FIG9},     {"--quick", 0, 0, OPT_QUICK},
+    {"--no-sweep", 0, 0, OPT_NO_SWEEP}, {"--method", 0, 1, OPT_METHOD}};
+static const cli_spec_t sweep_specs[] = {
+    {"--out", 0, 1, OPT_OUT},     {"--threads", 0, 1, OPT_THREADS}, {"--runs", 0, 1, OPT_RUNS},
+    {"--size", 0, 1, OPT_SIZE},   {"--rho", 0, 1, OPT_RHO},         {"--spp", 0, 1, OPT_SPP},
+    {"--quick", 0, 0, OPT_QUICK}, {"--method", 0, 1, OPT_METHOD}};
+
+static int parse_fig9(const char *v, val_figures_opts_t *o) {
+  if (!cli_parse_spp_list("figures", "--fig9-spp", v, o->spp, VAL_MAX_SPP, &o->nspp))
+    return 0;
+  for (int k = 1; k < o->nspp; k++)
+    if (o->spp[k] <= o->spp[k - 1])
+      return fprintf(stderr, "pencil figures: --fig9-spp: expected increasing values, got '%s'\n",
+                     v),
+             0;
+  return 1;
+}
+
+static int parse_method(const char *cmd, const char *v, val_figures_opts_t *o) {
+  const rn_renderer_t *r = rn_find(v);
+  if (!r || !r->errors)
+    return fprintf(stderr,
+                   "pencil %s: --method: expected a renderer that approximates exact "
+                   "tracing (pencil), got '%s'\n",
+                   cmd, v),
+           0;
+  o->method = r;
+  return 1;
+}
+
+/* One argument; 1 ok, 0 usage error (printed). */
+static int apply(const char *cmd, const cli_arg_t *g, val_figures_opts_t *o, int *given) {
+  const char *v = g->value;
+  long l;
+  char tail;
+  if (!g->spec) {
+    if (o->scene)
+      return fprintf(stderr, "pencil %s: unexpected argument '%s' (see --help)\n", cmd, v), 0;
+    o->scene = v;
+    return 1;
   }
-  if (o->quick) {
+  *given |= 1 << g->spec->id;
+  switch (g->spec->id) {
+  case OPT_OUT:
+    o->out_dir = v;
+    return 1;
+  case OPT_THREADS:
+    return cli_parse_long("--threads", v, 1, 1024, &l) && (o->threads = (int)l);
+  case OPT_RUNS:
+    return cli_parse_long("--runs", v, 3, 101, &l) && (o->runs = (int)l);
+  case OPT_SIZE:
+    if (sscanf(v, "%dx%d%c", &o->width, &o->height, &tail) != 2 || o->width < 8 || o->height < 8 ||
+        o->width > 4096 || o->height > 4096)
+      return fprintf(stderr, "pencil %s: --size: expected WxH with 8 <= W, H <= 4096, got '%s'\n",
+                     cmd, v),
+             0;
+    return 1;
+  case OPT_RHO:
+    return parse_rho(v, o);
+  case OPT_SPP:
+    return cli_parse_spp("sweep", "--spp", v, &l) && (o->sweep_spp = (int)l);
+  case OPT_FIG9:
+    return parse_fig9(v, o);
+  case OPT_QUICK:
+    return o->quick = 1;
+  case OPT_NO_SWEEP:
+    o->sweep = 0;
+    return 1;
+  default:
+    return parse_method(cmd, v, o);
+  }
+}
+
+/* Options of either command; 1 ok, 0 usage error, -1 help printed. */
+static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
+  const char *cmd = sweep ? "sweep" : "figures";
+  const cli_spec_t *specs = sweep ? sweep_specs : figures_specs;
+  int nspecs = (int)(sweep ? sizeof sweep_specs / sizeof sweep_specs[0]
+                           : sizeof figures_specs / sizeof figures_specs[0]);
+  cli_arg_t *args = malloc((size_t)argc * sizeof *args);
+  int n = args ? cli_parse(cmd, argc, argv, specs, nspecs, args) : -1, given = 0;
+  if (n == CLI_ARGS_HELP)
+    (sweep ? help_sweep : help_figures)(stdout);
+  int ok = n >= 0;
+  for (int k = 0; ok && k < n; k++)
+    ok = apply(cmd, &args[k], o, &given);
+  free(args);
+  if (n == CLI_ARGS_HELP)
+    return -1;
+  if (ok && o->quick) {
     static const int spp[] = {1, 9, 49};
     static const double rho[] = {0.5, 1.0};
-    if (quick_fig9) {
+    if (!(given & (1 << OPT_FIG9))) {
       o->nspp = 3;
       memcpy(o->spp, spp, sizeof spp);
     }
-    if (quick_rho) {
+    if (!(given & (1 << OPT_RHO))) {
       o->nrho = 2;
       memcpy(o->rho, rho, sizeof rho);
     }
-    (void)quick_spp;
   }
-  return 1;
+  return ok;
 }
 
 static int run(int argc, char **argv, int sweep) {

@@ -46,25 +46,31 @@ int cmd_matrix(int argc, char **argv) {
     return CLI_USAGE;
   }
   double distance = NAN;
-  for (int i = 2; i < argc; i++) {
-    int err = 0, r = 0;
-    const char *v, *opt = argv[i];
-    if (cli_is_help(opt)) {
-      help(stdout);
-      return CLI_OK;
-    }
-    if (is_transfer) {
-      if ((v = cli_option(argc, argv, &i, "--distance", &err)))
-        r = cli_parse_double("--distance", v, &distance) ? 1 : -1;
-      else if (err)
-        r = -1;
-    } else {
-      r = cli_element_option("matrix", argc, argv, &i, &e);
-    }
+  cli_spec_t specs[6];
+  int ns = is_transfer ? 1 : cli_element_specs(&e, specs);
+  if (is_transfer)
+    specs[0] = (cli_spec_t){"--distance", 0, 1, 1};
+  char cmd[32];
+  snprintf(cmd, sizeof cmd, "matrix %s", kind);
+  cli_arg_t args[64];
+  int n = argc - 1 <= 64 ? cli_parse(cmd, argc - 1, argv + 1, specs, ns, args) : -1;
+  if (argc - 1 > 64)
+    fprintf(stderr, "pencil %s: too many arguments\n", cmd);
+  if (n == CLI_ARGS_HELP) {
+    help(stdout);
+    return CLI_OK;
+  }
+  if (n < 0)
+    return CLI_USAGE;
+  for (int k = 0; k < n; k++) {
+    int r =
+        is_transfer
+            ? (args[k].spec ? cli_parse_double("--distance", args[k].value, &distance) ? 1 : -1 : 0)
+            : cli_element_apply("matrix", &args[k], &e);
     if (r < 0)
       return CLI_USAGE;
     if (r == 0) {
-      fprintf(stderr, "pencil matrix %s: unknown or misplaced option '%s'\n", kind, opt);
+      fprintf(stderr, "pencil matrix %s: unexpected argument '%s'\n", kind, args[k].value);
       return CLI_USAGE;
     }
   }
@@ -83,8 +89,9 @@ int cmd_matrix(int argc, char **argv) {
     px_status_t st =
         px_element_matrix(ev, e.theta_deg * M_PI / 180.0, e.n1, e.n2, e.radius, e.variant, &t);
     if (st != PX_OK) {
-      fprintf(stderr, "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n",
-              kind, e.theta_deg, e.n1, e.n2, px_strerror(st));
+      fprintf(stderr,
+              "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n", kind,
+              e.theta_deg, e.n1, e.n2, px_strerror(st));
       return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
     }
   }

@@ -1,45 +1,87 @@
-/* cmd_render.c -- `pencil render`: the conventional (exact, Whitted) renderer of issue 4 on a
- * scene file or the built-in Fig. 8 scene (paper section 5), writing OpenEXR with auxiliary
- * accuracy channels and a PNG preview. The method switch is where the pencil tracer plugs in. */
+/* cmd_render.c -- `pencil render`: any renderer of the renderer table (renderers/renderer.h) on a
+ * scene file or the built-in Fig. 8 scene (1987 paper, section 5), writing OpenEXR (the image,
+ * its auxiliary channels and the renderer's own) with a PNG preview beside it. The exact
+ * renderer is the default; `--method NAME` picks another entry, whose options are accepted
+ * after it has been named anywhere on the line. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "args.h"
 #include "cli.h"
 #include "io/image_io.h"
-#include "render/render.h"
+#include "renderers/renderer.h"
 #include "validation/timing.h"
 
-static void help(FILE *f) {
+enum {
+  OPT_OUTPUT = 1,
+  OPT_METHOD,
+  OPT_SPP,
+  OPT_THREADS,
+  OPT_SIZE,
+  OPT_NO_AUX,
+  OPT_EXPLAIN,
+  OPT_MEASURE,
+  OPT_RENDERER
+};
+
+static const cli_spec_t common[] = {
+    {"--output", 'o', 1, OPT_OUTPUT}, {"--method", 0, 1, OPT_METHOD},
+    {"--spp", 0, 1, OPT_SPP},         {"--threads", 0, 1, OPT_THREADS},
+    {"--size", 0, 1, OPT_SIZE},       {"--no-aux", 0, 0, OPT_NO_AUX},
+    {"--explain", 0, 0, OPT_EXPLAIN}, {"--measure", 0, 0, OPT_MEASURE}};
+#define NCOMMON ((int)(sizeof common / sizeof common[0]))
+#define MAX_SPECS 64
+
+static void help(FILE *f, const rn_renderer_t *r) {
   fprintf(
-      f, "usage: pencil render [SCENE.json] -o OUT.exr [--method exact] [--spp N] [--threads N]\n"
-         "                     [--size WxH] [--no-aux] [--explain]\n\n"
+      f, "usage: pencil render [SCENE.json] -o OUT.exr [--method NAME] [--spp N] [--threads N]\n"
+         "                     [--size WxH] [--no-aux] [--measure] [--explain] [METHOD OPTIONS]\n\n"
          "Renders SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene\n"
-         "(a glass sphere over a checkerboard; scenes/README.md) by exact recursive ray tracing.\n"
-         "Writes OUT.exr (float R, G, B and, for each pixel's centre ray, Z, id and the points\n"
-         "where its paths meet the checkerboard: pathT.*, pathR.*) and a PNG preview beside it.\n\n"
-         "options:\n"
-         "  -o, --output OUT.exr  output image (required unless --explain is given alone)\n"
-         "  --method M            exact (default) or pencil ('pencil render --method pencil\n"
-         "                        --help' lists the pencil tracer's options)\n"
-         "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 256\n"
-         "                        (default: the scene's, 9 for the built-in scene)\n"
-         "  --threads N           OpenMP threads (default: all cores)\n"
-         "  --size WxH            override the scene's image size\n"
-         "  --no-aux              leave the auxiliary channels empty (no centre-ray trees), as\n"
-         "                        the benchmarks render\n"
-         "  --explain             print the effects plan (which effects run and why)\n\n"
-         "A progress bar is drawn on stderr when it is a terminal; the closing line gives the\n"
-         "time, rays traced and rays per second.\n"
-         "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
+         "(a glass sphere over a checkerboard; scenes/README.md). Writes OUT.exr (float R, G, B\n"
+         "and, for each pixel's centre ray, Z, id and the points where its paths meet the\n"
+         "checkerboard: pathT.*, pathR.*; the method's own channels; the version and command\n"
+         "line as header attributes) and a PNG preview beside it (OUT.png).\n\n"
+         "methods:\n");
+  for (int k = 0; k < rn_count(); k++)
+    fprintf(f, "  %-10s %s%s\n", rn_entry(k)->name, rn_entry(k)->summary,
+            k == 0 ? " (default)" : "");
+  fprintf(f,
+          "\noptions:\n"
+          "  -o, --output OUT.exr  output image, an .exr file (required unless --explain is\n"
+          "                        given alone)\n"
+          "  --method NAME         the renderer (default exact); 'pencil render --method NAME\n"
+          "                        --help' lists its own options\n"
+          "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 256\n"
+          "                        (default: the scene's, 9 for the built-in scene)\n"
+          "  --threads N           OpenMP threads (default: all cores)\n"
+          "  --size WxH            override the scene's image size (1 <= W, H <= 16384)\n"
+          "  --no-aux              leave the auxiliary channels empty (no centre-ray trees), as\n"
+          "                        the benchmarks render\n"
+          "  --measure             methods that approximate: trace every sample exactly too and\n"
+          "                        print the Fig. 10 error statistics (points on surfaces with a\n"
+          "                        diffuse term: Fig. 8's board)\n"
+          "  --explain             print the effects plan (which effects run and why)\n");
+  if (r && r->noptions > 0) {
+    fprintf(f, "\n%s\n\noptions of --method %s:\n", r->description, r->name);
+    rn_print_options(f, r, 2);
+  } else if (r) {
+    fprintf(f, "\n%s\n", r->description);
+  }
+  fprintf(f,
+          "\nA progress bar is drawn on stderr when it is a terminal; the closing lines give the\n"
+          "time and what was traced.\n"
+          "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
 }
 
 typedef struct {
   const char *scene, *out;
   long spp, threads, width, height;
-  int explain, no_aux;
+  int explain, no_aux, measure;
+  const rn_renderer_t *r;
+  void *opt; /**< the renderer's options (r->options_size bytes) */
 } args_t;
 
 static int parse_size(const char *v, long *w, long *h) {
@@ -51,58 +93,114 @@ static int parse_size(const char *v, long *w, long *h) {
   return 1;
 }
 
-static int parse_method(const char *v) {
-  if (strcmp(v, "exact") == 0)
+/* The specs of the common options and of every renderer's (one spec per name). */
+static int all_specs(cli_spec_t *specs) {
+  int n = NCOMMON;
+  memcpy(specs, common, sizeof common);
+  for (int k = 0; k < rn_count(); k++)
+    for (int j = 0; j < rn_entry(k)->noptions; j++) {
+      const rn_option_t *o = &rn_entry(k)->options[j];
+      int seen = 0;
+      for (int i = 0; i < n && !seen; i++)
+        seen = strcmp(specs[i].name, o->name) == 0;
+      if (!seen && n < MAX_SPECS)
+        specs[n++] = (cli_spec_t){o->name, 0, o->kind != RN_OPT_FLAG, OPT_RENDERER};
+    }
+  return n;
+}
+
+/* The entry named by the last --method, or the exact renderer; NULL after an error. */
+static const rn_renderer_t *method_of(const cli_arg_t *args, int n) {
+  const char *name = "exact";
+  for (int k = 0; k < n; k++)
+    if (args[k].spec && args[k].spec->id == OPT_METHOD)
+      name = args[k].value;
+  const rn_renderer_t *r = rn_find(name);
+  if (!r) {
+    fprintf(stderr, "pencil render: --method: expected ");
+    for (int k = 0; k < rn_count(); k++)
+      fprintf(stderr, "%s%s", k == 0 ? "" : k + 1 < rn_count() ? ", " : " or ", rn_entry(k)->name);
+    fprintf(stderr, ", got '%s'\n", name);
+  }
+  return r;
+}
+
+/* One argument; 1 ok, 0 usage error (printed). */
+static int apply(args_t *a, const cli_arg_t *g) {
+  char err[256];
+  if (!g->spec) {
+    if (a->scene)
+      return fprintf(stderr, "pencil render: unexpected argument '%s' (see --help)\n", g->value), 0;
+    a->scene = g->value;
     return 1;
-  fprintf(stderr, "pencil render: --method: expected exact or pencil, got '%s'\n", v);
-  return 0;
+  }
+  switch (g->spec->id) {
+  case OPT_OUTPUT:
+    a->out = g->value;
+    return 1;
+  case OPT_METHOD:
+    return 1;
+  case OPT_SPP:
+    return cli_parse_spp("render", "--spp", g->value, &a->spp);
+  case OPT_THREADS:
+    return cli_parse_long("--threads", g->value, 1, 1024, &a->threads);
+  case OPT_SIZE:
+    return parse_size(g->value, &a->width, &a->height);
+  case OPT_NO_AUX:
+    return a->no_aux = 1;
+  case OPT_EXPLAIN:
+    return a->explain = 1;
+  case OPT_MEASURE:
+    if (!a->r->errors)
+      return fprintf(stderr,
+                     "pencil render: --measure: the %s renderer has nothing to measure "
+                     "(its samples are exact)\n",
+                     a->r->name),
+             0;
+    return a->measure = 1;
+  default: {
+    const rn_option_t *o = rn_option_find(a->r, g->name);
+    if (!o) {
+      fprintf(stderr,
+              "pencil render: %s is not an option of --method %s (see 'pencil render "
+              "--method NAME --help')\n",
+              g->name, a->r->name);
+      return 0;
+    }
+    if (!rn_option_set(o, a->opt, g->value, err, sizeof err))
+      return fprintf(stderr, "pencil render: %s\n", err), 0;
+    return 1;
+  }
+  }
 }
 
 /* 1 ok, 0 usage error, -1 help printed. */
 static int parse_args(int argc, char **argv, args_t *a) {
-  for (int i = 1; i < argc; i++) {
-    int err = 0;
-    const char *v;
-    if (cli_is_help(argv[i])) {
-      help(stdout);
-      return -1;
-    } else if (strcmp(argv[i], "-o") == 0) {
-      if (i + 1 >= argc) {
-        fprintf(stderr, "pencil: -o needs a value\n");
-        return 0;
-      }
-      a->out = argv[++i];
-    } else if ((v = cli_option(argc, argv, &i, "--output", &err))) {
-      a->out = v;
-    } else if ((v = cli_option(argc, argv, &i, "--method", &err))) {
-      if (!parse_method(v))
-        return 0;
-    } else if ((v = cli_option(argc, argv, &i, "--spp", &err))) {
-      if (!cli_parse_spp("render", "--spp", v, &a->spp))
-        return 0;
-    } else if ((v = cli_option(argc, argv, &i, "--threads", &err))) {
-      if (!cli_parse_long("--threads", v, 1, 1024, &a->threads))
-        return 0;
-    } else if ((v = cli_option(argc, argv, &i, "--size", &err))) {
-      if (!parse_size(v, &a->width, &a->height))
-        return 0;
-    } else if (strcmp(argv[i], "--explain") == 0) {
-      a->explain = 1;
-    } else if (strcmp(argv[i], "--no-aux") == 0) {
-      a->no_aux = 1;
-    } else if (!err && argv[i][0] != '-' && !a->scene) {
-      a->scene = argv[i];
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil render: unexpected argument '%s' (see --help)\n", argv[i]);
-      return 0;
-    }
+  cli_spec_t specs[MAX_SPECS];
+  cli_arg_t *args = malloc((size_t)argc * sizeof *args);
+  if (!args)
+    return fprintf(stderr, "pencil render: out of memory\n"), 0;
+  int n = cli_parse("render", argc, argv, specs, all_specs(specs), args), ok = n >= 0;
+  a->r = ok ? method_of(args, n) : n == CLI_ARGS_HELP ? method_of(NULL, 0) : NULL;
+  if (n == CLI_ARGS_HELP) { /* --help after --method NAME lists NAME's options */
+    for (int i = 1; i + 1 < argc; i++)
+      if (strcmp(argv[i], "--method") == 0 && rn_find(argv[i + 1]))
+        a->r = rn_find(argv[i + 1]);
+      else if (strncmp(argv[i], "--method=", 9) == 0 && rn_find(argv[i] + 9))
+        a->r = rn_find(argv[i] + 9);
+    help(stdout, a->r);
+    free(args);
+    return -1;
   }
-  if (!a->out && !a->explain) {
-    fprintf(stderr, "pencil render: -o OUT.exr is required (see --help)\n");
-    return 0;
-  }
-  return 1;
+  ok = ok && a->r && (a->opt = malloc(a->r->options_size));
+  if (ok)
+    rn_defaults(a->r, a->opt);
+  for (int k = 0; ok && k < n; k++)
+    ok = apply(a, &args[k]);
+  free(args);
+  if (ok && !a->out && !a->explain)
+    ok = (fprintf(stderr, "pencil render: -o OUT.exr is required (see --help)\n"), 0);
+  return ok;
 }
 
 static void explain(FILE *f, const rt_plan_t *p, const char *scene) {
@@ -113,77 +211,95 @@ static void explain(FILE *f, const rt_plan_t *p, const char *scene) {
           p->tree_nodes);
 }
 
-static int load(const args_t *a, rt_scene_t *s) {
-  return cli_load_scene("render", a->scene, a->width, a->height, s);
-}
-
-static int write_outputs(const args_t *a, const rt_image_t *img, int spp) {
-  char err[1024], png[4096], sppbuf[16];
+static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
+  char err[1024];
+  rn_attr_t ra[RN_MAX_ATTRS];
+  io_attr_t attrs[3 + RN_MAX_ATTRS];
+  io_exr_channel_t ch[RN_MAX_CHANNELS];
+  char sppbuf[16];
   snprintf(sppbuf, sizeof sppbuf, "%d", spp);
-  const char *meta[][2] = {{"pencil:scene", a->scene ? a->scene : "built-in fig8"},
-                           {"pencil:method", "exact"},
-                           {"pencil:spp", sppbuf}};
-  if (io_exr_write(a->out, img, meta, 3, err, sizeof err) != 0 ||
-      (io_png_path_for(a->out, png, sizeof png) && io_png_write(png, img, err, sizeof err) != 0)) {
-    fprintf(stderr, "pencil render: %s\n", err);
-    return 0;
-  }
+  int na = 0, nr = a->r->describe(a->opt, ra);
+  attrs[na++] = (io_attr_t){"pencil:scene", a->scene ? a->scene : "built-in fig8"};
+  attrs[na++] = (io_attr_t){"pencil:method", a->r->name};
+  attrs[na++] = (io_attr_t){"pencil:spp", sppbuf};
+  for (int k = 0; k < nr; k++)
+    attrs[na++] = (io_attr_t){ra[k].key, ra[k].value};
+  for (int k = 0; k < a->r->nchannels; k++)
+    ch[k] = (io_exr_channel_t){a->r->channels[k], o->channels[k]};
+  if (io_render_write(a->out, o->image, ch, a->r->nchannels, attrs, na, err, sizeof err) != 0)
+    return fprintf(stderr, "pencil render: %s\n", err), 0;
   return 1;
 }
 
 static int render(const args_t *a, rt_scene_t *s) {
-  int spp = a->spp > 0 ? (int)a->spp : s->spp, side = (int)lrint(sqrt(spp));
+  int spp = a->spp > 0 ? (int)a->spp : s->spp;
   rt_plan_t plan = rt_plan_make(s, spp);
   if (a->explain)
     explain(stdout, &plan, a->scene ? a->scene : "the built-in Fig. 8 scene");
   if (!a->out)
     return CLI_OK;
   rt_image_t img;
-  if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK) {
+  rn_output_t out = {.image = &img};
+  void *stats = calloc(1, a->r->stats_size);
+  if (!stats || rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK) {
+    free(stats);
     fprintf(stderr, "pencil render: cannot allocate a %dx%d image\n", s->camera.width,
             s->camera.height);
     return CLI_FAIL;
   }
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
-  opt.spp_side = side;
-  opt.threads = (int)a->threads;
-  opt.aux = !a->no_aux;
-  opt.progress = isatty(2) ? cli_progress : NULL;
-  opt.progress_ctx = (void *)"rendering";
-  rt_stats_t st;
+  if (rn_channels_alloc(a->r, s->camera.width, s->camera.height, &out) != RT_OK) {
+    free(stats);
+    rt_image_free(&img);
+    fprintf(stderr, "pencil render: out of memory\n");
+    return CLI_FAIL;
+  }
+  out.stats = stats;
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.spp_side = (int)lrint(sqrt(spp));
+  c.threads = (int)a->threads;
+  c.aux = !a->no_aux;
+  c.measure = a->measure;
+  c.progress = isatty(2) ? cli_progress : NULL;
+  c.progress_ctx = (void *)"rendering";
   double t0 = val_wall_seconds();
-  rt_status_t rs = rt_render(s, &plan, &opt, &img, &st);
+  rt_status_t rs = a->r->render(s, &plan, &c, a->opt, &out);
   double dt = val_wall_seconds() - t0;
-  int ok = rs == RT_OK && write_outputs(a, &img, spp);
+  int ok = rs == RT_OK && write_outputs(a, &out, spp);
   if (rs != RT_OK)
     fprintf(stderr, "pencil render: %s\n", rt_strerror(rs));
+  if (ok) {
+    rn_report_t rep = {s, spp, dt, a->out, &c, a->opt, stats};
+    a->r->report(stdout, &rep);
+    if (a->measure) {
+      rn_errors_t e;
+      a->r->errors(stats, &e);
+      if (e.with_points == 0)
+        fprintf(stderr, "pencil: warning: no sample had a traced point on a surface with a "
+                        "diffuse term, so the Fig. 10 error compared nothing\n");
+    }
+  }
+  rn_channels_free(&out);
   rt_image_free(&img);
-  if (!ok)
-    return CLI_FAIL;
-  uint64_t total = rt_stats_total(&st);
-  printf("rendered %dx%d at %d spp in %.3f s: %llu rays (%llu primary, %llu reflected, %llu "
-         "refracted, %llu shadow), %.3g rays/s -> %s\n",
-         s->camera.width, s->camera.height, spp, dt, (unsigned long long)total,
-         (unsigned long long)st.primary, (unsigned long long)st.reflect,
-         (unsigned long long)st.refract, (unsigned long long)st.shadow, total / dt, a->out);
-  return CLI_OK;
+  free(stats);
+  return ok ? CLI_OK : CLI_FAIL;
 }
 
 int cmd_render(int argc, char **argv) {
-  for (int i = 1; i < argc; i++) /* the pencil tracer has its own options (cmd_render_pencil.c) */
-    if (strcmp(argv[i], "--method=pencil") == 0 ||
-        (strcmp(argv[i], "--method") == 0 && i + 1 < argc && strcmp(argv[i + 1], "pencil") == 0))
-      return cmd_render_pencil(argc, argv);
-  args_t a = {NULL, NULL, 0, 0, 0, 0, 0, 0};
+  args_t a = {0};
   int p = parse_args(argc, argv, &a);
-  if (p <= 0)
+  if (p <= 0) {
+    free(a.opt);
     return p < 0 ? CLI_OK : CLI_USAGE;
-  rt_scene_t s;
-  if (!load(&a, &s)) {
-    rt_scene_free(&s);
-    return CLI_USAGE;
   }
-  int rc = render(&a, &s);
+  char err[1024];
+  if (a.out && io_render_check(a.out, err, sizeof err) != 0) { /* before a long render */
+    fprintf(stderr, "pencil render: %s\n", err);
+    free(a.opt);
+    return CLI_FAIL; /* the exit code of a failed write, found before rendering */
+  }
+  rt_scene_t s;
+  int rc = cli_load_scene("render", a.scene, a.width, a.height, &s) ? render(&a, &s) : CLI_USAGE;
   rt_scene_free(&s);
+  free(a.opt);
   return rc;
 }

@@ -38,34 +38,50 @@ typedef struct {
   long threads; /**< bounds: 0 = all cores */
 } verify_args_t;
 
-/* Parse argv[2..] for `pencil verify WHAT`; --no-fit only when `what` is bounds. Returns -1 to
- * go on, else the exit code (after --help or a usage error). */
+enum { OPT_JSON = 1, OPT_CSV, OPT_QUICK, OPT_NO_FIT, OPT_THREADS };
+
+/* Parse argv[2..] for `pencil verify WHAT`; --no-fit and --threads only when `what` is bounds.
+ * Returns -1 to go on, else the exit code (after --help or a usage error). */
 static int parse(int argc, char **argv, verify_args_t *a) {
+  static const cli_spec_t specs[] = {{"--json", 0, 1, OPT_JSON},
+                                     {"--csv", 0, 1, OPT_CSV},
+                                     {"--quick", 0, 0, OPT_QUICK},
+                                     {"--no-fit", 0, 0, OPT_NO_FIT},
+                                     {"--threads", 0, 1, OPT_THREADS}};
   int bounds = strcmp(argv[1], "bounds") == 0;
-  for (int i = 2; i < argc; i++) {
-    int err = 0;
-    const char *v, *opt = argv[i];
-    if (cli_is_help(opt)) {
-      help(stdout);
-      return CLI_OK;
-    } else if ((v = cli_option(argc, argv, &i, "--json", &err))) {
-      a->json = v;
-    } else if ((v = cli_option(argc, argv, &i, "--csv", &err))) {
-      a->csv = v;
-    } else if (strcmp(opt, "--quick") == 0) {
+  char cmd[32];
+  snprintf(cmd, sizeof cmd, "verify %s", argv[1]);
+  cli_arg_t args[64];
+  if (argc - 1 > 64)
+    return fprintf(stderr, "pencil %s: too many arguments\n", cmd), CLI_USAGE;
+  int n = cli_parse(cmd, argc - 1, argv + 1, specs, bounds ? 5 : 3, args);
+  if (n == CLI_ARGS_HELP) {
+    help(stdout);
+    return CLI_OK;
+  }
+  if (n < 0)
+    return CLI_USAGE;
+  for (int k = 0; k < n; k++) {
+    const cli_arg_t *g = &args[k];
+    if (!g->spec)
+      return fprintf(stderr, "pencil %s: unexpected argument '%s'\n", cmd, g->value), CLI_USAGE;
+    switch (g->spec->id) {
+    case OPT_JSON:
+      a->json = g->value;
+      break;
+    case OPT_CSV:
+      a->csv = g->value;
+      break;
+    case OPT_QUICK:
       a->quick = 1;
-    } else if (bounds && strcmp(opt, "--no-fit") == 0) {
+      break;
+    case OPT_NO_FIT:
       a->no_fit = 1;
-    } else if (bounds && (v = cli_option(argc, argv, &i, "--threads", &err))) {
-      if (!cli_parse_long("--threads", v, 1, 1024, &a->threads))
+      break;
+    default:
+      if (!cli_parse_long("--threads", g->value, 1, 1024, &a->threads))
         return CLI_USAGE;
-    } else {
-      if (!err)
-        fprintf(stderr, "pencil verify %s: unknown option '%s'\n", argv[1], opt);
-      return CLI_USAGE;
     }
-    if (err)
-      return CLI_USAGE;
   }
   return -1;
 }

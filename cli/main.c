@@ -3,6 +3,8 @@
 #include <string.h>
 
 #include "cli.h"
+#include "commit.h"
+#include "io/output.h"
 
 typedef struct {
   const char *name;
@@ -33,6 +35,8 @@ static void usage(FILE *f) {
 }
 
 int main(int argc, char **argv) {
+  io_provenance_set(PENCIL_VERSION, PENCIL_COMMIT, argc, argv);
+  io_cleanup_on_signals(); /* no temporary file outlives an interrupted write */
   if (argc < 2) {
     usage(stderr);
     return CLI_USAGE;
@@ -42,7 +46,7 @@ int main(int argc, char **argv) {
     return CLI_OK;
   }
   if (strcmp(argv[1], "--version") == 0) {
-    printf("pencil %s\n", PENCIL_VERSION);
+    printf("pencil %s (%s)\n", PENCIL_VERSION, PENCIL_COMMIT);
     return CLI_OK;
   }
   for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)

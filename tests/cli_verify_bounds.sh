@@ -45,7 +45,14 @@ grep -q "/nonexistent/dir" "$dir/err" || { echo "FAIL: error must name the file"
 t1="$dir/one-thread" && mkdir -p "$t1"
 $pencil verify bounds --quick --threads 1 --json "$t1/summary.json" --csv "$t1" >"$t1/out.txt" ||
   { echo "FAIL: verify bounds --quick --threads 1 must pass"; exit 1; }
-for f in summary.json out.txt bounds_systems.csv bounds_summary.csv bounds_families.csv \
+# the provenance (command line, date) differs by design; everything else must not
+for d in "$dir" "$t1"; do
+  /usr/bin/python3 -c "import json,sys; s=json.load(open(sys.argv[1])); p=s.pop('provenance'); \
+assert p['version'] and p['commit'] and 'verify bounds' in p['command_line'], p; \
+json.dump(s, open(sys.argv[2], 'w'), sort_keys=True)" "$d/summary.json" "$d/summary.stripped.json" ||
+    { echo "FAIL: summary.json must carry the provenance"; exit 1; }
+done
+for f in summary.stripped.json out.txt bounds_systems.csv bounds_summary.csv bounds_families.csv \
          bounds_onset.csv bounds_fit.csv; do
   cmp -s "$dir/$f" "$t1/$f" || { echo "FAIL: $f differs between all threads and --threads 1"; exit 1; }
 done

@@ -42,13 +42,17 @@ static void exr_round_trip(void **state) {
   rt_image_t img;
   assert_int_equal(rt_image_alloc(&img, 7, 19), RT_OK); /* 19 rows: a partial ZIP chunk */
   fill(&img);
-  const char *meta[][2] = {{"pencil:test", "yes"}};
-  assert_int_equal(io_exr_write(path, &img, meta, 1, err, sizeof err), 0);
+  const io_attr_t meta[] = {{"pencil:test", "yes"}};
+  float extra[7 * 19];
+  for (int k = 0; k < 7 * 19; k++)
+    extra[k] = 0.5f * (float)k;
+  const io_exr_channel_t ch[] = {{"extra.k", extra}};
+  assert_int_equal(io_exr_write(path, &img, ch, 1, meta, 1, err, sizeof err), 0);
   exr_context_t ctx = NULL;
   assert_int_equal(exr_start_read(&ctx, path, NULL), EXR_ERR_SUCCESS);
   const exr_attr_chlist_t *chl;
   assert_int_equal(exr_get_channels(ctx, 0, &chl), EXR_ERR_SUCCESS);
-  assert_int_equal(chl->num_channels, RT_CH_COUNT);
+  assert_int_equal(chl->num_channels, RT_CH_COUNT + 1);
   for (int c = 0; c < chl->num_channels; c++)
     assert_int_equal(chl->entries[c].pixel_type, EXR_PIXEL_FLOAT);
   const char *val = NULL;
@@ -66,6 +70,13 @@ static void exr_round_trip(void **state) {
     assert_memory_equal(back, img.ch[c], sizeof back);
   }
   int w, h;
+  assert_int_equal(io_exr_read_channel(path, "extra.k", back, &w, &h, err, sizeof err), 0);
+  assert_memory_equal(back, extra, sizeof back);
+  char version[64];
+  assert_int_equal(
+      io_exr_read_attr(path, "pencil:version", version, sizeof version, err, sizeof err), 0);
+  assert_int_equal(
+      io_exr_read_attr(path, "pencil:command_line", version, sizeof version, err, sizeof err), 0);
   assert_int_equal(io_exr_read_channel(path, "nope", back, &w, &h, err, sizeof err), -1);
   assert_non_null(strstr(err, "no channel 'nope'"));
   remove(path);
@@ -77,7 +88,8 @@ static void exr_unwritable_path_reports_error(void **state) {
   char err[512];
   rt_image_t img;
   assert_int_equal(rt_image_alloc(&img, 2, 2), RT_OK);
-  assert_int_equal(io_exr_write("/nonexistent-dir/x.exr", &img, NULL, 0, err, sizeof err), -1);
+  assert_int_equal(io_exr_write("/nonexistent-dir/x.exr", &img, NULL, 0, NULL, 0, err, sizeof err),
+                   -1);
   assert_non_null(strstr(err, "/nonexistent-dir/x.exr"));
   rt_image_free(&img);
 }

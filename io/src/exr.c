@@ -1,12 +1,15 @@
-/* exr.c -- OpenEXR output through OpenEXRCore's C API: one scanline part, every renderer channel
- * as 32-bit float, ZIP compression; and a reader of single channels so that files can be
- * checked independently of the renderer (paper section 5, Fig. 10: accuracy recomputed from
- * the checkerboard coordinates of each pixel's centre ray). */
+/* exr.c -- the project's one OpenEXR writer, through OpenEXRCore's C API: one scanline part,
+ * the image's channels and a renderer's extra ones as 32-bit float, ZIP compression, string
+ * attributes and the provenance; and readers of single channels and attributes, so that files
+ * can be checked independently of the renderer (1987 paper, section 5, Fig. 10: accuracy
+ * recomputed from the checkerboard coordinates of each pixel's centre ray). */
 #include <openexr.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "image_io_impl.h"
 #include "io/image_io.h"
+#include "io/output.h"
 
 typedef struct {
   char msg[256]; /* last message of the library's error handler */
@@ -32,36 +35,57 @@ static int fail(char *err, size_t cap, const char *path, const exr_err_t *e, exr
   return -1;
 }
 
-/* Define the part: window, compression, channels, metadata. */
-static exr_result_t define_part(exr_context_t ctx, const rt_image_t *img,
-                                const char *const (*meta)[2], int nmeta) {
-  int part;
-  exr_result_t rv = exr_add_part(ctx, "render", EXR_STORAGE_SCANLINE, &part);
-  if (rv == EXR_ERR_SUCCESS)
-    rv = exr_initialize_required_attr_simple(ctx, part, img->width, img->height,
-                                             EXR_COMPRESSION_ZIP);
-  for (int c = 0; c < RT_CH_COUNT && rv == EXR_ERR_SUCCESS; c++)
-    rv = exr_add_channel(ctx, part, rt_channel_name((rt_channel_t)c), EXR_PIXEL_FLOAT,
-                         EXR_PERCEPTUALLY_LINEAR, 1, 1);
-  for (int k = 0; k < nmeta && rv == EXR_ERR_SUCCESS; k++)
-    rv = exr_attr_set_string(ctx, part, meta[k][0], meta[k][1]);
-  return rv;
-}
+/* The channels of one file: the image's and the extra ones. */
+typedef struct {
+  const rt_image_t *img;
+  const io_exr_channel_t *extra;
+  int nextra;
+} chans_t;
 
-/* Channel of img called `name`, or NULL. */
-static const float *channel_named(const rt_image_t *img, const char *name) {
-  for (int c = 0; c < RT_CH_COUNT; c++)
-    if (strcmp(rt_channel_name((rt_channel_t)c), name) == 0)
-      return img->ch[c];
+/* Channel called `name`, or NULL. */
+static const float *channel_named(const chans_t *c, const char *name) {
+  for (int k = 0; k < RT_CH_COUNT; k++)
+    if (strcmp(rt_channel_name((rt_channel_t)k), name) == 0)
+      return c->img->ch[k];
+  for (int k = 0; k < c->nextra; k++)
+    if (strcmp(c->extra[k].name, name) == 0)
+      return c->extra[k].data;
   return NULL;
 }
 
-static exr_result_t write_chunks(exr_context_t ctx, const rt_image_t *img) {
+/* Define the part: window, compression, channels, attributes and provenance. */
+static exr_result_t define_part(exr_context_t ctx, const chans_t *c, const io_attr_t *attrs,
+                                int nattrs) {
+  int part;
+  const io_provenance_t *p = io_provenance();
+  const io_attr_t prov[] = {{"pencil:version", p->version},
+                            {"pencil:commit", p->commit},
+                            {"pencil:command_line", p->command_line},
+                            {"pencil:date", p->date}};
+  exr_result_t rv = exr_add_part(ctx, "render", EXR_STORAGE_SCANLINE, &part);
+  if (rv == EXR_ERR_SUCCESS)
+    rv = exr_initialize_required_attr_simple(ctx, part, c->img->width, c->img->height,
+                                             EXR_COMPRESSION_ZIP);
+  for (int k = 0; k < RT_CH_COUNT && rv == EXR_ERR_SUCCESS; k++)
+    rv = exr_add_channel(ctx, part, rt_channel_name((rt_channel_t)k), EXR_PIXEL_FLOAT,
+                         EXR_PERCEPTUALLY_LINEAR, 1, 1);
+  for (int k = 0; k < c->nextra && rv == EXR_ERR_SUCCESS; k++)
+    rv = exr_add_channel(ctx, part, c->extra[k].name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1,
+                         1);
+  for (int k = 0; k < nattrs && rv == EXR_ERR_SUCCESS; k++)
+    rv = exr_attr_set_string(ctx, part, attrs[k].key, attrs[k].value);
+  for (size_t k = 0; k < sizeof prov / sizeof prov[0] && rv == EXR_ERR_SUCCESS; k++)
+    rv = exr_attr_set_string(ctx, part, prov[k].key, prov[k].value);
+  return rv;
+}
+
+static exr_result_t write_chunks(exr_context_t ctx, const chans_t *c) {
   int32_t lines;
+  int width = c->img->width;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
   exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
   int started = 0;
-  for (int y = 0; y < img->height && rv == EXR_ERR_SUCCESS; y += lines) {
+  for (int y = 0; y < c->img->height && rv == EXR_ERR_SUCCESS; y += lines) {
     exr_chunk_info_t ci;
     rv = exr_write_scanline_chunk_info(ctx, 0, y, &ci);
     if (rv == EXR_ERR_SUCCESS && started)
@@ -71,14 +95,14 @@ static exr_result_t write_chunks(exr_context_t ctx, const rt_image_t *img) {
       started = 1; /* from here on the pipeline owns buffers: destroy it on every path */
     if (rv != EXR_ERR_SUCCESS)
       break;
-    for (int c = 0; c < enc.channel_count; c++) {
-      exr_coding_channel_info_t *ch = &enc.channels[c];
+    for (int k = 0; k < enc.channel_count; k++) {
+      exr_coding_channel_info_t *ch = &enc.channels[k];
       ch->user_bytes_per_element = 4;
       ch->user_data_type = EXR_PIXEL_FLOAT;
       ch->user_pixel_stride = 4;
-      ch->user_line_stride = 4 * img->width;
+      ch->user_line_stride = 4 * width;
       ch->encode_from_ptr =
-          (const uint8_t *)(channel_named(img, ch->channel_name) + (size_t)y * img->width);
+          (const uint8_t *)(channel_named(c, ch->channel_name) + (size_t)y * width);
     }
     if (y == 0)
       rv = exr_encoding_choose_default_routines(ctx, 0, &enc);
@@ -90,24 +114,43 @@ static exr_result_t write_chunks(exr_context_t ctx, const rt_image_t *img) {
   return rv;
 }
 
-int io_exr_write(const char *path, const rt_image_t *img, const char *const (*meta)[2], int nmeta,
-                 char *err, size_t cap) {
+/* Write the file `file` directly (the caller made it a temporary file); errors name `path`. */
+int io_exr_write_file(const char *file, const char *path, const rt_image_t *img,
+                      const io_exr_channel_t *extra, int nextra, const io_attr_t *attrs, int nattrs,
+                      char *err, size_t cap) {
+  chans_t c = {img, extra, nextra};
+  for (int k = 0; k < nextra; k++)
+    if (!extra[k].data || !extra[k].name || channel_named(&c, extra[k].name) != extra[k].data) {
+      snprintf(err, cap, "%s: extra channel %d is missing or duplicates a name", path, k);
+      return -1;
+    }
   exr_err_t e = {""};
   exr_context_initializer_t init = initializer(&e);
   exr_context_t ctx = NULL;
-  /* a temporary file renamed on success: a failed write leaves no partial image */
-  exr_result_t rv = exr_start_write(&ctx, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+  exr_result_t rv = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
   if (rv != EXR_ERR_SUCCESS)
     return fail(err, cap, path, &e, rv);
-  rv = define_part(ctx, img, meta, nmeta);
+  rv = define_part(ctx, &c, attrs, nattrs);
   if (rv == EXR_ERR_SUCCESS)
     rv = exr_write_header(ctx);
   if (rv == EXR_ERR_SUCCESS)
-    rv = write_chunks(ctx, img);
+    rv = write_chunks(ctx, &c);
   exr_result_t fin = exr_finish(&ctx);
   if (rv == EXR_ERR_SUCCESS)
     rv = fin;
   return rv == EXR_ERR_SUCCESS ? 0 : fail(err, cap, path, &e, rv);
+}
+
+int io_exr_write(const char *path, const rt_image_t *img, const io_exr_channel_t *extra, int nextra,
+                 const io_attr_t *attrs, int nattrs, char *err, size_t cap) {
+  io_atomic_t a;
+  if (io_atomic_begin(&a, path, err, cap) != 0)
+    return -1;
+  if (io_exr_write_file(a.tmp, path, img, extra, nextra, attrs, nattrs, err, cap) != 0) {
+    io_atomic_abort(&a);
+    return -1;
+  }
+  return io_atomic_commit(&a, err, cap);
 }
 
 static exr_result_t read_chunks(exr_context_t ctx, const char *name, float *out, int width,
@@ -171,6 +214,27 @@ int io_exr_read_channel(const char *path, const char *name, float *out, int *wid
     return fail(err, cap, path, &e, rv);
   if (out && !found) {
     snprintf(err, cap, "%s: no channel '%s'", path, name);
+    return -1;
+  }
+  return 0;
+}
+
+int io_exr_read_attr(const char *path, const char *key, char *out, size_t cap_out, char *err,
+                     size_t cap) {
+  exr_err_t e = {""};
+  exr_context_initializer_t init = initializer(&e);
+  exr_context_t ctx = NULL;
+  exr_result_t rv = exr_start_read(&ctx, path, &init);
+  if (rv != EXR_ERR_SUCCESS)
+    return fail(err, cap, path, &e, rv);
+  int32_t len = 0;
+  const char *v = NULL;
+  rv = exr_attr_get_string(ctx, 0, key, &len, &v);
+  if (rv == EXR_ERR_SUCCESS)
+    snprintf(out, cap_out, "%.*s", (int)len, v);
+  exr_finish(&ctx);
+  if (rv != EXR_ERR_SUCCESS) {
+    snprintf(err, cap, "%s: no string attribute '%s'", path, key);
     return -1;
   }
   return 0;

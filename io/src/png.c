@@ -1,52 +1,93 @@
-/* png.c -- the PNG preview of a render: linear radiance clamped to [0, 1] and encoded with the
- * sRGB transfer curve (IEC 61966-2-1), written with libpng's simplified API. */
-#include <math.h>
+/* png.c -- the PNG preview of a render: R, G, B through the display transform (post/display.h),
+ * written with libpng's simplified API; and io_render_write(), which replaces an EXR and its
+ * preview together. */
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
-#include "io/image_io.h"
+#include "image_io_impl.h"
+#include "io/output.h"
+#include "post/display.h"
 
-static unsigned char srgb8(float x) {
-  double c = isfinite(x) ? fmin(fmax(x, 0.0), 1.0) : 0.0;
-  double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-  return (unsigned char)lrint(255.0 * e);
-}
-
-int io_png_write(const char *path, const rt_image_t *img, char *err, size_t cap) {
+int io_png_write_file(const char *file, const char *path, const rt_image_t *img, char *err,
+                      size_t cap) {
   size_t n = (size_t)img->width * (size_t)img->height;
   unsigned char *buf = malloc(3 * n);
   if (!buf) {
     snprintf(err, cap, "%s: out of memory", path);
     return -1;
   }
-  for (size_t k = 0; k < n; k++)
-    for (int c = 0; c < 3; c++)
-      buf[3 * k + c] = srgb8(img->ch[RT_CH_R + c][k]);
+  pp_display_srgb8(img->ch[RT_CH_R], img->ch[RT_CH_G], img->ch[RT_CH_B], n, buf);
   png_image pi;
   memset(&pi, 0, sizeof pi);
   pi.version = PNG_IMAGE_VERSION;
   pi.width = (png_uint_32)img->width;
   pi.height = (png_uint_32)img->height;
   pi.format = PNG_FORMAT_RGB;
-  int ok = png_image_write_to_file(&pi, path, 0, buf, 0, NULL);
+  int ok = png_image_write_to_file(&pi, file, 0, buf, 0, NULL);
   free(buf);
   if (!ok) {
     snprintf(err, cap, "%s: cannot write PNG: %s", path, pi.message);
-    remove(path);
     return -1;
   }
   return 0;
 }
 
+int io_png_write(const char *path, const rt_image_t *img, char *err, size_t cap) {
+  io_atomic_t a;
+  if (io_atomic_begin(&a, path, err, cap) != 0)
+    return -1;
+  if (io_png_write_file(a.tmp, path, img, err, cap) != 0) {
+    io_atomic_abort(&a);
+    return -1;
+  }
+  return io_atomic_commit(&a, err, cap);
+}
+
 int io_png_path_for(const char *exr_path, char *out, size_t cap) {
   size_t n = strlen(exr_path);
-  int has_ext = n >= 4 && strcmp(exr_path + n - 4, ".exr") == 0;
+  int has_ext = n >= 4 && strcasecmp(exr_path + n - 4, ".exr") == 0;
   size_t stem = has_ext ? n - 4 : n;
   if (stem + 5 > cap)
     return 0;
   memcpy(out, exr_path, stem);
   memcpy(out + stem, ".png", 5);
   return 1;
+}
+
+int io_render_check(const char *exr_path, char *err, size_t cap) {
+  char png[4096];
+  size_t n = strlen(exr_path);
+  if (n < 5 || strcasecmp(exr_path + n - 4, ".exr") != 0 || exr_path[n - 5] == '/') {
+    snprintf(err, cap,
+             "%s: the output is an OpenEXR file and must be named NAME.exr (its PNG preview is "
+             "written beside it as NAME.png)",
+             exr_path);
+    return -1;
+  }
+  if (!io_png_path_for(exr_path, png, sizeof png))
+    return snprintf(err, cap, "%s: the path is too long", exr_path), -1;
+  return io_output_check(exr_path, err, cap) == 0 && io_output_check(png, err, cap) == 0 ? 0 : -1;
+}
+
+int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_channel_t *extra,
+                    int nextra, const io_attr_t *attrs, int nattrs, char *err, size_t cap) {
+  char png[4096];
+  io_atomic_t ae, ap;
+  if (io_render_check(exr_path, err, cap) != 0 || !io_png_path_for(exr_path, png, sizeof png))
+    return -1;
+  if (io_atomic_begin(&ae, exr_path, err, cap) != 0)
+    return -1;
+  if (io_atomic_begin(&ap, png, err, cap) != 0) {
+    io_atomic_abort(&ae);
+    return -1;
+  }
+  int ok = io_exr_write_file(ae.tmp, exr_path, img, extra, nextra, attrs, nattrs, err, cap) == 0 &&
+           io_png_write_file(ap.tmp, png, img, err, cap) == 0;
+  ok = ok && io_atomic_commit(&ae, err, cap) == 0 && io_atomic_commit(&ap, err, cap) == 0;
+  io_atomic_abort(&ae); /* no-ops after a commit */
+  io_atomic_abort(&ap);
+  return ok ? 0 : -1;
 }

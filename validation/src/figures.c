@@ -13,6 +13,8 @@
 #include <sys/stat.h>
 
 #include "io/image_io.h"
+#include "io/json.h"
+#include "io/output.h"
 #include "io/scene_json.h"
 #include "render/builtin.h"
 
@@ -31,7 +33,7 @@ static int side_of(int spp) {
   return (int)lrint(sqrt((double)spp));
 }
 
-int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int threads, int runs,
+int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
                   val_timing_t *out) {
   enum { MAXR = 101 };
   double ec[MAXR], ew[MAXR], pc[MAXR], pw[MAXR];
@@ -41,26 +43,25 @@ int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int th
   rt_image_t img;
   if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
     return -1;
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = side_of(spp);
-  eo.threads = threads;
-  eo.aux = 0;
-  pt_options_t po = *popt;
-  po.spp_side = side_of(spp);
-  po.threads = threads;
-  po.aux = 0;
-  po.measure = 0;
-  po.progress = NULL;
-  int rc = 0;
+  const rn_renderer_t *x = rn_exact();
+  rn_common_t c = RN_COMMON_DEFAULT; /* timed renders: no auxiliary channels, no measure */
+  c.spp_side = side_of(spp);
+  c.threads = threads;
+  c.aux = 0;
+  rn_output_t out_x = {.image = &img}, out_m = {.image = &img};
+  unsigned char xopt[64]; /* the exact renderer's (empty) options */
+  int rc = x->options_size <= sizeof xopt ? 0 : -1;
+  if (rc == 0)
+    rn_defaults(x, xopt);
   for (int r = 0; r < runs && rc == 0; r++) {
     double c0 = val_cpu_seconds(), w0 = val_wall_seconds();
-    if (rt_render(s, &plan, &eo, &img, NULL) != RT_OK)
+    if (x->render(s, &plan, &c, xopt, &out_x) != RT_OK)
       rc = -1;
     ec[r] = val_cpu_seconds() - c0;
     ew[r] = val_wall_seconds() - w0;
     c0 = val_cpu_seconds();
     w0 = val_wall_seconds();
-    if (rc == 0 && pt_render(s, &plan, &po, &img, NULL, NULL, NULL) != RT_OK)
+    if (rc == 0 && m.r->render(s, &plan, &c, m.options, &out_m) != RT_OK)
       rc = -1;
     pc[r] = val_cpu_seconds() - c0;
     pw[r] = val_wall_seconds() - w0;
@@ -115,65 +116,87 @@ int val_image_bias(const rt_scene_t *s, const rt_image_t *P, const rt_image_t *X
   return rc;
 }
 
-int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_errors_t *out,
-                float *sample_error, rt_image_t *pencil_img, pt_extra_t *extra,
+/* The exact render of a measurement: aux channels on (the image's id channel judges bias). */
+static int render_exact(const rt_scene_t *s, const rt_plan_t *plan, int side, int threads,
+                        rt_image_t *img) {
+  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
+  eo.spp_side = side;
+  eo.threads = threads;
+  eo.aux = 1;
+  return rt_render(s, plan, &eo, img, NULL) == RT_OK;
+}
+
+/* Fill out's statistics from its counters, the per-sample errors and the two images. */
+static void compare(const rt_scene_t *s, const float *err, size_t n, const rt_image_t *P,
+                    const rt_image_t *X, val_errors_t *out) {
+  const rn_errors_t *e = &out->counts;
+  int w = s->camera.width, h = s->camera.height;
+  out->samples = e->measured;
+  out->samples_with_points = e->with_points;
+  out->fraction_within = (double)e->within / (double)e->measured;
+  out->max_error = e->max_error;
+  out->mismatches = e->mismatches;
+  out->fraction_within_strict = (double)e->within_strict / (double)e->measured;
+  out->max_error_strict = e->max_error_strict;
+  out->fraction_within_t = (double)e->within_t / (double)e->measured;
+  out->max_error_t = e->max_error_t;
+  float *sorted = malloc(n * sizeof *sorted);
+  if (sorted) {
+    memcpy(sorted, err, n * sizeof *sorted);
+    qsort(sorted, n, sizeof *sorted, cmp_float);
+    out->p99 = sorted[(size_t)floor(0.99 * (double)(n - 1))];
+    free(sorted);
+  }
+  double sq = 0.0, mx = 0.0;
+  for (size_t k = 0; k < (size_t)w * (size_t)h; k++)
+    for (int c = 0; c < 3; c++) {
+      double d = (double)P->ch[c][k] - (double)X->ch[c][k];
+      sq += d * d;
+      mx = fmax(mx, fabs(d));
+    }
+  out->image_rms = sqrt(sq / (3.0 * w * h));
+  out->image_max = mx;
+  val_image_bias(s, P, X, &out->image_bias, &out->image_bias_object);
+}
+
+int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_errors_t *out,
+                float *sample_error, rt_image_t *img, float *const *channels,
                 rt_image_t *exact_img) {
   int w = s->camera.width, h = s->camera.height;
   size_t n = (size_t)w * (size_t)h * (size_t)spp;
+  memset(out, 0, sizeof *out);
+  if (!m.r->errors) {
+    fprintf(stderr, "pencil: the %s renderer has nothing to measure\n", m.r->name);
+    return -1;
+  }
   float *err = sample_error ? sample_error : malloc(n * sizeof *err);
-  rt_image_t pi, ei, *P = pencil_img ? pencil_img : &pi, *X = exact_img ? exact_img : &ei;
-  int own_p = !pencil_img, own_x = !exact_img, rc = -1;
+  void *stats = calloc(1, m.r->stats_size);
+  rt_image_t pi, ei, *P = img ? img : &pi, *X = exact_img ? exact_img : &ei;
+  int own_p = !img, own_x = !exact_img, rc = -1;
   if (own_p)
     rt_image_alloc(&pi, w, h);
   if (own_x)
     rt_image_alloc(&ei, w, h);
   rt_plan_t plan = rt_plan_make(s, spp);
-  pt_options_t po = *popt;
-  po.spp_side = side_of(spp);
-  po.measure = 1;
-  po.progress = NULL;
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = side_of(spp);
-  eo.threads = po.threads;
-  eo.aux = 1;
-  memset(out, 0, sizeof *out);
-  if (err && P->ch[0] && X->ch[0] &&
-      pt_render(s, &plan, &po, P, extra, err, &out->stats) == RT_OK &&
-      rt_render(s, &plan, &eo, X, NULL) == RT_OK) {
-    const pt_stats_t *st = &out->stats;
-    out->rho = po.rho;
-    out->samples = st->measured;
-    out->samples_with_points = st->with_points;
-    out->fraction_within = (double)st->within / (double)st->measured;
-    out->max_error = st->max_error;
-    out->mismatches = st->mismatches;
-    out->fraction_within_strict = (double)st->within_strict / (double)st->measured;
-    out->max_error_strict = st->max_error_strict;
-    out->fraction_within_t = (double)st->within_t / (double)st->measured;
-    out->max_error_t = st->max_error_t;
-    float *sorted = malloc(n * sizeof *sorted);
-    if (sorted) {
-      memcpy(sorted, err, n * sizeof *sorted);
-      qsort(sorted, n, sizeof *sorted, cmp_float);
-      out->p99 = sorted[(size_t)floor(0.99 * (double)(n - 1))];
-      free(sorted);
-    }
-    double sq = 0.0, mx = 0.0;
-    for (size_t k = 0; k < (size_t)w * (size_t)h; k++)
-      for (int c = 0; c < 3; c++) {
-        double d = (double)P->ch[c][k] - (double)X->ch[c][k];
-        sq += d * d;
-        mx = fmax(mx, fabs(d));
-      }
-    out->image_rms = sqrt(sq / (3.0 * w * h));
-    out->image_max = mx;
-    val_image_bias(s, P, X, &out->image_bias, &out->image_bias_object);
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.spp_side = side_of(spp);
+  c.threads = threads;
+  c.measure = 1;
+  rn_output_t o = {.image = P, .sample_error = err, .stats = stats};
+  for (int k = 0; channels && k < m.r->nchannels; k++)
+    o.channels[k] = channels[k];
+  if (err && stats && P->ch[0] && X->ch[0] && m.r->render(s, &plan, &c, m.options, &o) == RT_OK &&
+      render_exact(s, &plan, c.spp_side, threads, X)) {
+    m.r->errors(stats, &out->counts);
+    out->rho = m.r->rho ? m.r->rho(m.options) : 0.0;
+    compare(s, err, n, P, X, out);
     rc = 0;
   } else {
     fprintf(stderr, "pencil: a measured render failed\n");
   }
   if (!sample_error)
     free(err);
+  free(stats);
   if (own_p)
     rt_image_free(&pi);
   if (own_x)
@@ -184,6 +207,7 @@ int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_erro
 void val_figures_defaults(val_figures_opts_t *o) {
   static const double rho[] = {0.05, 0.1, 0.25, 0.5, 1.0, 2.0};
   memset(o, 0, sizeof *o);
+  o->method = rn_find("pencil");
   o->out_dir = "figures";
   o->threads = 1;
   o->runs = 3;
@@ -219,20 +243,38 @@ static int make_dir(const char *d) {
   return 0;
 }
 
-static FILE *open_out(const val_figures_opts_t *o, const char *name, char *path, size_t cap) {
+static void path_in(const val_figures_opts_t *o, const char *name, char *path, size_t cap) {
   snprintf(path, cap, "%s/%s", o->out_dir, name);
-  FILE *f = fopen(path, "w");
-  if (!f)
-    fprintf(stderr, "pencil: cannot write %s: %s\n", path, strerror(errno));
-  return f;
 }
 
-static int close_out(FILE *f, const char *path) {
-  if (fclose(f) != 0) {
-    fprintf(stderr, "pencil: error writing %s\n", path);
+/* A CSV file of the output directory, written to a temporary file (io/output.h). */
+static FILE *open_out(const val_figures_opts_t *o, const char *name, io_atomic_t *a) {
+  char path[4096], err[1024];
+  path_in(o, name, path, sizeof path);
+  if (io_atomic_open(a, path, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil: %s\n", err);
+    return NULL;
+  }
+  return a->f;
+}
+
+static int close_out(io_atomic_t *a) {
+  char err[1024];
+  if (io_atomic_commit(a, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil: %s\n", err);
     return -1;
   }
   return 0;
+}
+
+static int write_json(const val_figures_opts_t *o, const char *name, json_t *root) {
+  char path[4096], err[1024];
+  path_in(o, name, path, sizeof path);
+  int rc = root ? io_json_write(path, root, err, sizeof err) : -1;
+  if (rc != 0)
+    fprintf(stderr, "pencil: %s\n", root ? err : "out of memory");
+  json_decref(root);
+  return rc;
 }
 
 /* 0, or VAL_ESCENE (message on stderr) when the scene cannot be read or built. */
@@ -257,10 +299,36 @@ static int load_scene(const val_figures_opts_t *o, rt_scene_t *s) {
   return 0;
 }
 
+/* ---- the method's options, set by name ------------------------------------------------------ */
+
+/** The options of the compared renderer: its defaults, then settings[0 .. n-1] = {name, value}
+ *  (value NULL for a flag). */
+typedef struct {
+  val_method_t m;
+  unsigned char buf[512]; /**< the options struct */
+} method_t;
+
+static int method_make(const val_figures_opts_t *o, method_t *m, const char *const (*set)[2],
+                       int n) {
+  char err[256];
+  m->m.r = o->method;
+  m->m.options = m->buf;
+  if (o->method->options_size > sizeof m->buf)
+    return fprintf(stderr, "pencil: the %s renderer's options are too large\n", o->method->name),
+           -1;
+  rn_defaults(o->method, m->buf);
+  for (int k = 0; k < n; k++)
+    if (!rn_set(o->method, m->buf, set[k][0], set[k][1], err, sizeof err))
+      return fprintf(stderr, "pencil: %s\n", err), -1;
+  return 0;
+}
+
+/* ---- images --------------------------------------------------------------------------------- */
+
 /* False colour of an error in units of rho: green (0) -> yellow (rho) -> red (2 rho) ->
  * magenta beyond; grey where there is no checkerboard point, dark blue for exact pixels. */
 static void error_colour(float e, float method, double rho, float rgb[3]) {
-  if (method == PT_METHOD_EXACT) {
+  if (method == 0.0f) { /* traced exactly */
     rgb[0] = 0.02f, rgb[1] = 0.02f, rgb[2] = 0.12f;
     return;
   }
@@ -278,116 +346,129 @@ static void error_colour(float e, float method, double rho, float rgb[3]) {
   }
 }
 
+/* DIR/STEM.exr and DIR/STEM.png of an image by renderer r (NULL: exact) with r's channels. */
 static int write_images(const val_figures_opts_t *o, const char *stem, const rt_image_t *img,
-                        const pt_extra_t *x, double rho, int spp, const char *method) {
-  char exr[4096], png[4096], err[1024], sppbuf[16], rhobuf[32];
-  snprintf(exr, sizeof exr, "%s/%s.exr", o->out_dir, stem);
-  snprintf(png, sizeof png, "%s/%s.png", o->out_dir, stem);
+                        const val_method_t *m, float *const *channels, int spp) {
+  char exr[4096], name[256], err[1024], sppbuf[16];
+  snprintf(name, sizeof name, "%s.exr", stem);
+  path_in(o, name, exr, sizeof exr);
   snprintf(sppbuf, sizeof sppbuf, "%d", spp);
-  snprintf(rhobuf, sizeof rhobuf, "%g", rho);
-  const char *meta[][2] = {{"pencil:scene", o->scene ? o->scene : "built-in fig8"},
-                           {"pencil:method", method},
-                           {"pencil:spp", sppbuf},
-                           {"pencil:rho", rhobuf}};
-  io_exr_channel_t ch[3];
-  int nch = 0;
-  if (x) {
-    ch[nch++] = (io_exr_channel_t){"pencil.error", x->error};
-    ch[nch++] = (io_exr_channel_t){"pencil.method", x->method};
-    ch[nch++] = (io_exr_channel_t){"pencil.rays", x->rays};
+  io_attr_t attrs[3 + RN_MAX_ATTRS];
+  rn_attr_t ra[RN_MAX_ATTRS];
+  io_exr_channel_t ch[RN_MAX_CHANNELS];
+  int na = 0, nch = 0;
+  attrs[na++] = (io_attr_t){"pencil:scene", o->scene ? o->scene : "built-in fig8"};
+  attrs[na++] = (io_attr_t){"pencil:method", m ? m->r->name : "exact"};
+  attrs[na++] = (io_attr_t){"pencil:spp", sppbuf};
+  if (m) {
+    int nr = m->r->describe(m->options, ra);
+    for (int k = 0; k < nr; k++)
+      attrs[na++] = (io_attr_t){ra[k].key, ra[k].value};
+    for (; nch < m->r->nchannels; nch++)
+      ch[nch] = (io_exr_channel_t){m->r->channels[nch], channels[nch]};
   }
-  if (io_exr_write_extra(exr, img, ch, nch, meta, 4, err, sizeof err) != 0 ||
-      io_png_write(png, img, err, sizeof err) != 0) {
+  if (io_render_write(exr, img, ch, nch, attrs, na, err, sizeof err) != 0) {
     fprintf(stderr, "pencil: %s\n", err);
     return -1;
   }
   return 0;
 }
 
-static int write_error_map(const val_figures_opts_t *o, const pt_extra_t *x, int w, int h,
-                           double rho) {
-  rt_image_t m;
+static int write_error_map(const val_figures_opts_t *o, const val_method_t *m,
+                           float *const *channels, int w, int h, double rho) {
+  rt_image_t img;
   char path[4096], err[1024];
-  if (rt_image_alloc(&m, w, h) != RT_OK)
+  if (m->r->error_channel < 0 || m->r->method_channel < 0)
+    return 0; /* the renderer has no per-pixel error to map */
+  if (rt_image_alloc(&img, w, h) != RT_OK)
     return -1;
+  const float *e = channels[m->r->error_channel], *meth = channels[m->r->method_channel];
   for (size_t k = 0; k < (size_t)w * (size_t)h; k++) {
     float rgb[3];
-    error_colour(x->error[k], x->method[k], rho, rgb);
+    error_colour(e[k], meth[k], rho, rgb);
     for (int c = 0; c < 3; c++)
-      m.ch[c][k] = rgb[c];
+      img.ch[c][k] = rgb[c];
   }
-  snprintf(path, sizeof path, "%s/fig10_error_map.png", o->out_dir);
-  int rc = io_png_write(path, &m, err, sizeof err);
+  path_in(o, "fig10_error_map.png", path, sizeof path);
+  int rc = io_png_write(path, &img, err, sizeof err);
   if (rc != 0)
     fprintf(stderr, "pencil: %s\n", err);
-  rt_image_free(&m);
+  rt_image_free(&img);
   return rc;
 }
 
-static int write_hist(const val_figures_opts_t *o, const pt_stats_t *st) {
-  char path[4096];
-  FILE *f = open_out(o, "fig10_hist.csv", path, sizeof path);
+static int write_hist(const val_figures_opts_t *o, const rn_errors_t *e) {
+  io_atomic_t a;
+  FILE *f = open_out(o, "fig10_hist.csv", &a);
   if (!f)
     return -1;
   fprintf(f, "error_lo,error_hi,samples,fraction\n");
-  for (int k = 0; k < PT_HIST_BINS; k++) /* the last bin is open: everything above */
-    fprintf(f, "%.4f,%.4f,%llu,%.9g\n", k * PT_HIST_STEP,
-            k == PT_HIST_BINS - 1 ? INFINITY : (k + 1) * PT_HIST_STEP,
-            (unsigned long long)st->hist[k], (double)st->hist[k] / (double)st->measured);
-  return close_out(f, path);
+  for (int k = 0; k < RN_HIST_BINS; k++) /* the last bin is open: everything above */
+    fprintf(f, "%.4f,%.4f,%llu,%.9g\n", k * RN_HIST_STEP,
+            k == RN_HIST_BINS - 1 ? INFINITY : (k + 1) * RN_HIST_STEP,
+            (unsigned long long)e->hist[k], (double)e->hist[k] / (double)e->measured);
+  return close_out(&a);
 }
 
-static void json_errors(FILE *f, const val_errors_t *e, int spp) {
-  fprintf(f,
-          "{\"rho\": %g, \"spp\": %d, \"samples\": %llu, \"samples_with_points\": %llu, "
-          "\"fraction_within\": %.9g, "
-          "\"max_error\": %.6g, \"p99\": %.6g, \"mismatches\": %llu, "
-          "\"fraction_within_strict\": %.9g, \"max_error_strict\": %.6g, "
-          "\"fraction_within_transmission\": %.9g, \"max_error_transmission\": %.6g, "
-          "\"image_rms\": %.6g, \"image_max\": %.6g, \"image_bias\": %.6g, "
-          "\"image_bias_object\": %d, \"samples_exact\": %llu, "
-          "\"samples_matrix\": %llu, \"samples_interpolated\": %llu}",
-          e->rho, spp, (unsigned long long)e->samples, (unsigned long long)e->samples_with_points,
-          e->fraction_within, e->max_error, e->p99, (unsigned long long)e->mismatches,
-          e->fraction_within_strict, e->max_error_strict, e->fraction_within_t, e->max_error_t,
-          e->image_rms, e->image_max, e->image_bias, e->image_bias_object,
-          (unsigned long long)e->stats.samples[PT_METHOD_EXACT],
-          (unsigned long long)e->stats.samples[PT_METHOD_MATRIX],
-          (unsigned long long)e->stats.samples[PT_METHOD_INTERP]);
+static json_t *json_errors(const val_errors_t *e, int spp) {
+  json_t *j = json_object();
+  json_object_set_new(j, "rho", io_json_number(e->rho));
+  json_object_set_new(j, "spp", json_integer(spp));
+  json_object_set_new(j, "samples", json_integer((json_int_t)e->samples));
+  json_object_set_new(j, "samples_with_points", json_integer((json_int_t)e->samples_with_points));
+  json_object_set_new(j, "fraction_within", io_json_number(e->fraction_within));
+  json_object_set_new(j, "max_error", io_json_number(e->max_error));
+  json_object_set_new(j, "p99", io_json_number(e->p99));
+  json_object_set_new(j, "mismatches", json_integer((json_int_t)e->mismatches));
+  json_object_set_new(j, "fraction_within_strict", io_json_number(e->fraction_within_strict));
+  json_object_set_new(j, "max_error_strict", io_json_number(e->max_error_strict));
+  json_object_set_new(j, "fraction_within_transmission", io_json_number(e->fraction_within_t));
+  json_object_set_new(j, "max_error_transmission", io_json_number(e->max_error_t));
+  json_object_set_new(j, "image_rms", io_json_number(e->image_rms));
+  json_object_set_new(j, "image_max", io_json_number(e->image_max));
+  json_object_set_new(j, "image_bias", io_json_number(e->image_bias));
+  json_object_set_new(j, "image_bias_object", json_integer(e->image_bias_object));
+  json_object_set_new(j, "samples_exact", json_integer((json_int_t)e->counts.samples_exact));
+  json_object_set_new(j, "samples_matrix", json_integer((json_int_t)e->counts.samples_matrix));
+  json_object_set_new(j, "samples_interpolated",
+                      json_integer((json_int_t)e->counts.samples_interpolated));
+  return j;
 }
 
 /* ---- the sweep ---------------------------------------------------------------------------- */
 
 typedef struct {
   double rho;
-  pt_bound_t bound;
-  int certified;
+  int variant; /* 0 corrected bounds, 1 printed bounds, 2 certified */
   val_timing_t t;
   val_errors_t e;
 } sweep_row_t;
 
+static const char *const variant_names[] = {"corrected", "printed", "certified"};
+
 static const char *variant_name(const sweep_row_t *r) {
-  return r->certified ? "certified" : pt_bound_name(r->bound);
+  return variant_names[r->variant];
 }
 
 static int run_sweep(const val_figures_opts_t *o, const rt_scene_t *s, sweep_row_t *rows,
                      int *nrows) {
   int n = 0, spp = o->sweep_spp;
-  pt_options_t po = PT_OPTIONS_DEFAULT;
-  po.threads = o->threads;
   for (int i = 0; i < o->nrho; i++)
     for (int v = 0; v < 3; v++) {
       sweep_row_t *r = &rows[n];
+      char rho[32];
+      snprintf(rho, sizeof rho, "%.17g", o->rho[i]);
+      const char *const set[][2] = {
+          {"--rho", rho}, {"--bounds", v == 1 ? "printed" : "corrected"}, {"--certified", NULL}};
+      method_t m;
       r->rho = o->rho[i];
-      r->bound = v == 1 ? PT_BOUND_PRINTED : PT_BOUND_CORRECTED;
-      r->certified = v == 2;
-      po.rho = r->rho;
-      po.bound = r->bound;
-      po.certified = r->certified;
-      /* each row times its own exact renders, interleaved with the pencil's, so that a change
+      r->variant = v;
+      if (method_make(o, &m, set, v == 2 ? 3 : 2) != 0)
+        return -1;
+      /* each row times its own exact renders, interleaved with the method's, so that a change
        * of the machine's load during the sweep affects both alike */
-      if (val_time_pair(s, &po, spp, o->threads, o->runs, &r->t) != 0 ||
-          val_measure(s, &po, spp, &r->e, NULL, NULL, NULL, NULL) != 0)
+      if (val_time_pair(s, m.m, spp, o->threads, o->runs, &r->t) != 0 ||
+          val_measure(s, m.m, spp, o->threads, &r->e, NULL, NULL, NULL, NULL) != 0)
         return -1;
       if (o->log)
         fprintf(o->log, "  sweep rho %-5g %-9s ratio %.3f  within %.5f%%  p99 %.3f  max %.3f\n",
@@ -400,8 +481,8 @@ static int run_sweep(const val_figures_opts_t *o, const rt_scene_t *s, sweep_row
 }
 
 static int write_sweep(const val_figures_opts_t *o, const sweep_row_t *rows, int n) {
-  char path[4096];
-  FILE *f = open_out(o, "sweep.csv", path, sizeof path);
+  io_atomic_t a;
+  FILE *f = open_out(o, "sweep.csv", &a);
   if (!f)
     return -1;
   fprintf(f, "rho,variant,spp,exact_s,pencil_s,ratio,samples,fraction_within,p99,max_error,"
@@ -413,33 +494,41 @@ static int write_sweep(const val_figures_opts_t *o, const sweep_row_t *rows, int
             r->rho, variant_name(r), o->sweep_spp, r->t.exact_s, r->t.pencil_s, r->t.ratio,
             (unsigned long long)r->e.samples, r->e.fraction_within, r->e.p99, r->e.max_error,
             (unsigned long long)r->e.mismatches, r->e.fraction_within_strict, r->e.max_error_strict,
-            r->e.image_rms, (unsigned long long)r->e.stats.samples[PT_METHOD_EXACT],
+            r->e.image_rms, (unsigned long long)r->e.counts.samples_exact,
             (unsigned long long)r->e.samples_with_points);
   }
-  return close_out(f, path);
+  return close_out(&a);
 }
 
-static void json_sweep(FILE *f, const val_figures_opts_t *o, const sweep_row_t *rows, int n) {
-  fprintf(f, "[");
+static json_t *json_sweep(const val_figures_opts_t *o, const sweep_row_t *rows, int n) {
+  json_t *a = json_array();
   for (int k = 0; k < n; k++) {
     const sweep_row_t *r = &rows[k];
-    fprintf(f,
-            "%s\n    {\"rho\": %g, \"variant\": \"%s\", \"exact_s\": %.6g, \"pencil_s\": %.6g, "
-            "\"ratio\": %.6g, \"errors\": ",
-            k ? "," : "", r->rho, variant_name(r), r->t.exact_s, r->t.pencil_s, r->t.ratio);
-    json_errors(f, &r->e, o->sweep_spp);
-    fprintf(f, "}");
+    json_array_append_new(
+        a, json_pack("{s:o, s:s, s:o, s:o, s:o, s:o}", "rho", io_json_number(r->rho), "variant",
+                     variant_name(r), "exact_s", io_json_number(r->t.exact_s), "pencil_s",
+                     io_json_number(r->t.pencil_s), "ratio", io_json_number(r->t.ratio), "errors",
+                     json_errors(&r->e, o->sweep_spp)));
   }
-  fprintf(f, "]");
+  return a;
 }
 
+/* The plots: /usr/bin/python3 PLOT DIR, as a child process with an argument vector. */
 static void run_plot(const val_figures_opts_t *o) {
   if (!o->plot)
     return;
-  char cmd[8192];
-  snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s' '%s'", o->plot, o->out_dir);
-  if (system(cmd) != 0)
-    fprintf(stderr, "pencil: the plotting script failed (%s); CSV and JSON are complete\n", cmd);
+  char err[1024];
+  char *argv[] = {"/usr/bin/python3", (char *)o->plot, (char *)o->out_dir, NULL};
+  if (io_run(argv, err, sizeof err) != 0)
+    fprintf(stderr, "pencil: the plotting script failed (%s); CSV and JSON are complete\n", err);
+}
+
+/* The top of every JSON file: the scene, the image, the method and how things were timed. */
+static json_t *json_head(const val_figures_opts_t *o, const rt_scene_t *s) {
+  return json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:s}", "scene",
+                   o->scene ? o->scene : "built-in fig8", "method", o->method->name, "width",
+                   s->camera.width, "height", s->camera.height, "threads", o->threads, "runs",
+                   o->runs, "time", "process CPU seconds, median of runs");
 }
 
 int val_sweep(const val_figures_opts_t *o) {
@@ -449,19 +538,17 @@ int val_sweep(const val_figures_opts_t *o) {
   if (rc != 0)
     return rc;
   rc = make_dir(o->out_dir) == 0 ? run_sweep(o, &s, rows, &n) : -1;
+  if (rc == 0 && write_sweep(o, rows, n) == 0) {
+    json_t *root = json_head(o, &s);
+    json_object_set_new(root, "sweep", json_sweep(o, rows, n));
+    rc = write_json(o, "sweep.json", root);
+  } else {
+    rc = -1;
+  }
   rt_scene_free(&s);
-  char path[4096];
-  FILE *f =
-      rc == 0 && write_sweep(o, rows, n) == 0 ? open_out(o, "sweep.json", path, sizeof path) : NULL;
-  if (!f)
-    return -1;
-  fprintf(f, "{\"sweep\": ");
-  json_sweep(f, o, rows, n);
-  fprintf(f, "}\n");
-  if (close_out(f, path) != 0)
-    return -1;
-  run_plot(o);
-  return 0;
+  if (rc == 0)
+    run_plot(o);
+  return rc;
 }
 
 /* ---- the figures -------------------------------------------------------------------------- */
@@ -478,8 +565,8 @@ typedef struct {
 } results_t;
 
 static int write_fig9(const val_figures_opts_t *o, const results_t *r) {
-  char path[4096];
-  FILE *f = open_out(o, "fig9.csv", path, sizeof path);
+  io_atomic_t a;
+  FILE *f = open_out(o, "fig9.csv", &a);
   if (!f)
     return -1;
   fprintf(f, "spp,exact_s,pencil_s,ratio,exact_wall_s,pencil_wall_s\n");
@@ -488,7 +575,7 @@ static int write_fig9(const val_figures_opts_t *o, const results_t *r) {
     fprintf(f, "%d,%.6g,%.6g,%.6g,%.6g,%.6g\n", t->spp, t->exact_s, t->pencil_s, t->ratio,
             t->exact_wall, t->pencil_wall);
   }
-  return close_out(f, path);
+  return close_out(&a);
 }
 
 static const val_timing_t *timing_at(const val_figures_opts_t *o, const results_t *r, int spp) {
@@ -506,59 +593,43 @@ static int below_spp(const val_figures_opts_t *o, const results_t *r) {
   return at;
 }
 
-static int write_summary(const val_figures_opts_t *o, const rt_scene_t *s, const results_t *r) {
-  char path[4096];
-  FILE *f = open_out(o, "summary.json", path, sizeof path);
-  if (!f)
-    return -1;
-  fprintf(f,
-          "{\n  \"scene\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
-          "\"runs\": %d, \"time\": \"process CPU seconds, median of runs\",\n",
-          o->scene ? o->scene : "built-in fig8", s->camera.width, s->camera.height, o->threads,
-          o->runs);
-  const val_timing_t *t9 = timing_at(o, r, r->fig8_spp);
-  char speedup[32] = "null"; /* untimed when Fig. 9 leaves out Fig. 8's spp */
-  if (t9)
-    snprintf(speedup, sizeof speedup, "%.6g", 1.0 / t9->ratio);
-  fprintf(f,
-          "  \"fig8\": {\"spp\": %d, \"exr\": \"fig8.exr\", \"png\": \"fig8.png\", "
-          "\"exact_png\": \"fig8_exact.png\", \"speedup\": %s},\n",
-          r->fig8_spp, speedup);
-  fprintf(f, "  \"fig9\": [");
-  for (int k = 0; k < o->nspp; k++) {
-    const val_timing_t *t = &r->fig9[k];
-    fprintf(f,
-            "%s\n    {\"spp\": %d, \"exact_s\": %.6g, \"pencil_s\": %.6g, \"ratio\": %.6g, "
-            "\"exact_wall_s\": %.6g, \"pencil_wall_s\": %.6g}",
-            k ? "," : "", t->spp, t->exact_s, t->pencil_s, t->ratio, t->exact_wall, t->pencil_wall);
-  }
-  int below = below_spp(o, r);
-  if (below)
-    fprintf(f, "],\n  \"fig9_below_0_1_from_spp\": %d,\n  \"fig10\": ", below);
-  else
-    fprintf(f, "],\n  \"fig9_below_0_1_from_spp\": null,\n  \"fig10\": ");
-  json_errors(f, &r->fig10, r->fig8_spp);
-  const val_timing_t *tt = timing_at(o, r, r->target_spp);
-  fprintf(f, ",\n  \"targets\": {\"spp\": %d,\n    \"pencil\": {\"ratio\": %.6g, \"errors\": ",
-          r->target_spp, tt ? tt->ratio : NAN);
-  json_errors(f, &r->t49, r->target_spp);
-  fprintf(f,
-          "},\n    \"certified\": {\"ratio\": %.6g, \"exact_s\": %.6g, \"pencil_s\": %.6g, "
-          "\"errors\": ",
-          r->tc49.ratio, r->tc49.exact_s, r->tc49.pencil_s);
-  json_errors(f, &r->c49, r->target_spp);
-  fprintf(f,
-          "},\n    \"no_accuracy\": {\"rho\": %g, \"brightness_tol\": %g, \"ratio\": %.6g, "
-          "\"certified_ratio\": %.6g}},\n  \"sweep\": ",
-          NOACC_RHO, NOACC_BTOL, r->floor.ratio, r->cfloor.ratio);
-  json_sweep(f, o, r->sweep, r->nsweep);
-  fprintf(f,
-          ",\n  \"paper\": {\"fig8_speedup_9spp\": %g, \"fig9_ratio_49spp\": %g, "
-          "\"fig10_fraction_within\": %g, \"fig10_max_error\": %g}\n}\n",
-          PAPER_SPEEDUP_9, PAPER_RATIO_49, PAPER_WITHIN, PAPER_MAX);
-  return close_out(f, path);
+static json_t *json_timing(const val_timing_t *t) {
+  return json_pack("{s:i, s:o, s:o, s:o, s:o, s:o}", "spp", t->spp, "exact_s",
+                   io_json_number(t->exact_s), "pencil_s", io_json_number(t->pencil_s), "ratio",
+                   io_json_number(t->ratio), "exact_wall_s", io_json_number(t->exact_wall),
+                   "pencil_wall_s", io_json_number(t->pencil_wall));
 }
 
+static int write_summary(const val_figures_opts_t *o, const rt_scene_t *s, const results_t *r) {
+  json_t *root = json_head(o, s), *fig9 = json_array();
+  const val_timing_t *t9 = timing_at(o, r, r->fig8_spp), *tt = timing_at(o, r, r->target_spp);
+  /* the speed-up is null when Fig. 9 leaves out Fig. 8's spp */
+  json_object_set_new(root, "fig8",
+                      json_pack("{s:i, s:s, s:s, s:s, s:o}", "spp", r->fig8_spp, "exr", "fig8.exr",
+                                "png", "fig8.png", "exact_png", "fig8_exact.png", "speedup",
+                                t9 ? io_json_number(1.0 / t9->ratio) : json_null()));
+  for (int k = 0; k < o->nspp; k++)
+    json_array_append_new(fig9, json_timing(&r->fig9[k]));
+  json_object_set_new(root, "fig9", fig9);
+  int below = below_spp(o, r);
+  json_object_set_new(root, "fig9_below_0_1_from_spp", below ? json_integer(below) : json_null());
+  json_object_set_new(root, "fig10", json_errors(&r->fig10, r->fig8_spp));
+  json_t *targets = json_pack(
+      "{s:i, s:{s:o, s:o}, s:{s:o, s:o, s:o, s:o}, s:{s:o, s:o, s:o, s:o}}", "spp", r->target_spp,
+      "pencil", "ratio", io_json_number(tt ? tt->ratio : NAN), "errors",
+      json_errors(&r->t49, r->target_spp), "certified", "ratio", io_json_number(r->tc49.ratio),
+      "exact_s", io_json_number(r->tc49.exact_s), "pencil_s", io_json_number(r->tc49.pencil_s),
+      "errors", json_errors(&r->c49, r->target_spp), "no_accuracy", "rho",
+      io_json_number(NOACC_RHO), "brightness_tol", io_json_number(NOACC_BTOL), "ratio",
+      io_json_number(r->floor.ratio), "certified_ratio", io_json_number(r->cfloor.ratio));
+  json_object_set_new(root, "targets", targets);
+  json_object_set_new(root, "sweep", json_sweep(o, r->sweep, r->nsweep));
+  json_object_set_new(root, "paper",
+                      json_pack("{s:f, s:f, s:f, s:f}", "fig8_speedup_9spp", PAPER_SPEEDUP_9,
+                                "fig9_ratio_49spp", PAPER_RATIO_49, "fig10_fraction_within",
+                                PAPER_WITHIN, "fig10_max_error", PAPER_MAX));
+  return write_json(o, "summary.json", root);
+}
 /* The comparison with the paper; returns 1 when a target of issue 5 is missed. */
 static int print_table(const val_figures_opts_t *o, const results_t *r) {
   FILE *f = o->log;
@@ -624,63 +695,71 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
   return miss;
 }
 
+/* Figs. 8 and 10: the measured render at Fig. 8's spp, with both images and the error map. */
+static int run_fig8(const val_figures_opts_t *o, const rt_scene_t *s, const method_t *m,
+                    results_t *r) {
+  int w = s->camera.width, h = s->camera.height, rc = -1;
+  rt_image_t pi, ei;
+  rn_output_t ch = {0};
+  if (rn_channels_alloc(m->m.r, w, h, &ch) != RT_OK)
+    return -1;
+  if (rt_image_alloc(&pi, w, h) == RT_OK) {
+    if (rt_image_alloc(&ei, w, h) == RT_OK) {
+      double rho = m->m.r->rho ? m->m.r->rho(m->m.options) : 0.0;
+      if (val_measure(s, m->m, r->fig8_spp, o->threads, &r->fig10, NULL, &pi, ch.channels, &ei) ==
+              0 &&
+          write_images(o, "fig8", &pi, &m->m, ch.channels, r->fig8_spp) == 0 &&
+          write_images(o, "fig8_exact", &ei, NULL, NULL, r->fig8_spp) == 0 &&
+          write_error_map(o, &m->m, ch.channels, w, h, rho) == 0 &&
+          write_hist(o, &r->fig10.counts) == 0)
+        rc = 0;
+      rt_image_free(&ei);
+    }
+    rt_image_free(&pi);
+  }
+  rn_channels_free(&ch);
+  return rc;
+}
+
 static int run_figures(const val_figures_opts_t *o, rt_scene_t *s, results_t *r) {
-  pt_options_t po = PT_OPTIONS_DEFAULT;
-  po.threads = o->threads;
+  char noacc_rho[32], noacc_btol[32];
+  snprintf(noacc_rho, sizeof noacc_rho, "%g", NOACC_RHO);
+  snprintf(noacc_btol, sizeof noacc_btol, "%g", NOACC_BTOL);
+  const char *const cert[][2] = {{"--certified", NULL}};
+  /* the least the method costs: nothing to be accurate about */
+  const char *const noacc[][2] = {
+      {"--rho", noacc_rho}, {"--brightness-tol", noacc_btol}, {"--certified", NULL}};
+  method_t po, pc, pf, pcf;
+  if (method_make(o, &po, NULL, 0) != 0 || method_make(o, &pc, cert, 1) != 0 ||
+      method_make(o, &pf, noacc, 2) != 0 || method_make(o, &pcf, noacc, 3) != 0)
+    return -1;
   r->fig8_spp = 9;
   r->target_spp = o->spp[o->nspp - 1];
   for (int k = 0; k < o->nspp; k++)
     if (o->spp[k] == TARGET_SPP)
       r->target_spp = TARGET_SPP;
   for (int k = 0; k < o->nspp; k++) {
-    if (val_time_pair(s, &po, o->spp[k], o->threads, o->runs, &r->fig9[k]) != 0)
+    if (val_time_pair(s, po.m, o->spp[k], o->threads, o->runs, &r->fig9[k]) != 0)
       return -1;
     if (o->log)
-      fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, pencil %.3f s, ratio %.3f\n", o->spp[k],
-              r->fig9[k].exact_s, r->fig9[k].pencil_s, r->fig9[k].ratio);
+      fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f\n", o->spp[k],
+              r->fig9[k].exact_s, o->method->name, r->fig9[k].pencil_s, r->fig9[k].ratio);
   }
-  /* Fig. 8 and Fig. 10: the measured render at 9 spp, with both images */
-  int w = s->camera.width, h = s->camera.height;
-  size_t np = (size_t)w * (size_t)h;
-  rt_image_t pi, ei;
-  float *err = malloc(np * sizeof *err), *meth = malloc(np * sizeof *meth),
-        *rays = malloc(np * sizeof *rays);
-  pt_extra_t x = {err, meth, rays};
-  int rc = -1;
-  if (err && meth && rays && rt_image_alloc(&pi, w, h) == RT_OK) {
-    if (rt_image_alloc(&ei, w, h) == RT_OK) {
-      if (val_measure(s, &po, r->fig8_spp, &r->fig10, NULL, &pi, &x, &ei) == 0 &&
-          write_images(o, "fig8", &pi, &x, po.rho, r->fig8_spp, "pencil") == 0 &&
-          write_images(o, "fig8_exact", &ei, NULL, po.rho, r->fig8_spp, "exact") == 0 &&
-          write_error_map(o, &x, w, h, po.rho) == 0 && write_hist(o, &r->fig10.stats) == 0)
-        rc = 0;
-      rt_image_free(&ei);
-    }
-    rt_image_free(&pi);
-  }
-  free(err);
-  free(meth);
-  free(rays);
-  if (rc != 0)
+  if (run_fig8(o, s, &po, r) != 0)
     return -1;
   if (o->log)
     fprintf(o->log,
             "  Fig. 10: %.5f%% of %llu samples within rho = %g, max %.3f, p99 %.3f (%llu samples "
             "with measured points)\n",
-            100.0 * r->fig10.fraction_within, (unsigned long long)r->fig10.samples, po.rho,
+            100.0 * r->fig10.fraction_within, (unsigned long long)r->fig10.samples, r->fig10.rho,
             r->fig10.max_error, r->fig10.p99, (unsigned long long)r->fig10.samples_with_points);
   /* the targets at the largest spp: errors of the plain and certified modes, certified time */
-  pt_options_t pc = po;
-  pc.certified = 1;
-  if (val_measure(s, &po, r->target_spp, &r->t49, NULL, NULL, NULL, NULL) != 0 ||
-      val_measure(s, &pc, r->target_spp, &r->c49, NULL, NULL, NULL, NULL) != 0 ||
-      val_time_pair(s, &pc, r->target_spp, o->threads, o->runs, &r->tc49) != 0)
+  if (val_measure(s, po.m, r->target_spp, o->threads, &r->t49, NULL, NULL, NULL, NULL) != 0 ||
+      val_measure(s, pc.m, r->target_spp, o->threads, &r->c49, NULL, NULL, NULL, NULL) != 0 ||
+      val_time_pair(s, pc.m, r->target_spp, o->threads, o->runs, &r->tc49) != 0)
     return -1;
-  pt_options_t pf = po, pcf = pc; /* the least the method costs: nothing to be accurate about */
-  pf.rho = pcf.rho = NOACC_RHO;
-  pf.brightness_tol = pcf.brightness_tol = NOACC_BTOL;
-  if (val_time_pair(s, &pf, r->target_spp, o->threads, o->runs, &r->floor) != 0 ||
-      val_time_pair(s, &pcf, r->target_spp, o->threads, o->runs, &r->cfloor) != 0)
+  if (val_time_pair(s, pf.m, r->target_spp, o->threads, o->runs, &r->floor) != 0 ||
+      val_time_pair(s, pcf.m, r->target_spp, o->threads, o->runs, &r->cfloor) != 0)
     return -1;
   if (o->log)
     fprintf(o->log,

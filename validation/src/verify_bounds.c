@@ -10,6 +10,7 @@
 #include <omp.h>
 #endif
 
+#include "io/json.h"
 #include "validation/bounds.h"
 
 /* Jets and __float128 differences must agree to this fraction of the tensor's scale. */
@@ -699,8 +700,9 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
                                     "worst_attained_deviation", jnum(fit_dev_worst),
                                     "outside_tolerance", (json_int_t)fit_bad, "tolerance",
                                     VAL_FIT_TOL, "sampled_vs_tensor", jnum(sampled_worst)));
-    if (json_dump_file(root, o->json, JSON_INDENT(2) | JSON_SORT_KEYS) != 0) {
-      fprintf(stderr, "pencil verify bounds: cannot write '%s'\n", o->json);
+    char err[1024];
+    if (io_json_write(o->json, root, err, sizeof err) != 0) {
+      fprintf(stderr, "pencil verify bounds: %s\n", err);
       io_err = 1;
     }
     json_decref(root);

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/json.h"
 #include "validation/verify.h"
 
 static px_mat4_t scaled(px_mat4_t t, double L) {
@@ -44,8 +45,8 @@ void val_verify_matrix(const val_system_t *v, val_matrix_result_t *r) {
   px_status_t st = ex_trace_axial(&sys, &ax);
   if (v->expect_tir) { /* both the paraxial library and the exact tracer must refuse */
     px_mat4_t t;
-    px_status_t sm = px_element_matrix(v->event, v->theta_deg * M_PI / 180, v->n1, v->n2,
-                                       v->radius, PX_VARIANT_CORRECTED, &t);
+    px_status_t sm = px_element_matrix(v->event, v->theta_deg * M_PI / 180, v->n1, v->n2, v->radius,
+                                       PX_VARIANT_CORRECTED, &t);
     r->status = st;
     r->pass = st == PX_ETIR && sm == PX_ETIR;
     return;
@@ -82,8 +83,9 @@ static json_t *stats_json(const family_stats_t *s) {
   json_t *pb = json_object();
   static const char *blk[4] = {"A", "B", "C", "D"};
   for (int b = 0; b < 4; b++)
-    json_object_set_new(pb, blk[b], json_pack("{s:f, s:I}", "worst", s->printed_worst[b],
-                                              "failures", (json_int_t)s->printed_block_fail[b]));
+    json_object_set_new(pb, blk[b],
+                        json_pack("{s:f, s:I}", "worst", s->printed_worst[b], "failures",
+                                  (json_int_t)s->printed_block_fail[b]));
   return json_pack("{s:I, s:f, s:I, s:I, s:{s:I, s:o}}", "systems", (json_int_t)s->count,
                    "worst_relative_error", s->worst, "failures", (json_int_t)s->failures,
                    "tir_checked", (json_int_t)s->tir, "printed", "failures",
@@ -125,23 +127,26 @@ static void csv_row(FILE *f, size_t id, const val_system_t *v, const val_matrix_
 }
 
 static void report(FILE *f, const family_stats_t *fam, const family_stats_t *all) {
-  fprintf(f, "pencil verify matrices: system matrices vs. the Jacobian of exact Snell-law tracing\n"
-             "(__float128 Richardson differences; tolerance %.0e on the scaled relative error)\n\n",
+  fprintf(f,
+          "pencil verify matrices: system matrices vs. the Jacobian of exact Snell-law tracing\n"
+          "(__float128 Richardson differences; tolerance %.0e on the scaled relative error)\n\n",
           VAL_MATRIX_TOL);
   fprintf(f, "%-10s %8s %8s %6s %14s | %-28s\n", "family", "systems", "failures", "TIR",
           "worst rel err", "printed Eq.(2): failing A/B/C/D");
   for (int i = 0; i <= VAL_FAMILY_COUNT; i++) {
     const family_stats_t *s = i < VAL_FAMILY_COUNT ? &fam[i] : all;
     if (i == VAL_FAMILY_COUNT)
-      fprintf(f, "%.*s\n", 82, "----------------------------------------------------------------"
-                               "------------------------------------");
+      fprintf(f, "%.*s\n", 82,
+              "----------------------------------------------------------------"
+              "------------------------------------");
     fprintf(f, "%-10s %8zu %8zu %6zu %14.3e | %6zu/%zu/%zu/%zu\n",
             i < VAL_FAMILY_COUNT ? val_family_name((val_family_t)i) : "all", s->count, s->failures,
             s->tir, s->worst, s->printed_block_fail[0], s->printed_block_fail[1],
             s->printed_block_fail[2], s->printed_block_fail[3]);
   }
-  fprintf(f, "\nprinted Eq. (2), worst block errors: A %.3g  B %.3g  C %.3g  D %.3g "
-             "(docs/errata.md)\n",
+  fprintf(f,
+          "\nprinted Eq. (2), worst block errors: A %.3g  B %.3g  C %.3g  D %.3g "
+          "(docs/errata.md)\n",
           all->printed_worst[0], all->printed_worst[1], all->printed_worst[2],
           all->printed_worst[3]);
 }
@@ -188,7 +193,8 @@ static json_t *run_evidence(const evidence_t *e, FILE *report) {
   px_element_t buf[4];
   px_cascade_t c, p;
   px_mat4_t j;
-  if (ex_trace_axial(&sys, &ax) != PX_OK || ex_jacobian_q(&sys, &ax, fabs(e->radius), &j) != PX_OK ||
+  if (ex_trace_axial(&sys, &ax) != PX_OK ||
+      ex_jacobian_q(&sys, &ax, fabs(e->radius), &j) != PX_OK ||
       ex_axial_cascade(&sys, &ax, PX_VARIANT_CORRECTED, buf, 2, &c) != PX_OK ||
       ex_axial_cascade(&sys, &ax, PX_VARIANT_PRINTED, buf + 2, 2, &p) != PX_OK)
     return NULL;
@@ -235,8 +241,8 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
     if (csv)
       csv_row(csv, i, &sw[i], &r);
     if (!r.pass && o->report)
-      fprintf(o->report, "FAIL #%zu %s: %s, rel err %.3e\n", i, sw[i].label,
-              px_strerror(r.status), r.rel_err);
+      fprintf(o->report, "FAIL #%zu %s: %s, rel err %.3e\n", i, sw[i].label, px_strerror(r.status),
+              r.rel_err);
   }
   int io_err = csv && fclose(csv) != 0;
   if (o->report) {
@@ -249,10 +255,10 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
     fprintf(o->report, "\n");
   }
   if (o->json) {
-    json_t *root = json_pack("{s:I, s:f, s:I, s:f, s:s}", "systems", (json_int_t)all.count,
-                             "worst_relative_error", all.worst, "failures",
-                             (json_int_t)all.failures, "tolerance", VAL_MATRIX_TOL,
-                             "worst_system", sw[worst_id].label);
+    json_t *root =
+        json_pack("{s:I, s:f, s:I, s:f, s:s}", "systems", (json_int_t)all.count,
+                  "worst_relative_error", all.worst, "failures", (json_int_t)all.failures,
+                  "tolerance", VAL_MATRIX_TOL, "worst_system", sw[worst_id].label);
     json_t *fj = json_object();
     for (int i = 0; i < VAL_FAMILY_COUNT; i++)
       json_object_set_new(fj, val_family_name((val_family_t)i), stats_json(&fam[i]));
@@ -265,8 +271,9 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
         json_array_append_new(ev, e);
     }
     json_object_set_new(root, "errata_evidence", ev);
-    if (json_dump_file(root, o->json, JSON_INDENT(2) | JSON_SORT_KEYS) != 0) {
-      fprintf(stderr, "pencil verify matrices: cannot write '%s'\n", o->json);
+    char err[1024];
+    if (io_json_write(o->json, root, err, sizeof err) != 0) {
+      fprintf(stderr, "pencil verify matrices: %s\n", err);
       io_err = 1;
     }
     json_decref(root);

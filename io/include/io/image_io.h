@@ -1,8 +1,10 @@
-/* image_io.h -- writing rendered images: OpenEXR through OpenEXRCore's C API (all channels,
- * float32) and an 8-bit sRGB PNG preview through libpng.
+/* image_io.h -- rendered images: OpenEXR through OpenEXRCore's C API (all channels, float32,
+ * with the provenance of io/output.h in the header) and an 8-bit sRGB PNG preview through
+ * libpng.
  *
- * Both return 0 on success, or -1 with a one-line reason in err[cap] (naming the file); on
- * failure no partial file is left behind. Not thread-safe with respect to the same path.
+ * Functions return 0 on success, or -1 with a one-line reason in err[cap] (naming the file); on
+ * failure no partial or temporary file is left behind (io/output.h). Not thread-safe with
+ * respect to the same path.
  */
 #ifndef IO_IMAGE_IO_H
 #define IO_IMAGE_IO_H
@@ -11,11 +13,25 @@
 
 #include "render/render.h"
 
-/** Write every channel of img (rt_channel_name() names) as 32-bit float, ZIP-compressed
- *  scanlines. The file also carries the string attributes of `meta` (key, value pairs, nmeta
- *  of them; may be NULL). */
-int io_exr_write(const char *path, const rt_image_t *img, const char *const (*meta)[2], int nmeta,
-                 char *err, size_t cap);
+/** A named float32 channel of width x height values (caller-owned) beside an image's own. */
+typedef struct {
+  const char *name;
+  const float *data;
+} io_exr_channel_t;
+
+/** A string attribute of an image file's header. */
+typedef struct {
+  const char *key;
+  const char *value;
+} io_attr_t;
+
+/** The one OpenEXR writer: every channel of img (rt_channel_name() names) and the `nextra`
+ *  extra channels (names must differ from the image's) as 32-bit float, ZIP-compressed
+ *  scanlines, with the string attributes attrs[0 .. nattrs-1] and the provenance of
+ *  io/output.h (pencil:version, pencil:commit, pencil:command_line, pencil:date). The file is
+ *  replaced atomically. */
+int io_exr_write(const char *path, const rt_image_t *img, const io_exr_channel_t *extra, int nextra,
+                 const io_attr_t *attrs, int nattrs, char *err, size_t cap);
 
 /** Read channel `name` of a scanline EXR written by io_exr_write() into out (width x height
  *  floats, caller-owned, sized by *width x *height from a first call with out = NULL).
@@ -23,21 +39,25 @@ int io_exr_write(const char *path, const rt_image_t *img, const char *const (*me
 int io_exr_read_channel(const char *path, const char *name, float *out, int *width, int *height,
                         char *err, size_t cap);
 
-/** A named float32 channel of width x height values (caller-owned) beside an image's own. */
-typedef struct {
-  const char *name;
-  const float *data;
-} io_exr_channel_t;
+/** Read the string attribute `key` of an EXR file into out[cap_out] (tests, tools). */
+int io_exr_read_attr(const char *path, const char *key, char *out, size_t cap_out, char *err,
+                     size_t cap);
 
-/** io_exr_write() plus `nextra` extra channels (names must differ from the image's). */
-int io_exr_write_extra(const char *path, const rt_image_t *img, const io_exr_channel_t *extra,
-                       int nextra, const char *const (*meta)[2], int nmeta, char *err,
-                       size_t cap);
-
-/** Write R, G, B clamped to [0, 1] and sRGB-encoded, 8 bits per channel. */
+/** The PNG preview of img: R, G, B through the display transform of post/display.h (clamped to
+ *  [0, 1], sRGB-encoded), 8 bits per channel; replaced atomically. */
 int io_png_write(const char *path, const rt_image_t *img, char *err, size_t cap);
 
 /** "OUT.exr" -> "OUT.png" (any other name gets ".png" appended); 0 when it does not fit. */
 int io_png_path_for(const char *exr_path, char *out, size_t cap);
+
+/** Before a render: exr_path names an .exr file, and it and its PNG preview can be written
+ *  (io_output_check()). */
+int io_render_check(const char *exr_path, char *err, size_t cap);
+
+/** A render's outputs: io_exr_write() to exr_path and io_png_write() to the preview beside it.
+ *  Both are written to temporary files first and renamed only when both succeeded, so that a
+ *  failure leaves the old files as they were. */
+int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_channel_t *extra,
+                    int nextra, const io_attr_t *attrs, int nattrs, char *err, size_t cap);
 
 #endif

@@ -14,7 +14,7 @@
 
 #include <stdio.h>
 
-#include "pencil/pencil.h"
+#include "renderers/renderer.h"
 
 #define VAL_MAX_SPP 12
 #define VAL_MAX_RHO 16
@@ -27,10 +27,18 @@ typedef struct {
   double ratio;                   /**< pencil_s / exact_s */
 } val_timing_t;
 
-/** Time `runs` renders of scene s by each method at spp samples per pixel (interleaved) and
- *  keep the medians. `popt` gives the pencil options (spp_side and threads are set here).
- *  Returns 0, or -1 when a render failed (message on stderr). */
-int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int threads, int runs,
+/** A renderer to time or measure: an entry of the renderer table and its options (an options
+ *  struct of the entry's, e.g. made by rn_defaults() and rn_set()). */
+typedef struct {
+  const rn_renderer_t *r; /**< the entry */
+  const void *options;    /**< its options (r->options_size bytes) */
+} val_method_t;
+
+/** Time `runs` renders of scene s by the exact renderer and by m at spp samples per pixel
+ *  (interleaved, no auxiliary channels, nothing measured) and keep the medians: exact_s is the
+ *  exact renderer's, pencil_s m's. Returns 0, or -1 when a render failed (message on
+ *  stderr). */
+int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
                   val_timing_t *out);
 
 /** Objects covering fewer pixels than this are not judged by val_errors_t.image_bias. */
@@ -39,24 +47,24 @@ int val_time_pair(const rt_scene_t *s, const pt_options_t *popt, int spp, int th
 /** Error statistics of one measured pencil render (Fig. 10). */
 typedef struct {
   double rho;
-  uint64_t samples;       /**< every sample of the image */
+  uint64_t samples;             /**< every sample of the image */
   uint64_t samples_with_points; /**< ... with a pencil-traced point on a measured surface (the
                                      checkerboard in Fig. 8; pt_surface_measured): 0 means the
                                      measure compared nothing and fraction_within says nothing */
-  double fraction_within; /**< samples with error <= rho (image area) */
-  double p99;             /**< 99th percentile of the per-sample error (pixels) */
-  double max_error;       /**< largest finite error (pixels) */
-  uint64_t mismatches;    /**< samples whose exact tree lacks a path the pencil used */
+  double fraction_within;       /**< samples with error <= rho (image area) */
+  double p99;                   /**< 99th percentile of the per-sample error (pixels) */
+  double max_error;             /**< largest finite error (pixels) */
+  uint64_t mismatches;          /**< samples whose exact tree lacks a path the pencil used */
   double fraction_within_strict, max_error_strict; /**< |e| / sigma_min instead */
   double fraction_within_t, max_error_t;           /**< transmission-first path only */
-  double image_rms; /**< RMS of the RGB difference from the exact image */
-  double image_max; /**< largest per-pixel |RGB difference| */
+  double image_rms;      /**< RMS of the RGB difference from the exact image */
+  double image_max;      /**< largest per-pixel |RGB difference| */
   double image_bias;     /**< largest |mean RGB difference| over the pixels whose centre ray (in the
                               exact image) meets one object, among objects with at least
                               VAL_BIAS_PIXELS such pixels: a systematic error the checkerboard's
                               flips at rho = 1/2 (which go both ways) do not average out */
   int image_bias_object; /**< that object's index, -1 the background (none: -2) */
-  pt_stats_t stats;
+  rn_errors_t counts;    /**< the renderer's Fig. 10 counters (histogram, samples by method) */
 } val_errors_t;
 
 /** The largest |mean RGB difference| of image P from the exact image X (with its id channel)
@@ -66,28 +74,32 @@ typedef struct {
 int val_image_bias(const rt_scene_t *s, const rt_image_t *P, const rt_image_t *X, double *bias,
                    int *object);
 
-/** Render s by pencil tracing with measurement and compare the image with an exact render.
- *  sample_error (w * h * spp floats) and the images may be NULL; when not, they receive the
- *  per-sample errors, the pencil image (with extra channels) and the exact image. */
-int val_measure(const rt_scene_t *s, const pt_options_t *popt, int spp, val_errors_t *out,
-                float *sample_error, rt_image_t *pencil_img, pt_extra_t *extra,
+/** Render s by m with measurement (m.r->errors must not be NULL) and compare the image with an
+ *  exact render. sample_error (w * h * spp floats), the images and `channels` may be NULL;
+ *  when not, they receive the per-sample errors, m's image, m's extra channels (an array of
+ *  m.r->nchannels caller-allocated planes) and the exact image. threads: of both renders. */
+int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_errors_t *out,
+                float *sample_error, rt_image_t *img, float *const *channels,
                 rt_image_t *exact_img);
 
 typedef struct {
-  const char *out_dir;  /**< output directory (created) */
-  const char *scene;    /**< scene file, or NULL for the built-in Fig. 8 scene */
-  int quick;            /**< small image and fewer points (tests) */
-  int threads;          /**< threads for every render (default 1) */
-  int runs;             /**< timed renders per configuration, >= 3 */
-  int width, height;    /**< 0: the scene's (quick: 96 x 96) */
-  int spp[VAL_MAX_SPP]; /**< Fig. 9 sample counts, increasing; the targets are taken at 49
-                         when it is one of them, else at the largest */
+  const rn_renderer_t *method; /**< the renderer compared with exact tracing (default pencil);
+                                    the drivers set its --rho, --certified, --bounds and
+                                    --brightness-tol by name */
+  const char *out_dir;         /**< output directory (created) */
+  const char *scene;           /**< scene file, or NULL for the built-in Fig. 8 scene */
+  int quick;                   /**< small image and fewer points (tests) */
+  int threads;                 /**< threads for every render (default 1) */
+  int runs;                    /**< timed renders per configuration, >= 3 */
+  int width, height;           /**< 0: the scene's (quick: 96 x 96) */
+  int spp[VAL_MAX_SPP];        /**< Fig. 9 sample counts, increasing; the targets are taken at 49
+                                when it is one of them, else at the largest */
   int nspp;
   double rho[VAL_MAX_RHO]; /**< sweep */
   int nrho;
   int sweep_spp;    /**< samples per pixel of the sweep */
   int sweep;        /**< 1: run the sweep too */
-  const char *plot; /**< plotting script (python) or NULL */
+  const char *plot; /**< plotting script (run as /usr/bin/python3 PLOT DIR) or NULL */
   FILE *log;        /**< progress and the comparison table (stdout) */
 } val_figures_opts_t;
 

@@ -1,0 +1,63 @@
+/* output.h -- how the pencil command writes files: output paths checked before long work,
+ * files replaced atomically (a temporary file beside the target, renamed over it when
+ * complete, removed on failure and on SIGINT, SIGTERM or SIGHUP), child processes started with
+ * an argument vector (posix_spawn, never a shell), and the provenance every output records.
+ *
+ * Functions return 0 on success, or -1 with a one-line reason naming the file in err[cap].
+ * The provenance and the signal clean-up are process-wide: set them once from main(); the rest
+ * is thread-safe for distinct paths. */
+#ifndef IO_OUTPUT_H
+#define IO_OUTPUT_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+/** Where an output came from. */
+typedef struct {
+  const char *version;      /**< the project's version, "0.1.0" */
+  const char *commit;       /**< git describe of the build, "ccfbde6" or "ccfbde6-dirty" */
+  const char *command_line; /**< the command line, shell-quoted where needed */
+  const char *date;         /**< when the command started, ISO 8601 UTC */
+} io_provenance_t;
+
+/** Record the provenance of this process's outputs (argv as main() got it; copied). */
+void io_provenance_set(const char *version, const char *commit, int argc, char **argv);
+/** The provenance set by io_provenance_set(), or "unknown" fields when it was not called. */
+const io_provenance_t *io_provenance(void);
+
+/** Check that `path` can be written as a regular file: it is not empty, it is not an existing
+ *  directory, device, FIFO or socket, and its directory exists and is writable. */
+int io_output_check(const char *path, char *err, size_t cap);
+
+/** A file being written: the temporary file beside the target. */
+typedef struct {
+  char path[4096]; /**< the target */
+  char tmp[4096];  /**< the temporary file ("" when none) */
+  FILE *f;         /**< open on tmp for io_atomic_open(); NULL for io_atomic_begin() */
+} io_atomic_t;
+
+/** Create the temporary file for `path` (checked with io_output_check()) and register it for
+ *  removal on a signal; the caller writes it by name (a->tmp). */
+int io_atomic_begin(io_atomic_t *a, const char *path, char *err, size_t cap);
+/** io_atomic_begin() with the temporary file open for writing as a->f. */
+int io_atomic_open(io_atomic_t *a, const char *path, char *err, size_t cap);
+/** Close a->f (when open) and rename the temporary file over the target: the file appears
+ *  whole or not at all. On failure the temporary file is removed. */
+int io_atomic_commit(io_atomic_t *a, char *err, size_t cap);
+/** Remove the temporary file (after a failed write); safe to call twice. */
+void io_atomic_abort(io_atomic_t *a);
+
+/** Remove registered temporary files when SIGINT, SIGTERM or SIGHUP arrives, then die of the
+ *  signal as before. Install once, from main(). */
+void io_cleanup_on_signals(void);
+
+/** Run argv[0] (an absolute path) with the arguments argv[1..] (NULL-terminated) as a child
+ *  process, no shell, and wait for it. 0 when it exited with status 0; -1 otherwise (err says
+ *  how it ended). */
+int io_run(char *const argv[], char *err, size_t cap);
+
+/** Write s as one CSV field (RFC 4180: quoted, with doubled quotes, when it holds a comma, a
+ *  quote, a line break or leading/trailing space). */
+void io_csv_field(FILE *f, const char *s);
+
+#endif

@@ -1,0 +1,240 @@
+/* output.c -- checked output paths, atomic replacement, signal clean-up, child processes,
+ * provenance and CSV quoting (output.h). */
+#include "io/output.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+extern char **environ;
+
+/* ---- provenance ---------------------------------------------------------------------------- */
+
+static char command_line[8192];
+static char start_date[32];
+static io_provenance_t provenance = {"unknown", "unknown", "unknown", "unknown"};
+
+/* Append arg to buf, in single quotes when it holds anything a shell would interpret. */
+static size_t append_quoted(char *buf, size_t n, size_t cap, const char *arg) {
+  int plain = *arg != '\0';
+  for (const char *p = arg; *p && plain; p++)
+    plain = strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=,:+@%",
+                   *p) != NULL;
+  if (plain)
+    return n + (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%s", arg);
+  n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "'");
+  for (const char *p = arg; *p; p++)
+    n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, *p == '\'' ? "'\\''" : "%c", *p);
+  return n + (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "'");
+}
+
+void io_provenance_set(const char *version, const char *commit, int argc, char **argv) {
+  size_t n = 0;
+  for (int i = 0; i < argc; i++) {
+    if (i > 0)
+      n += (size_t)snprintf(command_line + n, n < sizeof command_line ? sizeof command_line - n : 0,
+                            " ");
+    n = append_quoted(command_line, n, sizeof command_line, argv[i]);
+  }
+  time_t t = time(NULL);
+  struct tm tm;
+  gmtime_r(&t, &tm);
+  strftime(start_date, sizeof start_date, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  provenance = (io_provenance_t){version, commit, command_line, start_date};
+}
+
+const io_provenance_t *io_provenance(void) {
+  return &provenance;
+}
+
+/* ---- checks -------------------------------------------------------------------------------- */
+
+int io_output_check(const char *path, char *err, size_t cap) {
+  struct stat st;
+  if (!path || !*path)
+    return snprintf(err, cap, "an output path is empty"), -1;
+  if (strlen(path) + 16 >= sizeof((io_atomic_t *)0)->tmp)
+    return snprintf(err, cap, "%.64s...: the output path is too long", path), -1;
+  if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+    return snprintf(err, cap, "%s: exists and is not a regular file (%s); not replaced", path,
+                    S_ISDIR(st.st_mode) ? "a directory" : "a device, FIFO or socket"),
+           -1;
+  char dir[4096];
+  const char *slash = strrchr(path, '/');
+  if (!slash)
+    strcpy(dir, ".");
+  else if (slash == path)
+    strcpy(dir, "/");
+  else
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+  if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+    return snprintf(err, cap, "%s: the directory %s does not exist", path, dir), -1;
+  if (access(dir, W_OK | X_OK) != 0)
+    return snprintf(err, cap, "%s: the directory %s is not writable: %s", path, dir,
+                    strerror(errno)),
+           -1;
+  return 0;
+}
+
+/* ---- temporary files and signals ----------------------------------------------------------- */
+
+enum { MAX_TEMPS = 16 };
+static char temps[MAX_TEMPS][4096];
+static volatile sig_atomic_t temp_used[MAX_TEMPS];
+
+static void temp_register(const char *tmp) {
+  for (int k = 0; k < MAX_TEMPS; k++)
+    if (!temp_used[k]) {
+      memcpy(temps[k], tmp, strlen(tmp) + 1);
+      temp_used[k] = 1;
+      return;
+    }
+}
+
+static void temp_unregister(const char *tmp) {
+  for (int k = 0; k < MAX_TEMPS; k++)
+    if (temp_used[k] && strcmp(temps[k], tmp) == 0)
+      temp_used[k] = 0;
+}
+
+static void on_signal(int sig) {
+  for (int k = 0; k < MAX_TEMPS; k++)
+    if (temp_used[k])
+      unlink(temps[k]); /* async-signal-safe */
+  signal(sig, SIG_DFL);
+  raise(sig);
+}
+
+void io_cleanup_on_signals(void) {
+  static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+  for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++) {
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(sigs[k], &sa, NULL);
+  }
+}
+
+static int begin(io_atomic_t *a, const char *path, int keep_open, char *err, size_t cap) {
+  a->tmp[0] = '\0';
+  a->f = NULL;
+  if (io_output_check(path, err, cap) != 0)
+    return -1;
+  snprintf(a->path, sizeof a->path, "%s", path);
+  const char *slash = strrchr(path, '/');
+  int dirlen = slash ? (int)(slash - path + 1) : 0;
+  snprintf(a->tmp, sizeof a->tmp, "%.*s.%s.XXXXXX", dirlen, path, slash ? slash + 1 : path);
+  sigset_t all, old; /* no signal between creating the file and registering it */
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  int fd = mkstemp(a->tmp);
+  if (fd >= 0)
+    temp_register(a->tmp);
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
+  if (fd < 0) {
+    snprintf(err, cap, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
+    a->tmp[0] = '\0';
+    return -1;
+  }
+  mode_t mask = umask(0); /* the permissions a plain fopen() would give */
+  umask(mask);
+  fchmod(fd, 0666 & ~mask);
+  if (keep_open && !(a->f = fdopen(fd, "w"))) {
+    snprintf(err, cap, "%s: %s", path, strerror(errno));
+    close(fd);
+    io_atomic_abort(a);
+    return -1;
+  }
+  if (!keep_open)
+    close(fd);
+  return 0;
+}
+
+int io_atomic_begin(io_atomic_t *a, const char *path, char *err, size_t cap) {
+  return begin(a, path, 0, err, cap);
+}
+
+int io_atomic_open(io_atomic_t *a, const char *path, char *err, size_t cap) {
+  return begin(a, path, 1, err, cap);
+}
+
+int io_atomic_commit(io_atomic_t *a, char *err, size_t cap) {
+  int failed = 0;
+  if (a->f) {
+    failed = ferror(a->f) != 0;
+    failed |= fclose(a->f) != 0;
+    a->f = NULL;
+    if (failed)
+      snprintf(err, cap, "%s: error writing the file", a->path);
+  }
+  if (!failed && rename(a->tmp, a->path) != 0) {
+    snprintf(err, cap, "%s: cannot replace it: %s", a->path, strerror(errno));
+    failed = 1;
+  }
+  if (failed) {
+    io_atomic_abort(a);
+    return -1;
+  }
+  temp_unregister(a->tmp);
+  a->tmp[0] = '\0';
+  return 0;
+}
+
+void io_atomic_abort(io_atomic_t *a) {
+  if (a->f) {
+    fclose(a->f);
+    a->f = NULL;
+  }
+  if (a->tmp[0]) {
+    unlink(a->tmp);
+    temp_unregister(a->tmp);
+    a->tmp[0] = '\0';
+  }
+}
+
+/* ---- child processes ----------------------------------------------------------------------- */
+
+int io_run(char *const argv[], char *err, size_t cap) {
+  pid_t pid;
+  int rc = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ), status = 0;
+  if (rc != 0)
+    return snprintf(err, cap, "%s: cannot start: %s", argv[0], strerror(rc)), -1;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR)
+      return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
+    return 0;
+  if (WIFEXITED(status))
+    snprintf(err, cap, "%s exited with status %d", argv[0], WEXITSTATUS(status));
+  else
+    snprintf(err, cap, "%s was killed by signal %d", argv[0], WTERMSIG(status));
+  return -1;
+}
+
+/* ---- CSV ----------------------------------------------------------------------------------- */
+
+void io_csv_field(FILE *f, const char *s) {
+  size_t n = strlen(s);
+  int quote = n > 0 && (s[0] == ' ' || s[n - 1] == ' ');
+  for (const char *p = s; *p && !quote; p++)
+    quote = *p == ',' || *p == '"' || *p == '\n' || *p == '\r';
+  if (!quote) {
+    fputs(s, f);
+    return;
+  }
+  fputc('"', f);
+  for (const char *p = s; *p; p++) {
+    if (*p == '"')
+      fputc('"', f);
+    fputc(*p, f);
+  }
+  fputc('"', f);
+}

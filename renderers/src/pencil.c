@@ -1,0 +1,157 @@
+/* pencil.c -- the renderer table's entry for the pencil renderer (pencil/pencil.h): ray tracing
+ * with a system matrix and ray interpolation, 1987 paper section 4.1 (1) and (2), with the
+ * tolerance of Eq. (3) and the spread limit of Eqs. (4)-(6). Its options are pt_options_t's;
+ * the common ones (samples, threads, auxiliary channels, measurement, progress) come from
+ * rn_common_t. */
+#include <assert.h>
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "entries.h"
+#include "pencil/pencil.h"
+
+static_assert(RN_HIST_BINS == PT_HIST_BINS, "one histogram for every renderer");
+static_assert(sizeof(pt_bound_t) == sizeof(int), "--bounds is stored as an int");
+
+static const pt_options_t defaults = PT_OPTIONS_DEFAULT;
+
+/* pt_bound_t's values in order */
+static const char *const bound_names[] = {"corrected", "printed", "probe", NULL};
+
+static const rn_option_t options[] = {
+    {"--domain", RN_OPT_INT, offsetof(pt_options_t, domain), 0, 1, 32, 0, NULL, "N",
+     "initial domain size in pixels, 1..32 (default 5, as the paper)"},
+    {"--rho", RN_OPT_DOUBLE, offsetof(pt_options_t, rho), 0, 0, INFINITY, 1, NULL, "R",
+     "tolerance ratio of Eq. (3), > 0 (default 0.5)"},
+    {"--bounds", RN_OPT_CHOICE, offsetof(pt_options_t, bound), 0, 0, 0, 0, bound_names, "B",
+     "C of Eq. (4): corrected (default), printed, or probe (exact\n"
+     "errors on the spread circle; not a bound)"},
+    {"--certified", RN_OPT_FLAG, offsetof(pt_options_t, certified), 1, 0, 0, 0, NULL, NULL,
+     "also check every path exactly on each domain's boundary"},
+    {"--no-interp", RN_OPT_FLAG, offsetof(pt_options_t, interp), 0, 0, 0, 0, NULL, NULL,
+     "trace every sample with matrices (no ray interpolation)"},
+    {"--no-memo", RN_OPT_FLAG, offsetof(pt_options_t, memo), 0, 0, 0, 0, NULL, NULL,
+     "trace a lattice point again for each lattice cell that shares\n"
+     "it (slower; the image is the same)"},
+    {"--brightness-tol", RN_OPT_DOUBLE, offsetof(pt_options_t, brightness_tol), 0, 0, INFINITY, 0,
+     NULL, "L",
+     "ray interpolation: largest deviation of interpolated from\n"
+     "traced brightness on a lattice cell, >= 0 (default 1/1024)"},
+};
+
+static const char *const channels[] = {"pencil.error", "pencil.method", "pencil.rays"};
+
+static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_common_t *c,
+                          const void *options, rn_output_t *out) {
+  pt_options_t o = *(const pt_options_t *)options;
+  o.spp_side = c->spp_side;
+  o.threads = c->threads;
+  o.aux = c->aux;
+  o.measure = c->measure;
+  o.progress = c->progress;
+  o.progress_ctx = c->progress_ctx;
+  pt_extra_t x = {out->channels[0], out->channels[1], out->channels[2]};
+  return pt_render(s, plan, &o, out->image, &x, out->sample_error, out->stats);
+}
+
+static int describe(const void *options, rn_attr_t *attrs) {
+  const pt_options_t *o = options;
+  attrs[0].key = "pencil:rho";
+  snprintf(attrs[0].value, sizeof attrs[0].value, "%g", o->rho);
+  attrs[1].key = "pencil:bounds";
+  snprintf(attrs[1].value, sizeof attrs[1].value, "%s", pt_bound_name(o->bound));
+  attrs[2].key = "pencil:certified";
+  snprintf(attrs[2].value, sizeof attrs[2].value, "%s", o->certified ? "yes" : "no");
+  return 3;
+}
+
+static void report(FILE *f, const rn_report_t *r) {
+  const pt_stats_t *st = r->stats;
+  const pt_options_t *o = r->options;
+  const rt_scene_t *s = r->scene;
+  uint64_t n = st->samples[0] + st->samples[1] + st->samples[2];
+  fprintf(
+      f,
+      "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
+      "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu partly exact, %llu edge, "
+      "%llu split), %llu paths exact, %llu guarded (and %llu shadows); %llu exact rays -> %s\n",
+      s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, pt_bound_name(o->bound),
+      o->certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
+      100.0 * st->samples[0] / n, (unsigned long long)st->cells,
+      (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
+      (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
+      (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
+      (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays), r->out);
+  fprintf(f,
+          "ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
+          "cells, %llu with faint shadow edges, %llu halves; samples by "
+          "matrices: %llu small cell, %llu "
+          "left the paths, %llu reach, %llu error; "
+          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
+          (unsigned long long)st->lattice_points, (unsigned long long)st->lattice_reused,
+          (unsigned long long)st->biquad_cells, (unsigned long long)st->faint_cells,
+          (unsigned long long)st->halved_cells, (unsigned long long)st->matrix_samples[0],
+          (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
+          (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
+          (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
+  if (r->common->measure)
+    fprintf(f,
+            "Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "
+            "%.4g (transmission path: %.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), "
+            "%llu path mismatches\n",
+            (unsigned long long)st->measured, (unsigned long long)st->with_points,
+            100.0 * st->within / st->measured, o->rho, st->max_error,
+            100.0 * st->within_t / st->measured, st->max_error_t,
+            100.0 * st->within_strict / st->measured, st->max_error_strict,
+            (unsigned long long)st->mismatches);
+}
+
+static void errors(const void *stats, rn_errors_t *e) {
+  const pt_stats_t *st = stats;
+  e->measured = st->measured;
+  e->with_points = st->with_points;
+  e->within = st->within;
+  e->mismatches = st->mismatches;
+  e->max_error = st->max_error;
+  e->within_t = st->within_t;
+  e->max_error_t = st->max_error_t;
+  e->within_strict = st->within_strict;
+  e->max_error_strict = st->max_error_strict;
+  memcpy(e->hist, st->hist, sizeof e->hist);
+  e->samples_exact = st->samples[PT_METHOD_EXACT];
+  e->samples_matrix = st->samples[PT_METHOD_MATRIX];
+  e->samples_interpolated = st->samples[PT_METHOD_INTERP];
+}
+
+static double rho(const void *options) {
+  return ((const pt_options_t *)options)->rho;
+}
+
+const rn_renderer_t rn_pencil_entry = {
+    .name = "pencil",
+    .summary = "pencil tracing: system matrices and ray interpolation (1987, section 4.1)",
+    .description =
+        "Pencil tracing (1987 paper, section 4.1): initial domains of N x N pixels, the axial\n"
+        "ray of each traced exactly with its ray tree, a system matrix per path, edges found\n"
+        "by comparing ray trees, the tolerance of Eq. (3) and the spread limit of Eq. (6)\n"
+        "deciding between matrices, exact tracing and subdivision; samples by ray\n"
+        "interpolation where e_int allows. Shading is the exact renderer's.\n"
+        "Adds the channels pencil.error (largest Fig. 10 error of the pixel's samples with\n"
+        "--measure), pencil.method (0 exact, 1 matrix, 2 interpolated) and pencil.rays (exact\n"
+        "rays traced for the pixel's samples).",
+    .options_size = sizeof(pt_options_t),
+    .defaults = &defaults,
+    .options = options,
+    .noptions = (int)(sizeof options / sizeof options[0]),
+    .channels = channels,
+    .nchannels = 3,
+    .error_channel = 0,
+    .method_channel = 1,
+    .stats_size = sizeof(pt_stats_t),
+    .render = render,
+    .describe = describe,
+    .report = report,
+    .errors = errors,
+    .rho = rho,
+};

@@ -1,0 +1,154 @@
+/* table.c -- the renderer table (renderer.h) and the helpers that read its option records.
+ * A new renderer adds its entry to `table` below and its file to renderers/CMakeLists.txt. */
+#include "renderers/renderer.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "entries.h"
+
+static const rn_renderer_t *const table[] = {&rn_exact_entry, &rn_pencil_entry};
+
+int rn_count(void) {
+  return (int)(sizeof table / sizeof table[0]);
+}
+
+const rn_renderer_t *rn_entry(int k) {
+  return k >= 0 && k < rn_count() ? table[k] : NULL;
+}
+
+const rn_renderer_t *rn_find(const char *name) {
+  for (int k = 0; k < rn_count(); k++)
+    if (strcmp(table[k]->name, name) == 0)
+      return table[k];
+  return NULL;
+}
+
+const rn_renderer_t *rn_exact(void) {
+  return &rn_exact_entry;
+}
+
+const rn_option_t *rn_option_find(const rn_renderer_t *r, const char *name) {
+  for (int k = 0; k < r->noptions; k++)
+    if (strcmp(r->options[k].name, name) == 0)
+      return &r->options[k];
+  return NULL;
+}
+
+void rn_defaults(const rn_renderer_t *r, void *options) {
+  memcpy(options, r->defaults, r->options_size);
+}
+
+/* The "expected ..." phrase of a numeric option: "a number > 0", "an integer from 1 to 32". */
+static void expected(const rn_option_t *o, char *buf, size_t cap) {
+  if (o->kind == RN_OPT_INT)
+    snprintf(buf, cap, "an integer from %.0f to %.0f", o->lo, o->hi);
+  else if (isinf(o->hi))
+    snprintf(buf, cap, "a number %s %g", o->lo_open ? ">" : ">=", o->lo);
+  else
+    snprintf(buf, cap, "a number %s %g and <= %g", o->lo_open ? ">" : ">=", o->lo, o->hi);
+}
+
+static int set_number(const rn_option_t *o, void *field, const char *text, char *err, size_t cap) {
+  char *end = NULL, want[96];
+  errno = 0;
+  double v = o->kind == RN_OPT_INT ? (double)strtol(text, &end, 10) : strtod(text, &end);
+  int ok = end != text && *end == '\0' && errno != ERANGE && isfinite(v) &&
+           (o->lo_open ? v > o->lo : v >= o->lo) && v <= o->hi;
+  if (!ok) {
+    expected(o, want, sizeof want);
+    snprintf(err, cap, "%s: expected %s, got '%s'", o->name, want, text);
+    return 0;
+  }
+  if (o->kind == RN_OPT_INT)
+    *(int *)field = (int)v;
+  else
+    *(double *)field = v;
+  return 1;
+}
+
+static int set_choice(const rn_option_t *o, void *field, const char *text, char *err, size_t cap) {
+  for (int k = 0; o->choices[k]; k++)
+    if (strcmp(o->choices[k], text) == 0) {
+      *(int *)field = k;
+      return 1;
+    }
+  size_t n = (size_t)snprintf(err, cap, "%s: expected ", o->name);
+  for (int k = 0; o->choices[k] && n < cap; k++)
+    n += (size_t)snprintf(err + n, cap - n, "%s%s",
+                          k == 0              ? ""
+                          : o->choices[k + 1] ? ", "
+                                              : " or ",
+                          o->choices[k]);
+  if (n < cap)
+    snprintf(err + n, cap - n, ", got '%s'", text);
+  return 0;
+}
+
+int rn_option_set(const rn_option_t *o, void *options, const char *text, char *err, size_t cap) {
+  void *field = (char *)options + o->offset;
+  if (o->kind == RN_OPT_FLAG) {
+    if (text) {
+      snprintf(err, cap, "%s takes no value, got '%s'", o->name, text);
+      return 0;
+    }
+    *(int *)field = o->flag_value;
+    return 1;
+  }
+  if (!text) {
+    snprintf(err, cap, "%s needs a value", o->name);
+    return 0;
+  }
+  return o->kind == RN_OPT_CHOICE ? set_choice(o, field, text, err, cap)
+                                  : set_number(o, field, text, err, cap);
+}
+
+int rn_set(const rn_renderer_t *r, void *options, const char *name, const char *text, char *err,
+           size_t cap) {
+  const rn_option_t *o = rn_option_find(r, name);
+  if (!o) {
+    snprintf(err, cap, "the %s renderer has no option %s", r->name, name);
+    return 0;
+  }
+  return rn_option_set(o, options, text, err, cap);
+}
+
+void rn_print_options(FILE *f, const rn_renderer_t *r, int indent) {
+  for (int k = 0; k < r->noptions; k++) {
+    const rn_option_t *o = &r->options[k];
+    char head[64];
+    snprintf(head, sizeof head, "%s%s%s", o->name, o->metavar ? " " : "",
+             o->metavar ? o->metavar : "");
+    int col = 22, wide = (int)strlen(head) > col - 2;
+    fprintf(f, "%*s%-*s", indent, "", col, head);
+    if (wide)
+      fprintf(f, "\n%*s", indent + col, "");
+    for (const char *t = o->help; *t; t++) { /* continuation lines stay in the second column */
+      fputc(*t, f);
+      if (*t == '\n')
+        fprintf(f, "%*s", indent + col, "");
+    }
+    fputc('\n', f);
+  }
+}
+
+rt_status_t rn_channels_alloc(const rn_renderer_t *r, int width, int height, rn_output_t *out) {
+  size_t n = (size_t)width * (size_t)height;
+  for (int k = 0; k < RN_MAX_CHANNELS; k++)
+    out->channels[k] = NULL;
+  for (int k = 0; k < r->nchannels; k++)
+    if (!(out->channels[k] = malloc(n * sizeof(float)))) {
+      rn_channels_free(out);
+      return RT_ENOMEM;
+    }
+  return RT_OK;
+}
+
+void rn_channels_free(rn_output_t *out) {
+  for (int k = 0; k < RN_MAX_CHANNELS; k++) {
+    free(out->channels[k]);
+    out->channels[k] = NULL;
+  }
+}
