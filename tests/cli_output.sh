@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# The command line and output contracts shared by every subcommand: one parser (--opt=value,
+# -oFILE, "--"), options that belong to a --method only with it, output paths checked before a
+# render (a directory, a device or a .png name is refused and nothing is left behind), the
+# provenance in EXR headers and JSON, and paths with a quote, a backslash and a non-ASCII letter
+# round-tripping through summary.json and the plots.
+set -u
+pencil=$(realpath "$1")
+src=$(cd "$(dirname "$0")/.." && pwd)
+fail=0
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+py=/usr/bin/python3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+small="--size 12x8 --spp 1 --threads 1"
+
+$pencil render $small -o"$tmp/a.exr" >/dev/null 2>&1; rc=$?
+check "-oFILE is the output" "[ $rc -eq 0 ] && [ -s '$tmp/a.exr' ] && [ -s '$tmp/a.png' ]"
+$pencil render $small --output="$tmp/b.exr" --method=pencil --rho=0.25 >/dev/null 2>&1; rc=$?
+check "--opt=value for common and method options" "[ $rc -eq 0 ] && [ -s '$tmp/b.exr' ]"
+cp "$src/scenes/fig8.json" "$tmp/-dash.json"
+(cd "$tmp" && $pencil render $small -o c.exr -- -dash.json >/dev/null 2>&1); rc=$?
+check "'--' makes a dash-led scene path positional" "[ $rc -eq 0 ] && [ -s '$tmp/c.exr' ]"
+
+$pencil render $small -o "$tmp/d.exr" --rho 0.5 >/dev/null 2>"$tmp/err"; rc=$?
+check "a pencil option without --method pencil: exit 2 naming it" \
+  "[ $rc -eq 2 ] && grep -q -- '--rho is not an option of --method exact' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --method pencil --rho 0 >/dev/null 2>"$tmp/err"; rc=$?
+check "--rho 0: exit 2 saying what is expected" "[ $rc -eq 2 ] && grep -q -- '--rho: expected a number > 0' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --method pencil --bounds nope >/dev/null 2>"$tmp/err"; rc=$?
+check "--bounds nope lists the choices" "[ $rc -eq 2 ] && grep -q 'corrected, printed or probe' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --method beams >/dev/null 2>"$tmp/err"; rc=$?
+check "unknown --method lists the table" "[ $rc -eq 2 ] && grep -q 'exact or pencil' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --measure >/dev/null 2>"$tmp/err"; rc=$?
+check "--measure on the exact renderer is refused" "[ $rc -eq 2 ] && grep -q 'nothing to measure' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --no-aux=1 >/dev/null 2>"$tmp/err"; rc=$?
+check "a value given to a flag is refused" "[ $rc -eq 2 ] && grep -q 'takes no value' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --thread 2 >/dev/null 2>"$tmp/err"; rc=$?
+check "no abbreviations: --thread is unknown" "[ $rc -eq 2 ] && grep -q \"unknown option '--thread'\" '$tmp/err'"
+$pencil render --method pencil --help >"$tmp/help"; rc=$?
+check "--method pencil --help lists the pencil options" "[ $rc -eq 0 ] && grep -q -- '--brightness-tol' '$tmp/help'"
+
+$pencil render $small -o "$tmp/x.png" >/dev/null 2>"$tmp/err"; rc=$?
+check "-o x.png is refused, saying why" "[ $rc -eq 1 ] && grep -q 'must be named NAME.exr' '$tmp/err' && [ ! -e '$tmp/x.png' ]"
+mkdir "$tmp/dir.exr"
+$pencil render $small -o "$tmp/dir.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "-o naming a directory is refused before rendering" \
+  "[ $rc -eq 1 ] && grep -q 'not a regular file' '$tmp/err' && [ -d '$tmp/dir.exr' ]"
+mkfifo "$tmp/fifo.exr"
+$pencil render $small -o "$tmp/fifo.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "-o naming a FIFO is refused and the FIFO stays" "[ $rc -eq 1 ] && [ -p '$tmp/fifo.exr' ]"
+check "no temporary files are left behind" "[ -z \"\$(ls -A '$tmp' | grep '^\\.')\" ]"
+
+# an old output survives a failed write: the preview's name is taken by a directory
+echo old >"$tmp/keep.exr"
+mkdir "$tmp/keep.png"
+$pencil render $small -o "$tmp/keep.exr" >/dev/null 2>&1; rc=$?
+check "a failed preview leaves the old EXR as it was" "[ $rc -eq 1 ] && [ \"\$(cat '$tmp/keep.exr')\" = old ]"
+
+check "EXR header carries version, commit, command line and date" \
+  "grep -aq 'pencil:version' '$tmp/a.exr' && grep -aq 'pencil:commit' '$tmp/a.exr' && grep -aq 'pencil:command_line' '$tmp/a.exr' && grep -aq 'pencil:date' '$tmp/a.exr' && grep -aq -- '-o$tmp/a.exr' '$tmp/a.exr'"
+
+# a quote, a backslash and a non-ASCII letter in the scene path and in --out
+odd="$tmp/o'q\"b\\s é"
+mkdir -p "$odd"
+cp "$src/scenes/fig8.json" "$odd/scène'.json"
+$pencil sweep "$odd/scène'.json" --quick --rho 0.5 --size 16x16 --out "$odd/out" >/dev/null 2>"$tmp/err"; rc=$?
+check "sweep with an odd scene path and --out" "[ $rc -eq 0 ] && [ -s \"\$odd/out/sweep.json\" ]"
+check "sweep.json round-trips the scene path and records the command line" \
+  "$py -c 'import json,sys; d=json.load(open(sys.argv[1])); sys.exit(not (d[\"scene\"] == sys.argv[2] and d[\"provenance\"][\"command_line\"].count(\"sweep\") == 1 and len(d[\"sweep\"]) == 3))' \"\$odd/out/sweep.json\" \"\$odd/scène'.json\""
+check "the plot was made in the odd directory" "[ -s \"\$odd/out/sweep.png\" ]"
+check "no file escaped the output directory" "[ \"\$(ls \"\$odd\" | wc -l)\" -eq 2 ]"
+
+[ $fail -eq 0 ] && echo "cli_output: all passed" || echo "cli_output: FAILED"
+exit $fail

@@ -1,0 +1,186 @@
+/* test_output.c -- io/output.h and io/json.h: output paths checked before work, files replaced
+ * atomically with nothing left behind on failure, an EXR and its preview replaced together,
+ * child processes without a shell, CSV quoting, and JSON that round-trips any string. */
+#include <dirent.h>
+#include <jansson.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cmocka_main.h"
+#include "io/image_io.h"
+#include "io/json.h"
+#include "io/output.h"
+
+/* A fresh directory for one case. */
+static void temp_dir(char *out, size_t cap) {
+  snprintf(out, cap, "%s/pencil_test_output_XXXXXX", P_tmpdir);
+  assert_non_null(mkdtemp(out));
+}
+
+/* Number of directory entries whose name starts with '.' (temporary files), other than . and
+ * .. . */
+static int hidden_files(const char *dir) {
+  DIR *d = opendir(dir);
+  int n = 0;
+  assert_non_null(d);
+  for (struct dirent *e; (e = readdir(d));)
+    n += e->d_name[0] == '.' && strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+  closedir(d);
+  return n;
+}
+
+static void check_refuses_what_is_not_a_file(void **state) {
+  (void)state;
+  char dir[512], path[600], err[512];
+  temp_dir(dir, sizeof dir);
+  assert_int_equal(io_output_check(dir, err, sizeof err), -1);
+  assert_non_null(strstr(err, "a directory"));
+  assert_int_equal(io_output_check("/dev/null", err, sizeof err), -1);
+  assert_non_null(strstr(err, "device"));
+  assert_int_equal(io_output_check("/nonexistent-dir/x.json", err, sizeof err), -1);
+  assert_non_null(strstr(err, "/nonexistent-dir"));
+  assert_int_equal(io_output_check("", err, sizeof err), -1);
+  snprintf(path, sizeof path, "%s/new.json", dir);
+  assert_int_equal(io_output_check(path, err, sizeof err), 0);
+  rmdir(dir);
+}
+
+static void atomic_write_replaces_whole_or_not_at_all(void **state) {
+  (void)state;
+  char dir[512], path[600], err[512], buf[64] = "";
+  temp_dir(dir, sizeof dir);
+  snprintf(path, sizeof path, "%s/f.txt", dir);
+  FILE *f = fopen(path, "w");
+  fputs("old", f);
+  fclose(f);
+  io_atomic_t a;
+  assert_int_equal(io_atomic_open(&a, path, err, sizeof err), 0);
+  fputs("new", a.f);
+  assert_int_equal(hidden_files(dir), 1); /* the temporary file, beside the target */
+  io_atomic_abort(&a);
+  assert_int_equal(hidden_files(dir), 0);
+  f = fopen(path, "r");
+  assert_non_null(fgets(buf, sizeof buf, f));
+  fclose(f);
+  assert_string_equal(buf, "old");
+  assert_int_equal(io_atomic_open(&a, path, err, sizeof err), 0);
+  fputs("new", a.f);
+  assert_int_equal(io_atomic_commit(&a, err, sizeof err), 0);
+  f = fopen(path, "r");
+  assert_non_null(fgets(buf, sizeof buf, f));
+  fclose(f);
+  assert_string_equal(buf, "new");
+  assert_int_equal(hidden_files(dir), 0);
+  remove(path);
+  rmdir(dir);
+}
+
+/* A failed EXR (an extra channel duplicating a name) leaves the old EXR and preview and no
+ * temporary file; a good write replaces both. */
+static void render_write_keeps_old_files_on_failure(void **state) {
+  (void)state;
+  char dir[512], exr[600], png[600], err[512];
+  temp_dir(dir, sizeof dir);
+  snprintf(exr, sizeof exr, "%s/r.exr", dir);
+  snprintf(png, sizeof png, "%s/r.png", dir);
+  FILE *f = fopen(exr, "w");
+  fputs("old exr", f);
+  fclose(f);
+  f = fopen(png, "w");
+  fputs("old png", f);
+  fclose(f);
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 4, 3), RT_OK);
+  const io_exr_channel_t dup[] = {{"R", img.ch[RT_CH_G]}};
+  assert_int_equal(io_render_write(exr, &img, dup, 1, NULL, 0, err, sizeof err), -1);
+  assert_non_null(strstr(err, "duplicates"));
+  struct stat st;
+  assert_int_equal(stat(exr, &st), 0);
+  assert_int_equal(st.st_size, 7);
+  assert_int_equal(stat(png, &st), 0);
+  assert_int_equal(st.st_size, 7);
+  assert_int_equal(hidden_files(dir), 0);
+  assert_int_equal(io_render_write(exr, &img, NULL, 0, NULL, 0, err, sizeof err), 0);
+  assert_int_equal(stat(exr, &st), 0);
+  assert_true(st.st_size > 7);
+  assert_int_equal(stat(png, &st), 0);
+  assert_true(st.st_size > 7);
+  assert_int_equal(io_render_check("x.png", err, sizeof err), -1);
+  assert_int_equal(io_render_check(".exr", err, sizeof err), -1);
+  rt_image_free(&img);
+  remove(exr);
+  remove(png);
+  rmdir(dir);
+}
+
+static void run_reports_exit_status_without_a_shell(void **state) {
+  (void)state;
+  char err[256];
+  char *ok[] = {"/bin/true", NULL}, *bad[] = {"/bin/false", NULL};
+  char *odd[] = {"/bin/test", "a'b; touch x", "=", "a'b; touch x", NULL}; /* no shell parses it */
+  assert_int_equal(io_run(ok, err, sizeof err), 0);
+  assert_int_equal(io_run(bad, err, sizeof err), -1);
+  assert_non_null(strstr(err, "status 1"));
+  assert_int_equal(io_run(odd, err, sizeof err), 0);
+  char *missing[] = {"/nonexistent/program", NULL};
+  assert_int_equal(io_run(missing, err, sizeof err), -1);
+}
+
+static void csv_fields_are_quoted_when_needed(void **state) {
+  (void)state;
+  char buf[256] = "";
+  FILE *f = fmemopen(buf, sizeof buf, "w");
+  io_csv_field(f, "plain");
+  fputc('|', f);
+  io_csv_field(f, "a,b");
+  fputc('|', f);
+  io_csv_field(f, "say \"hi\"");
+  fputc('|', f);
+  io_csv_field(f, " pad");
+  fclose(f);
+  assert_string_equal(buf, "plain|\"a,b\"|\"say \"\"hi\"\"\"|\" pad\"");
+}
+
+static void json_round_trips_any_string_and_carries_provenance(void **state) {
+  (void)state;
+  char dir[512], path[600], err[512];
+  const char *odd = "q'uo\"te\\back\tslash \xc3\xa9t\xc3\xa9";
+  char *argv[] = {"pencil", "sweep", "--out", (char *)odd, NULL};
+  io_provenance_set("9.9.9", "abc123", 4, argv);
+  temp_dir(dir, sizeof dir);
+  snprintf(path, sizeof path, "%s/s.json", dir);
+  json_t *root = json_pack("{s:s, s:o}", "scene", odd, "nan", io_json_number(0.0 / 0.0));
+  assert_int_equal(io_json_write(path, root, err, sizeof err), 0);
+  json_decref(root);
+  json_error_t je;
+  json_t *back = json_load_file(path, 0, &je);
+  assert_non_null(back);
+  assert_string_equal(json_string_value(json_object_get(back, "scene")), odd);
+  assert_true(json_is_null(json_object_get(back, "nan")));
+  json_t *prov = json_object_get(back, "provenance");
+  assert_string_equal(json_string_value(json_object_get(prov, "version")), "9.9.9");
+  assert_string_equal(json_string_value(json_object_get(prov, "commit")), "abc123");
+  const char *cl = json_string_value(json_object_get(prov, "command_line"));
+  assert_non_null(strstr(cl, "pencil sweep --out '"));
+  assert_non_null(strstr(cl, "'\\''")); /* the quote, shell-quoted: the line can be re-run */
+  json_decref(back);
+  remove(path);
+  rmdir(dir);
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(check_refuses_what_is_not_a_file),
+      cmocka_unit_test(atomic_write_replaces_whole_or_not_at_all),
+      cmocka_unit_test(render_write_keeps_old_files_on_failure),
+      cmocka_unit_test(run_reports_exit_status_without_a_shell),
+      cmocka_unit_test(csv_fields_are_quoted_when_needed),
+      cmocka_unit_test(json_round_trips_any_string_and_carries_provenance),
+  };
+  if (argc > 1)
+    cmocka_set_test_filter(argv[1]);
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,121 @@
+/* test_renderers.c -- the renderer table (renderers/renderer.h): entries are well-formed, one
+ * option name means one thing across entries, options parse and refuse as documented, and an
+ * entry renders exactly what its renderer renders when called directly. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cmocka_main.h"
+#include "pencil/pencil.h"
+#include "render/builtin.h"
+#include "renderers/renderer.h"
+
+static void entries_are_well_formed(void **state) {
+  (void)state;
+  assert_true(rn_count() >= 2);
+  assert_ptr_equal(rn_exact(), rn_find("exact"));
+  assert_null(rn_find("nope"));
+  for (int k = 0; k < rn_count(); k++) {
+    const rn_renderer_t *r = rn_entry(k);
+    assert_ptr_equal(rn_find(r->name), r);
+    assert_non_null(r->render);
+    assert_non_null(r->report);
+    assert_non_null(r->describe);
+    assert_true(r->nchannels >= 0 && r->nchannels <= RN_MAX_CHANNELS);
+    assert_true(r->error_channel < r->nchannels && r->method_channel < r->nchannels);
+    assert_true(r->options_size > 0 && r->defaults);
+    for (int j = 0; j < r->noptions; j++) {
+      const rn_option_t *o = &r->options[j];
+      assert_true(strncmp(o->name, "--", 2) == 0);
+      assert_true(o->offset < r->options_size);
+      assert_true((o->kind == RN_OPT_FLAG) == (o->metavar == NULL));
+      /* the same name in another entry takes a value alike (the parser relies on it) */
+      for (int i = 0; i < rn_count(); i++) {
+        const rn_option_t *p = rn_option_find(rn_entry(i), o->name);
+        if (p)
+          assert_int_equal(p->kind == RN_OPT_FLAG, o->kind == RN_OPT_FLAG);
+      }
+    }
+  }
+}
+
+static void options_parse_and_refuse(void **state) {
+  (void)state;
+  const rn_renderer_t *p = rn_find("pencil");
+  pt_options_t o;
+  char err[256];
+  rn_defaults(p, &o);
+  assert_int_equal(o.domain, 5);
+  assert_int_equal(rn_set(p, &o, "--rho", "0.25", err, sizeof err), 1);
+  assert_true(o.rho == 0.25);
+  assert_int_equal(rn_set(p, &o, "--rho", "0", err, sizeof err), 0);
+  assert_string_equal(err, "--rho: expected a number > 0, got '0'");
+  assert_int_equal(rn_set(p, &o, "--rho", "inf", err, sizeof err), 0);
+  assert_int_equal(rn_set(p, &o, "--domain", "33", err, sizeof err), 0);
+  assert_string_equal(err, "--domain: expected an integer from 1 to 32, got '33'");
+  assert_int_equal(rn_set(p, &o, "--domain", "7", err, sizeof err), 1);
+  assert_int_equal(o.domain, 7);
+  assert_int_equal(rn_set(p, &o, "--bounds", "printed", err, sizeof err), 1);
+  assert_int_equal(o.bound, PT_BOUND_PRINTED);
+  assert_int_equal(rn_set(p, &o, "--bounds", "exact", err, sizeof err), 0);
+  assert_string_equal(err, "--bounds: expected corrected, printed or probe, got 'exact'");
+  assert_int_equal(rn_set(p, &o, "--no-interp", NULL, err, sizeof err), 1);
+  assert_int_equal(o.interp, 0);
+  assert_int_equal(rn_set(p, &o, "--no-interp", "1", err, sizeof err), 0);
+  assert_int_equal(rn_set(p, &o, "--brightness-tol", "0", err, sizeof err), 1);
+  assert_int_equal(rn_set(rn_exact(), &o, "--rho", "1", err, sizeof err), 0);
+  assert_string_equal(err, "the exact renderer has no option --rho");
+}
+
+/* The table's pencil entry with --certified gives the image pt_render gives directly. */
+static void entry_renders_as_the_renderer(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(rt_builtin_fig8(&s), RT_OK);
+  s.camera.width = 24;
+  s.camera.height = 16;
+  rt_plan_t plan = rt_plan_make(&s, 4);
+  rt_image_t a, b;
+  assert_int_equal(rt_image_alloc(&a, 24, 16), RT_OK);
+  assert_int_equal(rt_image_alloc(&b, 24, 16), RT_OK);
+  const rn_renderer_t *p = rn_find("pencil");
+  pt_options_t o;
+  char err[256];
+  rn_defaults(p, &o);
+  assert_int_equal(rn_set(p, &o, "--certified", NULL, err, sizeof err), 1);
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.spp_side = 2;
+  c.threads = 1;
+  rn_output_t out = {.image = &a};
+  pt_stats_t st;
+  out.stats = &st;
+  assert_int_equal(rn_channels_alloc(p, 24, 16, &out), RT_OK);
+  assert_int_equal(p->render(&s, &plan, &c, &o, &out), RT_OK);
+  pt_options_t d = PT_OPTIONS_DEFAULT;
+  d.spp_side = 2;
+  d.threads = 1;
+  d.certified = 1;
+  assert_int_equal(pt_render(&s, &plan, &d, &b, NULL, NULL, NULL), RT_OK);
+  for (int ch = 0; ch < RT_CH_COUNT; ch++)
+    for (int k = 0; k < 24 * 16; k++)
+      assert_true(memcmp(&a.ch[ch][k], &b.ch[ch][k], sizeof(float)) == 0);
+  assert_true(st.samples[0] + st.samples[1] + st.samples[2] == 24 * 16 * 4);
+  rn_channels_free(&out);
+  for (int k = 0; k < RN_MAX_CHANNELS; k++)
+    assert_null(out.channels[k]);
+  rt_image_free(&a);
+  rt_image_free(&b);
+  rt_scene_free(&s);
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(entries_are_well_formed),
+      cmocka_unit_test(options_parse_and_refuse),
+      cmocka_unit_test(entry_renders_as_the_renderer),
+  };
+  if (argc > 1)
+    cmocka_set_test_filter(argv[1]);
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
