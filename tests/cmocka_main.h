@@ -11,14 +11,13 @@
 
 #include <cmocka.h>
 
-
 /* |a - b| <= rtol * max(|a|, |b|) + atol */
 #define assert_close(a, b, rtol, atol)                                                             \
   do {                                                                                             \
     double a_ = (a), b_ = (b);                                                                     \
     double m_ = fabs(a_) > fabs(b_) ? fabs(a_) : fabs(b_);                                         \
-    if (!(fabs(a_ - b_) <= (rtol) * m_ + (atol)))                                                  \
-      fail_msg("%s = %.17g vs %s = %.17g (rtol %g, atol %g)", #a, a_, #b, b_, (double)(rtol),     \
+    if (!(fabs(a_ - b_) <= (rtol)*m_ + (atol)))                                                    \
+      fail_msg("%s = %.17g vs %s = %.17g (rtol %g, atol %g)", #a, a_, #b, b_, (double)(rtol),      \
                (double)(atol));                                                                    \
   } while (0)
 

@@ -11,13 +11,15 @@ static void sphere_curvature_signs(void **state) {
   px_interface_t in, out;
   /* entering the ball from outside (from -z): centre on the far side, Q = +I/R */
   assert_int_equal(ex_quadric_interface(&q, px_vec3(0, 0, 0), px_vec3(0.1, 0, 1), px_vec3(0, 1, 0),
-                                        1.0, 1.5, &in), PX_OK);
+                                        1.0, 1.5, &in),
+                   PX_OK);
   assert_close(in.q.m[0][0], 0.5, 1e-15, 0);
   assert_close(in.q.m[1][1], 0.5, 1e-15, 0);
   assert_true(px_vec3_dot(in.nu, in.s) > 0);
   /* leaving it from inside (towards -z): Q = -I/R */
   assert_int_equal(ex_quadric_interface(&q, px_vec3(0, 0, 0), px_vec3(0.1, 0, -1), px_vec3(0, 1, 0),
-                                        1.5, 1.0, &out), PX_OK);
+                                        1.5, 1.0, &out),
+                   PX_OK);
   assert_close(out.q.m[0][0], -0.5, 1e-15, 0);
 }
 
@@ -27,7 +29,8 @@ static void oblique_cylinder_has_nondiagonal_q(void **state) {
   ex_quadric_t q = ex_quadric_cylinder(px_vec3(0, 0, r), px_vec3(cos(beta), sin(beta), 0), r);
   px_interface_t ifc;
   assert_int_equal(ex_quadric_interface(&q, px_vec3(0, 0, 0), px_vec3(0.3, 0, 1), px_vec3(0, 1, 0),
-                                        1.0, 1.5, &ifc), PX_OK);
+                                        1.0, 1.5, &ifc),
+                   PX_OK);
   assert_true(fabs(ifc.q.m[0][1]) > 0.05);
   assert_close(ifc.q.m[0][1], ifc.q.m[1][0], 1e-14, 1e-14);
   /* eigenvalues 1/r and 0: trace 1/r, determinant 0 */

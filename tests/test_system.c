@@ -11,8 +11,9 @@
 
 static px_mat4_t refract(double th_deg, double n1, double n2, double r) {
   px_mat4_t t;
-  assert_int_equal(px_element_matrix(PX_EVENT_REFRACT, th_deg * DEG, n1, n2, r,
-                                     PX_VARIANT_CORRECTED, &t), PX_OK);
+  assert_int_equal(
+      px_element_matrix(PX_EVENT_REFRACT, th_deg * DEG, n1, n2, r, PX_VARIANT_CORRECTED, &t),
+      PX_OK);
   assert_true(px_mat4_isfinite(t));
   return t;
 }
@@ -135,8 +136,8 @@ static void frames_must_match_the_rays(void **state) {
 static void printed_variant_is_verbatim(void **state) {
   (void)state;
   px_mat4_t c = refract(30, 1.0, 1.5, 2.0), p;
-  assert_int_equal(px_element_matrix(PX_EVENT_REFRACT, 30 * DEG, 1.0, 1.5, 2.0,
-                                     PX_VARIANT_PRINTED, &p), PX_OK);
+  assert_int_equal(
+      px_element_matrix(PX_EVENT_REFRACT, 30 * DEG, 1.0, 1.5, 2.0, PX_VARIANT_PRINTED, &p), PX_OK);
   assert_true(p.m[0][2] == 1.0 && p.m[1][3] == 1.0);
   assert_close(p.m[2][0], -c.m[2][0], 1e-15, 0);
   assert_close(p.m[3][3], c.m[3][3], 1e-15, 0);
@@ -153,7 +154,8 @@ static void rotated_frames_transform_by_rotation(void **state) {
   assert_int_equal(px_interface_matrix(&ifc, PX_EVENT_REFRACT, in, out, 0, &t0), PX_OK);
   double a = 0.4, b = -1.1;
   assert_int_equal(px_interface_matrix(&ifc, PX_EVENT_REFRACT, px_frame_rotate(in, a),
-                                       px_frame_rotate(out, b), 0, &t), PX_OK);
+                                       px_frame_rotate(out, b), 0, &t),
+                   PX_OK);
   /* coordinates in a frame rotated by phi are R(-phi) times the old ones */
   px_mat2_t ra = px_mat2(cos(a), -sin(a), sin(a), cos(a));
   px_mat2_t rb = px_mat2(cos(b), sin(b), -sin(b), cos(b));

@@ -267,8 +267,8 @@ int io_get_rgb(io_parse_t *P, json_t *o, const char *key, rt_rgb_t def, rt_rgb_t
   }
   io_push_key(P, key);
   int ok;
-  double g;
-  px_vec3_t c;
+  double g = 0.0;
+  px_vec3_t c = {0.0, 0.0, 0.0};
   if (json_is_number(v)) {
     ok = number_in(P, v, 0.0, INFINITY, 0, &g);
     c = px_vec3(g, g, g);

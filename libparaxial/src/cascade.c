@@ -58,8 +58,12 @@ static px_mat4_t range_product(const px_cascade_t *c, size_t lo, size_t hi) {
   return r;
 }
 
-px_mat4_t px_cascade_product(const px_cascade_t *c) { return range_product(c, 1, c->n); }
-px_mat4_t px_cascade_after(const px_cascade_t *c, size_t i) { return range_product(c, i + 1, c->n); }
+px_mat4_t px_cascade_product(const px_cascade_t *c) {
+  return range_product(c, 1, c->n);
+}
+px_mat4_t px_cascade_after(const px_cascade_t *c, size_t i) {
+  return range_product(c, i + 1, c->n);
+}
 px_mat4_t px_cascade_before(const px_cascade_t *c, size_t i) {
   return i <= 1 ? px_mat4_identity() : range_product(c, 1, i - 1);
 }

@@ -11,10 +11,18 @@
  * 49 spp: 2.75 million from px_mat4_mul alone). Results are identical: fma() is correctly
  * rounded either way. */
 
-px_vec3_t px_vec3(double x, double y, double z) { return (px_vec3_t){x, y, z}; }
-px_vec3_t px_vec3_add(px_vec3_t a, px_vec3_t b) { return vec3_add(a, b); }
-px_vec3_t px_vec3_sub(px_vec3_t a, px_vec3_t b) { return vec3_sub(a, b); }
-px_vec3_t px_vec3_scale(px_vec3_t a, double s) { return vec3_scale(a, s); }
+px_vec3_t px_vec3(double x, double y, double z) {
+  return (px_vec3_t){x, y, z};
+}
+px_vec3_t px_vec3_add(px_vec3_t a, px_vec3_t b) {
+  return vec3_add(a, b);
+}
+px_vec3_t px_vec3_sub(px_vec3_t a, px_vec3_t b) {
+  return vec3_sub(a, b);
+}
+px_vec3_t px_vec3_scale(px_vec3_t a, double s) {
+  return vec3_scale(a, s);
+}
 PX_FMA_CLONES px_vec3_t px_vec3_axpy(double s, px_vec3_t x, px_vec3_t y) {
   return vec3_axpy(s, x, y);
 }
@@ -31,10 +39,18 @@ PX_FMA_CLONES px_status_t px_vec3_normalize(px_vec3_t a, px_vec3_t *out) {
   return vec3_normalize(a, out);
 }
 
-px_mat2_t px_mat2(double a, double b, double c, double d) { return (px_mat2_t){{{a, b}, {c, d}}}; }
-px_mat2_t px_mat2_identity(void) { return px_mat2(1, 0, 0, 1); }
-px_mat2_t px_mat2_zero(void) { return px_mat2(0, 0, 0, 0); }
-px_mat2_t px_mat2_diag(double a, double d) { return px_mat2(a, 0, 0, d); }
+px_mat2_t px_mat2(double a, double b, double c, double d) {
+  return (px_mat2_t){{{a, b}, {c, d}}};
+}
+px_mat2_t px_mat2_identity(void) {
+  return px_mat2(1, 0, 0, 1);
+}
+px_mat2_t px_mat2_zero(void) {
+  return px_mat2(0, 0, 0, 0);
+}
+px_mat2_t px_mat2_diag(double a, double d) {
+  return px_mat2(a, 0, 0, d);
+}
 
 PX_FMA_CLONES px_mat2_t px_mat2_mul(px_mat2_t a, px_mat2_t b) {
   px_mat2_t r;
@@ -50,7 +66,9 @@ px_mat2_t px_mat2_add(px_mat2_t a, px_mat2_t b) {
 px_mat2_t px_mat2_scale(px_mat2_t a, double s) {
   return px_mat2(a.m[0][0] * s, a.m[0][1] * s, a.m[1][0] * s, a.m[1][1] * s);
 }
-px_mat2_t px_mat2_transpose(px_mat2_t a) { return px_mat2(a.m[0][0], a.m[1][0], a.m[0][1], a.m[1][1]); }
+px_mat2_t px_mat2_transpose(px_mat2_t a) {
+  return px_mat2(a.m[0][0], a.m[1][0], a.m[0][1], a.m[1][1]);
+}
 PX_FMA_CLONES double px_mat2_det(px_mat2_t a) {
   return diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]);
 }

@@ -3,15 +3,24 @@
 
 const char *px_strerror(px_status_t status) {
   switch (status) {
-  case PX_OK: return "success";
-  case PX_EINVAL: return "invalid parameter";
-  case PX_ETIR: return "total internal reflection: no refracted ray exists";
-  case PX_EGRAZING: return "grazing incidence or exit: cos(theta) or cos(theta') is too small";
-  case PX_ESINGULAR: return "singular matrix or degenerate frame";
-  case PX_EMISS: return "the ray misses the surface";
-  case PX_ECAPACITY: return "caller-owned buffer is full";
-  case PX_ENONFINITE: return "result is not finite (overflow)";
-  case PX_ENOCONVERGE: return "iteration did not converge";
+  case PX_OK:
+    return "success";
+  case PX_EINVAL:
+    return "invalid parameter";
+  case PX_ETIR:
+    return "total internal reflection: no refracted ray exists";
+  case PX_EGRAZING:
+    return "grazing incidence or exit: cos(theta) or cos(theta') is too small";
+  case PX_ESINGULAR:
+    return "singular matrix or degenerate frame";
+  case PX_EMISS:
+    return "the ray misses the surface";
+  case PX_ECAPACITY:
+    return "caller-owned buffer is full";
+  case PX_ENONFINITE:
+    return "result is not finite (overflow)";
+  case PX_ENOCONVERGE:
+    return "iteration did not converge";
   }
   return "unknown status";
 }

@@ -32,9 +32,13 @@ const char *px_variant_name(px_variant_t v) {
   return v == PX_VARIANT_PRINTED ? "printed" : "corrected";
 }
 
-static int vec3_isfinite(px_vec3_t v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+static int vec3_isfinite(px_vec3_t v) {
+  return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
 
-static int index_ok(double n) { return isfinite(n) && n > 0.0; }
+static int index_ok(double n) {
+  return isfinite(n) && n > 0.0;
+}
 
 px_status_t px_interface_make(px_vec3_t s, px_vec3_t nu, px_vec3_t hint, px_mat2_t q_in_u,
                               const double *q_world, double n1, double n2, px_interface_t *out) {
@@ -91,13 +95,14 @@ px_status_t px_interface_canonical(double theta, double radius, double n1, doubl
     return PX_EINVAL;
   double k = isinf(radius) ? 0.0 : 1.0 / radius;
   px_vec3_t s = px_vec3(sin(theta), 0.0, cos(theta));
-  return px_interface_make(s, px_vec3(0, 0, 1), px_vec3(0, 1, 0), px_mat2_diag(k, k), NULL, n1,
-                           n2, out);
+  return px_interface_make(s, px_vec3(0, 0, 1), px_vec3(0, 1, 0), px_mat2_diag(k, k), NULL, n1, n2,
+                           out);
 }
 
 PX_FMA_CLONES /* per ray in the renderers: see vec3_impl.h */
-px_status_t px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_vec3_t *s_out,
-                                  double *cos_out) {
+    px_status_t
+    px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_vec3_t *s_out,
+                          double *cos_out) {
   double ci = vec3_dot(ifc->nu, ifc->s);
   px_vec3_t d;
   double co;
@@ -194,7 +199,8 @@ px_status_t px_element_matrix(px_event_t ev, double theta, double n1, double n2,
                               px_variant_t variant, px_mat4_t *t) {
   px_interface_t ifc;
   px_frame_t in, out;
-  px_status_t st = px_interface_canonical(theta, radius, n1, ev == PX_EVENT_REFLECT ? n1 : n2, &ifc);
+  px_status_t st =
+      px_interface_canonical(theta, radius, n1, ev == PX_EVENT_REFLECT ? n1 : n2, &ifc);
   if (st == PX_OK)
     st = px_interface_frames(&ifc, ev, &in, &out);
   if (st == PX_OK)

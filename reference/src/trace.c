@@ -9,9 +9,9 @@
 #define SELF_HIT 1e-9
 
 static double stage_index(const ex_system_t *sys, size_t k) {
-  return k == 0 ? sys->n0 : (sys->stage[k - 1].event == PX_EVENT_REFLECT
-                                 ? stage_index(sys, k - 1)
-                                 : sys->stage[k - 1].n_after);
+  return k == 0 ? sys->n0
+                : (sys->stage[k - 1].event == PX_EVENT_REFLECT ? stage_index(sys, k - 1)
+                                                               : sys->stage[k - 1].n_after);
 }
 
 /* Roots of F(o + t d) = a t^2 + 2 bb t + c, sorted; returns how many (0, 1 or 2). */

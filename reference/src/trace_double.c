@@ -7,13 +7,17 @@
 #define R_SQRT sqrt
 #define FN(name) name##_d
 #define JAC_STEP 1e-4
+/* the double-precision instances of trace_impl.h, private to this file */
+static px_status_t ex_map_d(const ex_system_t *sys, const ex_axial_t *ax, const double psi[4],
+                            double out[4]);
+static px_status_t ex_jacobian_d(const ex_system_t *sys, const ex_axial_t *ax, double length,
+                                 px_mat4_t *j);
 #include "trace_impl.h"
 
 px_status_t ex_map(const ex_system_t *sys, const ex_axial_t *ax, const double psi[4],
                    double out[4]) {
   return ex_map_d(sys, ax, psi, out);
 }
-px_status_t ex_jacobian(const ex_system_t *sys, const ex_axial_t *ax, double length,
-                        px_mat4_t *j) {
+px_status_t ex_jacobian(const ex_system_t *sys, const ex_axial_t *ax, double length, px_mat4_t *j) {
   return ex_jacobian_d(sys, ax, length, j);
 }

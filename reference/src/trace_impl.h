@@ -10,17 +10,28 @@ typedef struct {
   REAL x, y, z;
 } FN(v3);
 
-static FN(v3) FN(lift)(px_vec3_t a) { return (FN(v3)){a.x, a.y, a.z}; }
-static FN(v3) FN(add)(FN(v3) a, FN(v3) b) { return (FN(v3)){a.x + b.x, a.y + b.y, a.z + b.z}; }
-static FN(v3) FN(sub)(FN(v3) a, FN(v3) b) { return (FN(v3)){a.x - b.x, a.y - b.y, a.z - b.z}; }
-static FN(v3) FN(scale)(FN(v3) a, REAL s) { return (FN(v3)){a.x * s, a.y * s, a.z * s}; }
-static REAL FN(dot)(FN(v3) a, FN(v3) b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static FN(v3) FN(lift)(px_vec3_t a) {
+  return (FN(v3)){a.x, a.y, a.z};
+}
+static FN(v3) FN(add)(FN(v3) a, FN(v3) b) {
+  return (FN(v3)){a.x + b.x, a.y + b.y, a.z + b.z};
+}
+static FN(v3) FN(sub)(FN(v3) a, FN(v3) b) {
+  return (FN(v3)){a.x - b.x, a.y - b.y, a.z - b.z};
+}
+static FN(v3) FN(scale)(FN(v3) a, REAL s) {
+  return (FN(v3)){a.x * s, a.y * s, a.z * s};
+}
+static REAL FN(dot)(FN(v3) a, FN(v3) b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 
 /* half gradient M p + b of a quadric */
 static FN(v3) FN(half_grad)(const ex_quadric_t *q, FN(v3) p, int with_b) {
   const double *m = q->m;
-  FN(v3) g = {m[0] * p.x + m[1] * p.y + m[2] * p.z, m[3] * p.x + m[4] * p.y + m[5] * p.z,
-              m[6] * p.x + m[7] * p.y + m[8] * p.z};
+  FN(v3)
+  g = {m[0] * p.x + m[1] * p.y + m[2] * p.z, m[3] * p.x + m[4] * p.y + m[5] * p.z,
+       m[6] * p.x + m[7] * p.y + m[8] * p.z};
   if (with_b) {
     g.x += q->b[0];
     g.y += q->b[1];
@@ -59,10 +70,12 @@ px_status_t FN(ex_map)(const ex_system_t *sys, const ex_axial_t *ax, const REAL 
   REAL xi2 = psi[2] * psi[2] + psi[3] * psi[3];
   if (!(xi2 < 1))
     return PX_EINVAL;
-  FN(v3) o = FN(add)(FN(lift)(sys->origin),
-                     FN(add)(FN(scale)(FN(lift)(f->x1), psi[0]), FN(scale)(FN(lift)(f->x2), psi[1])));
-  FN(v3) d = FN(add)(FN(add)(FN(scale)(FN(lift)(f->x1), psi[2]), FN(scale)(FN(lift)(f->x2), psi[3])),
-                     FN(scale)(FN(lift)(f->z), R_SQRT(1 - xi2)));
+  FN(v3)
+  o = FN(add)(FN(lift)(sys->origin),
+              FN(add)(FN(scale)(FN(lift)(f->x1), psi[0]), FN(scale)(FN(lift)(f->x2), psi[1])));
+  FN(v3)
+  d = FN(add)(FN(add)(FN(scale)(FN(lift)(f->x1), psi[2]), FN(scale)(FN(lift)(f->x2), psi[3])),
+              FN(scale)(FN(lift)(f->z), R_SQRT(1 - xi2)));
   REAL n1 = sys->n0;
   for (size_t k = 0; k < ax->n; k++) {
     const ex_stage_t *st = &sys->stage[k];

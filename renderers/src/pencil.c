@@ -19,7 +19,7 @@ static const pt_options_t defaults = PT_OPTIONS_DEFAULT;
 /* pt_bound_t's values in order */
 static const char *const bound_names[] = {"corrected", "printed", "probe", NULL};
 
-static const rn_option_t options[] = {
+static const rn_option_t pencil_options[] = {
     {"--domain", RN_OPT_INT, offsetof(pt_options_t, domain), 0, 1, 32, 0, NULL, "N",
      "initial domain size in pixels, 1..32 (default 5, as the paper)"},
     {"--rho", RN_OPT_DOUBLE, offsetof(pt_options_t, rho), 0, 0, INFINITY, 1, NULL, "R",
@@ -142,8 +142,8 @@ const rn_renderer_t rn_pencil_entry = {
         "rays traced for the pixel's samples).",
     .options_size = sizeof(pt_options_t),
     .defaults = &defaults,
-    .options = options,
-    .noptions = (int)(sizeof options / sizeof options[0]),
+    .options = pencil_options,
+    .noptions = (int)(sizeof pencil_options / sizeof pencil_options[0]),
     .channels = channels,
     .nchannels = 3,
     .error_channel = 0,

@@ -134,7 +134,7 @@ extern "C" int val_ceres_solve_bounded(int np, double *p, const double *lower, c
       break;
     fixed = active;
   }
-  std::memset(summary, 0, sizeof *summary);
+  *summary = {}; /* value-initialised: every field zero */
   summary->converged = s.termination_type == ceres::CONVERGENCE;
   summary->usable = s.IsSolutionUsable();
   summary->iterations = iterations;

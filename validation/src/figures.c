@@ -171,7 +171,7 @@ int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_e
   }
   float *err = sample_error ? sample_error : malloc(n * sizeof *err);
   void *stats = calloc(1, m.r->stats_size);
-  rt_image_t pi, ei, *P = img ? img : &pi, *X = exact_img ? exact_img : &ei;
+  rt_image_t pi = {0}, ei = {0}, *P = img ? img : &pi, *X = exact_img ? exact_img : &ei;
   int own_p = !img, own_x = !exact_img, rc = -1;
   if (own_p)
     rt_image_alloc(&pi, w, h);

@@ -44,7 +44,9 @@ static val_system_t *add(sweep_t *w) {
   return v;
 }
 
-static double uniform(sweep_t *w, double a, double b) { return a + (b - a) * gsl_rng_uniform(w->rng); }
+static double uniform(sweep_t *w, double a, double b) {
+  return a + (b - a) * gsl_rng_uniform(w->rng);
+}
 
 /* Incident frame for direction s at a surface of normal nu: x2 = normal of the plane of
  * incidence (the paper's frame), or that frame rotated by a random angle. */
@@ -61,8 +63,13 @@ static void single(sweep_t *w, val_system_t *v, ex_quadric_t surface, double az)
   px_vec3_t nu = px_vec3(0, 0, 1);
   px_vec3_t s = px_vec3(sin(th) * cos(az), sin(th) * sin(az), cos(th));
   v->stage[0] = (ex_stage_t){surface, v->event, v->n2, 1};
-  v->sys = (ex_system_t){px_vec3(0, 0, 0), incident_frame(w, s, nu, v->rotated), v->n1, NULL, 1,
-                         0.0, v->rotated ? uniform(w, -M_PI, M_PI) : 0.0};
+  v->sys = (ex_system_t){px_vec3(0, 0, 0),
+                         incident_frame(w, s, nu, v->rotated),
+                         v->n1,
+                         NULL,
+                         1,
+                         0.0,
+                         v->rotated ? uniform(w, -M_PI, M_PI) : 0.0};
   if (v->event == PX_EVENT_REFRACT)
     v->expect_tir = (v->n1 / v->n2) * sin(th) > 1.0;
 }
@@ -73,7 +80,8 @@ enum { NPAIRS = sizeof index_pairs / sizeof index_pairs[0] };
 
 /* incidence angles: 0 .. 89.99 deg, and near the critical angle when there is one */
 static size_t angles(double n1, double n2, double *out) {
-  static const double base[] = {0.0, 1e-6, 5.0, 15.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0, 89.9, 89.99};
+  static const double base[] = {0.0,  1e-6, 5.0,  15.0, 30.0, 45.0,
+                                60.0, 75.0, 85.0, 89.0, 89.9, 89.99};
   size_t k = 0;
   for (size_t i = 0; i < sizeof base / sizeof base[0]; i++)
     out[k++] = base[i];
@@ -171,7 +179,8 @@ static int add_cylinders(sweep_t *w, int count) {
     v->length = fabs(R);
     v->rotated = i % 3 != 0;
     double beta = uniform(w, 0, M_PI);
-    ex_quadric_t q = ex_quadric_cylinder(px_vec3(0, 0, R), px_vec3(cos(beta), sin(beta), 0), fabs(R));
+    ex_quadric_t q =
+        ex_quadric_cylinder(px_vec3(0, 0, R), px_vec3(cos(beta), sin(beta), 0), fabs(R));
     single(w, v, q, uniform(w, 0, 2 * M_PI));
     snprintf(v->label, sizeof v->label, "%s cylinder n %.3g->%.3g theta %.4f R %.3g axis %.1f deg",
              v->event == PX_EVENT_REFLECT ? "reflect" : "refract", v->n1, v->n2, v->theta_deg, R,
@@ -193,7 +202,8 @@ static int add_ellipsoids(sweep_t *w, int count) {
     v->n1 = pair[0];
     v->n2 = v->event == PX_EVENT_REFLECT ? pair[0] : pair[1];
     double scale = pow(10.0, uniform(w, -2, 2));
-    double ax[3] = {scale * uniform(w, 0.3, 3), scale * uniform(w, 0.3, 3), scale * uniform(w, 0.3, 3)};
+    double ax[3] = {scale * uniform(w, 0.3, 3), scale * uniform(w, 0.3, 3),
+                    scale * uniform(w, 0.3, 3)};
     const px_vec3_t axes[3] = {px_vec3(1, 0, 0), px_vec3(0, 1, 0), px_vec3(0, 0, 1)};
     ex_quadric_t q = ex_quadric_ellipsoid(px_vec3(0, 0, 0), axes, ax[0], ax[1], ax[2]);
     double u = uniform(w, 0, 2 * M_PI), c = uniform(w, -0.95, 0.95), sn = sqrt(1 - c * c);
@@ -213,9 +223,10 @@ static int add_ellipsoids(sweep_t *w, int count) {
     v->rotated = i % 3 != 0;
     v->length = fmin(ax[0], fmin(ax[1], ax[2]));
     v->stage[0] = (ex_stage_t){q, v->event, v->n2, 1};
-    v->sys = (ex_system_t){o, incident_frame(w, s, nu, v->rotated), v->n1, NULL, 1, 0.0,
-                           v->rotated ? uniform(w, -M_PI, M_PI) : 0.0};
-    snprintf(v->label, sizeof v->label, "%s ellipsoid %s n %.3g->%.3g theta %.4f axes %.3g %.3g %.3g",
+    v->sys = (ex_system_t){o,   incident_frame(w, s, nu, v->rotated),      v->n1, NULL, 1,
+                           0.0, v->rotated ? uniform(w, -M_PI, M_PI) : 0.0};
+    snprintf(v->label, sizeof v->label,
+             "%s ellipsoid %s n %.3g->%.3g theta %.4f axes %.3g %.3g %.3g",
              v->event == PX_EVENT_REFLECT ? "reflect" : "refract",
              from_inside ? "from inside" : "from outside", v->n1, v->n2, v->theta_deg, ax[0], ax[1],
              ax[2]);

@@ -10,8 +10,12 @@ static double seconds(clockid_t id) {
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-double val_wall_seconds(void) { return seconds(CLOCK_MONOTONIC); }
-double val_cpu_seconds(void) { return seconds(CLOCK_PROCESS_CPUTIME_ID); }
+double val_wall_seconds(void) {
+  return seconds(CLOCK_MONOTONIC);
+}
+double val_cpu_seconds(void) {
+  return seconds(CLOCK_PROCESS_CPUTIME_ID);
+}
 
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;

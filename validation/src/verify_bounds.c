@@ -26,6 +26,12 @@ static const char *coef_names[VAL_NCOEF] = {"A", "B", "C", "D", "E", "F"};
 
 /* ---- the sweep: val_sweep_build() plus pinhole -> glass sphere -> plane at several aims ---- */
 
+/* Coefficient q (0..5: a..f) of k, without indexing past the struct's first member. */
+static double coef_at(const px_coeffs_t *k, int q) {
+  const double v[VAL_NCOEF] = {k->a, k->b, k->c, k->d, k->e, k->f};
+  return v[q];
+}
+
 static void aim_system(val_system_t *v, double n, double aim, int internal) {
   memset(v, 0, sizeof *v);
   double r = 1.0, dist = 4.0, floor_dist = 3.0;
@@ -247,9 +253,8 @@ void val_verify_bounds_system(const val_system_t *v, int with_fit, val_bounds_re
   double zero = VAL_ZERO_TOL * r->truth.scale;
   for (int var = 0; var < 2; var++) {
     r->bound[var] = val_scale_pencil(&k[var], L);
-    const double *b = &r->bound[var].a;
     for (int q = 0; q < VAL_NCOEF; q++)
-      r->ratio[var][q] = ratio_of(b[q], r->truth.coef[q], zero);
+      r->ratio[var][q] = ratio_of(coef_at(&r->bound[var], q), r->truth.coef[q], zero);
     r->ratio_ex[var] = r->ratio_exi[var] = INFINITY;
     int any_x = 0, any_xi = 0; /* a shape where the true error or the bound is non-zero */
     for (int p = 0; p < VAL_NPHI; p++) {
@@ -371,9 +376,8 @@ static void systems_csv_row(FILE *f, size_t id, const val_system_t *v,
   for (int q = 0; q < VAL_NCOEF; q++)
     fprintf(f, ",%.10g", r->truth.coef[q]);
   for (int var = 0; var < 2; var++) {
-    const double *b = &r->bound[var].a;
     for (int q = 0; q < VAL_NCOEF; q++)
-      fprintf(f, ",%.10g", b[q]);
+      fprintf(f, ",%.10g", coef_at(&r->bound[var], q));
     for (int q = 0; q < VAL_NCOEF; q++)
       fprintf(f, ",%.10g", r->ratio[var][q]);
     fprintf(f, ",%.10g,%.10g", r->ratio_ex[var], r->ratio_exi[var]);
@@ -653,9 +657,9 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
             continue;
           fprintf(c, "%zu,%s,%s,%.10g,\"%s\"", i, val_family_name(sw[i].family), event_name(&sw[i]),
                   r->theta_deg, sw[i].label);
-          const double *fv = &r->fit.a, *cv = &r->bound[0].a, *pv = &r->bound[1].a;
           for (int q = 0; q < VAL_NCOEF; q++)
-            fprintf(c, ",%.10g,%.10g,%.10g,%.10g", fv[q], cv[q], pv[q], r->truth.coef[q]);
+            fprintf(c, ",%.10g,%.10g,%.10g,%.10g", coef_at(&r->fit, q), coef_at(&r->bound[0], q),
+                    coef_at(&r->bound[1], q), r->truth.coef[q]);
           fprintf(c, ",%.4g,%.4g,%.4g,%.4g,%.4g,%d\n", r->fit_excess[0], r->fit_dev[0],
                   r->fit_excess[1], r->fit_dev[1], r->sampled_vs_tensor, r->fitted > 0);
         }

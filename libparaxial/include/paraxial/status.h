@@ -8,15 +8,15 @@
 #define PARAXIAL_STATUS_H
 
 typedef enum {
-  PX_OK = 0,        /**< success */
-  PX_EINVAL,        /**< a parameter is out of range or not finite (the message names which) */
-  PX_ETIR,          /**< total internal reflection: there is no refracted ray */
-  PX_EGRAZING,      /**< grazing incidence or exit: cos(theta) or cos(theta') <= PX_COS_MIN */
-  PX_ESINGULAR,     /**< a 2x2 block (Theta, Theta', a frame) is singular */
-  PX_EMISS,         /**< the ray does not meet the surface */
-  PX_ECAPACITY,     /**< a caller-owned buffer is full */
-  PX_ENONFINITE,    /**< an intermediate result overflowed; nothing was written */
-  PX_ENOCONVERGE    /**< an iteration did not converge */
+  PX_OK = 0,     /**< success */
+  PX_EINVAL,     /**< a parameter is out of range or not finite (the message names which) */
+  PX_ETIR,       /**< total internal reflection: there is no refracted ray */
+  PX_EGRAZING,   /**< grazing incidence or exit: cos(theta) or cos(theta') <= PX_COS_MIN */
+  PX_ESINGULAR,  /**< a 2x2 block (Theta, Theta', a frame) is singular */
+  PX_EMISS,      /**< the ray does not meet the surface */
+  PX_ECAPACITY,  /**< a caller-owned buffer is full */
+  PX_ENONFINITE, /**< an intermediate result overflowed; nothing was written */
+  PX_ENOCONVERGE /**< an iteration did not converge */
 } px_status_t;
 
 /** Static, human-readable message for a status; never NULL, thread-safe. */

@@ -28,14 +28,14 @@ typedef struct {
 } ex_stage_t;
 
 typedef struct {
-  px_vec3_t origin;       /**< O: start of the axial ray, the input reference plane's point */
-  px_frame_t frame;       /**< input ray frame; frame.z is the axial direction */
-  double n0;              /**< index of the starting medium */
+  px_vec3_t origin;        /**< O: start of the axial ray, the input reference plane's point */
+  px_frame_t frame;        /**< input ray frame; frame.z is the axial direction */
+  double n0;               /**< index of the starting medium */
   const ex_stage_t *stage; /**< caller-owned stages, stage[0] acts first */
-  size_t nstage;          /**< number of stages, <= EX_MAX_STAGES */
-  double tail;            /**< transfer after the last stage, along the outgoing axial ray */
-  double out_phi;         /**< output frame: the last interface's frame rotated by out_phi
-                               (ignored when there is no stage) */
+  size_t nstage;           /**< number of stages, <= EX_MAX_STAGES */
+  double tail;             /**< transfer after the last stage, along the outgoing axial ray */
+  double out_phi;          /**< output frame: the last interface's frame rotated by out_phi
+                                (ignored when there is no stage) */
 } ex_system_t;
 
 /** The axial ray's path, recorded once per system. */
@@ -66,8 +66,7 @@ px_status_t ex_map(const ex_system_t *sys, const ex_axial_t *ax, const double ps
 
 /** The Jacobian of the exact map at psi = 0 in double precision (Richardson-extrapolated
  *  central differences; relative accuracy ~1e-8). `length` scales the position steps. */
-px_status_t ex_jacobian(const ex_system_t *sys, const ex_axial_t *ax, double length,
-                        px_mat4_t *j);
+px_status_t ex_jacobian(const ex_system_t *sys, const ex_axial_t *ax, double length, px_mat4_t *j);
 
 /** The exact map at psi0 with its Jacobian jac[i][j] = d psi'_i / d psi_j and second-order
  *  tensor hess[i][j][k] = t(2)_ijk = d2 psi'_i / d psi_j d psi_k (section 3.2), by forward-mode

@@ -163,6 +163,8 @@ static void traverse_nearest(const rt_scene_t *s, const rt_ray_t *ray, double *b
     do { /* the next waiting node that may still hold a nearer hit */
       if (--sp < 0)
         return;
+      /* entries below sp were pushed above; cppcheck cannot follow the stack pointer */
+      // cppcheck-suppress uninitvar
     } while (!(stack[sp].t < *best));
     ref = stack[sp].ref;
     count = stack[sp].count;

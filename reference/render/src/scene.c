@@ -12,6 +12,7 @@
 #include "bvh.h"
 #include "render/intersect.h"
 #include "render/vec_inline.h"
+#include "scene_impl.h"
 
 const char *rt_strerror(rt_status_t s) {
   switch (s) {

@@ -61,11 +61,11 @@ typedef struct {
 } rt_sphere_t;
 
 typedef struct {
-  px_vec3_t p;  /**< a point of the plane; origin of the texture coordinates */
-  px_vec3_t n;  /**< unit normal */
-  px_vec3_t u;  /**< unit texture axis in the plane */
-  px_vec3_t v;  /**< second texture axis, v = n x u */
-  double check; /**< checker square size, > 0 (also when the plane is not checkered) */
+  px_vec3_t p;      /**< a point of the plane; origin of the texture coordinates */
+  px_vec3_t n;      /**< unit normal */
+  px_vec3_t u;      /**< unit texture axis in the plane */
+  px_vec3_t v;      /**< second texture axis, v = n x u */
+  double check;     /**< checker square size, > 0 (also when the plane is not checkered) */
   double inv_check; /**< 1 / check: square indices are floor(u * inv_check), a multiplication
                          where a division per lookup had cost 2% of the exact renderer's time */
 } rt_plane_t;

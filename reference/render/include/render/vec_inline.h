@@ -32,7 +32,9 @@ static inline double v3_norm(px_vec3_t a) {
   return sqrt(v3_dot(a, a));
 }
 /** Unit vector along a (a must be non-zero: callers pass directions). */
-static inline px_vec3_t v3_unit(px_vec3_t a) { return v3_scale(a, 1.0 / v3_norm(a)); }
+static inline px_vec3_t v3_unit(px_vec3_t a) {
+  return v3_scale(a, 1.0 / v3_norm(a));
+}
 /** Component `axis` (0, 1, 2). */
 static inline double v3_at(px_vec3_t v, int axis) {
   return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
