@@ -7,9 +7,8 @@
 
 /* The functions that call fma() are cloned for CPUs with FMA instructions (PX_FMA_CLONES,
  * vec3_impl.h): the pencil tracer multiplies system matrices and takes dot products per lattice
- * cell and path, where each libm fma() call had cost more time than its arithmetic (Fig. 8 at
- * 49 spp: 2.75 million from px_mat4_mul alone). Results are identical: fma() is correctly
- * rounded either way. */
+ * cell and path so often that each libm fma() call costing more than its arithmetic showed in
+ * its profile (docs/tuning.md). Results are identical: fma() is correctly rounded either way. */
 
 px_vec3_t px_vec3(double x, double y, double z) {
   return (px_vec3_t){x, y, z};

@@ -25,7 +25,8 @@
 #define PAPER_MAX 0.66
 #define TARGET_SPP 49 /* issue 5's targets, where the paper's Fig. 9 falls below 0.1 */
 /* No accuracy asked: a geometric tolerance of 100 pixel intervals and a brightness tolerance of
- * 100, so that every lattice cell the edges allow is accepted (docs/pencil.md, "Eleventh pass") */
+ * 100, so that every lattice cell the edges allow is accepted
+ * (docs/journal/2026-12-01-eleventh-pass.md) */
 #define NOACC_RHO 100.0
 #define NOACC_BTOL 100.0
 

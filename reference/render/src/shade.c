@@ -58,9 +58,9 @@ static double phong_pow(double x, double n) {
   return r;
 }
 
-/* Transmittance towards a light (white without the shadow effect). Always inlined: it was when
- * rt_shade_direct() was its only caller, and out of line it costs the exact renderer 2.4% more
- * instructions. */
+/* Transmittance towards a light (white without the shadow effect). Always inlined: it is on the
+ * exact renderer's hot path, and with a second caller the compiler stopped inlining it, which
+ * made that renderer measurably slower (docs/tuning.md). */
 static inline __attribute__((always_inline)) rt_rgb_t
 shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const rt_ray_t *ray,
        int l, px_vec3_t dir, double dist, const rt_tracer_t *tr) {

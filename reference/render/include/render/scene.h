@@ -66,8 +66,9 @@ typedef struct {
   px_vec3_t u;      /**< unit texture axis in the plane */
   px_vec3_t v;      /**< second texture axis, v = n x u */
   double check;     /**< checker square size, > 0 (also when the plane is not checkered) */
-  double inv_check; /**< 1 / check: square indices are floor(u * inv_check), a multiplication
-                         where a division per lookup had cost 2% of the exact renderer's time */
+  double inv_check; /**< 1 / check: square indices are floor(u * inv_check), a multiplication,
+                         because a division per lookup showed in the exact renderer's profile
+                         (docs/tuning.md) */
 } rt_plane_t;
 
 typedef struct {

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# scripts/results: the stamped page from a small fake out/ directory (JSON files with the keys
+# the main job writes), the numbers in its tables, and "not run" for a missing input.
+set -u
+results=$1
+fail=0
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+mkdir -p "$dir/out/figures"
+cat >"$dir/out/verify-matrices.json" <<'JSON'
+{"systems": 1234, "failures": 0, "tolerance": 1e-9, "worst_relative_error": 3.25e-12,
+ "worst_system": "refract sphere fake", "all": {"tir_checked": 56},
+ "families": {"sphere": {"systems": 1000, "failures": 0, "worst_relative_error": 3.25e-12,
+                         "printed": {"failures": 777}}}}
+JSON
+cat >"$dir/out/verify-bounds.json" <<'JSON'
+{"systems": 2001, "skipped": 99, "pass": true,
+ "corrected": {"A": {"failures": 0, "min": 1.0, "max": 12.5}},
+ "printed": {"D": {"failures": 4321, "min": -15.5}},
+ "tensor_crosscheck": {"worst": 2.5e-11, "tolerance": 1e-7},
+ "fit": {"systems": 1999, "worst_attained_deviation": 2.75e-5, "tolerance": 0.02},
+ "onset": {"pinhole_systems": 208, "found_corrected": 135, "smallest_corrected": 0.00033}}
+JSON
+cat >"$dir/out/figures/summary.json" <<'JSON'
+{"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
+ "time": "process CPU seconds, median of runs",
+ "fig8": {"spp": 9, "speedup": 2.345},
+ "fig9": [{"spp": 9, "ratio": 0.4321}, {"spp": 49, "ratio": 0.1789}],
+ "fig9_below_0_1_from_spp": null,
+ "fig10": {"rho": 0.5, "spp": 9, "samples": 589824, "fraction_within": 0.99987654,
+           "max_error": 0.5584, "p99": 0.351, "mismatches": 0, "image_rms": 0.0207},
+ "targets": {"spp": 49,
+   "pencil": {"ratio": 0.1789, "errors": {"samples": 1000000, "fraction_within": 0.9999,
+                                          "max_error": 0.5971}},
+   "certified": {"ratio": 0.2075, "errors": {"samples": 1000000, "fraction_within": 1,
+                                             "max_error": 0.3916}},
+   "no_accuracy": {"rho": 100, "brightness_tol": 100, "ratio": 0.1244,
+                   "certified_ratio": 0.1311}},
+ "sweep": [{"rho": 0.05, "variant": "printed", "ratio": 1.0987,
+            "errors": {"spp": 9, "fraction_within": 0.968, "p99": 0.07, "max_error": 1.9}}],
+ "paper": {"fig8_speedup_9spp": 7.6, "fig9_ratio_49spp": 0.1, "fig10_fraction_within": 0.998,
+           "fig10_max_error": 0.66}}
+JSON
+page=$dir/results.md
+"$results" "$dir/out" -o "$page" >/dev/null 2>"$dir/err"; rc=$?
+check "exit 0 with every input" "[ $rc -eq 0 ]"
+check "stamped: commit" "grep -Eq '^- commit: ([0-9a-f]{7,}(-dirty)?|unknown)' '$page'"
+check "stamped: UTC date" "grep -Eq '^- date: [0-9]{4}-[0-9]{2}-[0-9]{2} [0-9]{2}:[0-9]{2} UTC' '$page'"
+check "stamped: cores" "grep -Eq '^- machine: [0-9]+ cores' '$page'"
+check "matrices: systems and worst error" "grep -q '| 1234 | 56 | 0 | 3.25e-12 |' '$page'"
+check "matrices: printed failures per family" "grep -q '| sphere | 1000 | 3.25e-12 | 0 | 777 |' '$page'"
+check "bounds: systems" "grep -q '2001 systems verified, 99 skipped' '$page'"
+check "bounds: corrected row" "grep -q '| A | 0 | 1 | 12.5 |' '$page'"
+check "bounds: printed failures" "grep -q '| D | - | - | - | 4321 | -15.5 |' '$page'"
+check "Fig. 8 speed-up against the paper's 7.6x" "grep -q '| 7.6x | 2.35x |' '$page'"
+check "Fig. 9 ratio per spp" "grep -q 'at 49 spp | < 0.10 | 0.179 |' '$page'"
+check "Fig. 10 within rho and largest error" \
+  "grep -q '| 99.8% | 99.9877% |' '$page' && grep -q '| 0.66 | 0.558 |' '$page'"
+check "targets, default and certified" \
+  "grep -q '| default | 0.179 | 99.9900% | 100 | 0.597 | no |' '$page' && grep -q '| certified | 0.207 | 100.0000% | 0 | 0.392 | no |' '$page'"
+check "no-accuracy ratio" "grep -q 'is 0.124 (certified 0.131)' '$page'"
+check "rho sweep row" "grep -q '| 0.05 | printed | 1.099 | 96.8000% | 0.070 | 1.900 |' '$page'"
+check "nothing reported as not run" "! grep -q 'not run' '$page'"
+
+rm "$dir/out/verify-bounds.json"
+echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable
+"$results" "$dir/out" -o "$page" >/dev/null 2>"$dir/err"; rc=$?
+check "exit 0 with inputs missing" "[ $rc -eq 0 ]"
+check "missing bounds: not run" \
+  "grep -A2 'pencil verify bounds' '$page' | grep -q 'not run: .*verify-bounds.json. not found'"
+check "unreadable summary: figures and sweep not run" "[ \$(grep -c 'not run: .*summary.json. unreadable' '$page') -eq 2 ]"
+check "matrices still reported" "grep -q '| 1234 | 56 | 0 | 3.25e-12 |' '$page'"
+check "--help" "'$results' --help | grep -q 'usage: scripts/results'"
+touch "$dir/plainfile"   # a file where a directory is needed: fails even for root
+"$results" "$dir/out" -o "$dir/plainfile/r.md" >/dev/null 2>"$dir/err"; rc=$?
+check "unwritable output: exit 1, named on stderr" "[ $rc -eq 1 ] && grep -q plainfile/r.md '$dir/err'"
+exit $fail
