@@ -46,7 +46,9 @@ static void skip_container(scan_t *s, int depth) {
       s->p++;
       continue;
     }
+    const char *before = s->p;
     skip_value(s, depth + 1);
+    s->p += s->p == before; /* a byte that starts no value (a NUL): step over it, never stall */
   }
 }
 
@@ -60,8 +62,8 @@ static void skip_value(scan_t *s, int depth) {
   else if ((*s->p == '{' || *s->p == '[') && depth < 4096)
     skip_container(s, depth);
   else
-    while (s->p < s->end && !strchr(",]} \t\r\n", *s->p))
-      s->p++;
+    while (s->p < s->end && (*s->p == '\0' || !strchr(",]} \t\r\n", *s->p)))
+      s->p++; /* strchr() would find a NUL byte as the set's terminator */
 }
 
 /* Position s at the value of member `key` of the object at s->p; 0 when absent. */
