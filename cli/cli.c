@@ -8,24 +8,28 @@
 
 #include "io/scene_json.h"
 #include "render/builtin.h"
+#include "renderers/renderer.h"
 
 int cli_parse_double(const char *opt, const char *text, double *out) {
-  char *end = NULL;
-  errno = 0;
-  double v = strtod(text, &end);
-  if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v)) {
-    fprintf(stderr, "pencil: %s: expected a finite number, got '%s'\n", opt, text);
-    return 0;
-  }
-  *out = v;
-  return 1;
+  int r = rn_parse_double(text, out);
+  if (r < 0)
+    fprintf(stderr, "pencil: %s: '%s' is beyond the range of a double (about 1.8e308)\n", opt,
+            text);
+  else if (r == 0)
+    fprintf(stderr, "pencil: %s: expected a decimal number such as 1.5 or -2e-3, got '%s'\n", opt,
+            text);
+  return r == 1;
 }
 
 int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *out) {
   char *end = NULL;
+  const char *p = text + (*text == '+' || *text == '-');
+  int digits = *p != '\0';
+  for (; *p && digits; p++)
+    digits = *p >= '0' && *p <= '9';
   errno = 0;
-  long v = strtol(text, &end, 10);
-  if (end == text || *end != '\0' || errno == ERANGE || v < lo || v > hi) {
+  long v = digits ? strtol(text, &end, 10) : 0;
+  if (!digits || errno == ERANGE || v < lo || v > hi) {
     fprintf(stderr, "pencil: %s: expected an integer from %ld to %ld, got '%s'\n", opt, lo, hi,
             text);
     return 0;

@@ -28,6 +28,14 @@ $pencil matrix refract --theta-deg 10 --n1 1 --n2 1.5 --radius 0 >/dev/null 2>&1
 check "radius 0 is a usage error" "[ $rc -eq 2 ]"
 $pencil matrix refract --theta-deg abc --n1 1 --n2 1.5 >/dev/null 2>/tmp/pencil_err.$$; rc=$?
 check "bad number names the option" "[ $rc -eq 2 ] && grep -q -- '--theta-deg' /tmp/pencil_err.$$"
+for bad in 0x10 " 5" inf; do
+  $pencil matrix refract --theta-deg "$bad" --n1 1 --n2 1.5 >/dev/null 2>/tmp/pencil_err.$$; rc=$?
+  check "'$bad' is not a decimal number" "[ $rc -eq 2 ] && grep -q 'expected a decimal number' /tmp/pencil_err.$$"
+done
+out=$($pencil matrix refract --theta-deg 1e-320 --n1 1 --n2 1.5 2>/tmp/pencil_err.$$); rc=$?
+check "a subnormal angle is a number (normal incidence)" "[ $rc -eq 0 ] && echo '$out' | grep -q '\"T\"'"
+$pencil matrix refract --theta-deg 1e400 --n1 1 --n2 1.5 >/dev/null 2>/tmp/pencil_err.$$; rc=$?
+check "1e400 is beyond a double, said so" "[ $rc -eq 2 ] && grep -q 'beyond the range' /tmp/pencil_err.$$"
 $pencil matrix refract --theta-deg 10 --n1 -1 --n2 1.5 >/dev/null 2>&1; rc=$?
 check "negative index is a usage error" "[ $rc -eq 2 ]"
 $pencil matrix refract --theta-deg 10 --n1 1 >/dev/null 2>&1; rc=$?

@@ -67,6 +67,33 @@ static void options_parse_and_refuse(void **state) {
   assert_string_equal(err, "the exact renderer has no option --rho");
 }
 
+/* Numbers as users write them; what strtod() would also take (spaces, hexadecimal, inf) is
+ * refused, and an underflow is kept rather than called "not finite". */
+static void numbers_are_decimal(void **state) {
+  (void)state;
+  double v = -1.0;
+  assert_int_equal(rn_parse_double("1.5", &v), 1);
+  assert_true(v == 1.5);
+  assert_int_equal(rn_parse_double("-2e-3", &v), 1);
+  assert_int_equal(rn_parse_double(".5", &v), 1);
+  assert_int_equal(rn_parse_double("5.", &v), 1);
+  assert_int_equal(rn_parse_double("+3E2", &v), 1);
+  assert_true(v == 300.0);
+  assert_int_equal(rn_parse_double("1e-320", &v), 1);
+  assert_true(v > 0.0 && v < 1e-300);
+  assert_int_equal(rn_parse_double("1e400", &v), -1);
+  const char *bad[] = {"", " 5", "5 ", "0x10", "inf", "nan", "1e", ".", "-", "1.2.3", "1e+"};
+  for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
+    assert_int_equal(rn_parse_double(bad[k], &v), 0);
+  const rn_renderer_t *p = rn_find("pencil");
+  pt_options_t o;
+  char err[256];
+  rn_defaults(p, &o);
+  assert_int_equal(rn_set(p, &o, "--domain", " 5", err, sizeof err), 0);
+  assert_int_equal(rn_set(p, &o, "--domain", "5.0", err, sizeof err), 0);
+  assert_int_equal(rn_set(p, &o, "--rho", "0x1p-1", err, sizeof err), 0);
+}
+
 /* The table's pencil entry with --certified gives the image pt_render gives directly. */
 static void entry_renders_as_the_renderer(void **state) {
   (void)state;
@@ -113,6 +140,7 @@ int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(entries_are_well_formed),
       cmocka_unit_test(options_parse_and_refuse),
+      cmocka_unit_test(numbers_are_decimal),
       cmocka_unit_test(entry_renders_as_the_renderer),
   };
   if (argc > 1)

@@ -51,11 +51,51 @@ static void expected(const rn_option_t *o, char *buf, size_t cap) {
     snprintf(buf, cap, "a number %s %g and <= %g", o->lo_open ? ">" : ">=", o->lo, o->hi);
 }
 
-static int set_number(const rn_option_t *o, void *field, const char *text, char *err, size_t cap) {
-  char *end = NULL, want[96];
+int rn_parse_double(const char *text, double *out) {
+  const char *p = text;
+  int digits = 0;
+  p += *p == '+' || *p == '-';
+  for (; *p >= '0' && *p <= '9'; p++)
+    digits++;
+  if (*p == '.')
+    for (p++; *p >= '0' && *p <= '9'; p++)
+      digits++;
+  if (digits > 0 && (*p == 'e' || *p == 'E')) {
+    p++;
+    p += *p == '+' || *p == '-';
+    if (!(*p >= '0' && *p <= '9'))
+      return 0;
+    while (*p >= '0' && *p <= '9')
+      p++;
+  }
+  if (digits == 0 || *p != '\0')
+    return 0;
   errno = 0;
-  double v = o->kind == RN_OPT_INT ? (double)strtol(text, &end, 10) : strtod(text, &end);
-  int ok = end != text && *end == '\0' && errno != ERANGE && isfinite(v) &&
+  double v = strtod(text, NULL);
+  if (errno == ERANGE && fabs(v) > 1.0) /* overflow; underflow keeps its subnormal or zero */
+    return -1;
+  *out = v;
+  return 1;
+}
+
+/* A decimal integer: an optional sign and digits only. */
+static int parse_int(const char *text, double *out) {
+  const char *p = text + (*text == '+' || *text == '-');
+  if (!*p)
+    return 0;
+  for (; *p; p++)
+    if (*p < '0' || *p > '9')
+      return 0;
+  errno = 0;
+  long v = strtol(text, NULL, 10);
+  *out = (double)v;
+  return errno != ERANGE;
+}
+
+static int set_number(const rn_option_t *o, void *field, const char *text, char *err, size_t cap) {
+  char want[96];
+  double v = 0.0;
+  int ok = (o->kind == RN_OPT_INT ? parse_int(text, &v) : rn_parse_double(text, &v) == 1) &&
            (o->lo_open ? v > o->lo : v >= o->lo) && v <= o->hi;
   if (!ok) {
     expected(o, want, sizeof want);

@@ -168,6 +168,13 @@ int rn_option_set(const rn_option_t *o, void *options, const char *text, char *e
 int rn_set(const rn_renderer_t *r, void *options, const char *name, const char *text, char *err,
            size_t cap);
 
+/** Parse a decimal number as users write one: an optional sign, digits with an optional point,
+ *  an optional exponent, and nothing else (no spaces, no hexadecimal, no "inf" or "nan").
+ *  Values too small for a normal double are kept (subnormal or zero); values too large for a
+ *  double are refused. Returns 1 with *out set, 0 for text that is not such a number, -1 for a
+ *  number beyond the range of a double. */
+int rn_parse_double(const char *text, double *out);
+
 /** Copy the entry's defaults into options (options_size bytes). */
 void rn_defaults(const rn_renderer_t *r, void *options);
 
