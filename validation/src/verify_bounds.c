@@ -11,6 +11,7 @@
 #endif
 
 #include "io/json.h"
+#include "io/output.h"
 #include "validation/bounds.h"
 
 /* Jets and __float128 differences must agree to this fraction of the tensor's scale. */
@@ -343,21 +344,22 @@ static json_t *stats_json(const ratio_stats_t *s, const val_system_t *sw) {
   return o;
 }
 
-static FILE *open_csv(const char *dir, const char *name, int *io_err) {
-  char path[4096];
+/* DIR/NAME written to a temporary file and renamed when complete (io/output.h). */
+static FILE *open_csv(const char *dir, const char *name, io_atomic_t *a, int *io_err) {
+  char path[4096], err[1024];
   snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *f = fopen(path, "w");
-  if (!f) {
-    fprintf(stderr, "pencil verify bounds: cannot write '%s': ", path);
-    perror(NULL);
+  if (io_atomic_open(a, path, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil verify bounds: %s\n", err);
     *io_err = 1;
+    return NULL;
   }
-  return f;
+  return a->f;
 }
 
-static void close_csv(FILE *f, const char *dir, const char *name, int *io_err) {
-  if (f && fclose(f) != 0) {
-    fprintf(stderr, "pencil verify bounds: error writing '%s/%s'\n", dir, name);
+static void close_csv(io_atomic_t *a, int *io_err) {
+  char err[1024];
+  if (io_atomic_commit(a, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil verify bounds: %s\n", err);
     *io_err = 1;
   }
 }
@@ -579,7 +581,8 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
 
   int io_err = 0;
   if (o->csv) {
-    FILE *c = open_csv(o->csv, "bounds_systems.csv", &io_err);
+    io_atomic_t ca;
+    FILE *c = open_csv(o->csv, "bounds_systems.csv", &ca, &io_err);
     if (c) {
       fprintf(c, "id,family,event,label,theta_deg,n1,n2,radius,rotated,length,status");
       for (int q = 0; q < VAL_NCOEF; q++)
@@ -595,9 +598,9 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
       fprintf(c, ",tensor_diff\n");
       for (size_t i = 0; i < n; i++)
         systems_csv_row(c, i, &sw[i], &res[i]);
-      close_csv(c, o->csv, "bounds_systems.csv", &io_err);
+      close_csv(&ca, &io_err);
     }
-    c = open_csv(o->csv, "bounds_summary.csv", &io_err);
+    c = open_csv(o->csv, "bounds_summary.csv", &ca, &io_err);
     if (c) {
       fprintf(c, "variant,coefficient,min_ratio,max_ratio,geometric_mean,failures,finite,"
                  "true_zero_bound_positive,both_zero,min_system\n");
@@ -610,9 +613,9 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
                   stats_geomean(s), s->fail, s->finite, s->vacuous, s->zero,
                   isfinite(s->min) ? sw[s->argmin].label : "");
         }
-      close_csv(c, o->csv, "bounds_summary.csv", &io_err);
+      close_csv(&ca, &io_err);
     }
-    c = open_csv(o->csv, "bounds_families.csv", &io_err);
+    c = open_csv(o->csv, "bounds_families.csv", &ca, &io_err);
     if (c) {
       fprintf(c, "family,variant,min_ratio_ex,min_ratio_exi,failures\n");
       for (int fa = 0; fa < VAL_FAMILY_COUNT; fa++)
@@ -620,9 +623,9 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
           fprintf(c, "%s,%s,%.10g,%.10g,%zu\n", val_family_name((val_family_t)fa),
                   px_variant_name((px_variant_t)var), fam[fa][var][0].min, fam[fa][var][1].min,
                   fam[fa][var][0].fail + fam[fa][var][1].fail);
-      close_csv(c, o->csv, "bounds_families.csv", &io_err);
+      close_csv(&ca, &io_err);
     }
-    c = open_csv(o->csv, "bounds_onset.csv", &io_err);
+    c = open_csv(o->csv, "bounds_onset.csv", &ca, &io_err);
     if (c) {
       fprintf(c,
               "id,label,C_corrected,C_printed,C_true,second_order_vanishes,onset_corrected,"
@@ -641,10 +644,10 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
                 r->spread[0], reg[r->regime[0]], r->err_over_tau[0], r->spread[1],
                 reg[r->regime[1]], r->err_over_tau[1]);
       }
-      close_csv(c, o->csv, "bounds_onset.csv", &io_err);
+      close_csv(&ca, &io_err);
     }
     if (!o->no_fit) {
-      c = open_csv(o->csv, "bounds_fit.csv", &io_err);
+      c = open_csv(o->csv, "bounds_fit.csv", &ca, &io_err);
       if (c) {
         fprintf(c, "id,family,event,theta_deg,label");
         for (int q = 0; q < VAL_NCOEF; q++)
@@ -663,7 +666,7 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
           fprintf(c, ",%.4g,%.4g,%.4g,%.4g,%.4g,%d\n", r->fit_excess[0], r->fit_dev[0],
                   r->fit_excess[1], r->fit_dev[1], r->sampled_vs_tensor, r->fitted > 0);
         }
-        close_csv(c, o->csv, "bounds_fit.csv", &io_err);
+        close_csv(&ca, &io_err);
       }
     }
   }

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "io/json.h"
+#include "io/output.h"
 #include "validation/verify.h"
 
 static px_mat4_t scaled(px_mat4_t t, double L) {
@@ -217,12 +218,15 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
     return -1;
   }
   FILE *csv = NULL;
-  if (o->csv && !(csv = fopen(o->csv, "w"))) {
-    fprintf(stderr, "pencil verify matrices: cannot write '%s': ", o->csv);
-    perror(NULL);
+  io_atomic_t ca; /* the CSV is written to a temporary file and renamed when complete */
+  char err[1024];
+  if (o->csv && io_atomic_open(&ca, o->csv, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil verify matrices: %s\n", err);
     free(sw);
     return -1;
   }
+  if (o->csv)
+    csv = ca.f;
   if (csv)
     fprintf(csv, "id,family,event,label,theta_deg,n1,n2,radius,rotated,length,status,pass,"
                  "rel_err,err_A,err_B,err_C,err_D,printed_rel_err,printed_A,printed_B,"
@@ -244,7 +248,9 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
       fprintf(o->report, "FAIL #%zu %s: %s, rel err %.3e\n", i, sw[i].label, px_strerror(r.status),
               r.rel_err);
   }
-  int io_err = csv && fclose(csv) != 0;
+  int io_err = csv && io_atomic_commit(&ca, err, sizeof err) != 0;
+  if (io_err)
+    fprintf(stderr, "pencil verify matrices: %s\n", err);
   if (o->report) {
     report(o->report, fam, &all);
     fprintf(o->report, "worst system: #%zu %s\n", worst_id, sw[worst_id].label);
@@ -271,7 +277,6 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
         json_array_append_new(ev, e);
     }
     json_object_set_new(root, "errata_evidence", ev);
-    char err[1024];
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil verify matrices: %s\n", err);
       io_err = 1;
