@@ -237,7 +237,7 @@ int io_as_vec3(io_parse_t *P, json_t *v, px_vec3_t *out) {
   double c[3];
   for (int k = 0; k < 3; k++) {
     io_push_index(P, k);
-    int ok = number_in(P, json_array_get(v, (size_t)k), -INFINITY, INFINITY, 0, &c[k]);
+    int ok = number_in(P, json_array_get(v, (size_t)k), -IO_MAX_COORD, IO_MAX_COORD, 0, &c[k]);
     io_pop(P);
     if (!ok)
       return 0;
@@ -270,12 +270,15 @@ int io_get_rgb(io_parse_t *P, json_t *o, const char *key, rt_rgb_t def, rt_rgb_t
   double g = 0.0;
   px_vec3_t c = {0.0, 0.0, 0.0};
   if (json_is_number(v)) {
-    ok = number_in(P, v, 0.0, INFINITY, 0, &g);
+    ok = number_in(P, v, 0.0, IO_MAX_RADIANCE, 0, &g);
     c = px_vec3(g, g, g);
   } else if (!json_is_array(v)) {
     ok = io_fail(P, "expected a colour [r, g, b] or one number, got %s", type_name(v));
-  } else if ((ok = io_as_vec3(P, v, &c)) && (c.x < 0 || c.y < 0 || c.z < 0)) {
-    ok = io_fail(P, "colour components must be >= 0, got [%g, %g, %g]", c.x, c.y, c.z);
+  } else if ((ok = io_as_vec3(P, v, &c)) &&
+             (c.x < 0 || c.y < 0 || c.z < 0 || c.x > IO_MAX_RADIANCE || c.y > IO_MAX_RADIANCE ||
+              c.z > IO_MAX_RADIANCE)) {
+    ok = io_fail(P, "colour components must be from 0 to %g, got [%g, %g, %g]", IO_MAX_RADIANCE,
+                 c.x, c.y, c.z);
   }
   io_pop(P);
   if (ok)

@@ -44,10 +44,18 @@ int io_get_int(io_parse_t *P, json_t *o, const char *key, int required, int def,
                int *out);
 int io_get_bool(io_parse_t *P, json_t *o, const char *key, int def, int *out);
 int io_get_string(io_parse_t *P, json_t *o, const char *key, int required, const char **out);
-/** [x, y, z] of finite numbers. */
+/** Largest coordinate magnitude of a point or vector in a scene (scene units): far beyond any
+ *  scene, and far enough below the double range that differences, cross products and squared
+ *  lengths of such vectors stay finite. */
+#define IO_MAX_COORD 1e12
+/** Largest colour component, light intensity, ambient or background: sums over many lights and
+ *  reflections stay far inside float32 (3.4e38), so that an image never holds an infinity. */
+#define IO_MAX_RADIANCE 1e6
+
+/** [x, y, z], each component from -IO_MAX_COORD to IO_MAX_COORD. */
 int io_get_vec3(io_parse_t *P, json_t *o, const char *key, int required, px_vec3_t def,
                 px_vec3_t *out);
-/** A colour: [r, g, b] or one number for grey, every component >= 0. */
+/** A colour: [r, g, b] or one number for grey, every component from 0 to IO_MAX_RADIANCE. */
 int io_get_rgb(io_parse_t *P, json_t *o, const char *key, rt_rgb_t def, rt_rgb_t *out);
 /** The value `v` itself (already at the current path) as a vec3. */
 int io_as_vec3(io_parse_t *P, json_t *v, px_vec3_t *out);

@@ -58,12 +58,12 @@ static int parse_material(io_parse_t *P, const char *name, json_t *o) {
   if (!json_is_object(o))
     return io_fail(P, "expected a material object {\"kd\": ..., ...}");
   int ok = io_check_keys(P, o, keys) && io_get_rgb(P, o, "color", m.color, &m.color) &&
-           io_get_number(P, o, "ka", 0, m.ka, 0, INFINITY, 0, &m.ka) &&
-           io_get_number(P, o, "kd", 0, m.kd, 0, INFINITY, 0, &m.kd) &&
-           io_get_number(P, o, "ks", 0, m.ks, 0, INFINITY, 0, &m.ks) &&
+           io_get_number(P, o, "ka", 0, m.ka, 0, 1, 0, &m.ka) &&
+           io_get_number(P, o, "kd", 0, m.kd, 0, 1, 0, &m.kd) &&
+           io_get_number(P, o, "ks", 0, m.ks, 0, 1, 0, &m.ks) &&
            io_get_number(P, o, "phong", 0, m.phong, 0, 1e6, 0, &m.phong) &&
-           io_get_number(P, o, "kr", 0, m.kr, 0, INFINITY, 0, &m.kr) &&
-           io_get_number(P, o, "kt", 0, m.kt, 0, INFINITY, 0, &m.kt) &&
+           io_get_number(P, o, "kr", 0, m.kr, 0, 1, 0, &m.kr) &&
+           io_get_number(P, o, "kt", 0, m.kt, 0, 1, 0, &m.kt) &&
            io_get_number(P, o, "ior", 0, m.ior, 0, 100.0, 1, &m.ior) &&
            io_get_bool(P, o, "fresnel", 0, &m.fresnel) &&
            io_get_rgb(P, o, "transmittance", m.transmittance, &m.transmittance);
