@@ -264,7 +264,15 @@ static int render(const args_t *a, rt_scene_t *s) {
   double t0 = val_wall_seconds();
   rt_status_t rs = a->r->render(s, &plan, &c, a->opt, &out);
   double dt = val_wall_seconds() - t0;
-  int ok = rs == RT_OK && write_outputs(a, &out, spp);
+  int px, py, pc, ok = rs == RT_OK;
+  if (ok && rn_image_nonfinite(&img, &px, &py, &pc)) {
+    fprintf(stderr,
+            "pencil render: the %s renderer produced a non-finite %c at pixel (%d, %d) (column, "
+            "row from the top); nothing was written\n",
+            a->r->name, "RGB"[pc], px, py);
+    ok = 0;
+  }
+  ok = ok && write_outputs(a, &out, spp);
   if (rs != RT_OK)
     fprintf(stderr, "pencil render: %s\n", rt_strerror(rs));
   if (ok) {

@@ -136,11 +136,28 @@ static void entry_renders_as_the_renderer(void **state) {
   rt_scene_free(&s);
 }
 
+static void nonfinite_pixels_are_found(void **state) {
+  (void)state;
+  rt_image_t img;
+  int x = -1, y = -1, c = -1;
+  assert_int_equal(rt_image_alloc(&img, 5, 4), RT_OK);
+  for (int ch = 0; ch < 3; ch++)
+    for (int k = 0; k < 20; k++)
+      img.ch[ch][k] = 0.5f;
+  img.ch[RT_CH_Z][3] = INFINITY; /* auxiliary channels may hold infinities (a miss) */
+  assert_int_equal(rn_image_nonfinite(&img, &x, &y, &c), 0);
+  img.ch[RT_CH_B][2 * 5 + 3] = NAN;
+  assert_int_equal(rn_image_nonfinite(&img, &x, &y, &c), 1);
+  assert_int_equal(x, 3);
+  assert_int_equal(y, 2);
+  assert_int_equal(c, 2);
+  rt_image_free(&img);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(entries_are_well_formed),
-      cmocka_unit_test(options_parse_and_refuse),
-      cmocka_unit_test(numbers_are_decimal),
+      cmocka_unit_test(entries_are_well_formed),       cmocka_unit_test(options_parse_and_refuse),
+      cmocka_unit_test(numbers_are_decimal),           cmocka_unit_test(nonfinite_pixels_are_found),
       cmocka_unit_test(entry_renders_as_the_renderer),
   };
   if (argc > 1)

@@ -174,6 +174,19 @@ void rn_print_options(FILE *f, const rn_renderer_t *r, int indent) {
   }
 }
 
+int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel) {
+  size_t n = (size_t)img->width * (size_t)img->height;
+  for (size_t k = 0; k < n; k++)
+    for (int c = 0; c < 3; c++)
+      if (!isfinite(img->ch[RT_CH_R + c][k])) {
+        *x = (int)(k % (size_t)img->width);
+        *y = (int)(k / (size_t)img->width);
+        *channel = c;
+        return 1;
+      }
+  return 0;
+}
+
 rt_status_t rn_channels_alloc(const rn_renderer_t *r, int width, int height, rn_output_t *out) {
   size_t n = (size_t)width * (size_t)height;
   for (int k = 0; k < RN_MAX_CHANNELS; k++)

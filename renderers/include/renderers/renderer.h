@@ -175,6 +175,12 @@ int rn_set(const rn_renderer_t *r, void *options, const char *name, const char *
  *  number beyond the range of a double. */
 int rn_parse_double(const char *text, double *out);
 
+/** Find the first pixel of img whose R, G or B is NaN or infinite (row-major from the top):
+ *  1 with its column, row and channel (0 R, 1 G, 2 B), or 0 when every value is finite. A
+ *  renderer's output is checked before it is written, so that no non-finite value reaches a
+ *  file unannounced. */
+int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel);
+
 /** Copy the entry's defaults into options (options_size bytes). */
 void rn_defaults(const rn_renderer_t *r, void *options);
 
