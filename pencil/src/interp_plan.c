@@ -69,27 +69,41 @@ int pt__own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int can_
   return !can_cut || pl->own_cost * quad_samples(C, q) <= PT_OWN_BUDGET * C->nnode;
 }
 
-/* Whether quad q may be interpolated, and how (see the file comment); on failure *why says
- * what failed. It stops as soon as the per-sample work exceeds what pt__own_pays() allows (the
- * caller cuts such a quad, when it can be cut). */
-int pt__make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *why) {
-  const point_t(*R)[3] = grid_of(q);
+/* What pt__make_plan() carries from one step to the next for one lattice cell. */
+typedef struct {
+  pt_ctx_t *C;
+  const lquad_t *q;      /* the cell */
+  const point_t (*R)[3]; /* the 3 x 3 grid its errors come from (grid_of) */
+  plan_t *pl;            /* the plan being made */
+  int can_cut;           /* the caller can cut the cell instead (pt__own_pays) */
+  int cert;              /* certified mode */
+  double rho;            /* the share of rho (Eq. 3) the hits' errors may use */
+  double ltol;           /* the brightness tolerance */
+  double xi2;   /* the largest |xi|^2 of the cell's corners, for the matrix error (Eq. 4) */
+  int *linear;  /* the nodes whose brightness is interpolated (C->lsm) ... */
+  int nlinear;  /* ... and their number */
+  double faint; /* the faint nodes' bounds, summed */
+  double werr;  /* the weight errors of the nodes shaded per sample, summed */
+} planning_t;
+
+/* Step 1: whether every point of grid R was traced without leaving the domain's paths. */
+static int grid_on_paths(const point_t (*R)[3]) {
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++)
-      if (!R[r][c].ok) {
-        *why = WHY_LEFT;
+      if (!R[r][c].ok)
         return 0;
-      }
+  return 1;
+}
+
+/* Step 2: the tolerances of lattice cell q, and an empty plan. */
+static void plan_begin(planning_t *P, pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut) {
   int cert = C->opt->certified;
-  double rho =
-      C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (q->measured ? 1.0 : PT_EINT_MARGIN);
-  double ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
-  double xi2 = 0.0;
+  *P = (planning_t){.C = C, .q = q, .R = grid_of(q), .pl = pl, .can_cut = can_cut, .cert = cert};
+  P->rho = C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (q->measured ? 1.0 : PT_EINT_MARGIN);
+  P->ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
   for (int i = 0; i < 4; i++)
-    xi2 = pt_max(xi2, corner_of(q, i)->xi2);
-  grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
-  memset(&sm, 0, sizeof sm);
-  t0 = t1 = sm;
+    P->xi2 = pt_max(P->xi2, corner_of(q, i)->xi2);
+  P->linear = C->lsm;
   pl->n = pl->nt = pl->nown = pl->nq2 = pl->nfaint = pl->halve = 0;
   pl->own_cost = 0.0;
   for (int i = 0; i < 4; i++)
@@ -97,12 +111,12 @@ int pt__make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *w
   memset(C->own, 0, (size_t)C->nnode);
   memset(C->q2, 0, (size_t)C->nnode);
   memset(C->faint, 0, (size_t)C->nnode);
-  /* a verify node (below an edge the corners saw) that some grid point did not confirm is traced
-   * exactly per sample in this quad, with its subtree */
+}
+
+/* Step 3: a verify node (below an edge the corners saw) that some grid point did not confirm is
+ * traced exactly per sample in this cell, with its subtree (C->xsub). */
+static void mark_exact_subtrees(pt_ctx_t *C, const point_t (*R)[3]) {
   uint8_t *xsub = C->xsub;
-  int *sml = C->lsm, nsm = 0; /* the linear nodes summed in sm */
-  double faint = 0.0;         /* the faint nodes' bounds, summed */
-  double werr = 0.0;          /* the weight errors of the nodes shaded per sample, summed */
   for (int k = 0; k < C->nnode; k++) {
     const pt_node_t *n = &C->node[k];
     xsub[k] = n->parent >= 0 && xsub[n->parent];
@@ -110,201 +124,287 @@ int pt__make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *w
       for (int c = 0; c < 3; c++)
         xsub[k] |= R[r][c].g[k].ok != 1;
   }
-  for (int k = 0; k < C->nnode; k++) {
-    int reached, exact;
-    if (xsub[k])
-      continue;
-    reach(R, k, &reached, &exact);
-    if (reached == 0 || exact == 9)
-      continue; /* not reached, or traced exactly per sample through its parent */
-    if (reached != 9 || exact != 0) {
-      *why = WHY_REACH;
-      return 0;
-    }
-    const pt_node_t *n = &C->node[k];
-    int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0, is_faint = 0;
-    if (!n->miss) {
-      grid3_t p;
-      hits_of(R, k, &p);
-      double e_mat = matrix_error(n, xi2);
-      /* too curved to interpolate here: this node is traced per sample (the caller decides
-       * whether that is cheaper than cutting the quad) */
-      double eg = pt__grid_error(q, &p, norm_pixels, n);
-      own = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: own */
-      if (own && cert && q->measured && eg + e_mat <= rho)          /* the bound at the samples */
-        own = !(pt__bilinear_bound_at_samples(C, q, &p, n) + e_mat <= rho);
-      /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is
-       * then found per sample) */
-      /* (certified: the parent's biquadratic itself, over this quarter, where its deviation
-       * from the quarter's five new points - its measured error - is within the margin) */
-      int q2 =
-          own && q->measured && q->pg && (!n->textured || n->child[0] < 0) &&
-          (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(q, n, k) + e_mat <= rho;
-      if (q2) {
-        own = 0;
-        C->q2[k] = 1;
-        pl->nq2++;
-      }
-      if (own) { /* cost per sample: a matrix product, or the path traced from the eye */
-        C->own[k] = 1;
-        pl->nown++;
-        pl->own_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
-        if (!pt__own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
-          *why = WHY_ERROR;
-          if (cert && q->measured)
-            pl->halve = pt__halve_dir(C, q, rho, xi2);
-          return 0;
-        }
-      }
-      /* a textured node interpolated biquadratically: its points may leave the corners' convex
-       * hull, so its square is found per sample */
-      int squares = !(n->textured && C->q2[k]);
-      if (n->textured)
-        for (int i = 1; i < 4; i++) {
-          const pt_geom_t *a = &corner_of(q, i)->g[k], *b = &corner_of(q, 0)->g[k];
-          squares = squares && a->su == b->su && a->sv == b->sv;
-        }
-      /* every light's visibility agrees at the cell's centre and corners, or at least at the
-       * nine points of the grid (then the brightness test below checks the shading between);
-       * not where the small-object guard saw a shadow that may fall between them */
-      smooth = !own && (n->light_agree == ~0u || same_visibility(R, k)) &&
-               !(n->light_guard && shadow_guarded(C, R, k));
-      /* a shadow edge on a faint node: interpolated, its bound counted against the tolerance
-       * (a textured node whose square changes over the quad only as a leaf, as below) */
-      if (!own && !smooth && (squares || n->child[0] < 0)) {
-        double b = pt__faint_bound(C, q, R, k);
-        if (faint + b <= PT_FAINT_SHARE * ltol) {
-          faint += b;
-          smooth = is_faint = 1;
-          C->faint[k] = 1;
-          pl->nfaint++;
-        }
-      }
-      for (int c = 0; c < 2; c++)
-        exact_children |=
-            n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT || xsub[n->child[c]]);
-      if (smooth && !squares && !own) {
-        /* the direct term is linear for each material: the sample's square picks one. Children
-         * would be weighted by the material too, so only for leaves */
-        if (n->child[0] >= 0) {
-          *why = WHY_ERROR;
-          return 0;
-        }
-        assert(n->textured); /* only a checkerboard has squares to pick per sample */
-        pl->kt[pl->nt++] = k;
-        smooth = 0;
-        leaf_texture = 1;
-        for (int r = 0; r < 3 && !is_faint; r++) /* a faint leaf's error is its bound */
-          for (int c = 0; c < 3; c++) {
-            t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[k].lt[0]));
-            t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[k].lt[1]));
-          }
-      }
-    }
-    if (smooth && !is_faint) { /* the test below: a faint node's error is its bound */
-      sml[nsm++] = k;
-      for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-          sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[k].l));
-    }
-    if (smooth) {
-      for (int i = 0; i < 4; i++)
-        pl->smooth[i] = rt_rgb_add(pl->smooth[i], corner_of(q, i)->g[k].l);
-    }
-    if (leaf_texture && !exact_children)
-      continue;
-    if (!smooth || exact_children) {
-      if (!smooth && !own && !leaf_texture)
-        pl->own_cost += 1.0; /* shaded per sample (a shadow edge) */
-      if (exact_children)
-        for (int c = 0; c < 2; c++)
-          pl->own_cost += n->child[c] >= 0 && xsub[n->child[c]] ? 2.0 : 0.0;
-      if (!pt__own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
-        *why = WHY_ERROR;
-        return 0;
-      }
-      pl->k[pl->n] = k;
-      pl->direct[pl->n] = (uint8_t)(!smooth && !leaf_texture);
-      pl->exact[pl->n++] = (uint8_t)exact_children;
-      if (!smooth && !leaf_texture)
-        werr += pt__weight_error(C, q, R, k);
+}
+
+/* Step 4a, node k's hits: interpolated bilinearly (0), biquadratically over a measured quarter
+ * (0, C->q2 set) or, too curved for either, traced per sample (1, C->own set); -1 when that
+ * per-sample work costs more than cutting the cell (pt__own_pays), with certified mode's
+ * halving direction in the plan. */
+static int plan_hits(planning_t *P, int k) {
+  pt_ctx_t *C = P->C;
+  const lquad_t *q = P->q;
+  const pt_node_t *n = &C->node[k];
+  plan_t *pl = P->pl;
+  int cert = P->cert;
+  double rho = P->rho;
+  grid3_t p;
+  hits_of(P->R, k, &p);
+  double e_mat = matrix_error(n, P->xi2);
+  double eg = pt__grid_error(q, &p, norm_pixels, n);
+  int own = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: own */
+  if (own && cert && q->measured && eg + e_mat <= rho)              /* the bound at the samples */
+    own = !(pt__bilinear_bound_at_samples(C, q, &p, n) + e_mat <= rho);
+  /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is then
+   * found per sample); certified: the parent's biquadratic itself, over this quarter, where its
+   * deviation from the quarter's five new points - its measured error - is within the margin */
+  int q2 =
+      own && q->measured && q->pg && (!n->textured || n->child[0] < 0) &&
+      (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(q, n, k) + e_mat <= rho;
+  if (q2) {
+    own = 0;
+    C->q2[k] = 1;
+    pl->nq2++;
+  }
+  if (own) { /* cost per sample: a matrix product, or the path traced from the eye */
+    C->own[k] = 1;
+    pl->nown++;
+    pl->own_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
+    if (!pt__own_pays(C, q, pl, P->can_cut)) {
+      if (cert && q->measured)
+        pl->halve = pt__halve_dir(C, q, rho, P->xi2);
+      return -1;
     }
   }
-  /* brightness: is it linear over the quad? */
-  double el = pt__grid_error(q, &sm, norm_rgb, NULL);
+  return own;
+}
+
+/* Whether textured node k's hits lie in one checker square at the cell's four corners (a node
+ * interpolated biquadratically may leave the corners' convex hull: its square is found per
+ * sample). 1 for a node that is not textured. */
+static int one_square(const planning_t *P, int k) {
+  const pt_node_t *n = &P->C->node[k];
+  int squares = !(n->textured && P->C->q2[k]);
+  if (n->textured)
+    for (int i = 1; i < 4; i++) {
+      const pt_geom_t *a = &corner_of(P->q, i)->g[k], *b = &corner_of(P->q, 0)->g[k];
+      squares = squares && a->su == b->su && a->sv == b->sv;
+    }
+  return squares;
+}
+
+/* Step 4b, node k's brightness: whether it is linear over the cell (every light's visibility
+ * agrees at the domain's centre and corners, or at least at the nine points of the grid - the
+ * brightness test then checks the shading between - and the small-object guard saw no shadow
+ * that may fall between them). If not, a faint node (a textured one only as a leaf) is
+ * interpolated across its shadow edge, its bound counted against the tolerance (*faint set). */
+static int plan_linear(planning_t *P, int k, int squares, int *faint) {
+  pt_ctx_t *C = P->C;
+  const pt_node_t *n = &C->node[k];
+  int smooth = (n->light_agree == ~0u || same_visibility(P->R, k)) &&
+               !(n->light_guard && shadow_guarded(C, P->R, k));
+  *faint = 0;
+  if (!smooth && (squares || n->child[0] < 0)) {
+    double b = pt__faint_bound(C, P->q, P->R, k);
+    if (P->faint + b <= PT_FAINT_SHARE * P->ltol) {
+      P->faint += b;
+      smooth = *faint = 1;
+      C->faint[k] = 1;
+      P->pl->nfaint++;
+    }
+  }
+  return smooth;
+}
+
+/* Whether a child of node n is traced exactly per sample (the domain's tree marks it exact, or
+ * this cell's plan traces it below an edge). */
+static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
+  int exact_children = 0;
+  for (int c = 0; c < 2; c++)
+    exact_children |=
+        n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT || C->xsub[n->child[c]]);
+  return exact_children;
+}
+
+/* Step 4c: node k is shaded per sample at its interpolated hits (its direct term when `direct`,
+ * its exactly traced children when `exact_children`); 0 when the per-sample work then costs more
+ * than cutting the cell. */
+static int plan_shaded(planning_t *P, int k, int direct, int own, int exact_children) {
+  pt_ctx_t *C = P->C;
+  const pt_node_t *n = &C->node[k];
+  plan_t *pl = P->pl;
+  if (direct && !own)
+    pl->own_cost += 1.0; /* shaded per sample (a shadow edge) */
+  if (exact_children)
+    for (int c = 0; c < 2; c++)
+      pl->own_cost += n->child[c] >= 0 && C->xsub[n->child[c]] ? 2.0 : 0.0;
+  if (!pt__own_pays(C, P->q, pl, P->can_cut))
+    return 0;
+  pl->k[pl->n] = k;
+  pl->direct[pl->n] = (uint8_t)direct;
+  pl->exact[pl->n++] = (uint8_t)exact_children;
+  if (direct)
+    P->werr += pt__weight_error(C, P->q, P->R, k);
+  return 1;
+}
+
+/* Step 4, node k of the cell's tree: how its hits and its brightness are interpolated; 0 (and
+ * *why) when the cell cannot be interpolated. */
+static int plan_node(planning_t *P, int k, int *why) {
+  pt_ctx_t *C = P->C;
+  plan_t *pl = P->pl;
+  int reached, exact;
+  if (C->xsub[k])
+    return 1;
+  reach(P->R, k, &reached, &exact);
+  if (reached == 0 || exact == 9)
+    return 1; /* not reached, or traced exactly per sample through its parent */
+  if (reached != 9 || exact != 0) {
+    *why = WHY_REACH;
+    return 0;
+  }
+  const pt_node_t *n = &C->node[k];
+  int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0, faint = 0;
+  *why = WHY_ERROR; /* what any failure below is */
+  if (!n->miss) {
+    own = plan_hits(P, k);
+    if (own < 0)
+      return 0;
+    int squares = one_square(P, k);
+    smooth = !own && plan_linear(P, k, squares, &faint);
+    exact_children = has_exact_children(C, n);
+    if (smooth && !squares && !own) {
+      /* the direct term is linear for each material: the sample's square picks one. Children
+       * would be weighted by the material too, so only for leaves */
+      if (n->child[0] >= 0)
+        return 0;
+      assert(n->textured); /* only a checkerboard has squares to pick per sample */
+      pl->kt[pl->nt++] = k;
+      smooth = 0;
+      leaf_texture = 1;
+    }
+  }
+  if (smooth && !faint) /* the brightness test: a faint node's error is its bound */
+    P->linear[P->nlinear++] = k;
+  if (smooth)
+    for (int i = 0; i < 4; i++)
+      pl->smooth[i] = rt_rgb_add(pl->smooth[i], corner_of(P->q, i)->g[k].l);
+  if (leaf_texture && !exact_children)
+    return 1;
+  if (!smooth || exact_children)
+    return plan_shaded(P, k, !smooth && !leaf_texture, own, exact_children);
+  return 1;
+}
+
+/* The deviation of the brightness interpolated over the cell from the traced one at its grid:
+ * that of the linear nodes' sum, plus for the textured leaves whose square changes the larger
+ * of their two materials' sums. Leaves whose flag is set in `skip` (when not NULL) are left out
+ * of those sums. (pt__make_plan() skips the faint leaves, whose error is their bound, on its first
+ * test only, and counts them in its later tests: kept as it was, images being compared bit for
+ * bit across this restructuring.) */
+static double brightness_error(const planning_t *P, const uint8_t *skip) {
+  const point_t(*R)[3] = P->R;
+  const plan_t *pl = P->pl;
+  grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
+  memset(&sm, 0, sizeof sm);
+  t0 = t1 = sm;
+  for (int j = 0; j < P->nlinear; j++)
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[P->linear[j]].l));
+  for (int j = 0; j < pl->nt; j++)
+    for (int r = 0; r < 3 && !(skip && skip[pl->kt[j]]); r++)
+      for (int c = 0; c < 3; c++) {
+        t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[pl->kt[j]].lt[0]));
+        t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[pl->kt[j]].lt[1]));
+      }
+  double el = pt__grid_error(P->q, &sm, norm_rgb, NULL);
   if (pl->nt)
-    el += pt_max(pt__grid_error(q, &t0, norm_rgb, NULL), pt__grid_error(q, &t1, norm_rgb, NULL));
-  while (!(el + faint + werr <= ltol)) { /* (a NaN error is never accepted) */
-    /* not linear: the node whose own brightness is least linear is shaded per sample at its
-     * interpolated hit (as at a shadow edge), while the rest is interpolated; the caller
-     * weighs that per-sample work against cutting the quad (pt__own_pays) */
-    int best = -1, best_leaf = 0;
-    double eb = 0.0;
-    for (int m = 0; m < nsm; m++) {
-      grid3_t b;
-      for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-          b.v[r][c] = rgb_vec(R[r][c].g[sml[m]].l);
-      double e = pt__grid_error(q, &b, norm_rgb, NULL);
-      if (e > eb)
-        eb = e, best = m, best_leaf = 0;
+    el += pt_max(pt__grid_error(P->q, &t0, norm_rgb, NULL),
+                 pt__grid_error(P->q, &t1, norm_rgb, NULL));
+  return el;
+}
+
+/* The interpolated node whose own brightness is least linear over the cell: index m into the
+ * linear nodes (*leaf 0) or into the plan's textured leaves (*leaf 1, faint ones left out); -1
+ * when none deviates. */
+static int least_linear(const planning_t *P, int *leaf) {
+  const point_t(*R)[3] = P->R;
+  const plan_t *pl = P->pl;
+  int best = -1;
+  double eb = 0.0;
+  *leaf = 0;
+  for (int m = 0; m < P->nlinear; m++) {
+    grid3_t b;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        b.v[r][c] = rgb_vec(R[r][c].g[P->linear[m]].l);
+    double e = pt__grid_error(P->q, &b, norm_rgb, NULL);
+    if (e > eb)
+      eb = e, best = m, *leaf = 0;
+  }
+  for (int m = 0; m < pl->nt; m++) {
+    grid3_t b0, b1;
+    if (P->C->faint[pl->kt[m]])
+      continue;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        b0.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[0]);
+        b1.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[1]);
+      }
+    double e = pt_max(pt__grid_error(P->q, &b0, norm_rgb, NULL),
+                      pt__grid_error(P->q, &b1, norm_rgb, NULL));
+    if (e > eb)
+      eb = e, best = m, *leaf = 1;
+  }
+  return best;
+}
+
+/* Step 5b: the brightness of node `best` (least_linear's) is shaded per sample at its
+ * interpolated hits (as at a shadow edge) while the rest is interpolated; 0 when that costs more
+ * than cutting the cell. */
+static int shade_least_linear(planning_t *P, int best, int leaf) {
+  pt_ctx_t *C = P->C;
+  plan_t *pl = P->pl;
+  int k = leaf ? pl->kt[best] : P->linear[best];
+  if (leaf) {
+    pl->kt[best] = pl->kt[--pl->nt];
+  } else {
+    P->linear[best] = P->linear[--P->nlinear];
+    for (int i = 0; i < 4; i++)
+      pl->smooth[i] = rt_rgb_add(pl->smooth[i], rt_rgb_scale(corner_of(P->q, i)->g[k].l, -1.0));
+  }
+  int m = 0;
+  while (m < pl->n && pl->k[m] != k)
+    m++;
+  if (m == pl->n) {
+    pl->k[pl->n] = k;
+    pl->exact[pl->n++] = 0;
+  }
+  pl->direct[m] = 1;
+  pl->own_cost += 1.0;
+  P->werr += pt__weight_error(C, P->q, P->R, k);
+  return pt__own_pays(C, P->q, pl, P->can_cut);
+}
+
+/* Whether lattice cell q may be interpolated, and how (see interp.c's comment); on failure *why
+ * says what failed. It stops as soon as the per-sample work exceeds what pt__own_pays() allows
+ * (the caller cuts such a cell, when it can be cut). The steps: 1 the grid stayed on the
+ * domain's paths; 2 tolerances; 3 subtrees traced exactly; 4 per node, its hits (Eqs. 3-4 with
+ * the interpolation error), its brightness, its per-sample shading; 5 the brightness
+ * interpolated over the cell within the tolerance, shading the least linear nodes per sample
+ * until it is. */
+int pt__make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *why) {
+  if (!grid_on_paths(grid_of(q))) {
+    *why = WHY_LEFT;
+    return 0;
+  }
+  planning_t P;
+  plan_begin(&P, C, q, pl, can_cut);
+  mark_exact_subtrees(C, P.R);
+  int failed; /* *why is written on failure only */
+  for (int k = 0; k < C->nnode; k++)
+    if (!plan_node(&P, k, &failed)) {
+      *why = failed;
+      return 0;
     }
-    for (int m = 0; m < pl->nt; m++) {
-      grid3_t b0, b1;
-      if (C->faint[pl->kt[m]])
-        continue;
-      for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) {
-          b0.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[0]);
-          b1.v[r][c] = rgb_vec(R[r][c].g[pl->kt[m]].lt[1]);
-        }
-      double e =
-          pt_max(pt__grid_error(q, &b0, norm_rgb, NULL), pt__grid_error(q, &b1, norm_rgb, NULL));
-      if (e > eb)
-        eb = e, best = m, best_leaf = 1;
-    }
-    if (best < 0) {
+  /* step 5a: is the brightness linear over the cell? (a NaN error is never accepted) */
+  for (double el = brightness_error(&P, C->faint); !(el + P.faint + P.werr <= P.ltol);
+       el = brightness_error(&P, NULL)) {
+    int leaf, best = least_linear(&P, &leaf);
+    if (best < 0 || !shade_least_linear(&P, best, leaf)) {
       *why = WHY_ERROR;
       return 0;
     }
-    int k = best_leaf ? pl->kt[best] : sml[best];
-    if (best_leaf) {
-      pl->kt[best] = pl->kt[--pl->nt];
-    } else {
-      sml[best] = sml[--nsm];
-      for (int i = 0; i < 4; i++)
-        pl->smooth[i] = rt_rgb_add(pl->smooth[i], rt_rgb_scale(corner_of(q, i)->g[k].l, -1.0));
-    }
-    int m = 0;
-    while (m < pl->n && pl->k[m] != k)
-      m++;
-    if (m == pl->n) {
-      pl->k[pl->n] = k;
-      pl->exact[pl->n++] = 0;
-    }
-    pl->direct[m] = 1;
-    pl->own_cost += 1.0;
-    werr += pt__weight_error(C, q, R, k);
-    if (!pt__own_pays(C, q, pl, can_cut)) { /* the caller would cut the quad */
-      *why = WHY_ERROR;
-      return 0;
-    }
-    /* the remaining sums */
-    memset(&sm, 0, sizeof sm);
-    t0 = t1 = sm;
-    for (int j = 0; j < nsm; j++)
-      for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-          sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[sml[j]].l));
-    for (int j = 0; j < pl->nt; j++)
-      for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) {
-          t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[pl->kt[j]].lt[0]));
-          t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[pl->kt[j]].lt[1]));
-        }
-    el = pt__grid_error(q, &sm, norm_rgb, NULL);
-    if (pl->nt)
-      el += pt_max(pt__grid_error(q, &t0, norm_rgb, NULL), pt__grid_error(q, &t1, norm_rgb, NULL));
   }
   return 1;
 }
