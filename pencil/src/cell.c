@@ -26,13 +26,13 @@ static int interpolating(const pt_ctx_t *C) {
 
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
-  pt_ctree_t *ct = &C->corner[(y - C->dom_y0) * side + (x - C->dom_x0)];
+  pt_ctree_t *ct = &C->corners.tree[(y - C->corners.y0) * side + (x - C->corners.x0)];
   if (ct->n < 0) {
     rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
-    C->ex.tree = &C->tree2;
+    C->ex.tree = &C->trees.probe;
     rt_exact_primary(&C->ex, &r);
     C->ex.tree = NULL;
-    pt_ctree_from(ct, &C->tree2);
+    pt_ctree_from(ct, &C->trees.probe);
     C->st.exact_traces++;
   }
   return ct;
@@ -40,8 +40,8 @@ static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
 
 /* Step 4a for an accepted cell. */
 static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
-  C->kt = rt_tree_follow(&C->tree, RT_RAY_REFRACT);
-  C->kr = rt_tree_follow(&C->tree, RT_RAY_REFLECT);
+  C->paths.transmit = rt_tree_follow(&C->trees.axial, RT_RAY_REFRACT);
+  C->paths.reflect = rt_tree_follow(&C->trees.axial, RT_RAY_REFLECT);
   if (interpolating(C)) { /* its root lattice point at the centre records the shadows */
     pt__interp_cell(C, x0, y0, x1, y1, axial);
     return;
@@ -147,14 +147,14 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
  * parent's hits: an object that cone comes near may be seen by samples between the traced rays
  * (a small ball reflected against the sky, tests/test_pencil.c). */
 static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
-  pt_node_t *n = &C->node[k], *par = &C->node[n->parent];
+  pt_node_t *n = &C->paths.node[k], *par = &C->paths.node[n->parent];
   int any = 0;
   for (int i = 0; i < C->nguard && !any; i++)
     any = C->guard[i].object != n->object && C->guard[i].object != par->object;
   if (!any)
     return 0;
   if (n->miss) {
-    px_vec3_t axis = C->tree.node[k].dir;
+    px_vec3_t axis = C->trees.axial.node[k].dir;
     return pt_guard_cone(C->guard, C->nguard, par->o, hit_radius(C, par, b), axis,
                          miss_spread(C, n, par, axis, b), par->object);
   }
@@ -199,28 +199,29 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
   double need = INFINITY;
   *cost = 0.0;
   *over = *paths = *partial = 0;
-  C->nnode = C->tree.n;
-  int *size = C->loc; /* subtree sizes, scratch (children follow their parents) */
-  for (int k = 0; k < C->nnode; k++)
+  C->paths.n = C->trees.axial.n;
+  int *size = C->lattice.plan.shaded; /* subtree sizes, scratch (children follow their parents) */
+  for (int k = 0; k < C->paths.n; k++)
     size[k] = 1;
-  for (int k = C->nnode - 1; k > 0; k--)
-    size[C->tree.node[k].parent] += size[k];
-  for (int k = 0; k < C->nnode; k++) {
-    pt_node_t *n = &C->node[k];
-    int par = C->tree.node[k].parent;
-    pt_path_topology(C->s, &C->tree, k, par >= 0 ? &C->node[par] : NULL, n);
-    n->light_agree = C->light[k];
-    int parent_ok = par < 0 || C->node[par].pencil != PT_NODE_EXACT;
+  for (int k = C->paths.n - 1; k > 0; k--)
+    size[C->trees.axial.node[k].parent] += size[k];
+  for (int k = 0; k < C->paths.n; k++) {
+    pt_node_t *n = &C->paths.node[k];
+    int par = C->trees.axial.node[k].parent;
+    pt_path_topology(C->s, &C->trees.axial, k, par >= 0 ? &C->paths.node[par] : NULL, n);
+    n->light_agree = C->corners.light[k];
+    int parent_ok = par < 0 || C->paths.node[par].pencil != PT_NODE_EXACT;
     /* with ray interpolation, a node below an edge is traced along its path at the lattice
      * points with a scene search that must confirm it (the lattice then finds the edge) */
-    int verify = !C->agree[k] && parent_ok && par >= 0 && interpolating(C);
-    int mode = (C->agree[k] || verify) && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
-    if (!C->agree[k] && parent_ok) { /* an edge below the primary ray */
+    int verify = !C->corners.agree[k] && parent_ok && par >= 0 && interpolating(C);
+    int mode = (C->corners.agree[k] || verify) && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
+    if (!C->corners.agree[k] && parent_ok) { /* an edge below the primary ray */
       need = fmin(need, 0.5 * xi_cell);
       *cost += size[k];
     }
     n->guard_r = -1.0;
-    if (mode && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
+    if (mode &&
+        pt_path_build(C->s, &C->trees.axial, k, C->paths.node, p, &C->paths.scratch) != PX_OK)
       mode = PT_NODE_EXACT;
     if (mode && par >= 0 && segment_guarded(C, k, b)) {
       /* traced exactly per sample (a scene search), as below an edge */
@@ -255,11 +256,11 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
   /* a path traced exactly needs exact hits on the way: its ancestors are traced along their
    * paths too (which costs no more than their matrices: shade.h computes the reflected and
    * refracted directions anyway) */
-  for (int k = 0; k < C->nnode; k++)
-    if (C->node[k].pencil == PT_NODE_PATH)
-      for (int a = C->node[k].parent; a >= 0 && C->node[a].pencil == PT_NODE_MATRIX;
-           a = C->node[a].parent)
-        C->node[a].pencil = PT_NODE_PATH;
+  for (int k = 0; k < C->paths.n; k++)
+    if (C->paths.node[k].pencil == PT_NODE_PATH)
+      for (int a = C->paths.node[k].parent; a >= 0 && C->paths.node[a].pencil == PT_NODE_MATRIX;
+           a = C->paths.node[a].parent)
+        C->paths.node[a].pencil = PT_NODE_PATH;
   return need;
 }
 
@@ -268,7 +269,7 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   st->cells++;
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
-  C->ex.tree = &C->tree;
+  C->ex.tree = &C->trees.axial;
   rt_exact_primary(&C->ex, &axial);
   C->ex.tree = NULL;
   st->exact_traces++;
@@ -277,9 +278,9 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   const pt_ctree_t *ct[4];
   for (int i = 0; i < 4; i++)
     ct[i] = corner(C, xs[i], ys[i]);
-  pt_tree_agree(&C->tree, ct, 4, C->map, C->agree, C->light);
-  int edge =
-      C->tree.n == 0 || !C->agree[0] || px_frame_from_z(axial.d, C->view->down, &C->frame) != PX_OK;
+  pt_tree_agree(&C->trees.axial, ct, 4, C->corners.map, C->corners.agree, C->corners.light);
+  int edge = C->trees.axial.n == 0 || !C->corners.agree[0] ||
+             px_frame_from_z(axial.d, C->view->down, &C->paths.frame) != PX_OK;
   double xi_cell = 0.0;
   for (int i = 0; i < 4 && !edge; i++)
     xi_cell = fmax(xi_cell, xi_norm(C, xs[i], ys[i]));
@@ -300,8 +301,8 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   pt__xi(C, cx, cy + 0.5, c);
   pt__xi(C, cx, cy - 0.5, d);
   pt_pencil_t p = {
-      C->view->eye, C->frame,      {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
-      C->opt->rho,  C->opt->bound, xi_cell,
+      C->view->eye, C->paths.frame, {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
+      C->opt->rho,  C->opt->bound,  xi_cell,
       NULL};
   boundary_t bnd = boundary_of(x0, y0, x1, y1);
   if (C->opt->certified)
@@ -309,9 +310,8 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   int partial, over, paths;
   double cost,
       dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
-  C->dpix = fmax(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
   double need = build_paths(C, &p, &bnd, xi_cell, dmin, &cost, &over, &paths, &partial);
-  if (C->node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
+  if (C->paths.node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
     st->cells_edge++;
     split(C, x0, y0, x1, y1, 2);
     return;
@@ -327,7 +327,7 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   int w = x1 - x0, h = y1 - y0, s = C->opt->spp_side;
   double k = ceil(xi_cell / need);
   if (isfinite(need) && (w > 1 || h > 1) && !interpolating(C) &&
-      (2 * over > paths || k * k * (5.0 + C->nnode) < cost * w * h * s * s)) {
+      (2 * over > paths || k * k * (5.0 + C->paths.n) < cost * w * h * s * s)) {
     st->cells_split++;
     split(C, x0, y0, x1, y1, k > 64.0 ? 64 : (int)fmax(2.0, k));
     return;

@@ -27,7 +27,7 @@ static void mark_exact(pt_eval_t *E, int k) {
   if (!E->rec)
     return;
   E->rec[k].ok = 2;
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   for (int c = 0; c < 2; c++)
     if (n->child[c] >= 0)
       mark_exact(E, n->child[c]);
@@ -37,7 +37,7 @@ static void mark_exact(pt_eval_t *E, int k) {
  * by shade.h before it builds the shadow segment; the axial sample records instead). */
 static int known_cb(void *ctx, int l, rt_rgb_t *through) {
   const pt_eval_t *E = ctx;
-  const pt_node_t *n = &E->C->node[E->cur];
+  const pt_node_t *n = &E->C->paths.node[E->cur];
   if (l >= PT_MAX_LIGHTS || !(n->known & (1u << l)) ||
       (E->record_shadow && (n->light_agree & (1u << l))))
     return 0;
@@ -47,7 +47,7 @@ static int known_cb(void *ctx, int l, rt_rgb_t *through) {
 
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
   pt_eval_t *E = ctx;
-  pt_node_t *n = &E->C->node[E->cur];
+  pt_node_t *n = &E->C->paths.node[E->cur];
   if (q->light < PT_MAX_LIGHTS) {
     unsigned bit = 1u << q->light;
     if (E->record_shadow && (n->light_agree & bit)) {
@@ -72,16 +72,16 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
 }
 
 /* Radiance along child ray c of pencil node k by the exact tracer (unweighted). With
- * E->record_sub the subtree's rays are recorded in C->sub under a root standing for node k, so
+ * E->record_sub the subtree's rays are recorded in C->sub.tree under a root standing for node k, so
  * that the measure compares its points with the exact tracer's: they start at the pencil's hit
  * of k, which may be interpolated. */
 static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth) {
   pt_ctx_t *C = E->C;
   rt_tracer_t ex = rt_exact_tracer(&C->ex);
-  rt_tree_t *t = &C->sub;
+  rt_tree_t *t = &C->sub.tree;
   if (!E->record_sub || k < 0)
     return ex.child(ex.ctx, c, depth);
-  if (t->n >= t->cap || C->nsub >= C->cap) { /* not recorded: the measure cannot compare it */
+  if (t->n >= t->cap || C->sub.n >= C->cap) { /* not recorded: the measure cannot compare it */
     t->overflow = 1;
     return ex.child(ex.ctx, c, depth);
   }
@@ -92,8 +92,8 @@ static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth)
                                 .texel = -1,
                                 .t = INFINITY,
                                 .weight = rt_rgb(1, 1, 1)};
-  C->sub_root[C->nsub] = r;
-  C->sub_from[C->nsub++] = k;
+  C->sub.root[C->sub.n] = r;
+  C->sub.from[C->sub.n++] = k;
   rt_tree_t *saved = C->ex.tree;
   int saved_node = C->ex.node;
   C->ex.tree = t;
@@ -132,12 +132,12 @@ static int verified(pt_eval_t *E, const pt_node_t *n, const rt_ray_t *r, double 
  * the path (misses a primitive or lacks the child). */
 static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   pt_ctx_t *C = E->C;
-  pt_xgeom_t *x = &C->xg[k];
+  pt_xgeom_t *x = &C->sample.exact[k];
   if (x->stamp == E->stamp)
     return x;
   x->stamp = E->stamp;
   x->ok = 0;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   rt_ray_t r = E->primary;
   if (n->parent >= 0) {
     const pt_xgeom_t *px = exact_geom(E, n->parent);
@@ -147,8 +147,8 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
     rt_surface_t sf;
     rt_child_t ch; /* only the child of the path's kind (shading builds both) */
     node_surface(E, n->parent, px->p, px->d, &ray, &sf);
-    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, (rt_ray_kind_t)n->kind,
-                        &ch))
+    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->paths.node[n->parent].depth,
+                        (rt_ray_kind_t)n->kind, &ch))
       return x;
     r = ch.ray;
   }
@@ -167,7 +167,7 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
 static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
   for (int c = 0; c < 2; c++) {
     int kc = n->child[c];
-    if (kc >= 0 && (E->C->node[kc].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[kc])))
+    if (kc >= 0 && (E->C->paths.node[kc].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[kc])))
       return 1;
   }
   return 0;
@@ -178,7 +178,7 @@ static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
  * spawned it (NULL for the primary ray). */
 static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   if (E->exact_spawn && !E->lattice && spawns_exact(E, n)) {
     /* the exact tracer takes the rays spawned here: an interpolated (or matrix) hit and
      * direction, though within the tolerance, would put their error into every surface below,
@@ -232,7 +232,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     return 1;
   }
   if (n->pencil == PT_NODE_PATH) { /* exactly along the path */
-    int exact_parent = n->parent < 0 || E->C->node[n->parent].pencil == PT_NODE_PATH;
+    int exact_parent = n->parent < 0 || E->C->paths.node[n->parent].pencil == PT_NODE_PATH;
     if (from && exact_parent) { /* spawned at an exact hit: the sample's own ray */
       double t;
       if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t) ||
@@ -240,7 +240,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
         return 0;
       *hit = v3_axpy(t, from->ray.d, from->ray.o);
       *d = from->ray.d;
-      E->C->xg[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
+      E->C->sample.exact[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
       return 1;
     }
     const pt_xgeom_t *x = exact_geom(E, k);
@@ -255,7 +255,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
 /* The surface record of node k at (hit, d) for shade.h. */
 static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,
                          rt_surface_t *sf) {
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   rt_hit_t h = {0.0, hit, rt_prim_normal(E->C->s, n->prim, hit), n->prim, n->object};
   *ray = (rt_ray_t){hit, d, 0.0, INFINITY, n->ior, -1};
   rt_shade_surface(E->C->s, &h, ray, sf);
@@ -268,7 +268,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
  * (the caller interpolates them). */
 static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w, int only_exact) {
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   rt_child_t ch[2];
   int nc = -1;
   if (only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
@@ -276,8 +276,8 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
      * one of them is traced exactly, only that one is built (the other is interpolated) */
     int exact[2];
     for (int c = 0; c < 2; c++)
-      exact[c] =
-          E->C->node[n->child[c]].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[n->child[c]]);
+      exact[c] = E->C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
+                 (E->xsub && E->xsub[n->child[c]]);
     if (exact[0] != exact[1])
       nc = rt_shade_child(E->C->s, E->C->plan, sf, ray, n->depth,
                           (rt_ray_kind_t)n->child_kind[exact[0] ? 0 : 1], &ch[0]);
@@ -290,7 +290,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
              : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
                                                    : -1;
-    if (kc >= 0 && E->C->node[kc].pencil != PT_NODE_EXACT && !(E->xsub && E->xsub[kc])) {
+    if (kc >= 0 && E->C->paths.node[kc].pencil != PT_NODE_EXACT && !(E->xsub && E->xsub[kc])) {
       if (!only_exact)
         sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));
       continue;
@@ -321,7 +321,7 @@ static void left(pt_eval_t *E, const pt_node_t *n) {
 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from) {
   pt_ctx_t *C = E->C;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   pt_geom_t *g = E->rec ? &E->rec[k] : NULL;
   if (n->miss) {
     const rt_ray_t *r = from ? &from->ray : E->mode == PT_EV_MATRIX ? &E->primary : NULL;
@@ -399,11 +399,11 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
 
 rt_rgb_t pt__eval(pt_eval_t *E) {
   if (E->rec)
-    for (int k = 0; k < E->C->nnode; k++)
+    for (int k = 0; k < E->C->paths.n; k++)
       E->rec[k].ok = E->rec[k].fb = 0;
   if (E->record_sub) {
-    E->C->sub.n = E->C->sub.overflow = 0;
-    E->C->nsub = 0;
+    E->C->sub.tree.n = E->C->sub.tree.overflow = 0;
+    E->C->sub.n = 0;
   }
   E->cur = -1;
   E->fallback = 0;
@@ -411,12 +411,12 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
   E->ownfail = 0;
   E->spawnfail = 0;
   E->partial = 0;
-  E->stamp = ++E->C->stamp;
+  E->stamp = ++E->C->sample.stamp;
   return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);
 }
 
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children) {
-  if (E->C->node[k].miss) /* the sky: no surface to shade (and no children) */
+  if (E->C->paths.node[k].miss) /* the sky: no surface to shade (and no children) */
     return direct ? rt_rgb_mul(w, E->C->s->background) : rt_rgb(0, 0, 0);
   px_vec3_t hit, d;
   if (!node_geometry(E, k, NULL, &hit, &d)) { /* only an own node's ray can leave its path */
@@ -441,14 +441,14 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
 
 int pt__spawns_exact(const pt_eval_t *E) {
   const pt_ctx_t *C = E->C;
-  for (int k = 0; k < C->nnode; k++)
-    if (!C->node[k].miss && spawns_exact(E, &C->node[k]))
+  for (int k = 0; k < C->paths.n; k++)
+    if (!C->paths.node[k].miss && spawns_exact(E, &C->paths.node[k]))
       return 1;
   return 0;
 }
 
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]) {
   rt_ray_t r = rt_view_ray(C->view, x, y, 1.0);
-  xi[0] = v3_dot(C->frame.x1, r.d);
-  xi[1] = v3_dot(C->frame.x2, r.d);
+  xi[0] = v3_dot(C->paths.frame.x1, r.d);
+  xi[1] = v3_dot(C->paths.frame.x2, r.d);
 }

@@ -64,7 +64,7 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
 
 /* Trace the five interior points of q (its corners are set) at refinement level `level`. */
 static void measure(pt_ctx_t *C, lquad_t *q, int level) {
-  pt_geom_t *pool = C->ref + (size_t)level * 5 * (size_t)C->cap;
+  pt_geom_t *pool = C->lattice.refine + (size_t)level * 5 * (size_t)C->cap;
   const int at[5][2] = {{0, 1}, {1, 0}, {1, 1}, {1, 2}, {2, 1}};
   for (int m = 0; m < 5; m++) {
     int r = at[m][0], c = at[m][1];
@@ -97,7 +97,7 @@ static void cut(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level) {
 /* Halve measured quad q (pt__halve_dir's direction `dir`): each half keeps three of q's grid lines
  * and traces its three new midpoints. */
 static void halve(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level, int dir) {
-  pt_geom_t *pool = C->ref + (size_t)(level + 1) * 5 * (size_t)C->cap;
+  pt_geom_t *pool = C->lattice.refine + (size_t)(level + 1) * 5 * (size_t)C->cap;
   for (int h = 0; h < 2; h++) {
     lquad_t s;
     memset(&s, 0, sizeof s);
@@ -133,7 +133,10 @@ static void halve(pt_ctx_t *C, const cellacc_t *A, const lquad_t *q, int level, 
 /* Accept quad q, cut it, or send its samples to the matrices. An estimated quad (not measured)
  * that fails is measured first. */
 static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level) {
-  plan_t pl = {.k = C->loc, .direct = C->locd, .exact = C->loce, .kt = C->loct};
+  plan_t pl = {.k = C->lattice.plan.shaded,
+               .direct = C->lattice.plan.shaded_direct,
+               .exact = C->lattice.plan.shaded_exact,
+               .kt = C->lattice.plan.leaves};
   int why = WHY_ERROR;
   int can_cut = level + 1 < PT_QUAD_LEVELS && quad_samples(C, q) > PT_CUT_SAMPLES;
   if (!q->measured && !C->opt->certified && pt__make_plan(C, q, &pl, 1, &why) &&
@@ -161,8 +164,8 @@ static void quad_process(pt_ctx_t *C, const cellacc_t *A, lquad_t *q, int level)
 }
 
 void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
-  cellacc_t A = {x0, y0, x1, y1, C->acc};
-  pt__memo_reset(&C->memo, C->nnode);
+  cellacc_t A = {x0, y0, x1, y1, C->lattice.pixels};
+  pt__memo_reset(&C->lattice.memo, C->paths.n);
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++)
       *pixel_at(&A, i, j) = (pixel_t){i, j, {0, 0, 0}, NAN, {0, 0, 0}, 0};
@@ -178,11 +181,12 @@ void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t
   } else {
     /* the grid's centre is the cell's axial ray: traced first, it records the cell's shadow
      * transmittances (pt__record_shadows) and is then found in the memo */
-    pt__trace_point(C, x0 + 0.5 * q.w, y0 + 0.5 * q.h, C->lat + (size_t)4 * (size_t)C->cap, 1);
+    pt__trace_point(C, x0 + 0.5 * q.w, y0 + 0.5 * q.h, C->lattice.root + (size_t)4 * (size_t)C->cap,
+                    1);
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++)
         q.g[r][c] = pt__trace_point(C, x0 + 0.5 * c * q.w, y0 + 0.5 * r * q.h,
-                                    C->lat + (size_t)(3 * r + c) * (size_t)C->cap, 0);
+                                    C->lattice.root + (size_t)(3 * r + c) * (size_t)C->cap, 0);
     q.measured = 1;
     quad_process(C, &A, &q, 0);
   }

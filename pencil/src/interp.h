@@ -262,6 +262,6 @@ void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1,
 
 /* interp_memo.c */
 point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow);
-void pt__memo_reset(pt_lmemo_t *M, int nnode);
+void pt__memo_reset(pt_lattice_memo_t *M, int nnode);
 
 #endif

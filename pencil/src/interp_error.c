@@ -107,7 +107,7 @@ double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lquad_t *q, const 
  * tolerance, instead of being shaded per sample with a shadow ray. */
 double pt__faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3], int k) {
   const rt_scene_t *s = C->s;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   const rt_object_t *o = &s->object[n->object];
   grid3_t w;
   double wmax = 0.0;
@@ -130,14 +130,14 @@ double pt__faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3
   return wmax * dmax;
 }
 
-/* With a Fresnel split (C->vary_w) a node's weight W_k varies over the quad, and a node shaded
- * per sample takes the bilinear interpolation of the corners' W_k: its error is W_k's own
+/* With a Fresnel split (C->weights_vary) a node's weight W_k varies over the quad, and a node
+ * shaded per sample takes the bilinear interpolation of the corners' W_k: its error is W_k's own
  * interpolation error times the node's unweighted brightness (direct_k, both materials of a
  * checkerboard; a miss node's background), at most. Without it W_k is constant over a quad
  * whose points reached the same nodes, and this is 0. (The children a node traces exactly per
  * sample take that W_k too; their error is not counted.) */
 double pt__weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3], int k) {
-  if (!C->vary_w)
+  if (!C->weights_vary)
     return 0.0;
   grid3_t w;
   double dmax = 0.0;
@@ -147,7 +147,7 @@ double pt__weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[
       w.v[r][c] = rgb_vec(g->w);
       const double wc[3] = {g->w.r, g->w.g, g->w.b};
       const rt_rgb_t *ls[3] = {&g->l, &g->lt[0], &g->lt[1]};
-      for (int i = 0; i < (C->node[k].textured ? 3 : 1); i++) {
+      for (int i = 0; i < (C->paths.node[k].textured ? 3 : 1); i++) {
         const double lc[3] = {ls[i]->r, ls[i]->g, ls[i]->b};
         for (int ch = 0; ch < 3; ch++)
           if (wc[ch] > 0.0)
@@ -170,12 +170,12 @@ double pt__weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[
  * (docs/pencil.md, "Tenth pass"). */
 int pt__halve_dir(const pt_ctx_t *C, const lquad_t *q, double rho, double xi2) {
   const point_t(*R)[3] = grid_of(q);
-  const uint8_t *xsub = C->xsub;
+  const uint8_t *xsub = C->lattice.plan.exact_subtree;
   double f = C->opt->certified ? PT_BILINEAR_CERT : 1.0;
   int okx = 1, oky = 1;
   double ex = 0.0, ey = 0.0;
-  for (int k = 0; k < C->nnode && (okx || oky); k++) {
-    const pt_node_t *n = &C->node[k];
+  for (int k = 0; k < C->paths.n && (okx || oky); k++) {
+    const pt_node_t *n = &C->paths.node[k];
     if (xsub[k] || n->miss)
       continue;
     int reached, exact;

@@ -8,7 +8,7 @@
 #include "interp.h"
 
 /* Slot of position (x, y) in the memo's hash table: its own, or the empty one where it would go. */
-static int memo_slot(const pt_lmemo_t *M, double x, double y) {
+static int memo_slot(const pt_lattice_memo_t *M, double x, double y) {
   uint64_t a, b;
   memcpy(&a, &x, sizeof a);
   memcpy(&b, &y, sizeof b);
@@ -29,7 +29,7 @@ static int memo_slot(const pt_lmemo_t *M, double x, double y) {
  * nodes) when the memo is full. record_shadow: the point is the cell's axial ray, whose evaluation
  * also records the cell's shadow transmittances (pt__record_shadows). */
 point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow) {
-  pt_lmemo_t *M = &C->memo;
+  pt_lattice_memo_t *M = &C->lattice.memo;
   int s = memo_slot(M, x, y);
   if (M->gen[s] == M->now && C->opt->memo) {
     int i = M->slot[s];
@@ -64,7 +64,7 @@ point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int recor
  * nodes: a point's records are stored contiguously, nnode of them, so that the grids
  * pt__make_plan() reads are compact (with the tree's capacity as the stride, a point of the 13-node
  * Fig. 8 tree took 21 KB for 2 KB of records). */
-void pt__memo_reset(pt_lmemo_t *M, int nnode) {
+void pt__memo_reset(pt_lattice_memo_t *M, int nnode) {
   M->n = 0;
   M->stride = nnode > 0 ? nnode : 1;
   size_t room = M->entries / (size_t)M->stride;

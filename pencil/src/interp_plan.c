@@ -30,7 +30,7 @@ static int same_visibility(const point_t (*R)[3], int k) {
  * PT_GUARD_INFLATE). Cutting the quad shrinks them until the guard no longer fires; else the
  * node's direct term is shaded per sample. */
 static int shadow_guarded(const pt_ctx_t *C, const point_t (*R)[3], int k) {
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   px_vec3_t c = R[1][1].g[k].p;
   double r = 0.0, h = 0.0; /* reach from the centre; longest side between neighbouring points */
   for (int i = 0; i < 3; i++)
@@ -66,7 +66,7 @@ static int shadow_guarded(const pt_ctx_t *C, const point_t (*R)[3], int k) {
 /* Whether a plan's per-sample work is cheaper than cutting the quad (always when it cannot be
  * cut). */
 int pt__own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int can_cut) {
-  return !can_cut || pl->own_cost * quad_samples(C, q) <= PT_OWN_BUDGET * C->nnode;
+  return !can_cut || pl->own_cost * quad_samples(C, q) <= PT_OWN_BUDGET * C->paths.n;
 }
 
 /* What pt__make_plan() carries from one step to the next for one lattice cell. */
@@ -80,7 +80,7 @@ typedef struct {
   double rho;            /* the share of rho (Eq. 3) the hits' errors may use */
   double ltol;           /* the brightness tolerance */
   double xi2;   /* the largest |xi|^2 of the cell's corners, for the matrix error (Eq. 4) */
-  int *linear;  /* the nodes whose brightness is interpolated (C->lsm) ... */
+  int *linear;  /* the nodes whose brightness is interpolated (C->lattice.plan.linear) ... */
   int nlinear;  /* ... and their number */
   double faint; /* the faint nodes' bounds, summed */
   double werr;  /* the weight errors of the nodes shaded per sample, summed */
@@ -103,22 +103,22 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lquad_t *q, plan_t *pl,
   P->ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
   for (int i = 0; i < 4; i++)
     P->xi2 = pt_max(P->xi2, corner_of(q, i)->xi2);
-  P->linear = C->lsm;
+  P->linear = C->lattice.plan.linear;
   pl->n = pl->nt = pl->nown = pl->nq2 = pl->nfaint = pl->halve = 0;
   pl->own_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->smooth[i] = rt_rgb(0, 0, 0);
-  memset(C->own, 0, (size_t)C->nnode);
-  memset(C->q2, 0, (size_t)C->nnode);
-  memset(C->faint, 0, (size_t)C->nnode);
+  memset(C->lattice.plan.traced, 0, (size_t)C->paths.n);
+  memset(C->lattice.plan.biquadratic, 0, (size_t)C->paths.n);
+  memset(C->lattice.plan.faint, 0, (size_t)C->paths.n);
 }
 
 /* Step 3: a verify node (below an edge the corners saw) that some grid point did not confirm is
- * traced exactly per sample in this cell, with its subtree (C->xsub). */
+ * traced exactly per sample in this cell, with its subtree (C->lattice.plan.exact_subtree). */
 static void mark_exact_subtrees(pt_ctx_t *C, const point_t (*R)[3]) {
-  uint8_t *xsub = C->xsub;
-  for (int k = 0; k < C->nnode; k++) {
-    const pt_node_t *n = &C->node[k];
+  uint8_t *xsub = C->lattice.plan.exact_subtree;
+  for (int k = 0; k < C->paths.n; k++) {
+    const pt_node_t *n = &C->paths.node[k];
     xsub[k] = n->parent >= 0 && xsub[n->parent];
     for (int r = 0; r < 3 && n->verify && !xsub[k]; r++)
       for (int c = 0; c < 3; c++)
@@ -127,13 +127,13 @@ static void mark_exact_subtrees(pt_ctx_t *C, const point_t (*R)[3]) {
 }
 
 /* Step 4a, node k's hits: interpolated bilinearly (0), biquadratically over a measured quarter
- * (0, C->q2 set) or, too curved for either, traced per sample (1, C->own set); -1 when that
- * per-sample work costs more than cutting the cell (pt__own_pays), with certified mode's
- * halving direction in the plan. */
+ * (0, C->lattice.plan.biquadratic set) or, too curved for either, traced per sample (1,
+ * C->lattice.plan.traced set); -1 when that per-sample work costs more than cutting the cell
+ * (pt__own_pays), with certified mode's halving direction in the plan. */
 static int plan_hits(planning_t *P, int k) {
   pt_ctx_t *C = P->C;
   const lquad_t *q = P->q;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   plan_t *pl = P->pl;
   int cert = P->cert;
   double rho = P->rho;
@@ -152,11 +152,11 @@ static int plan_hits(planning_t *P, int k) {
       (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(q, n, k) + e_mat <= rho;
   if (q2) {
     own = 0;
-    C->q2[k] = 1;
+    C->lattice.plan.biquadratic[k] = 1;
     pl->nq2++;
   }
   if (own) { /* cost per sample: a matrix product, or the path traced from the eye */
-    C->own[k] = 1;
+    C->lattice.plan.traced[k] = 1;
     pl->nown++;
     pl->own_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
     if (!pt__own_pays(C, q, pl, P->can_cut)) {
@@ -172,8 +172,8 @@ static int plan_hits(planning_t *P, int k) {
  * interpolated biquadratically may leave the corners' convex hull: its square is found per
  * sample). 1 for a node that is not textured. */
 static int one_square(const planning_t *P, int k) {
-  const pt_node_t *n = &P->C->node[k];
-  int squares = !(n->textured && P->C->q2[k]);
+  const pt_node_t *n = &P->C->paths.node[k];
+  int squares = !(n->textured && P->C->lattice.plan.biquadratic[k]);
   if (n->textured)
     for (int i = 1; i < 4; i++) {
       const pt_geom_t *a = &corner_of(P->q, i)->g[k], *b = &corner_of(P->q, 0)->g[k];
@@ -189,7 +189,7 @@ static int one_square(const planning_t *P, int k) {
  * interpolated across its shadow edge, its bound counted against the tolerance (*faint set). */
 static int plan_linear(planning_t *P, int k, int squares, int *faint) {
   pt_ctx_t *C = P->C;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   int smooth = (n->light_agree == ~0u || same_visibility(P->R, k)) &&
                !(n->light_guard && shadow_guarded(C, P->R, k));
   *faint = 0;
@@ -198,7 +198,7 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
     if (P->faint + b <= PT_FAINT_SHARE * P->ltol) {
       P->faint += b;
       smooth = *faint = 1;
-      C->faint[k] = 1;
+      C->lattice.plan.faint[k] = 1;
       P->pl->nfaint++;
     }
   }
@@ -210,8 +210,8 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
 static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
   int exact_children = 0;
   for (int c = 0; c < 2; c++)
-    exact_children |=
-        n->child[c] >= 0 && (C->node[n->child[c]].pencil == PT_NODE_EXACT || C->xsub[n->child[c]]);
+    exact_children |= n->child[c] >= 0 && (C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
+                                           C->lattice.plan.exact_subtree[n->child[c]]);
   return exact_children;
 }
 
@@ -220,13 +220,13 @@ static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
  * than cutting the cell. */
 static int plan_shaded(planning_t *P, int k, int direct, int own, int exact_children) {
   pt_ctx_t *C = P->C;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   plan_t *pl = P->pl;
   if (direct && !own)
     pl->own_cost += 1.0; /* shaded per sample (a shadow edge) */
   if (exact_children)
     for (int c = 0; c < 2; c++)
-      pl->own_cost += n->child[c] >= 0 && C->xsub[n->child[c]] ? 2.0 : 0.0;
+      pl->own_cost += n->child[c] >= 0 && C->lattice.plan.exact_subtree[n->child[c]] ? 2.0 : 0.0;
   if (!pt__own_pays(C, P->q, pl, P->can_cut))
     return 0;
   pl->k[pl->n] = k;
@@ -243,7 +243,7 @@ static int plan_node(planning_t *P, int k, int *why) {
   pt_ctx_t *C = P->C;
   plan_t *pl = P->pl;
   int reached, exact;
-  if (C->xsub[k])
+  if (C->lattice.plan.exact_subtree[k])
     return 1;
   reach(P->R, k, &reached, &exact);
   if (reached == 0 || exact == 9)
@@ -252,7 +252,7 @@ static int plan_node(planning_t *P, int k, int *why) {
     *why = WHY_REACH;
     return 0;
   }
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0, faint = 0;
   *why = WHY_ERROR; /* what any failure below is */
   if (!n->miss) {
@@ -334,7 +334,7 @@ static int least_linear(const planning_t *P, int *leaf) {
   }
   for (int m = 0; m < pl->nt; m++) {
     grid3_t b0, b1;
-    if (P->C->faint[pl->kt[m]])
+    if (P->C->lattice.plan.faint[pl->kt[m]])
       continue;
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++) {
@@ -392,13 +392,13 @@ int pt__make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *w
   plan_begin(&P, C, q, pl, can_cut);
   mark_exact_subtrees(C, P.R);
   int failed; /* *why is written on failure only */
-  for (int k = 0; k < C->nnode; k++)
+  for (int k = 0; k < C->paths.n; k++)
     if (!plan_node(&P, k, &failed)) {
       *why = failed;
       return 0;
     }
   /* step 5a: is the brightness linear over the cell? (a NaN error is never accepted) */
-  for (double el = brightness_error(&P, C->faint); !(el + P.faint + P.werr <= P.ltol);
+  for (double el = brightness_error(&P, C->lattice.plan.faint); !(el + P.faint + P.werr <= P.ltol);
        el = brightness_error(&P, NULL)) {
     int leaf, best = least_linear(&P, &leaf);
     if (best < 0 || !shade_least_linear(&P, best, leaf)) {

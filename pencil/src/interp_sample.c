@@ -18,7 +18,7 @@ static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
     for (int i = 0; i < 9; i++)
       p = v3_axpy(E->w9[i], E->g9[i][k].p, p);
   }
-  const rt_plane_t *pl0 = &E->C->s->prim[E->C->node[k].prim].plane;
+  const rt_plane_t *pl0 = &E->C->s->prim[E->C->paths.node[k].prim].plane;
   double u, v;
   rt_plane_coords(pl0, p, &u, &v);
   return (int)fmod(fabs(floor(u * pl0->inv_check) + floor(v * pl0->inv_check)), 2.0);
@@ -51,10 +51,10 @@ static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4])
 
 /* Whether node k is a miss whose ray an interpolated sample takes from the quad's corners E->g:
  * computed by the pencil at all four (ok == 1) and not in a subtree traced exactly per sample
- * (C->xsub). Only then are the corners' rays defined: a node a lattice point did not reach
- * keeps whatever its storage held before. */
+ * (C->lattice.plan.exact_subtree). Only then are the corners' rays defined: a node a lattice point
+ * did not reach keeps whatever its storage held before. */
 static int interpolated_miss(const pt_ctx_t *C, const pt_eval_t *E, int k) {
-  if (!C->node[k].miss || (E->xsub && E->xsub[k]))
+  if (!C->paths.node[k].miss || (E->xsub && E->xsub[k]))
     return 0;
   for (int i = 0; i < 4; i++)
     if (E->g[i][k].ok != 1)
@@ -68,7 +68,7 @@ static int interpolated_miss(const pt_ctx_t *C, const pt_eval_t *E, int k) {
  * scene (eval.c); between those points they are not. */
 static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[4]) {
   const rt_scene_t *s = C->s;
-  for (int k = 0; k < C->nnode; k++) {
+  for (int k = 0; k < C->paths.n; k++) {
     const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
     if (!interpolated_miss(C, E, k))
       continue;
@@ -94,7 +94,7 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
  * corners agree in sign (with a margin for rounding), so do all the samples. */
 int pt__misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
   const rt_scene_t *s = C->s;
-  for (int k = 0; k < C->nnode; k++) {
+  for (int k = 0; k < C->paths.n; k++) {
     if (!interpolated_miss(C, E, k))
       continue;
     for (int u = 0; u < s->nunbounded; u++) {
@@ -123,7 +123,7 @@ static void sample_start(pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->partial = E->fallback = E->ownfail = E->spawnfail = 0;
   if (E->own || E->exact_spawn) {
     pt__xi_of(C, E, x, y);
-    E->stamp = ++C->stamp;
+    E->stamp = ++C->sample.stamp;
   }
 }
 
@@ -197,7 +197,7 @@ void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1,
         pt__geometry(C, E);
         E->w = NULL;
         rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
-        P->pmax = pt__measure_sample(C, &r, C->rec, P->i, P->j, a, b, P->pmax);
+        P->pmax = pt__measure_sample(C, &r, C->sample.geom, P->i, P->j, a, b, P->pmax);
       }
     }
   C->st.partial += (uint64_t)partial;

@@ -16,8 +16,11 @@ void pt__qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
     Q->off[a] = (a + 0.5) / s;
   Q->inv_w = 1.0 / q->w;
   Q->inv_h = 1.0 / q->h;
-  Q->E = (pt_eval_t){
-      .C = C, .mode = PT_EV_INTERP, .shade = 1, .xsub = C->xsub, .own = pl->nown ? C->own : NULL};
+  Q->E = (pt_eval_t){.C = C,
+                     .mode = PT_EV_INTERP,
+                     .shade = 1,
+                     .xsub = C->lattice.plan.exact_subtree,
+                     .own = pl->nown ? C->lattice.plan.traced : NULL};
   Q->E.exact_spawn = pt__spawns_exact(&Q->E);
   for (int i = 0; i < 4; i++)
     Q->E.g[i] = corner_of(q, i)->g;
@@ -25,7 +28,7 @@ void pt__qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->o9[0] = Q->o9[1] = 0.0;
   if (pl->nq2) { /* measured quarters only: the quad's own grid, certified its parent's */
     int par = C->opt->certified;
-    Q->E.q2 = C->q2;
+    Q->E.q2 = C->lattice.plan.biquadratic;
     for (int i = 0; i < 9; i++)
       Q->E.g9[i] = par ? q->pg[i / 3][i % 3].g : q->g[i / 3][i % 3].g;
     if (par) {
@@ -37,8 +40,8 @@ void pt__qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
   Q->fast = pl->nt <= PT_FAST_LEAVES;
   Q->safe = !C->opt->certified || pt__misses_nothing_quad(C, &Q->E);
   for (int m = 0; m < pl->nt && Q->fast; m++) {
-    int k = pl->kt[m], q2 = pl->nq2 && C->q2[k];
-    const rt_plane_t *bp = &C->s->prim[C->node[k].prim].plane;
+    int k = pl->kt[m], q2 = pl->nq2 && C->lattice.plan.biquadratic[k];
+    const rt_plane_t *bp = &C->s->prim[C->paths.node[k].prim].plane;
     Q->q2leaf[m] = (uint8_t)q2;
     for (int i = 0; i < (q2 ? 9 : 4); i++) {
       px_vec3_t p = q2 ? Q->E.g9[i][k].p : Q->E.g[i][k].p;
