@@ -41,7 +41,7 @@ static void xi_at(const cell_t *c, double x, double y, double xi[2]) {
 }
 
 /* The cell's paths; with half > 0 in certified mode, for the cell of half-side `half` pixels
- * around (x, y) (the boundary points in pt__cell's order: corner, edge midpoint, corner, ...). */
+ * around (x, y) (the boundary points in pt__domain's order: corner, edge midpoint, corner, ...). */
 static void build_cell_checked(cell_t *c, double x, double y, pt_bound_t bound, double half) {
   fx_fig8(&c->s, 256, 256);
   c->plan = rt_plan_make(&c->s, 1);
@@ -406,7 +406,7 @@ static void interpolation_error_on_board(void **state) {
   rt_scene_free(&s);
 }
 
-/* Biquadratic interpolation (interp.c, PT_BIQUAD_FACTOR) takes over where bilinear is not
+/* Biquadratic interpolation (interp.h, PT_BIQUAD_FACTOR) takes over where bilinear is not
  * accurate enough, on the glass ball of Fig. 8 at 49 spp, and the samples stay within rho as
  * the issue requires of the default mode (>= 99.8%, largest error under 2 rho). Certified mode,
  * which accepts measured errors only, interpolates a quarter by its parent's biquadratic where
@@ -631,8 +631,8 @@ static void guard_catches_small_shadows(void **state) {
   rt_scene_free(&s);
 }
 
-/* A shadow edge on a faint node is interpolated across, its error bounded (interp.c,
- * faint_bound): in Fig. 8 the board seen after four internal reflections in the glass ball has
+/* A shadow edge on a faint node is interpolated across, its error bounded (interp_error.c,
+ * pt__faint_bound): in Fig. 8 the board seen after four internal reflections in the glass ball has
  * W_k = 0.75 0.15^4 0.75 = 2.8e-4, so its brightness is at most W_k (ka Ia + kd I) 0.9 =
  * 2.6e-4, within half the default brightness tolerance (4.9e-4). Not with a tenth of that
  * tolerance, nor when the ball reflects more (kr = 0.5: W_k = 0.035 for the same node); in
@@ -797,7 +797,7 @@ static void all_within(const char *what, const pt_stats_t *st) {
 }
 
 /* Certified mode halves a measured lattice cell whose nodes are too curved in one direction
- * only (interp.c, halve_dir) instead of cutting it into four measured quarters: it fires on
+ * only (interp_error.c, pt__halving) instead of cutting it into four measured quarters: it fires on
  * Fig. 8 at 49 spp, where the board seen through the glass ball is compressed vertically, and
  * every sample stays within rho there and on scenes/balls.json; the default mode, whose
  * quarters are first estimated at no cost, never halves. */
@@ -954,7 +954,7 @@ static void image_does_not_depend_on_threads(void **state) {
 }
 
 /* Lattice points shared by neighbouring lattice cells are traced once per cell and reused
- * (interp.c): the image and every decision must be those of tracing each lattice cell's points
+ * (interp_memo.c): the image and every decision must be those of tracing each lattice cell's points
  * anew, in both modes. The reused points live in other storage than the re-traced ones, so this
  * also fails when an evaluation reads what a lattice point did not write (certified mode once
  * read the rays of miss nodes that a corner had not reached). */

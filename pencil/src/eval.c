@@ -5,15 +5,15 @@
  * The Whitted recursion of rt_shade_hit() is evaluated in its unrolled form: the radiance of a
  * sample is the sum over the nodes k of its tree of W_k * direct_k, where direct_k is
  * rt_shade_direct() at node k's hit and W_k the product of the rt_shade_children() weights along
- * the path from the eye. The children's hits come from the cell's paths, not from a scene
+ * the path from the eye. The children's hits come from the domain's paths, not from a scene
  * search: each node's paraxial ray psi' = T psi meets the node's own primitive (MATRIX mode), or
  * its hit point and direction are interpolated from four lattice points (INTERP mode). Keeping
  * W_k and W_k * direct_k per node lets ray interpolation interpolate the brightness of every
- * node on which it is linear and shade only the others (cell.c).
+ * node on which it is linear and shade only the others (interp_plan.c).
  *
- * Shadow queries return the transmittance recorded once per cell at the axial ray's node for the
- * lights whose visibility agrees at the cell's centre and corners (rt_tree_node_t lit/blocked);
- * for the other lights a shadow ray is traced per sample. Whenever a sample leaves the cell's
+ * Shadow queries return the transmittance recorded once per domain at the axial ray's node for the
+ * lights whose visibility agrees at the domain's centre and corners (rt_tree_node_t lit/blocked);
+ * for the other lights a shadow ray is traced per sample. Whenever a sample leaves the domain's
  * paths (its paraxial ray misses the node's primitive, or shading asks for a child the tree does
  * not have) or reaches a subtree where the corners' trees differ, that part is traced exactly. */
 #include <math.h>
@@ -24,9 +24,9 @@
 #include "render/vec_inline.h"
 
 static void mark_exact(pt_eval_t *E, int k) {
-  if (!E->rec)
+  if (!E->geom)
     return;
-  E->rec[k].ok = 2;
+  E->geom[k].ok = 2;
   const pt_node_t *n = &E->C->paths.node[k];
   for (int c = 0; c < 2; c++)
     if (n->child[c] >= 0)
@@ -58,13 +58,13 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
       return;
     }
   }
-  /* a light whose visibility differs across the cell, one the axial ray's surface faced away
+  /* a light whose visibility differs across the domain, one the axial ray's surface faced away
    * from, or one beyond PT_MAX_LIGHTS (those known_cb() did not answer): a shadow ray per
    * sample */
   E->C->ex.stats.shadow++;
   q->through = rt_transmittance(E->C->s, &q->ray);
-  if (E->lattice && E->rec && q->light < 32) { /* where the visibility changes over the cell */
-    pt_geom_t *g = &E->rec[E->cur];
+  if (E->lattice && E->geom && q->light < 32) { /* where the visibility changes over the domain */
+    pt_geom_t *g = &E->geom[E->cur];
     rt_rgb_t t = q->through;
     g->lit |= (uint32_t)(t.r == 1.0 && t.g == 1.0 && t.b == 1.0) << q->light;
     g->dark |= (uint32_t)(t.r == 0.0 && t.g == 0.0 && t.b == 0.0) << q->light;
@@ -162,19 +162,20 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   return x;
 }
 
-/* Whether a child of node n is traced exactly per sample in this evaluation (the cell's tree marks
- * it exact, or the quad's plan traces it below an edge). */
+/* Whether a child of node n is traced exactly per sample in this evaluation (the domain's tree
+ * marks it exact, or the lattice cell's plan traces it below an edge). */
 static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
   for (int c = 0; c < 2; c++) {
     int kc = n->child[c];
-    if (kc >= 0 && (E->C->paths.node[kc].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[kc])))
+    if (kc >= 0 && (E->C->paths.node[kc].pencil == PT_NODE_EXACT ||
+                    (E->exact_subtree && E->exact_subtree[kc])))
       return 1;
   }
   return 0;
 }
 
 /* Node k's hit point and arriving direction for this sample; 0 when the sample's ray misses the
- * node's primitive (it left the cell's paths). `from` is the ray arriving at the node as shading
+ * node's primitive (it left the domain's paths). `from` is the ray arriving at the node as shading
  * spawned it (NULL for the primary ray). */
 static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
@@ -185,14 +186,14 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
      * where nothing bounds it (a glass polyhedron's facets turn it into another colour: Fig. 11;
      * a ray leaving the glass ball near grazing meets the board hundreds of pixel intervals
      * away). So the sample's own ray carried along the node's path (exact_geom; for the primary
-     * node one primitive test). Leaving the path, the sample has left the cell's paths. */
+     * node one primitive test). Leaving the path, the sample has left the domain's paths. */
     const pt_xgeom_t *x = exact_geom(E, k);
     E->spawnfail |= !x->ok;
     *hit = x->p;
     *d = x->d;
     return x->ok;
   }
-  if (E->mode == PT_EV_INTERP && E->own && E->own[k]) { /* this node: per sample */
+  if (E->mode == PT_EV_INTERP && E->traced && E->traced[k]) { /* this node: per sample */
     if (n->pencil == PT_NODE_PATH) {
       const pt_xgeom_t *x = exact_geom(E, k);
       *hit = x->p;
@@ -202,11 +203,12 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     px_vec3_t p;
     return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
   }
-  if (E->mode == PT_EV_INTERP && E->q2 && E->q2[k]) { /* biquadratic over the quad's grid */
+  /* biquadratic over the lattice cell's grid */
+  if (E->mode == PT_EV_INTERP && E->biquadratic && E->biquadratic[k]) {
     px_vec3_t p = {0, 0, 0}, dd = {0, 0, 0};
     for (int i = 0; i < 9; i++) {
-      p = v3_axpy(E->w9[i], E->g9[i][k].p, p);
-      dd = v3_axpy(E->w9[i], E->g9[i][k].d, dd);
+      p = v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
+      dd = v3_axpy(E->grid_w[i], E->grid[i][k].d, dd);
     }
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* back onto the sphere, as below */
@@ -218,8 +220,9 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     return 1;
   }
   if (E->mode == PT_EV_INTERP) {
-    const double *w = E->w;
-    const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
+    const double *w = E->corner_w;
+    const pt_geom_t *a = &E->corner[0][k], *b = &E->corner[1][k], *c = &E->corner[2][k],
+                    *e = &E->corner[3][k];
     *hit = v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* a chord lies inside the sphere: back onto its surface,
@@ -263,7 +266,7 @@ static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, 
 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from);
 
-/* The children of node k at surface sf: those the cell's paths cover by eval_node(), the others
+/* The children of node k at surface sf: those the domain's paths cover by eval_node(), the others
  * by the exact tracer (geometry-only evaluations just mark them); `only_exact` skips the former
  * (the caller interpolates them). */
 static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
@@ -272,12 +275,12 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   rt_child_t ch[2];
   int nc = -1;
   if (only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
-    /* both children are in the cell's tree, so the sample cannot have one it lacks: when only
+    /* both children are in the domain's tree, so the sample cannot have one it lacks: when only
      * one of them is traced exactly, only that one is built (the other is interpolated) */
     int exact[2];
     for (int c = 0; c < 2; c++)
       exact[c] = E->C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
-                 (E->xsub && E->xsub[n->child[c]]);
+                 (E->exact_subtree && E->exact_subtree[n->child[c]]);
     if (exact[0] != exact[1])
       nc = rt_shade_child(E->C->s, E->C->plan, sf, ray, n->depth,
                           (rt_ray_kind_t)n->child_kind[exact[0] ? 0 : 1], &ch[0]);
@@ -290,7 +293,8 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
              : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
                                                    : -1;
-    if (kc >= 0 && E->C->paths.node[kc].pencil != PT_NODE_EXACT && !(E->xsub && E->xsub[kc])) {
+    if (kc >= 0 && E->C->paths.node[kc].pencil != PT_NODE_EXACT &&
+        !(E->exact_subtree && E->exact_subtree[kc])) {
       if (!only_exact)
         sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));
       continue;
@@ -298,10 +302,10 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     if (kc >= 0) { /* the corners' trees differ below here: traced exactly */
       E->partial = 1;
       mark_exact(E, kc);
-    } else { /* a child the cell's tree does not have: the sample left the cell's paths */
+    } else { /* a child the domain's tree does not have: the sample left the domain's paths */
       E->fallback = 1;
-      if (E->rec)
-        E->rec[k].fb |= (uint8_t)(1u << ch[i].kind);
+      if (E->geom)
+        E->geom[k].exact_kinds |= (uint8_t)(1u << ch[i].kind);
     }
     /* lattice points record where the paths end, not radiance; a measured geometry-only
      * evaluation traces the subtree for its points */
@@ -311,7 +315,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   return sum;
 }
 
-/* The sample's ray left node n's path: an edge the cell's corners saw (verify node) or not. */
+/* The sample's ray left node n's path: an edge the domain's corners saw (verify node) or not. */
 static void left(pt_eval_t *E, const pt_node_t *n) {
   if (n->verify)
     E->vfail = E->partial = 1;
@@ -322,12 +326,12 @@ static void left(pt_eval_t *E, const pt_node_t *n) {
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from) {
   pt_ctx_t *C = E->C;
   const pt_node_t *n = &C->paths.node[k];
-  pt_geom_t *g = E->rec ? &E->rec[k] : NULL;
+  pt_geom_t *g = E->geom ? &E->geom[k] : NULL;
   if (n->miss) {
     const rt_ray_t *r = from ? &from->ray : E->mode == PT_EV_MATRIX ? &E->primary : NULL;
     rt_hit_t h;
     /* certified mode: the sample's own ray must still meet nothing (a horizon or an object
-     * between the cell's corners would otherwise go unseen) */
+     * between the domain's corners would otherwise go unseen) */
     if ((C->opt->certified || n->verify) && r && rt_intersect(C->s, r, &h)) {
       left(E, n);
       mark_exact(E, k);
@@ -347,7 +351,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     return l;
   }
   px_vec3_t hit, d;
-  if (!node_geometry(E, k, from, &hit, &d)) { /* left the cell's paths: exact from here */
+  if (!node_geometry(E, k, from, &hit, &d)) { /* left the domain's paths: exact from here */
     left(E, n);
     mark_exact(E, k);
     if (E->lattice || !(E->shade || (E->record_sub && from)))
@@ -361,7 +365,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     g->w = w;
     g->l = rt_rgb(0, 0, 0);
     g->ok = 1;
-    g->fb = 0;
+    g->exact_kinds = 0;
     g->su = g->sv = 0;
     g->lit = g->dark = 0;
     if (n->textured)
@@ -398,9 +402,9 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
 }
 
 rt_rgb_t pt__eval(pt_eval_t *E) {
-  if (E->rec)
+  if (E->geom)
     for (int k = 0; k < E->C->paths.n; k++)
-      E->rec[k].ok = E->rec[k].fb = 0;
+      E->geom[k].ok = E->geom[k].exact_kinds = 0;
   if (E->record_sub) {
     E->C->sub.tree.n = E->C->sub.tree.overflow = 0;
     E->C->sub.n = 0;
@@ -408,7 +412,7 @@ rt_rgb_t pt__eval(pt_eval_t *E) {
   E->cur = -1;
   E->fallback = 0;
   E->vfail = 0;
-  E->ownfail = 0;
+  E->traced_failed = 0;
   E->spawnfail = 0;
   E->partial = 0;
   E->stamp = ++E->C->sample.stamp;
@@ -420,7 +424,7 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
     return direct ? rt_rgb_mul(w, E->C->s->background) : rt_rgb(0, 0, 0);
   px_vec3_t hit, d;
   if (!node_geometry(E, k, NULL, &hit, &d)) { /* only an own node's ray can leave its path */
-    E->ownfail = 1;
+    E->traced_failed = 1;
     return rt_rgb(0, 0, 0);
   }
   rt_ray_t ray;

@@ -1,5 +1,5 @@
 /* internal.h -- private: the per-thread state of the pencil renderer and the functions shared by
- * its translation units (eval.c: one sample through the domain's paths; cell.c: steps 2-4 of
+ * its translation units (eval.c: one sample through the domain's paths; domain.c: steps 2-4 of
  * section 4.1 (1) for one domain; render.c: the screen loop). */
 #ifndef PENCIL_INTERNAL_H
 #define PENCIL_INTERNAL_H
@@ -23,12 +23,13 @@ typedef struct {
   uint32_t lit;  /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
   uint32_t dark; /**< ... and was fully blocked */
   uint8_t ok;    /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
-  uint8_t fb;    /**< bit k: the child of rt_ray_kind_t k was traced exactly */
+  uint8_t exact_kinds; /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
 
 /** A node's exact geometry for one sample (exact along the known path, memoised per sample). */
 typedef struct {
-  px_vec3_t p, d;
+  px_vec3_t p;    /**< exact hit point */
+  px_vec3_t d;    /**< unit direction of the exact arriving ray */
   uint32_t stamp; /**< the evaluation it belongs to */
   int ok;         /**< 0: the sample's ray does not meet the node's primitive */
 } pt_xgeom_t;
@@ -63,21 +64,21 @@ typedef struct {
 } pt_lattice_memo_t;
 
 /** The plan of the lattice cell being interpolated, per node of the domain's tree (cap entries
- *  each; interp_plan.c fills them, the cell's samples read them). */
+ *  each; interp_plan.c fills them, the lattice cell's samples read them). */
 typedef struct {
   int *shaded;            /**< nodes shaded per sample at their interpolated hits */
   uint8_t *shaded_direct; /**< ... with their direct term (per entry of `shaded`) */
   uint8_t *shaded_exact;  /**< ... with their exactly traced children (per entry of `shaded`) */
-  int *leaves;            /**< textured leaves whose checker square changes over the cell */
+  int *leaves;            /**< textured leaves whose checker square changes over the lattice cell */
   int *linear;            /**< nodes whose brightness is interpolated (the brightness test) */
   uint8_t *exact_subtree; /**< per node: traced exactly per sample with its subtree (a verify
                                node that a grid point did not confirm, and below) */
   uint8_t *traced;        /**< per node: hits traced per sample by its matrix or along its path
                                (too curved to interpolate) */
-  uint8_t *biquadratic;   /**< per node: hits interpolated biquadratically from the cell's (or
-                               certified: its parent's) 3 x 3 grid */
-  uint8_t *faint;         /**< per node: shading interpolated across a shadow edge, its
-                               brightness being within a bound (interp_error.c) */
+  uint8_t *biquadratic; /**< per node: hits interpolated biquadratically from the lattice cell's (or
+                             certified: its parent's) 3 x 3 grid */
+  uint8_t *faint;       /**< per node: shading interpolated across a shadow edge, its
+                             brightness being within a bound (interp_error.c) */
 } pt_lattice_plan_t;
 
 /** Ray interpolation's state for one accepted domain (interp*.c). */
@@ -197,47 +198,55 @@ static inline double pt_max(double a, double b) {
   return a > b || a != a ? a : b;
 }
 
-/** Depth of the quadtree of lattice cells (halvings of the cell) at most. */
+/** Depth of the quadtree of lattice cells (halvings of the domain) at most. */
 #define PT_QUAD_LEVELS 12
 
-/** One sample's evaluation through the current cell's paths. */
+/** One sample's evaluation through the current domain's paths. */
 typedef struct {
-  pt_ctx_t *C;
-  int mode;               /**< PT_EV_MATRIX or PT_EV_INTERP */
-  double xi[2];           /**< MATRIX: the sample's xi in the cell frame */
-  rt_ray_t primary;       /**< MATRIX: the sample's primary ray (for an exact fallback) */
-  const double *w;        /**< INTERP: bilinear weights of the 4 lattice points */
-  const pt_geom_t *g[4];  /**< INTERP: their geometry, indexed by node */
-  pt_geom_t *rec;         /**< per-node geometry out (cap entries), or NULL */
-  int shade;              /**< 0: geometry only */
-  int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
-  int lattice;            /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes;
-                               subtrees leaving the paths are marked, not traced (its radiance
-                               is not used) */
-  int cur;                /**< node being shaded */
-  uint32_t stamp;         /**< this evaluation's xg stamp */
-  int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
-  int vfail;              /**< set when a verify node's scene search failed (traced exactly) */
-  const uint8_t *xsub;    /**< INTERP: nodes whose subtrees are traced exactly in this quad */
-  const uint8_t *own;     /**< INTERP: nodes whose hits come from their matrices (or path) per
-                               sample in this quad (xi and primary set), not interpolated */
-  const uint8_t *q2;      /**< INTERP: nodes interpolated biquadratically (g9, w9), or NULL */
-  const pt_geom_t *g9[9]; /**< INTERP with q2: the quad's 3 x 3 grid, row-major */
-  double w9[9];           /**< INTERP with q2: the sample's biquadratic (Lagrange) weights */
-  int record_sub;         /**< measure: subtrees traced exactly are recorded in C->sub (reset
-                               by pt__eval) */
-  int exact_spawn;        /**< some node has a child traced exactly per sample: such a node
-                               spawns it from the sample's exact hit (primary set; the sample's
-                               ray carried along the node's path), not from an interpolated or
-                               matrix hit (pt__spawns_exact) */
-  int spawnfail;          /**< set when such a node's exact path left the cell's paths (the
-                               sample is then traced exactly) */
-  int ownfail;            /**< set when such a node's per-sample ray left its path */
-  int partial;            /**< set when a subtree where the corners differ was traced exactly */
+  pt_ctx_t *C;                  /**< the thread's state (the domain's paths) */
+  int mode;                     /**< PT_EV_MATRIX or PT_EV_INTERP */
+  double xi[2];                 /**< MATRIX: the sample's xi in the domain's frame */
+  rt_ray_t primary;             /**< MATRIX: the sample's primary ray (for an exact fallback) */
+  const double *corner_w;       /**< INTERP: bilinear weights of the lattice cell's 4 corners */
+  const pt_geom_t *corner[4];   /**< INTERP: their geometry, indexed by node */
+  pt_geom_t *geom;              /**< per-node geometry out (cap entries), or NULL */
+  int shade;                    /**< 0: geometry only */
+  int record_shadow;            /**< 1: trace shadow rays and store them in the nodes (axial
+                                     sample) */
+  int lattice;                  /**< 1: a lattice point: also fill pt_geom_t.lt of textured
+                                     nodes; subtrees leaving the paths are marked, not traced (its
+                                     radiance is not used) */
+  int cur;                      /**< node being shaded */
+  uint32_t stamp;               /**< this evaluation's stamp in C->sample.exact */
+  int fallback;                 /**< set when the sample left the domain's paths (traced exactly
+                                     there) */
+  int vfail;                    /**< set when a verify node's scene search failed (traced
+                                     exactly) */
+  const uint8_t *exact_subtree; /**< INTERP: nodes whose subtrees are traced exactly in this
+                                     lattice cell (pt_lattice_plan_t) */
+  const uint8_t *traced;        /**< INTERP: nodes whose hits come from their matrices (or path)
+                                     per sample in this lattice cell (xi and primary set), not
+                                     interpolated */
+  const uint8_t *biquadratic;   /**< INTERP: nodes interpolated biquadratically (grid, grid_w), or
+                                     NULL */
+  const pt_geom_t *grid[9];     /**< INTERP with biquadratic: the 3 x 3 grid, row-major */
+  double grid_w[9];             /**< INTERP with biquadratic: the sample's biquadratic (Lagrange)
+                                     weights */
+  int record_sub;               /**< measure: subtrees traced exactly are recorded in C->sub
+                                     (reset by pt__eval) */
+  int exact_spawn;              /**< some node has a child traced exactly per sample: such a node
+                                     spawns it from the sample's exact hit (primary set; the
+                                     sample's ray carried along the node's path), not from an
+                                     interpolated or matrix hit (pt__spawns_exact) */
+  int spawnfail;                /**< set when such a node's exact path left the domain's paths
+                                     (the sample is then traced exactly) */
+  int traced_failed;            /**< set when a traced node's per-sample ray left its path */
+  int partial;                  /**< set when a subtree where the corners differ was traced
+                                     exactly */
 } pt_eval_t;
 
-/** pt_eval_t.exact_spawn for evaluations of the current cell with E's xsub (the quad's plan):
- *  whether some node has a child traced exactly per sample. */
+/** pt_eval_t.exact_spawn for evaluations of the current domain with E's exact_subtree (the lattice
+ * cell's plan): whether some node has a child traced exactly per sample. */
 int pt__spawns_exact(const pt_eval_t *E);
 /** Radiance of the sample (black when shade = 0). */
 rt_rgb_t pt__eval(pt_eval_t *E);
@@ -247,11 +256,11 @@ rt_rgb_t pt__eval(pt_eval_t *E);
  *  its children that are traced exactly (children the corners' trees disagree on). */
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children);
 
-/** xi of the primary ray through continuous pixel coordinates (x, y) in the cell frame. */
+/** xi of the primary ray through continuous pixel coordinates (x, y) in the domain frame. */
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 
-/** Steps 2-4 for the cell [x0, x1) x [y0, y1) of the current domain (recursive). */
-void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+/** Steps 2-4 for the (sub)domain [x0, x1) x [y0, y1) of the current initial domain (recursive). */
+void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
 /* sample.c */
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j);
@@ -265,7 +274,7 @@ void pt__aux_exact(pt_ctx_t *C, int i, int j);
 /** Auxiliary channels from the pencil's geometry of the pixel's centre ray. */
 void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec);
 /** Every sample of the pixels of [x0, x1) x [y0, y1) by the exact tracer. */
-void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 /** Fig. 10 bookkeeping of one sample; returns the pixel's running maximum error. */
 double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
                           int a, int b, double pmax);
@@ -273,23 +282,23 @@ double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec
 void pt__geometry(pt_ctx_t *C, pt_eval_t *E);
 /** Write a finished pixel. */
 void pt__pixel_done(pt_ctx_t *C, pixel_t *P);
-/** Step 4a's shadow transmittance once per cell: the axial ray through the cell's paths, tracing
- *  the shadow rays of the lights whose visibility agrees over the cell and storing them in the
- *  nodes (known_cb answers them for every other evaluation of the cell). */
+/** Step 4a's shadow transmittance once per domain: the axial ray through the domain's paths,
+ * tracing the shadow rays of the lights whose visibility agrees over the domain and storing them in
+ * the nodes (known_cb answers them for every other evaluation of the domain). */
 void pt__record_shadows(pt_ctx_t *C, const rt_ray_t *axial);
 /** The primary ray and xi of continuous pixel coordinates (x, y) into E. */
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y);
-/** Sample (a, b) of pixel P through the cell's paths (MATRIX evaluation). */
+/** Sample (a, b) of pixel P through the domain's paths (MATRIX evaluation). */
 void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b);
 /** Auxiliary channels of pixel (i, j) from a MATRIX evaluation of its centre. */
 void pt__aux_matrix(pt_ctx_t *C, int i, int j);
-/** Every sample of pixel (i, j) through the cell's paths. */
+/** Every sample of pixel (i, j) through the domain's paths. */
 void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
 
 /* interp.c */
-/** Step 4a with ray interpolation for the accepted cell [x0, x1) x [y0, y1) whose axial ray (its
+/** Step 4a with ray interpolation for the accepted domain [x0, x1) x [y0, y1) whose axial ray (its
  *  centre's) is `axial`. */
-void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
+void pt__interp_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
 
 /** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h) and the subtrees its
  *  evaluation traced exactly (C->sub), tracing it exactly: e[0] the largest over its measured

@@ -14,70 +14,76 @@
 
 /* A traced lattice point. */
 typedef struct {
-  const pt_geom_t *g; /* node array (cap entries) */
-  double xi2;         /* |xi|^2 of the point's primary ray in the cell frame */
-  int ok;             /* traced without leaving the cell's paths */
-} point_t;
+  const pt_geom_t *g; /* its geometry per node (cap entries) */
+  double xi2;         /* |xi|^2 of the point's primary ray in the domain's frame */
+  int ok;             /* traced without leaving the domain's paths */
+} lattice_point_t;
 
-/* A quad [x0, x0 + w) x [y0, y0 + h) of continuous pixel coordinates. Its corners are always
- * traced; `measured`: the grid g (corners, edge midpoints, centre) is its own; otherwise its
- * error is estimated from its parent's grid pg, of which it is the quarter (qx, qy). */
+/* A lattice cell [x0, x0 + w) x [y0, y0 + h) of continuous pixel coordinates, a node of the
+ * domain's quadtree. Its corners are always traced; `measured`: the grid g (corners, edge
+ * midpoints, centre) is its own; otherwise its error is estimated from its parent's grid pg, of
+ * which it is the quarter (qx, qy). */
 typedef struct {
-  double x0, y0, w, h;
-  point_t g[3][3]; /* [row][column] */
-  int measured;
-  const point_t (*pg)[3];
-  int qx, qy;
-} lquad_t;
+  double x0, y0;                  /* top-left corner, in pixels */
+  double w, h;                    /* width and height, in pixels */
+  lattice_point_t g[3][3];        /* its 3 x 3 grid, [row][column] (corners only when estimated) */
+  int measured;                   /* the whole grid g is traced */
+  const lattice_point_t (*pg)[3]; /* its parent's grid, or NULL for the root */
+  int qx, qy;                     /* which quarter of the parent it is (column, row) */
+} lattice_cell_t;
 
-/* How a quad's samples are interpolated. */
+/* How a lattice cell's samples are interpolated (its per-node arrays are C->lattice.plan's). */
 typedef struct {
-  rt_rgb_t smooth[4]; /* brightness of the linear nodes summed at the four corners */
-  int n;              /* nodes shaded per sample */
-  int *k;
-  uint8_t *direct, *exact; /* per entry: its direct term, its exactly traced children */
-  int nt;                  /* textured leaves whose square changes across the quad: the sample's */
-  int *kt;                 /* square picks the interpolated brightness of its material */
-  int nown;                /* nodes too curved to interpolate over the quad: traced per sample
-                              by their matrices (or along their paths), C->own */
-  int nq2;                 /* nodes whose hits are interpolated biquadratically, C->q2 */
-  int nfaint;              /* nodes interpolated across a shadow edge (pt__faint_bound) */
-  double own_cost;         /* node evaluations per sample: own nodes, nodes shaded per sample,
-                              subtrees traced exactly (about 2 rays each) */
-  int halve;               /* on failure: 1 (2) when halving the quad across its columns (rows)
-                              makes every node's hits interpolable (pt__halve_dir) */
-} plan_t;
+  rt_rgb_t linear_corners[4]; /* brightness of the linear nodes summed at the four corners */
+  int nshaded;                /* nodes shaded per sample at their interpolated hits ... */
+  int *shaded;                /* ... which */
+  uint8_t *shaded_direct;     /* ... per entry: with its direct term */
+  uint8_t *shaded_exact;      /* ... per entry: with its exactly traced children */
+  int nleaves;                /* textured leaves whose square changes across the lattice cell: the
+                                 sample's square picks the interpolated brightness of its
+                                 material ... */
+  int *leaves;                /* ... which */
+  int ntraced;      /* nodes too curved to interpolate over the lattice cell: traced per sample
+                       by their matrices (or along their paths), plan.traced */
+  int nbiquadratic; /* nodes whose hits are interpolated biquadratically,
+                       plan.biquadratic */
+  int nfaint;       /* nodes interpolated across a shadow edge (pt__faint_bound) */
+  double per_sample_cost; /* node evaluations per sample: traced nodes, nodes shaded per
+                             sample, subtrees traced exactly (about 2 rays each) */
+  int halve;              /* on failure: 1 (2) when halving the lattice cell across its columns
+                             (rows) makes every node's hits interpolable (pt__halving) */
+} interp_plan_t;
 
-/* The share of rho an estimated quad's e_int may use. e_int extrapolates the second-order
+/* The share of rho an estimated lattice cell's e_int may use. e_int extrapolates the second-order
  * behaviour of the parent's grid onto the quarter; where the map's third-order term matters it
  * underestimates. Measured on Fig. 8 (256 x 256, 9 spp): accepting estimates up to rho leaves
  * 99.91% of the samples within rho (largest 0.86); up to rho / 2, 99.996% (largest 0.54), for
  * 20% more lattice points at 49 spp (docs/pencil.md). */
 #define PT_EINT_MARGIN 0.5
 
-/* Biquadratic interpolation of a node's hits over a measured quarter q of a measured quad P,
- * when bilinear interpolation is not accurate enough: P's biquadratic (through its 3 x 3 grid)
- * predicts q's five new grid points, and its deviation there, d, is P's second-order
- * interpolation error measured at those points. q's own biquadratic has half P's side, so where
+/* Biquadratic interpolation of a node's hits over a measured quarter lc of a measured lattice cell
+ * P, when bilinear interpolation is not accurate enough: P's biquadratic (through its 3 x 3 grid)
+ * predicts lc's five new grid points, and its deviation there, d, is P's second-order
+ * interpolation error measured at those points. lc's own biquadratic has half P's side, so where
  * the third-order term dominates its error is about d / 8; it is accepted when
  * PT_BIQUAD_FACTOR d + matrix error <= rho (a margin of 4 over d / 8). Certified mode accepts
  * measured errors only: there the quarter is interpolated by P's biquadratic itself, whose error
- * d was measured at the quarter's five new points (as a measured quad's bilinear error is at its
- * midpoints and centre), when PT_BIQUAD_CERT d + matrix error <= rho (with certified mode's
+ * d was measured at the quarter's five new points (as a measured lattice cell's bilinear error is
+ * at its midpoints and centre), when PT_BIQUAD_CERT d + matrix error <= rho (with certified mode's
  * margin in rho; PT_BIQUAD_CERT 1.5 leaves the largest measured error of the 49-spp Fig. 8
  * render unchanged at 0.41, 1.0 let it rise to 0.48). */
 #define PT_BIQUAD_FACTOR 0.5
-/* Certified mode: a measured quad's bilinear interpolation error over the whole quad, from the
- * deviations d_i it measured at the five grid points other than the corners (pt__grid_error: their
- * largest). A second-order map's error is largest at those points, but the biquadratic through
- * the nine points also has u^2 v, u v^2 and u^2 v^2 terms. Its difference from the bilinear
- * interpolation is sum_i d_i L_i(u, v), with L_i the biquadratic Lagrange basis of point i, and
- * max over the quad of sum_i |L_i| is 1.3843 (at u = 0.325, v = 0.68 and its mirror images), so
- * the error can reach 1.38 times the largest measured deviation. Found when the measure came to
- * count every diffuse surface: on scenes/balls.json (4 spp) the matte ball seen through the glass
- * ball at depth 3 had a 2.5-pixel quad with deviations up to 0.311 and samples at (0.7, 0.7)
- * off by 0.549, so 3 samples were over rho. With the factor none are. A node that fails only
- * because of the factor gets the sum itself at the quad's own samples
+/* Certified mode: a measured lattice cell's bilinear interpolation error over the whole lattice
+ * cell, from the deviations d_i it measured at the five grid points other than the corners
+ * (pt__grid_error: their largest). A second-order map's error is largest at those points, but the
+ * biquadratic through the nine points also has u^2 v, u v^2 and u^2 v^2 terms. Its difference from
+ * the bilinear interpolation is sum_i d_i L_i(u, v), with L_i the biquadratic Lagrange basis of
+ * point i, and max over the lattice cell of sum_i |L_i| is 1.3843 (at u = 0.325, v = 0.68 and its
+ * mirror images), so the error can reach 1.38 times the largest measured deviation. Found when the
+ * measure came to count every diffuse surface: on scenes/balls.json (4 spp) the matte ball seen
+ * through the glass ball at depth 3 had a 2.5-pixel lattice cell with deviations up to 0.311 and
+ * samples at (0.7, 0.7) off by 0.549, so 3 samples were over rho. With the factor none are. A node
+ * that fails only because of the factor gets the sum itself at the lattice cell's own samples
  * (pt__bilinear_bound_at_samples), which is all the guarantee is about: Fig. 8 at 49 spp costs
  * 2.206e9 instructions instead of 2.162e9 (+2.0%; the factor alone 2.227e9), its largest error
  * 0.392 instead of 0.409. PT_BIQUAD_CERT (below) is above this factor, so the biquadratic
@@ -90,7 +96,7 @@ typedef struct {
 #define PT_BIQUAD_CERT 1.5
 #endif
 
-/* Why a quad's samples went to the matrices (pt_stats_t.matrix_samples). */
+/* Why a lattice cell's samples went to the matrices (pt_stats_t.matrix_samples). */
 enum { WHY_OFF = 0, WHY_LEFT = 1, WHY_REACH = 2, WHY_ERROR = 3 };
 
 /* A 3 x 3 grid of vectors or colours, for one node or a brightness sum. */
@@ -98,38 +104,42 @@ typedef struct {
   px_vec3_t v[3][3];
 } grid3_t;
 
-/* The cell being interpolated: its pixels' accumulators. */
+/* The accepted domain being interpolated: its pixels' accumulators. */
 typedef struct {
-  int x0, y0, x1, y1;
-  pixel_t *acc;
-} cellacc_t;
+  int x0, y0, x1, y1; /* the domain, [x0, x1) x [y0, y1) */
+  pixel_t *acc;       /* its pixels, row by row (C->lattice.pixels) */
+} domain_pixels_t;
 
-static inline pixel_t *pixel_at(const cellacc_t *A, int i, int j) {
+static inline pixel_t *pixel_at(const domain_pixels_t *A, int i, int j) {
   return &A->acc[(j - A->y0) * (A->x1 - A->x0) + (i - A->x0)];
 }
 
-/* Textured leaves whose square changes across a quad handled by the fast path at most. */
-#define PT_FAST_LEAVES 8
+/* Textured leaves whose square changes across a lattice cell that the summed pixels handle at
+ * most (interp_sum.c). */
+#define PT_SUMMED_LEAVES 8
 
-/* What the samples of one accepted quad share. */
+/* What the samples of one accepted lattice cell share. */
 typedef struct {
-  const lquad_t *q;
-  const plan_t *pl;
-  pt_eval_t E;                       /* INTERP evaluation with the quad's corners */
-  int safe;                          /* certified: misses_nothing() holds for every sample */
-  int fast;                          /* the linear nodes and textured leaves are summed per pixel
-                                        (sums of weights); nodes in pl->k are added per sample */
-  double uv[PT_FAST_LEAVES][9][2];   /* fast: board coordinates / check of each leaf's corners
-                                        (bilinear), or of the quad's 3 x 3 grid (biquadratic) */
-  uint8_t q2leaf[PT_FAST_LEAVES];    /* fast: the leaf is interpolated biquadratically */
-  double curv[PT_FAST_LEAVES][2][2]; /* ... bounds on |d2/du2| and |d2/dv2| of its board
-                                        coordinates over the grid, per coordinate */
-  double s9, o9[2];                  /* biquadratic: grid coordinates of quad coordinates (u, v) are
-                                        o9 + s9 (u, v) (the quad's own grid, or certified its parent's) */
-  double off[RT_MAX_SPP_SIDE];       /* (a + 0.5) / s: a sample's offset in its pixel */
-  double inv_w, inv_h;               /* 1 / the quad's width and height: the samples' quad
-                                        coordinates by multiplications, not divisions per sample */
-} qctx_t;
+  const lattice_cell_t *lc; /* the lattice cell */
+  const interp_plan_t *pl;  /* its plan */
+  pt_eval_t E;              /* INTERP evaluation with the lattice cell's corners */
+  int safe;                 /* certified: misses_nothing() holds for every sample */
+  int summed; /* the linear nodes and textured leaves are summed per pixel (sums of weights);
+                 nodes in pl->shaded are added per sample */
+  /* summed: board coordinates / check of each leaf's corners (bilinear), or of the lattice
+   * cell's 3 x 3 grid (biquadratic) */
+  double uv[PT_SUMMED_LEAVES][9][2];
+  uint8_t biquadratic_leaf[PT_SUMMED_LEAVES]; /* summed: the leaf is biquadratic */
+  /* summed, biquadratic leaves: bounds on |d2/du2| and |d2/dv2| of its board coordinates over
+   * the grid, per coordinate */
+  double curv[PT_SUMMED_LEAVES][2][2];
+  double s9;    /* biquadratic: the grid coordinates of lattice cell coordinates (u, v) are */
+  double o9[2]; /* o9 + s9 (u, v) (its own grid, or certified its parent's) */
+  double off[RT_MAX_SPP_SIDE]; /* (a + 0.5) / s: a sample's offset in its pixel */
+  /* 1 / the lattice cell's width and height: the samples' lattice cell coordinates by
+   * multiplications, not divisions per sample */
+  double inv_w, inv_h;
+} sampling_t;
 
 /* Lagrange basis of the nodes 0, 1/2, 1 at t. */
 static inline void lagrange3(double t, double L[3]) {
@@ -138,8 +148,8 @@ static inline void lagrange3(double t, double L[3]) {
   L[2] = 2.0 * t * (t - 0.5);
 }
 
-/* Biquadratic weights at quad coordinates (u, v) for a row-major 3 x 3 grid. */
-static inline void weights9(double u, double v, double w[9]) {
+/* Biquadratic weights at lattice cell coordinates (u, v) for a row-major 3 x 3 grid. */
+static inline void biquadratic_weights(double u, double v, double w[9]) {
   double lu[3], lv[3];
   lagrange3(u, lu);
   lagrange3(v, lv);
@@ -148,7 +158,7 @@ static inline void weights9(double u, double v, double w[9]) {
       w[3 * r + c] = lv[r] * lu[c];
 }
 
-static inline void weights(double u, double v, double w[4]) {
+static inline void bilinear_weights(double u, double v, double w[4]) {
   w[0] = (1 - u) * (1 - v);
   w[1] = u * (1 - v);
   w[2] = (1 - u) * v;
@@ -162,17 +172,17 @@ static inline rt_rgb_t rgb_lerp4(const double w[4], rt_rgb_t a, rt_rgb_t b, rt_r
                 w[0] * a.b + w[1] * b.b + w[2] * c.b + w[3] * d.b);
 }
 
-/* Corner c (0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1)) of quad q. */
-static inline const point_t *corner_of(const lquad_t *q, int c) {
+/* Corner c (0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1)) of lattice cell lc. */
+static inline const lattice_point_t *corner_of(const lattice_cell_t *lc, int c) {
   int col = c & 1, row = c >> 1;
-  if (q->measured)
-    return &q->g[2 * row][2 * col];
-  return &q->pg[q->qy + row][q->qx + col];
+  if (lc->measured)
+    return &lc->g[2 * row][2 * col];
+  return &lc->pg[lc->qy + row][lc->qx + col];
 }
 
-/* The 3 x 3 grid the quad's error comes from: its own, or its parent's. */
-static inline const point_t (*grid_of(const lquad_t *q))[3] {
-  return q->measured ? (const point_t(*)[3])q->g : q->pg;
+/* The 3 x 3 grid the lattice cell's error comes from: its own, or its parent's. */
+static inline const lattice_point_t (*grid_of(const lattice_cell_t *lc))[3] {
+  return lc->measured ? (const lattice_point_t(*)[3])lc->g : lc->pg;
 }
 
 static inline double norm_pixels(const void *node, px_vec3_t e) {
@@ -189,7 +199,7 @@ static inline px_vec3_t rgb_vec(rt_rgb_t c) {
 }
 
 /* How many of a grid's nine points reached node k, and how many of those traced it exactly. */
-static inline void reach(const point_t (*R)[3], int k, int *reached, int *exact) {
+static inline void reach(const lattice_point_t (*R)[3], int k, int *reached, int *exact) {
   *reached = *exact = 0;
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++) {
@@ -199,7 +209,7 @@ static inline void reach(const point_t (*R)[3], int k, int *reached, int *exact)
 }
 
 /* Node k's hit points at a grid's nine points. */
-static inline void hits_of(const point_t (*R)[3], int k, grid3_t *p) {
+static inline void hits_of(const lattice_point_t (*R)[3], int k, grid3_t *p) {
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++)
       p->v[r][c] = R[r][c].g[k].p;
@@ -218,50 +228,55 @@ static inline void sample_range(double x0, double w, int s, int *g0, int *g1) {
   *g1 = (int)ceil((x0 + w) * s - 0.5);
 }
 
-/* Samples of quad q (about w h s^2). */
-static inline double quad_samples(const pt_ctx_t *C, const lquad_t *q) {
+/* Samples of lattice cell lc (about w h s^2). */
+static inline double samples_in(const pt_ctx_t *C, const lattice_cell_t *lc) {
   int s = C->opt->spp_side;
-  return q->w * q->h * s * s;
+  return lc->w * lc->h * s * s;
 }
 
-/* Quad coordinates of sample column a (row b) of the pixel at column i (row j). */
-static inline double quad_u(const qctx_t *Q, int i, int a) {
-  return (i + Q->off[a] - Q->q->x0) * Q->inv_w;
+/* Lattice cell coordinates of sample column a (row b) of the pixel at column i (row j). */
+static inline double sample_u(const sampling_t *S, int i, int a) {
+  return (i + S->off[a] - S->lc->x0) * S->inv_w;
 }
-static inline double quad_v(const qctx_t *Q, int j, int b) {
-  return (j + Q->off[b] - Q->q->y0) * Q->inv_h;
+static inline double sample_v(const sampling_t *S, int j, int b) {
+  return (j + S->off[b] - S->lc->y0) * S->inv_h;
 }
 
-/* Biquadratic weights of the plan's grid at quad coordinates (u, v). */
-static inline void qweights9(const qctx_t *Q, double u, double v, double w[9]) {
-  weights9(Q->o9[0] + Q->s9 * u, Q->o9[1] + Q->s9 * v, w);
+/* Biquadratic weights of the plan's grid at lattice cell coordinates (u, v). */
+static inline void grid_weights(const sampling_t *S, double u, double v, double w[9]) {
+  biquadratic_weights(S->o9[0] + S->s9 * u, S->o9[1] + S->s9 * v, w);
 }
 
 /* interp_error.c */
-double pt__grid_error(const lquad_t *q, const grid3_t *G, double (*norm)(const void *, px_vec3_t),
-                      const void *ctx);
-double pt__biquad_deviation(const lquad_t *q, const pt_node_t *n, int k);
-double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lquad_t *q, const grid3_t *G,
+double pt__grid_error(const lattice_cell_t *lc, const grid3_t *G,
+                      double (*norm)(const void *, px_vec3_t), const void *ctx);
+double pt__biquad_deviation(const lattice_cell_t *lc, const pt_node_t *n, int k);
+double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lattice_cell_t *lc, const grid3_t *G,
                                      const pt_node_t *n);
-double pt__faint_bound(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3], int k);
-double pt__weight_error(const pt_ctx_t *C, const lquad_t *q, const point_t (*R)[3], int k);
-int pt__halve_dir(const pt_ctx_t *C, const lquad_t *q, double rho, double xi2);
+double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
+                       int k);
+double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
+                        int k);
+int pt__halving(const pt_ctx_t *C, const lattice_cell_t *lc, double rho, double xi2);
 
 /* interp_plan.c */
-int pt__own_pays(const pt_ctx_t *C, const lquad_t *q, const plan_t *pl, int can_cut);
-int pt__make_plan(pt_ctx_t *C, const lquad_t *q, plan_t *pl, int can_cut, int *why);
+int pt__per_sample_pays(const pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan_t *pl,
+                        int can_cut);
+int pt__make_plan(pt_ctx_t *C, const lattice_cell_t *lc, interp_plan_t *pl, int can_cut, int *why);
 
 /* interp_sum.c */
-void pt__qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q);
-rt_rgb_t pt__fast_sample(const qctx_t *Q, double u, double v);
-rt_rgb_t pt__fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int b0, int b1);
+void pt__sampling_begin(pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan_t *pl,
+                        sampling_t *S);
+rt_rgb_t pt__summed_sample(const sampling_t *S, double u, double v);
+rt_rgb_t pt__pixel_sum(const sampling_t *S, const pixel_t *P, int a0, int a1, int b0, int b1);
 
 /* interp_sample.c */
-int pt__misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E);
-void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1, int b0, int b1);
+int pt__misses_nothing_anywhere(const pt_ctx_t *C, const pt_eval_t *E);
+void pt__pixel_samples(pt_ctx_t *C, pixel_t *P, sampling_t *S, int why, int a0, int a1, int b0,
+                       int b1);
 
 /* interp_memo.c */
-point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow);
+lattice_point_t pt__lattice_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow);
 void pt__memo_reset(pt_lattice_memo_t *M, int nnode);
 
 #endif

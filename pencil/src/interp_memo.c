@@ -23,18 +23,19 @@ static int memo_slot(const pt_lattice_memo_t *M, double x, double y) {
   }
 }
 
-/* The lattice point at (x, y) traced through the paths: the cell's memo holds it when a
- * neighbouring quad traced it already (the evaluation depends on nothing but the position and the
- * cell's paths, so it is the same point); otherwise it is traced into the memo, or into g (cap
- * nodes) when the memo is full. record_shadow: the point is the cell's axial ray, whose evaluation
- * also records the cell's shadow transmittances (pt__record_shadows). */
-point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int record_shadow) {
+/* The lattice point at (x, y) traced through the paths: the domain's memo holds it when a
+ * neighbouring lattice cell traced it already (the evaluation depends on nothing but the position
+ * and the domain's paths, so it is the same point); otherwise it is traced into the memo, or into g
+ * (cap nodes) when the memo is full. record_shadow: the point is the domain's axial ray, whose
+ * evaluation also records the domain's shadow transmittances (pt__record_shadows). */
+lattice_point_t pt__lattice_point(pt_ctx_t *C, double x, double y, pt_geom_t *g,
+                                  int record_shadow) {
   pt_lattice_memo_t *M = &C->lattice.memo;
   int s = memo_slot(M, x, y);
   if (M->gen[s] == M->now && C->opt->memo) {
     int i = M->slot[s];
     C->st.lattice_reused++;
-    return (point_t){M->g + (size_t)i * (size_t)M->stride, M->xi2[i], M->ok[i]};
+    return (lattice_point_t){M->g + (size_t)i * (size_t)M->stride, M->xi2[i], M->ok[i]};
   }
   int i = M->n < M->cap ? M->n++ : -1;
   if (i >= 0)
@@ -42,13 +43,13 @@ point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int recor
   pt_eval_t E = {.C = C,
                  .mode = PT_EV_MATRIX,
                  .shade = 1,
-                 .rec = g,
+                 .geom = g,
                  .lattice = 1,
                  .record_shadow = record_shadow};
   pt__xi_of(C, &E, x, y);
   pt__eval(&E);
   C->st.lattice_points++;
-  point_t pt = {g, E.xi[0] * E.xi[0] + E.xi[1] * E.xi[1], !E.fallback};
+  lattice_point_t pt = {g, E.xi[0] * E.xi[0] + E.xi[1] * E.xi[1], !E.fallback};
   if (i >= 0) {
     M->xy[2 * i] = x;
     M->xy[2 * i + 1] = y;
@@ -60,7 +61,7 @@ point_t pt__trace_point(pt_ctx_t *C, double x, double y, pt_geom_t *g, int recor
   return pt;
 }
 
-/* Start the memo for a new cell (its points depend on the cell's paths) whose trees have nnode
+/* Start the memo for a new domain (its points depend on the domain's paths) whose trees have nnode
  * nodes: a point's records are stored contiguously, nnode of them, so that the grids
  * pt__make_plan() reads are compact (with the tree's capacity as the stride, a point of the 13-node
  * Fig. 8 tree took 21 KB for 2 KB of records). */

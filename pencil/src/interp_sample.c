@@ -1,7 +1,7 @@
 /* interp_sample.c -- the samples of an accepted lattice cell (paper section 4.1 (2): "the
  * intersection point and the direction of an interior paraxial ray are linearly interpolated"):
- * each sample's hits and brightness interpolated from the cell's corners (bilinear weights, or
- * biquadratic ones over its 3 x 3 grid), its per-sample nodes shaded at their interpolated hits,
+ * each sample's hits and brightness interpolated from the lattice cell's corners (bilinear weights,
+ * or biquadratic ones over its 3 x 3 grid), its per-sample nodes shaded at their interpolated hits,
  * certified mode's check that an interpolated miss still meets no unbounded plane, and the loop
  * over one pixel's samples in a lattice cell. */
 #include <math.h>
@@ -10,13 +10,14 @@
 
 /* Parity of the checker square of textured leaf k at the interpolation with weights w. */
 static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
-  const pt_geom_t *g0 = &E->g[0][k], *g1 = &E->g[1][k], *g2 = &E->g[2][k], *g3 = &E->g[3][k];
+  const pt_geom_t *g0 = &E->corner[0][k], *g1 = &E->corner[1][k], *g2 = &E->corner[2][k],
+                  *g3 = &E->corner[3][k];
   px_vec3_t p =
       v3_axpy(w[0], g0->p, v3_axpy(w[1], g1->p, v3_axpy(w[2], g2->p, v3_scale(g3->p, w[3]))));
-  if (E->q2 && E->q2[k]) { /* biquadratic (E->w9) */
+  if (E->biquadratic && E->biquadratic[k]) { /* biquadratic (E->grid_w) */
     p = (px_vec3_t){0, 0, 0};
     for (int i = 0; i < 9; i++)
-      p = v3_axpy(E->w9[i], E->g9[i][k].p, p);
+      p = v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
   }
   const rt_plane_t *pl0 = &E->C->s->prim[E->C->paths.node[k].prim].plane;
   double u, v;
@@ -25,51 +26,53 @@ static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
 }
 
 /* The nodes of an interpolated sample with weights w that are shaded per sample. */
-static rt_rgb_t interp_local(pt_eval_t *E, const plan_t *pl, const double w[4]) {
+static rt_rgb_t interp_local(pt_eval_t *E, const interp_plan_t *pl, const double w[4]) {
   rt_rgb_t sum = rt_rgb(0, 0, 0);
-  E->w = w;
-  for (int m = 0; m < pl->n; m++) {
-    int k = pl->k[m];
-    rt_rgb_t wk = rgb_lerp4(w, E->g[0][k].w, E->g[1][k].w, E->g[2][k].w, E->g[3][k].w);
-    sum = rt_rgb_add(sum, pt__eval_local(E, k, wk, pl->direct[m], pl->exact[m]));
+  E->corner_w = w;
+  for (int m = 0; m < pl->nshaded; m++) {
+    int k = pl->shaded[m];
+    rt_rgb_t wk =
+        rgb_lerp4(w, E->corner[0][k].w, E->corner[1][k].w, E->corner[2][k].w, E->corner[3][k].w);
+    sum = rt_rgb_add(sum, pt__eval_local(E, k, wk, pl->shaded_direct[m], pl->shaded_exact[m]));
   }
   return sum;
 }
 
-/* One interpolated sample with weights w (E->g holds the quad's corners). */
-static rt_rgb_t interp_sample(pt_eval_t *E, const plan_t *pl, const double w[4]) {
-  const rt_rgb_t *c = pl->smooth;
-  E->w = w;
+/* One interpolated sample with weights w (E->corner holds the lattice cell's corners). */
+static rt_rgb_t interp_sample(pt_eval_t *E, const interp_plan_t *pl, const double w[4]) {
+  const rt_rgb_t *c = pl->linear_corners;
+  E->corner_w = w;
   rt_rgb_t sum = rgb_lerp4(w, c[0], c[1], c[2], c[3]);
-  for (int m = 0; m < pl->nt; m++) { /* textured leaves: the material of the sample's square */
-    int k = pl->kt[m], par = leaf_parity(E, k, w);
-    sum = rt_rgb_add(sum, rgb_lerp4(w, E->g[0][k].lt[par], E->g[1][k].lt[par], E->g[2][k].lt[par],
-                                    E->g[3][k].lt[par]));
+  for (int m = 0; m < pl->nleaves; m++) { /* textured leaves: the material of the sample's square */
+    int k = pl->leaves[m], par = leaf_parity(E, k, w);
+    sum = rt_rgb_add(sum, rgb_lerp4(w, E->corner[0][k].lt[par], E->corner[1][k].lt[par],
+                                    E->corner[2][k].lt[par], E->corner[3][k].lt[par]));
   }
   return rt_rgb_add(sum, interp_local(E, pl, w));
 }
 
-/* Whether node k is a miss whose ray an interpolated sample takes from the quad's corners E->g:
- * computed by the pencil at all four (ok == 1) and not in a subtree traced exactly per sample
- * (C->lattice.plan.exact_subtree). Only then are the corners' rays defined: a node a lattice point
- * did not reach keeps whatever its storage held before. */
+/* Whether node k is a miss whose ray an interpolated sample takes from the lattice cell's corners
+ * E->corner: computed by the pencil at all four (ok == 1) and not in a subtree traced exactly per
+ * sample (C->lattice.plan.exact_subtree). Only then are the corners' rays defined: a node a lattice
+ * point did not reach keeps whatever its storage held before. */
 static int interpolated_miss(const pt_ctx_t *C, const pt_eval_t *E, int k) {
-  if (!C->paths.node[k].miss || (E->xsub && E->xsub[k]))
+  if (!C->paths.node[k].miss || (E->exact_subtree && E->exact_subtree[k]))
     return 0;
   for (int i = 0; i < 4; i++)
-    if (E->g[i][k].ok != 1)
+    if (E->corner[i][k].ok != 1)
       return 0;
   return 1;
 }
 
 /* Certified mode: whether every miss node of an interpolated sample still meets no unbounded
- * plane (its ray interpolated from the quad's corners): a horizon can cross a quad between its
- * corners. Bounded objects were checked by intersecting the rays of the lattice points with the
- * scene (eval.c); between those points they are not. */
+ * plane (its ray interpolated from the lattice cell's corners): a horizon can cross a lattice cell
+ * between its corners. Bounded objects were checked by intersecting the rays of the lattice points
+ * with the scene (eval.c); between those points they are not. */
 static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[4]) {
   const rt_scene_t *s = C->s;
   for (int k = 0; k < C->paths.n; k++) {
-    const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
+    const pt_geom_t *a = &E->corner[0][k], *b = &E->corner[1][k], *c = &E->corner[2][k],
+                    *e = &E->corner[3][k];
     if (!interpolated_miss(C, E, k))
       continue;
     px_vec3_t o =
@@ -88,11 +91,11 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
   return 1;
 }
 
-/* Certified mode: whether misses_nothing() holds for every sample of the quad whose corners are
- * E->g. side and towards are bilinear in the sample's weights (the ray's origin and its
+/* Certified mode: whether misses_nothing() holds for every sample of the lattice cell whose corners
+ * are E->corner. side and towards are bilinear in the sample's weights (the ray's origin and its
  * unnormalised direction are interpolated), so they take their extremes at the corners: when the
  * corners agree in sign (with a margin for rounding), so do all the samples. */
-int pt__misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
+int pt__misses_nothing_anywhere(const pt_ctx_t *C, const pt_eval_t *E) {
   const rt_scene_t *s = C->s;
   for (int k = 0; k < C->paths.n; k++) {
     if (!interpolated_miss(C, E, k))
@@ -103,7 +106,7 @@ int pt__misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
         continue;
       int pos = 1, neg = 1;
       for (int i = 0; i < 4; i++) {
-        const pt_geom_t *g = &E->g[i][k];
+        const pt_geom_t *g = &E->corner[i][k];
         px_vec3_t r = v3_sub(g->p, pr->plane.p);
         double side = v3_dot(pr->plane.n, r), towards = v3_dot(pr->plane.n, g->d);
         double eps = 1e-9 * (1.0 + v3_norm(g->p) + v3_norm(pr->plane.p));
@@ -120,19 +123,20 @@ int pt__misses_nothing_quad(const pt_ctx_t *C, const pt_eval_t *E) {
 /* Start the evaluation of the sample at (x, y): its flags cleared, and its own xi and primary ray
  * when its own nodes or its exact spawn hits need them. */
 static void sample_start(pt_ctx_t *C, pt_eval_t *E, double x, double y) {
-  E->partial = E->fallback = E->ownfail = E->spawnfail = 0;
-  if (E->own || E->exact_spawn) {
+  E->partial = E->fallback = E->traced_failed = E->spawnfail = 0;
+  if (E->traced || E->exact_spawn) {
     pt__xi_of(C, E, x, y);
     E->stamp = ++C->sample.stamp;
   }
 }
 
-/* The samples a in [a0, a1), b in [b0, b1) of pixel P inside quad q: interpolated (Q), or
- * through the matrices when Q is NULL (*why counts them). */
-void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1, int b0, int b1) {
+/* The samples a in [a0, a1), b in [b0, b1) of pixel P inside lattice cell lc: interpolated (S), or
+ * through the matrices when S is NULL (*why counts them). */
+void pt__pixel_samples(pt_ctx_t *C, pixel_t *P, sampling_t *S, int why, int a0, int a1, int b0,
+                       int b1) {
   int count = (a1 - a0) * (b1 - b0);
   uint64_t r0 = pt__rays_now(C);
-  if (!Q) {
+  if (!S) {
     C->st.matrix_samples[why] += (uint64_t)count;
     for (int b = b0; b < b1; b++)
       for (int a = a0; a < a1; a++)
@@ -140,33 +144,34 @@ void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1,
     P->rays += pt__rays_now(C) - r0;
     return;
   }
-  const lquad_t *q = Q->q;
-  pt_eval_t *E = &Q->E;
-  int cert = C->opt->certified && !Q->safe, fast = Q->fast, partial = 0;
-  for (int b = b0; b < b1 && fast && cert; b++)
-    for (int a = a0; a < a1 && fast; a++) {
+  const lattice_cell_t *lc = S->lc;
+  pt_eval_t *E = &S->E;
+  int cert = C->opt->certified && !S->safe, summed = S->summed, partial = 0;
+  for (int b = b0; b < b1 && summed && cert; b++)
+    for (int a = a0; a < a1 && summed; a++) {
       double w[4];
-      weights(quad_u(Q, P->i, a), quad_v(Q, P->j, b), w);
-      fast = misses_nothing(C, E, w);
+      bilinear_weights(sample_u(S, P->i, a), sample_v(S, P->j, b), w);
+      summed = misses_nothing(C, E, w);
     }
-  int local = fast && Q->pl->n > 0; /* the per-sample nodes on top of the summed rest */
-  if (fast) {
-    P->sum = rt_rgb_add(P->sum, pt__fast_sum(Q, P, a0, a1, b0, b1));
+  int local = summed && S->pl->nshaded > 0; /* the per-sample nodes on top of the summed rest */
+  if (summed) {
+    P->sum = rt_rgb_add(P->sum, pt__pixel_sum(S, P, a0, a1, b0, b1));
     P->n[PT_METHOD_INTERP] += count;
     C->st.lerp_samples += local ? 0u : (uint64_t)count;
   }
-  for (int b = b0; b < b1 && !(fast && !local && !C->opt->measure); b++)
+  for (int b = b0; b < b1 && !(summed && !local && !C->opt->measure); b++)
     for (int a = a0; a < a1; a++) {
-      double x = P->i + Q->off[a], y = P->j + Q->off[b], w[4];
-      double qu = (x - q->x0) * Q->inv_w, qv = (y - q->y0) * Q->inv_h;
-      weights(qu, qv, w);
-      if (E->q2)
-        qweights9(Q, qu, qv, E->w9);
+      double x = P->i + S->off[a], y = P->j + S->off[b], w[4];
+      double qu = (x - lc->x0) * S->inv_w, qv = (y - lc->y0) * S->inv_h;
+      bilinear_weights(qu, qv, w);
+      if (E->biquadratic)
+        grid_weights(S, qu, qv, E->grid_w);
       if (local) {
         sample_start(C, E, x, y);
-        rt_rgb_t v = interp_local(E, Q->pl, w);
-        if (E->ownfail) { /* take the sample's summed part back: the whole sample by matrices */
-          rt_rgb_t f = pt__fast_sample(Q, qu, qv);
+        rt_rgb_t v = interp_local(E, S->pl, w);
+        if (E->traced_failed) { /* take the sample's summed part back: the whole sample by matrices
+                                 */
+          rt_rgb_t f = pt__summed_sample(S, qu, qv);
           P->sum = rt_rgb(P->sum.r - f.r, P->sum.g - f.g, P->sum.b - f.b);
           P->n[PT_METHOD_INTERP]--;
           pt__matrix_sample(C, P, a, b);
@@ -176,14 +181,14 @@ void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1,
         partial |= E->partial;
         C->st.fallbacks += (uint64_t)E->fallback;
       }
-      if (!fast) {
+      if (!summed) {
         if (cert && !misses_nothing(C, E, w)) {
           pt__matrix_sample(C, P, a, b);
           continue;
         }
         sample_start(C, E, x, y);
-        rt_rgb_t v = interp_sample(E, Q->pl, w);
-        if (E->ownfail) { /* an own node's ray left its path: the whole sample by matrices */
+        rt_rgb_t v = interp_sample(E, S->pl, w);
+        if (E->traced_failed) { /* an own node's ray left its path: the whole sample by matrices */
           pt__matrix_sample(C, P, a, b);
           continue;
         }
@@ -193,9 +198,9 @@ void pt__quad_pixel(pt_ctx_t *C, pixel_t *P, qctx_t *Q, int why, int a0, int a1,
         C->st.fallbacks += (uint64_t)E->fallback;
       }
       if (C->opt->measure) {
-        E->w = w;
+        E->corner_w = w;
         pt__geometry(C, E);
-        E->w = NULL;
+        E->corner_w = NULL;
         rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
         P->pmax = pt__measure_sample(C, &r, C->sample.geom, P->i, P->j, a, b, P->pmax);
       }

@@ -8,57 +8,59 @@
 
 #include "interp.h"
 
-void pt__qctx_make(pt_ctx_t *C, const lquad_t *q, const plan_t *pl, qctx_t *Q) {
-  Q->q = q;
-  Q->pl = pl;
+void pt__sampling_begin(pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan_t *pl,
+                        sampling_t *S) {
+  S->lc = lc;
+  S->pl = pl;
   int s = C->opt->spp_side;
   for (int a = 0; a < s; a++)
-    Q->off[a] = (a + 0.5) / s;
-  Q->inv_w = 1.0 / q->w;
-  Q->inv_h = 1.0 / q->h;
-  Q->E = (pt_eval_t){.C = C,
+    S->off[a] = (a + 0.5) / s;
+  S->inv_w = 1.0 / lc->w;
+  S->inv_h = 1.0 / lc->h;
+  S->E = (pt_eval_t){.C = C,
                      .mode = PT_EV_INTERP,
                      .shade = 1,
-                     .xsub = C->lattice.plan.exact_subtree,
-                     .own = pl->nown ? C->lattice.plan.traced : NULL};
-  Q->E.exact_spawn = pt__spawns_exact(&Q->E);
+                     .exact_subtree = C->lattice.plan.exact_subtree,
+                     .traced = pl->ntraced ? C->lattice.plan.traced : NULL};
+  S->E.exact_spawn = pt__spawns_exact(&S->E);
   for (int i = 0; i < 4; i++)
-    Q->E.g[i] = corner_of(q, i)->g;
-  Q->s9 = 1.0;
-  Q->o9[0] = Q->o9[1] = 0.0;
-  if (pl->nq2) { /* measured quarters only: the quad's own grid, certified its parent's */
+    S->E.corner[i] = corner_of(lc, i)->g;
+  S->s9 = 1.0;
+  S->o9[0] = S->o9[1] = 0.0;
+  if (pl->nbiquadratic) { /* measured quarters only: the lattice cell's own grid, certified its
+                             parent's */
     int par = C->opt->certified;
-    Q->E.q2 = C->lattice.plan.biquadratic;
+    S->E.biquadratic = C->lattice.plan.biquadratic;
     for (int i = 0; i < 9; i++)
-      Q->E.g9[i] = par ? q->pg[i / 3][i % 3].g : q->g[i / 3][i % 3].g;
+      S->E.grid[i] = par ? lc->pg[i / 3][i % 3].g : lc->g[i / 3][i % 3].g;
     if (par) {
-      Q->s9 = 0.5;
-      Q->o9[0] = 0.5 * q->qx;
-      Q->o9[1] = 0.5 * q->qy;
+      S->s9 = 0.5;
+      S->o9[0] = 0.5 * lc->qx;
+      S->o9[1] = 0.5 * lc->qy;
     }
   }
-  Q->fast = pl->nt <= PT_FAST_LEAVES;
-  Q->safe = !C->opt->certified || pt__misses_nothing_quad(C, &Q->E);
-  for (int m = 0; m < pl->nt && Q->fast; m++) {
-    int k = pl->kt[m], q2 = pl->nq2 && C->lattice.plan.biquadratic[k];
+  S->summed = pl->nleaves <= PT_SUMMED_LEAVES;
+  S->safe = !C->opt->certified || pt__misses_nothing_anywhere(C, &S->E);
+  for (int m = 0; m < pl->nleaves && S->summed; m++) {
+    int k = pl->leaves[m], q2 = pl->nbiquadratic && C->lattice.plan.biquadratic[k];
     const rt_plane_t *bp = &C->s->prim[C->paths.node[k].prim].plane;
-    Q->q2leaf[m] = (uint8_t)q2;
+    S->biquadratic_leaf[m] = (uint8_t)q2;
     for (int i = 0; i < (q2 ? 9 : 4); i++) {
-      px_vec3_t p = q2 ? Q->E.g9[i][k].p : Q->E.g[i][k].p;
-      rt_plane_coords(bp, p, &Q->uv[m][i][0], &Q->uv[m][i][1]);
-      Q->uv[m][i][0] *= bp->inv_check;
-      Q->uv[m][i][1] *= bp->inv_check;
+      px_vec3_t p = q2 ? S->E.grid[i][k].p : S->E.corner[i][k].p;
+      rt_plane_coords(bp, p, &S->uv[m][i][0], &S->uv[m][i][1]);
+      S->uv[m][i][0] *= bp->inv_check;
+      S->uv[m][i][1] *= bp->inv_check;
     }
     for (int t = 0; t < 2 && q2; t++) { /* second differences of the grid; 1.25 bounds the sum
                                            of |Lagrange weights| of three nodes on [0, 1] */
       double cu = 0.0, cv = 0.0;
-      const double(*g)[2] = Q->uv[m];
+      const double(*g)[2] = S->uv[m];
       for (int r = 0; r < 3; r++) {
         cu = pt_max(cu, fabs(4.0 * (g[3 * r][t] - 2.0 * g[3 * r + 1][t] + g[3 * r + 2][t])));
         cv = pt_max(cv, fabs(4.0 * (g[r][t] - 2.0 * g[3 + r][t] + g[6 + r][t])));
       }
-      Q->curv[m][t][0] = 1.25 * cu;
-      Q->curv[m][t][1] = 1.25 * cv;
+      S->curv[m][t][0] = 1.25 * cu;
+      S->curv[m][t][1] = 1.25 * cv;
     }
   }
 }
@@ -73,13 +75,13 @@ static inline double floor_fast(double x) {
   return t > x ? t - 1.0 : t;
 }
 
-/* Checker parity of leaf m of the fast path at quad coordinates (u, v) (the board coordinates
- * are affine in the hit point, so interpolating them is interpolating the point). */
-static int fast_parity(const qctx_t *Q, int m, double u, double v, double sq[2]) {
-  const double(*c)[2] = Q->uv[m];
-  if (Q->q2leaf[m]) {
+/* Checker parity of leaf m of the summed path at lattice cell coordinates (u, v) (the board
+ * coordinates are affine in the hit point, so interpolating them is interpolating the point). */
+static int summed_parity(const sampling_t *S, int m, double u, double v, double sq[2]) {
+  const double(*c)[2] = S->uv[m];
+  if (S->biquadratic_leaf[m]) {
     double w[9];
-    qweights9(Q, u, v, w);
+    grid_weights(S, u, v, w);
     for (int t = 0; t < 2; t++) {
       double x = 0.0;
       for (int i = 0; i < 9; i++)
@@ -88,25 +90,26 @@ static int fast_parity(const qctx_t *Q, int m, double u, double v, double sq[2])
     }
   } else {
     double w[4];
-    weights(u, v, w);
+    bilinear_weights(u, v, w);
     for (int t = 0; t < 2; t++)
       sq[t] = floor_fast(w[0] * c[0][t] + w[1] * c[1][t] + w[2] * c[2][t] + w[3] * c[3][t]);
   }
   return (int)((int64_t)(sq[0] + sq[1]) & 1);
 }
 
-/* The summed part (linear nodes and textured leaves) of one sample with weights w, as pt__fast_sum
+/* The summed part (linear nodes and textured leaves) of one sample with weights w, as pt__pixel_sum
  * counts it. */
-rt_rgb_t pt__fast_sample(const qctx_t *Q, double u, double v) {
-  const plan_t *pl = Q->pl;
+rt_rgb_t pt__summed_sample(const sampling_t *S, double u, double v) {
+  const interp_plan_t *pl = S->pl;
   double w[4];
-  weights(u, v, w);
-  rt_rgb_t sum = rgb_lerp4(w, pl->smooth[0], pl->smooth[1], pl->smooth[2], pl->smooth[3]);
-  for (int m = 0; m < pl->nt; m++) {
-    const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
-                    *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
+  bilinear_weights(u, v, w);
+  rt_rgb_t sum = rgb_lerp4(w, pl->linear_corners[0], pl->linear_corners[1], pl->linear_corners[2],
+                           pl->linear_corners[3]);
+  for (int m = 0; m < pl->nleaves; m++) {
+    const pt_geom_t *g0 = &S->E.corner[0][pl->leaves[m]], *g1 = &S->E.corner[1][pl->leaves[m]],
+                    *g2 = &S->E.corner[2][pl->leaves[m]], *g3 = &S->E.corner[3][pl->leaves[m]];
     double sq[2];
-    int p = fast_parity(Q, m, u, v, sq);
+    int p = summed_parity(S, m, u, v, sq);
     sum = rt_rgb_add(sum, rgb_lerp4(w, g0->lt[p], g1->lt[p], g2->lt[p], g3->lt[p]));
   }
   return sum;
@@ -118,38 +121,39 @@ rt_rgb_t pt__fast_sample(const qctx_t *Q, double u, double v) {
  * material - per sample only when its square is not one over the samples (the interpolated
  * board point is bilinear in the sample position, so its square is one when it is one at the
  * four extreme samples: squares are convex). */
-rt_rgb_t pt__fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int b0, int b1) {
-  const plan_t *pl = Q->pl;
+rt_rgb_t pt__pixel_sum(const sampling_t *S, const pixel_t *P, int a0, int a1, int b0, int b1) {
+  const interp_plan_t *pl = S->pl;
   double su = 0.0, sv = 0.0, na = a1 - a0, nb = b1 - b0;
   for (int a = a0; a < a1; a++)
-    su += quad_u(Q, P->i, a);
+    su += sample_u(S, P->i, a);
   for (int b = b0; b < b1; b++)
-    sv += quad_v(Q, P->j, b);
+    sv += sample_v(S, P->j, b);
   const double W[4] = {(na - su) * (nb - sv), su * (nb - sv), (na - su) * sv, su * sv};
-  rt_rgb_t sum = rgb_lerp4(W, pl->smooth[0], pl->smooth[1], pl->smooth[2], pl->smooth[3]);
-  double ua = quad_u(Q, P->i, a0), ub = quad_u(Q, P->i, a1 - 1);
-  double va = quad_v(Q, P->j, b0), vb = quad_v(Q, P->j, b1 - 1);
-  for (int m = 0; m < pl->nt; m++) {
-    const pt_geom_t *g0 = &Q->E.g[0][pl->kt[m]], *g1 = &Q->E.g[1][pl->kt[m]],
-                    *g2 = &Q->E.g[2][pl->kt[m]], *g3 = &Q->E.g[3][pl->kt[m]];
+  rt_rgb_t sum = rgb_lerp4(W, pl->linear_corners[0], pl->linear_corners[1], pl->linear_corners[2],
+                           pl->linear_corners[3]);
+  double ua = sample_u(S, P->i, a0), ub = sample_u(S, P->i, a1 - 1);
+  double va = sample_v(S, P->j, b0), vb = sample_v(S, P->j, b1 - 1);
+  for (int m = 0; m < pl->nleaves; m++) {
+    const pt_geom_t *g0 = &S->E.corner[0][pl->leaves[m]], *g1 = &S->E.corner[1][pl->leaves[m]],
+                    *g2 = &S->E.corner[2][pl->leaves[m]], *g3 = &S->E.corner[3][pl->leaves[m]];
     double sq[2], sq0[2];
     const double ue[4] = {ua, ub, ua, ub}, ve[4] = {va, va, vb, vb};
-    int par = fast_parity(Q, m, ua, va, sq0), one = 1;
+    int par = summed_parity(S, m, ua, va, sq0), one = 1;
     for (int e = 1; e < 4 && one; e++) {
-      fast_parity(Q, m, ue[e], ve[e], sq);
+      summed_parity(S, m, ue[e], ve[e], sq);
       one = sq[0] == sq0[0] && sq[1] == sq0[1];
     }
-    if (one && Q->q2leaf[m]) {
+    if (one && S->biquadratic_leaf[m]) {
       /* a biquadratic leaf's points are not convex combinations of the extreme samples': they
        * deviate from the bilinear interpolation of those by at most (du^2 |f_uu| + dv^2
        * |f_vv|) / 8, so the extreme samples must keep that far from their square's edges */
       for (int t = 0; t < 2 && one; t++) {
-        double du = Q->s9 * (ub - ua), dv = Q->s9 * (vb - va);
-        double margin = (du * du * Q->curv[m][t][0] + dv * dv * Q->curv[m][t][1]) / 8.0;
+        double du = S->s9 * (ub - ua), dv = S->s9 * (vb - va);
+        double margin = (du * du * S->curv[m][t][0] + dv * dv * S->curv[m][t][1]) / 8.0;
         for (int e = 0; e < 4 && one; e++) {
-          const double(*c)[2] = Q->uv[m];
+          const double(*c)[2] = S->uv[m];
           double w[9], x = 0.0;
-          qweights9(Q, ue[e], ve[e], w);
+          grid_weights(S, ue[e], ve[e], w);
           for (int i = 0; i < 9; i++)
             x += w[i] * c[i][t];
           one = x - sq0[t] >= margin && sq0[t] + 1.0 - x >= margin;
@@ -163,9 +167,9 @@ rt_rgb_t pt__fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int b0,
     /* per sample: its material's summed weights, row by row (the weights are separable: a row
      * needs the count and the sum of u of its samples of each material) */
     double Wp[2][4] = {{0}};
-    const double(*c)[2] = Q->uv[m];
+    const double(*c)[2] = S->uv[m];
     for (int b = b0; b < b1; b++) {
-      double v = quad_v(Q, P->j, b), n[2] = {0, 0}, su_p[2] = {0, 0};
+      double v = sample_v(S, P->j, b), n[2] = {0, 0}, su_p[2] = {0, 0};
       /* a bilinear leaf's board coordinates are linear in u along the row: x = x0 + u dx */
       double x0[2], dx[2];
       for (int t = 0; t < 2; t++) {
@@ -173,7 +177,7 @@ rt_rgb_t pt__fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int b0,
         dx[t] = (1 - v) * (c[1][t] - c[0][t]) + v * (c[3][t] - c[2][t]);
       }
       int one_square = 0;
-      if (!Q->q2leaf[m]) {
+      if (!S->biquadratic_leaf[m]) {
         /* x is monotonic in u (so is each rounding step), u in a, and floor in x: when the
          * row's two end samples are in one square, so is every sample between them, and the
          * row adds its count and its sum of u (su, summed in the same order) at once */
@@ -190,10 +194,10 @@ rt_rgb_t pt__fast_sum(const qctx_t *Q, const pixel_t *P, int a0, int a1, int b0,
         }
       }
       for (int a = a0; a < a1 && !one_square; a++) {
-        double u = quad_u(Q, P->i, a);
+        double u = sample_u(S, P->i, a);
         int p;
-        if (Q->q2leaf[m]) {
-          p = fast_parity(Q, m, u, v, sq);
+        if (S->biquadratic_leaf[m]) {
+          p = summed_parity(S, m, u, v, sq);
         } else {
           double f0 = floor_fast(x0[0] + u * dx[0]), f1 = floor_fast(x0[1] + u * dx[1]);
           p = (int)((int64_t)(f0 + f1) & 1);

@@ -10,16 +10,16 @@
  * tracer's tree of the same ray (paths matched by their sequence of reflections/refractions):
  * error = |J+ (p_pencil - p_exact)|, the distance in pixel intervals on the surface: J is the
  * pixel footprint of that path on the surface (one pixel step along screen x and y, from the path's
- * system matrix at the cell's axial ray, pt_node_t.j), so that where the footprint is stretched
+ * system matrix at the domain's axial ray, pt_node_t.j), so that where the footprint is stretched
  * (a board seen at a grazing angle) a distance along the stretch counts in the stretched
  * interval. The strict variant divides |p_pencil - p_exact| by the smallest pixel interval over
  * all directions instead. The sample's error is the largest over its measured points; a
  * measured point of either tree without a counterpart in the other (the pencil missed an edge) is
  * an infinite error. A subtree the pencil traced exactly per sample starts at the pencil's hit of
  * the node it hangs from, which may be interpolated: its points (recorded in C->sub.tree) are
- * compared in the same way, in the pixel intervals of the cell's node on the same path (a subtree
- * off the cell's paths has none: there only its surfaces are compared). Samples traced exactly from
- * the eye have no error. */
+ * compared in the same way, in the pixel intervals of the domain's node on the same path (a subtree
+ * off the domain's paths has none: there only its surfaces are compared). Samples traced exactly
+ * from the eye have no error. */
 #include <math.h>
 
 #include "internal.h"
@@ -75,7 +75,7 @@ static int follow(const rt_tree_t *a, int k, const rt_tree_t *b, int *last, int 
 /* The recorded subtree i (C->sub.tree): its points against the exact tree X, whose node on the path
  * of the pencil node the subtree hangs from is xk (-1: none). Its measured points without a
  * counterpart on the same primitive are infinite errors; the others are measured in the pixel
- * intervals of the cell's node on the same path, when it has one. Returns the points compared. */
+ * intervals of the domain's node on the same path, when it has one. Returns the points compared. */
 static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, double e[3]) {
   const rt_tree_t *S = &C->sub.tree, *A = &C->trees.axial;
   int r = C->sub.root[i], end = i + 1 < C->sub.n ? C->sub.root[i + 1] : S->n, points = 0;
@@ -164,7 +164,8 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
     if (k >= 0)
       lost = rec[k].ok == 0 || (C->paths.node[k].prim != X->node[x].prim && rec[k].ok != 2);
     else
-      lost = last < 0 || !(rec[last].ok == 2 || (next >= 0 && (rec[last].fb >> next) & 1u));
+      lost =
+          last < 0 || !(rec[last].ok == 2 || (next >= 0 && (rec[last].exact_kinds >> next) & 1u));
     if (lost)
       e[0] = e[2] = INFINITY;
   }

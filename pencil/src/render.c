@@ -14,7 +14,7 @@
 
 /* One initial domain. Corner trees are cached per domain; the left column of a domain is the
  * right column of the one before it in the row, so those trees move over (dx > 0). */
-static void domain(pt_ctx_t *C, int dx, int dy) {
+static void initial_domain(pt_ctx_t *C, int dx, int dy) {
   int n = C->opt->domain, side = n + 1;
   C->corners.x0 = dx * n;
   C->corners.y0 = dy * n;
@@ -35,7 +35,7 @@ static void domain(pt_ctx_t *C, int dx, int dy) {
     x1 = C->img->width;
   if (y1 > C->img->height)
     y1 = C->img->height;
-  pt__cell(C, C->corners.x0, C->corners.y0, x1, y1);
+  pt__domain(C, C->corners.x0, C->corners.y0, x1, y1);
 }
 
 static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
@@ -125,7 +125,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
 #pragma omp for schedule(dynamic, 1)
       for (int dy = 0; dy < ny; dy++) {
         for (int dx = 0; dx < nx; dx++)
-          domain(C, dx, dy);
+          initial_domain(C, dx, dy);
         if (opt->progress) {
 #pragma omp critical(pt_progress)
           opt->progress(opt->progress_ctx, ++done, ny);

@@ -1,5 +1,5 @@
 /* sample.c -- what every way of tracing a sample shares (paper section 4.1 (1), section 5): the
- * pixel being accumulated, samples traced through the cell's system matrices, samples and pixels
+ * pixel being accumulated, samples traced through the domain's system matrices, samples and pixels
  * traced exactly (edges and step 4b), the auxiliary channels, and the Fig. 10 bookkeeping. */
 #include <math.h>
 
@@ -70,8 +70,8 @@ void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec) {
   }
 }
 
-/* Step 3 failed or 4b: every sample of the pixels of the cell by the exact tracer. */
-void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
+/* Step 3 failed or 4b: every sample of the pixels of the domain by the exact tracer. */
+void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   int s = C->opt->spp_side;
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++) {
@@ -108,7 +108,7 @@ double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec
 void pt__geometry(pt_ctx_t *C, pt_eval_t *E) {
   pt_eval_t G = *E;
   G.shade = 0;
-  G.rec = C->sample.geom;
+  G.geom = C->sample.geom;
   G.record_sub = C->opt->measure;
   pt__eval(&G);
 }
@@ -139,12 +139,12 @@ void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
   pt_eval_t E = {.C = C,
                  .mode = PT_EV_MATRIX,
                  .shade = 1,
-                 .rec = C->opt->measure ? C->sample.geom : NULL,
+                 .geom = C->opt->measure ? C->sample.geom : NULL,
                  .record_sub = C->opt->measure};
   pt__xi_of(C, &E, P->i + (a + 0.5) / s, P->j + (b + 0.5) / s);
   E.exact_spawn = pt__spawns_exact(&E);
   rt_rgb_t v = pt__eval(&E);
-  if (E.spawnfail) { /* a node's exact path left the cell's paths: the whole sample exactly */
+  if (E.spawnfail) { /* a node's exact path left the domain's paths: the whole sample exactly */
     P->sum = rt_rgb_add(P->sum, rt_exact_primary(&C->ex, &E.primary));
     P->n[PT_METHOD_EXACT]++;
     if (C->opt->measure) {
