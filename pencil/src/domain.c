@@ -142,7 +142,7 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
  * what the domain's rays meet after the eye; the primary cone is pt__domain's guard): a bounded
  * object near the segment's pencil, other than the two it joins, may lie between the traced rays,
  * hiding the node from some samples while every traced tree agrees (found on scenes/balls.json:
- * the small ball seen after five reflections inside the glass ball, 23 path mismatches). For a
+ * the small ball seen after five reflections inside the glass ball, as path mismatches). For a
  * ray that leaves the scene (a miss node) the pencil is the cone of its directions from the
  * parent's hits: an object that cone comes near may be seen by samples between the traced rays
  * (a small ball reflected against the sky, tests/test_pencil.c). */
@@ -322,8 +322,8 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
    * ray interpolation: there only the lattice points are traced through the paths, those of a
    * path over its limit exactly along it (4b), and the lattice's own error test decides how
    * finely to interpolate; smaller domains would rebuild every path for the same points, and an
-   * edge below the primary ray mostly runs on through the smaller domains (docs/pencil.md: 2.4x
-   * slower at 49 spp, no more accurate) */
+   * edge below the primary ray mostly runs on through the smaller domains: slower, and no more
+   * accurate (docs/tuning.md) */
   int w = x1 - x0, h = y1 - y0, s = C->opt->spp_side;
   double k = ceil(xi_domain / need);
   if (isfinite(need) && (w > 1 || h > 1) && !interpolating(C) &&

@@ -423,7 +423,7 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
   if (E->C->paths.node[k].miss) /* the sky: no surface to shade (and no children) */
     return direct ? rt_rgb_mul(w, E->C->s->background) : rt_rgb(0, 0, 0);
   px_vec3_t hit, d;
-  if (!node_geometry(E, k, NULL, &hit, &d)) { /* only an own node's ray can leave its path */
+  if (!node_geometry(E, k, NULL, &hit, &d)) { /* only a traced node's ray can leave its path */
     E->traced_failed = 1;
     return rt_rgb(0, 0, 0);
   }

@@ -191,9 +191,9 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
  *  variation between the checked points; docs/pencil.md). */
 #define PT_CERTIFIED_MARGIN 0.7
 
-/** max(a, b) without a libm call (fmax() is one; make_plan() made 2.2 million of them at 49 spp
- *  on Fig. 8), and NaN-propagating where fmax() drops a NaN: an error that is NaN stays NaN, and
- *  the tests that use it are written to reject it (!(e <= tol)). */
+/** max(a, b) without a libm call (fmax() is one, and the lattice's error estimates make very
+ *  many: docs/tuning.md), and NaN-propagating where fmax() drops a NaN: an error that is NaN stays
+ * NaN, and the tests that use it are written to reject it (!(e <= tol)). */
 static inline double pt_max(double a, double b) {
   return a > b || a != a ? a : b;
 }

@@ -56,9 +56,8 @@ typedef struct {
 
 /* The share of rho an estimated lattice cell's e_int may use. e_int extrapolates the second-order
  * behaviour of the parent's grid onto the quarter; where the map's third-order term matters it
- * underestimates. Measured on Fig. 8 (256 x 256, 9 spp): accepting estimates up to rho leaves
- * 99.91% of the samples within rho (largest 0.86); up to rho / 2, 99.996% (largest 0.54), for
- * 20% more lattice points at 49 spp (docs/pencil.md). */
+ * underestimates; holding an estimate to half of rho keeps nearly every sample within rho for
+ * a modest number of extra lattice points (docs/tuning.md). */
 #define PT_EINT_MARGIN 0.5
 
 /* Biquadratic interpolation of a node's hits over a measured quarter lc of a measured lattice cell
@@ -70,8 +69,8 @@ typedef struct {
  * measured errors only: there the quarter is interpolated by P's biquadratic itself, whose error
  * d was measured at the quarter's five new points (as a measured lattice cell's bilinear error is
  * at its midpoints and centre), when PT_BIQUAD_CERT d + matrix error <= rho (with certified mode's
- * margin in rho; PT_BIQUAD_CERT 1.5 leaves the largest measured error of the 49-spp Fig. 8
- * render unchanged at 0.41, 1.0 let it rise to 0.48). */
+ * margin in rho; PT_BIQUAD_CERT is above 1 because a factor of 1 let the largest measured error
+ * rise: docs/tuning.md). */
 #define PT_BIQUAD_FACTOR 0.5
 /* Certified mode: a measured lattice cell's bilinear interpolation error over the whole lattice
  * cell, from the deviations d_i it measured at the five grid points other than the corners
@@ -79,16 +78,13 @@ typedef struct {
  * biquadratic through the nine points also has u^2 v, u v^2 and u^2 v^2 terms. Its difference from
  * the bilinear interpolation is sum_i d_i L_i(u, v), with L_i the biquadratic Lagrange basis of
  * point i, and max over the lattice cell of sum_i |L_i| is 1.3843 (at u = 0.325, v = 0.68 and its
- * mirror images), so the error can reach 1.38 times the largest measured deviation. Found when the
- * measure came to count every diffuse surface: on scenes/balls.json (4 spp) the matte ball seen
- * through the glass ball at depth 3 had a 2.5-pixel lattice cell with deviations up to 0.311 and
- * samples at (0.7, 0.7) off by 0.549, so 3 samples were over rho. With the factor none are. A node
- * that fails only because of the factor gets the sum itself at the lattice cell's own samples
- * (pt__bilinear_bound_at_samples), which is all the guarantee is about: Fig. 8 at 49 spp costs
- * 2.206e9 instructions instead of 2.162e9 (+2.0%; the factor alone 2.227e9), its largest error
- * 0.392 instead of 0.409. PT_BIQUAD_CERT (below) is above this factor, so the biquadratic
- * interpolation's error over a quarter, measured at the same five points, is covered the same
- * way. */
+ * mirror images), so the error can reach 1.38 times the largest measured deviation: without the
+ * factor, samples between the grid points exceeded rho in certified mode (scenes/balls.json, once
+ * the measure counted every diffuse surface). A node that fails only because of the factor gets the
+ * sum itself at the lattice cell's own samples (pt__bilinear_bound_at_samples), which is all the
+ * guarantee is about and costs less than the factor alone (docs/tuning.md). PT_BIQUAD_CERT (below)
+ * is above this factor, so the biquadratic interpolation's error over a quarter, measured at the
+ * same five points, is covered the same way. */
 #ifndef PT_BILINEAR_CERT
 #define PT_BILINEAR_CERT 1.3843
 #endif

@@ -7,9 +7,9 @@
  * A measured lattice cell's error is the deviation of its edge midpoints and centre from the
  * bilinear interpolation of its corners (exact for a second-order map); an estimated one's is the
  * paper's e_int = |(second order interpolation) - (linear interpolation)|, the second difference
- * along the parent's grid lines. Certified mode adds the
- * biquadratic terms a second-order bound misses. Also: bounds on a faint node's brightness and on
- * the error of interpolated weights W_k, and whether halving a lattice cell would do. */
+ * along the parent's grid lines. Certified mode adds the biquadratic terms a second-order bound
+ * misses. Also: bounds on a faint node's brightness and on the error of interpolated weights W_k,
+ * and whether halving a lattice cell would do. */
 #include <string.h>
 
 #include "interp.h"
@@ -171,16 +171,16 @@ double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const latti
  * columns leaves about A / 16 + B / 4 at the halves' centres (across the rows A / 4 + B / 16).
  * The halves are measured, so their plans test their own errors. In default mode quarters are
  * first estimated from the parent's grid (e_int) at no cost, and halving did not pay there
- * (docs/pencil.md, "Tenth pass"). */
+ * (docs/tuning.md). */
 int pt__halving(const pt_ctx_t *C, const lattice_cell_t *lc, double rho, double xi2) {
   const lattice_point_t(*R)[3] = grid_of(lc);
-  const uint8_t *xsub = C->lattice.plan.exact_subtree;
+  const uint8_t *exact_subtree = C->lattice.plan.exact_subtree;
   double f = C->opt->certified ? PT_BILINEAR_CERT : 1.0;
   int okx = 1, oky = 1;
   double ex = 0.0, ey = 0.0;
   for (int k = 0; k < C->paths.n && (okx || oky); k++) {
     const pt_node_t *n = &C->paths.node[k];
-    if (xsub[k] || n->miss)
+    if (exact_subtree[k] || n->miss)
       continue;
     int reached, exact;
     reach(R, k, &reached, &exact);

@@ -63,8 +63,8 @@ lattice_point_t pt__lattice_point(pt_ctx_t *C, double x, double y, pt_geom_t *g,
 
 /* Start the memo for a new domain (its points depend on the domain's paths) whose trees have nnode
  * nodes: a point's records are stored contiguously, nnode of them, so that the grids
- * pt__make_plan() reads are compact (with the tree's capacity as the stride, a point of the 13-node
- * Fig. 8 tree took 21 KB for 2 KB of records). */
+ * pt__make_plan() reads are compact (the tree's capacity as the stride would spread a small
+ * tree's records over many times their size: docs/tuning.md). */
 void pt__memo_reset(pt_lattice_memo_t *M, int nnode) {
   M->n = 0;
   M->stride = nnode > 0 ? nnode : 1;

@@ -3,9 +3,9 @@
  * whether its brightness W_k direct_k is interpolated ("if linearity is assumed for brightness
  * I(x'), the brightness can also be interpolated") or shaded per sample; accepted when every
  * node's interpolation error plus its matrix error (Eqs. 4-6) is within the tolerance of Eq. (3)
- * (rho pixel intervals) and the
- * interpolated brightness within the brightness tolerance. The small-object guard on shadows
- * keeps a shadow smaller than the lattice from being interpolated across. */
+ * (rho pixel intervals) and the interpolated brightness within the brightness tolerance. The
+ * small-object guard on shadows keeps a shadow smaller than the lattice from being interpolated
+ * across. */
 #include <assert.h>
 #include <string.h>
 
@@ -58,10 +58,10 @@ static int shadow_guarded(const pt_ctx_t *C, const lattice_point_t (*R)[3], int 
 /* Share of the brightness tolerance that faint nodes (below) may take together. */
 #define PT_FAINT_SHARE 0.5
 
-/* Node evaluations per sample of own nodes that a lattice cell may spend instead of being cut, in
- * units of the tree's nodes: a cut traces up to 20 points (4 measured quarters) of the whole tree;
- * measured on Fig. 8 at 49 spp (instructions of the render): budget 4: 3.04e9, 8: 2.78e9,
- * 16: 2.58e9, 32: 2.60e9. */
+/* Node evaluations per sample (traced nodes, nodes shaded per sample) that a lattice cell may
+ * spend instead of being cut, in units of the tree's nodes: a cut traces up to 20 points (4
+ * measured quarters) of the whole tree. The budget is where the render's cost was lowest among
+ * the budgets tried (docs/tuning.md). */
 #define PT_PER_SAMPLE_BUDGET 16.0
 
 /* Whether a plan's per-sample work is cheaper than cutting the lattice cell (always when it cannot
@@ -120,13 +120,13 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
  * traced exactly per sample in this lattice cell, with its subtree (C->lattice.plan.exact_subtree).
  */
 static void mark_exact_subtrees(pt_ctx_t *C, const lattice_point_t (*R)[3]) {
-  uint8_t *xsub = C->lattice.plan.exact_subtree;
+  uint8_t *exact = C->lattice.plan.exact_subtree;
   for (int k = 0; k < C->paths.n; k++) {
     const pt_node_t *n = &C->paths.node[k];
-    xsub[k] = n->parent >= 0 && xsub[n->parent];
-    for (int r = 0; r < 3 && n->verify && !xsub[k]; r++)
+    exact[k] = n->parent >= 0 && exact[n->parent];
+    for (int r = 0; r < 3 && n->verify && !exact[k]; r++)
       for (int c = 0; c < 3; c++)
-        xsub[k] |= R[r][c].g[k].ok != 1;
+        exact[k] |= R[r][c].g[k].ok != 1;
   }
 }
 
@@ -145,21 +145,21 @@ static int plan_hits(planning_t *P, int k) {
   hits_of(P->R, k, &p);
   double e_mat = matrix_error(n, P->xi2);
   double eg = pt__grid_error(lc, &p, norm_pixels, n);
-  int own = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: own */
-  if (own && cert && lc->measured && eg + e_mat <= rho)             /* the bound at the samples */
-    own = !(pt__bilinear_bound_at_samples(C, lc, &p, n) + e_mat <= rho);
+  int traced = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: traced */
+  if (traced && cert && lc->measured && eg + e_mat <= rho) /* the bound at the samples */
+    traced = !(pt__bilinear_bound_at_samples(C, lc, &p, n) + e_mat <= rho);
   /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is then
    * found per sample); certified: the parent's biquadratic itself, over this quarter, where its
    * deviation from the quarter's five new points - its measured error - is within the margin */
   int q2 =
-      own && lc->measured && lc->pg && (!n->textured || n->child[0] < 0) &&
+      traced && lc->measured && lc->pg && (!n->textured || n->child[0] < 0) &&
       (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(lc, n, k) + e_mat <= rho;
   if (q2) {
-    own = 0;
+    traced = 0;
     C->lattice.plan.biquadratic[k] = 1;
     pl->nbiquadratic++;
   }
-  if (own) { /* cost per sample: a matrix product, or the path traced from the eye */
+  if (traced) { /* cost per sample: a matrix product, or the path traced from the eye */
     C->lattice.plan.traced[k] = 1;
     pl->ntraced++;
     pl->per_sample_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
@@ -169,7 +169,7 @@ static int plan_hits(planning_t *P, int k) {
       return -1;
     }
   }
-  return own;
+  return traced;
 }
 
 /* Whether textured node k's hits lie in one checker square at the lattice cell's four corners (a
@@ -222,11 +222,11 @@ static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
 /* Step 4c: node k is shaded per sample at its interpolated hits (its direct term when `direct`,
  * its exactly traced children when `exact_children`); 0 when the per-sample work then costs more
  * than cutting the lattice cell. */
-static int plan_shaded(planning_t *P, int k, int direct, int own, int exact_children) {
+static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_children) {
   pt_ctx_t *C = P->C;
   const pt_node_t *n = &C->paths.node[k];
   interp_plan_t *pl = P->pl;
-  if (direct && !own)
+  if (direct && !traced)
     pl->per_sample_cost += 1.0; /* shaded per sample (a shadow edge) */
   if (exact_children)
     for (int c = 0; c < 2; c++)
@@ -258,16 +258,16 @@ static int plan_node(planning_t *P, int k, int *why) {
     return 0;
   }
   const pt_node_t *n = &C->paths.node[k];
-  int smooth = 1, exact_children = 0, leaf_texture = 0, own = 0, faint = 0;
+  int smooth = 1, exact_children = 0, leaf_texture = 0, traced = 0, faint = 0;
   *why = WHY_ERROR; /* what any failure below is */
   if (!n->miss) {
-    own = plan_hits(P, k);
-    if (own < 0)
+    traced = plan_hits(P, k);
+    if (traced < 0)
       return 0;
     int squares = one_square(P, k);
-    smooth = !own && plan_linear(P, k, squares, &faint);
+    smooth = !traced && plan_linear(P, k, squares, &faint);
     exact_children = has_exact_children(C, n);
-    if (smooth && !squares && !own) {
+    if (smooth && !squares && !traced) {
       /* the direct term is linear for each material: the sample's square picks one. Children
        * would be weighted by the material too, so only for leaves */
       if (n->child[0] >= 0)
@@ -286,7 +286,7 @@ static int plan_node(planning_t *P, int k, int *why) {
   if (leaf_texture && !exact_children)
     return 1;
   if (!smooth || exact_children)
-    return plan_shaded(P, k, !smooth && !leaf_texture, own, exact_children);
+    return plan_shaded(P, k, !smooth && !leaf_texture, traced, exact_children);
   return 1;
 }
 

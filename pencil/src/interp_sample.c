@@ -121,7 +121,7 @@ int pt__misses_nothing_anywhere(const pt_ctx_t *C, const pt_eval_t *E) {
 }
 
 /* Start the evaluation of the sample at (x, y): its flags cleared, and its own xi and primary ray
- * when its own nodes or its exact spawn hits need them. */
+ * when its traced nodes or its exact spawn hits need them. */
 static void sample_start(pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->partial = E->fallback = E->traced_failed = E->spawnfail = 0;
   if (E->traced || E->exact_spawn) {
@@ -188,7 +188,8 @@ void pt__pixel_samples(pt_ctx_t *C, pixel_t *P, sampling_t *S, int why, int a0, 
         }
         sample_start(C, E, x, y);
         rt_rgb_t v = interp_sample(E, S->pl, w);
-        if (E->traced_failed) { /* an own node's ray left its path: the whole sample by matrices */
+        if (E->traced_failed) { /* a traced node's ray left its path: the whole sample by matrices
+                                 */
           pt__matrix_sample(C, P, a, b);
           continue;
         }

@@ -66,8 +66,8 @@ void pt__sampling_begin(pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan
 }
 
 /* floor(x), by truncation where that is exact (|x| < 2^52, the usual case: board coordinates in
- * checker squares). Called per sample in pixels that straddle a square edge: 3.5% of the 49-spp
- * Fig. 8 render's instructions went to this line with libm's floor. */
+ * checker squares). Called per sample in pixels that straddle a square edge, where libm's floor
+ * was a noticeable share of the render (docs/tuning.md). */
 static inline double floor_fast(double x) {
   if (!(fabs(x) < 4503599627370496.0))
     return floor(x);
