@@ -136,7 +136,7 @@ static void memo_free(pt_lattice_memo_t *M) {
 
 int pt__lattice_alloc(pt_lattice_t *l, int cap, int n) {
   l->root = malloc(9 * (size_t)cap * sizeof *l->root);
-  l->refine = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *l->refine);
+  l->refine = malloc((size_t)PT_LATTICE_LEVELS * 5 * (size_t)cap * sizeof *l->refine);
   l->pixels = malloc((size_t)n * (size_t)n * sizeof *l->pixels);
   int plan = plan_alloc(&l->plan, cap), memo = memo_alloc(&l->memo, cap);
   return l->root && l->refine && l->pixels && plan && memo;

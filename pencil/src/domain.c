@@ -83,8 +83,9 @@ static double xi_norm(const pt_ctx_t *C, double x, double y) {
 /* The domain's boundary points, corners and edge midpoints, and their primary xi (computed when
  * first asked for: certified mode's check, or the guard below). */
 typedef struct {
-  double x[8], y[8], xi[8][2];
-  int have;
+  double x[8], y[8]; /* the points in pixels: corner, edge midpoint, corner, ... round the domain */
+  double xi[8][2];   /* their primary rays' xi in the domain's frame (when `have`) */
+  int have;          /* xi is computed */
 } boundary_t;
 
 static boundary_t boundary_of(int x0, int y0, int x1, int y1) {

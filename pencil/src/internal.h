@@ -84,7 +84,7 @@ typedef struct {
 /** Ray interpolation's state for one accepted domain (interp*.c). */
 typedef struct {
   pt_geom_t *root;        /**< the root lattice cell's 3 x 3 points x cap nodes */
-  pt_geom_t *refine;      /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
+  pt_geom_t *refine;      /**< refinement grids: PT_LATTICE_LEVELS x 5 points x cap nodes */
   pixel_t *pixels;        /**< the domain's pixels being accumulated, N^2 */
   pt_lattice_memo_t memo; /**< the domain's lattice points by position */
   pt_lattice_plan_t plan; /**< the current lattice cell's plan */
@@ -199,7 +199,7 @@ static inline double pt_max(double a, double b) {
 }
 
 /** Depth of the quadtree of lattice cells (halvings of the domain) at most. */
-#define PT_QUAD_LEVELS 12
+#define PT_LATTICE_LEVELS 12
 
 /** One sample's evaluation through the current domain's paths. */
 typedef struct {

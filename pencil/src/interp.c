@@ -80,19 +80,19 @@ static void measure_lattice_cell(pt_ctx_t *C, lattice_cell_t *lc, int level) {
 static void quarter(pt_ctx_t *C, const domain_pixels_t *A, const lattice_cell_t *lc, int level) {
   for (int qy = 0; qy < 2; qy++)
     for (int qx = 0; qx < 2; qx++) {
-      lattice_cell_t s;
-      memset(&s, 0, sizeof s);
-      s.x0 = lc->x0 + 0.5 * qx * lc->w;
-      s.y0 = lc->y0 + 0.5 * qy * lc->h;
-      s.w = 0.5 * lc->w;
-      s.h = 0.5 * lc->h;
-      s.pg = (const lattice_point_t(*)[3])lc->g;
-      s.qx = qx;
-      s.qy = qy;
+      lattice_cell_t part;
+      memset(&part, 0, sizeof part);
+      part.x0 = lc->x0 + 0.5 * qx * lc->w;
+      part.y0 = lc->y0 + 0.5 * qy * lc->h;
+      part.w = 0.5 * lc->w;
+      part.h = 0.5 * lc->h;
+      part.pg = (const lattice_point_t(*)[3])lc->g;
+      part.qx = qx;
+      part.qy = qy;
       for (int r = 0; r < 2; r++)
         for (int c = 0; c < 2; c++)
-          s.g[2 * r][2 * c] = lc->g[qy + r][qx + c];
-      process_lattice_cell(C, A, &s, level + 1);
+          part.g[2 * r][2 * c] = lc->g[qy + r][qx + c];
+      process_lattice_cell(C, A, &part, level + 1);
     }
 }
 
@@ -102,34 +102,34 @@ static void halve(pt_ctx_t *C, const domain_pixels_t *A, const lattice_cell_t *l
                   int dir) {
   pt_geom_t *pool = C->lattice.refine + (size_t)(level + 1) * 5 * (size_t)C->cap;
   for (int h = 0; h < 2; h++) {
-    lattice_cell_t s;
-    memset(&s, 0, sizeof s);
+    lattice_cell_t part;
+    memset(&part, 0, sizeof part);
     if (dir == 1) {
-      s.x0 = lc->x0 + 0.5 * h * lc->w;
-      s.y0 = lc->y0;
-      s.w = 0.5 * lc->w;
-      s.h = lc->h;
+      part.x0 = lc->x0 + 0.5 * h * lc->w;
+      part.y0 = lc->y0;
+      part.w = 0.5 * lc->w;
+      part.h = lc->h;
       for (int r = 0; r < 3; r++) {
-        s.g[r][0] = lc->g[r][h];
-        s.g[r][2] = lc->g[r][h + 1];
-        s.g[r][1] = pt__lattice_point(C, s.x0 + 0.5 * s.w, lc->y0 + 0.5 * r * lc->h,
-                                      pool + (size_t)r * (size_t)C->cap, 0);
+        part.g[r][0] = lc->g[r][h];
+        part.g[r][2] = lc->g[r][h + 1];
+        part.g[r][1] = pt__lattice_point(C, part.x0 + 0.5 * part.w, lc->y0 + 0.5 * r * lc->h,
+                                         pool + (size_t)r * (size_t)C->cap, 0);
       }
     } else {
-      s.x0 = lc->x0;
-      s.y0 = lc->y0 + 0.5 * h * lc->h;
-      s.w = lc->w;
-      s.h = 0.5 * lc->h;
+      part.x0 = lc->x0;
+      part.y0 = lc->y0 + 0.5 * h * lc->h;
+      part.w = lc->w;
+      part.h = 0.5 * lc->h;
       for (int c = 0; c < 3; c++) {
-        s.g[0][c] = lc->g[h][c];
-        s.g[2][c] = lc->g[h + 1][c];
-        s.g[1][c] = pt__lattice_point(C, lc->x0 + 0.5 * c * lc->w, s.y0 + 0.5 * s.h,
-                                      pool + (size_t)c * (size_t)C->cap, 0);
+        part.g[0][c] = lc->g[h][c];
+        part.g[2][c] = lc->g[h + 1][c];
+        part.g[1][c] = pt__lattice_point(C, lc->x0 + 0.5 * c * lc->w, part.y0 + 0.5 * part.h,
+                                         pool + (size_t)c * (size_t)C->cap, 0);
       }
     }
-    s.measured = 1;
+    part.measured = 1;
     C->st.halved_cells++;
-    process_lattice_cell(C, A, &s, level + 1);
+    process_lattice_cell(C, A, &part, level + 1);
   }
 }
 
@@ -142,7 +142,7 @@ static void process_lattice_cell(pt_ctx_t *C, const domain_pixels_t *A, lattice_
                       .shaded_exact = C->lattice.plan.shaded_exact,
                       .leaves = C->lattice.plan.leaves};
   int why = WHY_ERROR;
-  int can_cut = level + 1 < PT_QUAD_LEVELS && samples_in(C, lc) > PT_CUT_SAMPLES;
+  int can_cut = level + 1 < PT_LATTICE_LEVELS && samples_in(C, lc) > PT_CUT_SAMPLES;
   if (!lc->measured && !C->opt->certified && pt__make_plan(C, lc, &pl, 1, &why) &&
       pt__per_sample_pays(C, lc, &pl, 1)) {
     emit_samples(C, A, lc, &pl, 0);

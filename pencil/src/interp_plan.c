@@ -73,7 +73,7 @@ int pt__per_sample_pays(const pt_ctx_t *C, const lattice_cell_t *lc, const inter
 
 /* What pt__make_plan() carries from one step to the next for one lattice cell. */
 typedef struct {
-  pt_ctx_t *C;
+  pt_ctx_t *C;                   /* the thread's state */
   const lattice_cell_t *lc;      /* the lattice cell */
   const lattice_point_t (*R)[3]; /* the 3 x 3 grid its errors come from (grid_of) */
   interp_plan_t *pl;             /* the plan being made */
