@@ -2,7 +2,8 @@
  * tree's paths against the whole-path cascade and exact tracing, the incremental Appendix (3)
  * bound against libparaxial's, the edge test (tree agreement, checker squares ignored, the
  * small-object guard), domain subdivision, the interpolation error, and pencil against exact
- * images on tiny renders. */
+ * images on tiny renders. Scenes, renders and image comparisons shared by the cases are the
+ * fixtures of pencil_fixtures.h. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -11,37 +12,14 @@
 #include "cmocka_main.h"
 #include "exact/trace.h"
 #include "internal.h"
-#include "io/scene_json.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"
 #include "pencil/pencil.h"
-#include "render/builtin.h"
 #include "render/camera.h"
 #include "render/render.h"
 #include "validation/figures.h"
 
-static void fig8(rt_scene_t *s, int w, int h) {
-  rt_scene_init(s);
-  assert_int_equal(rt_builtin_fig8(s), RT_OK);
-  s->camera.width = w;
-  s->camera.height = h;
-}
-
-/* The Fig. 8 stage without the glass ball: a lit checkerboard. */
-static void board(rt_scene_t *s, int w, int h) {
-  rt_scene_init(s);
-  rt_material_t white = rt_material_default("white"), red = rt_material_default("red");
-  red.color = rt_rgb(0.85, 0.12, 0.1);
-  int mw, mr;
-  rt_scene_add_material(s, &white, &mw);
-  rt_scene_add_material(s, &red, &mr);
-  rt_scene_add_plane(s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mw, mr, 1.0, NULL);
-  rt_light_t l = {RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1, 1, 1}};
-  rt_scene_add_light(s, &l);
-  /* looking down more steeply than Fig. 8, so that no horizon (an edge) is in view */
-  s->camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 40.0, w, h};
-  assert_int_equal(rt_scene_prepare(s), RT_OK);
-}
+#include "pencil_fixtures.h"
 
 /* One cell's worth of state: the exact tree of the ray through pixel (x, y) and its paths. */
 typedef struct {
@@ -63,9 +41,9 @@ static void xi_at(const cell_t *c, double x, double y, double xi[2]) {
 }
 
 /* The cell's paths; with half > 0 in certified mode, for the cell of half-side `half` pixels
- * around (x, y) (the boundary points in pt__cell's order: corner, edge midpoint, corner, ...). */
+ * around (x, y) (the boundary points in pt__domain's order: corner, edge midpoint, corner, ...). */
 static void build_cell_checked(cell_t *c, double x, double y, pt_bound_t bound, double half) {
-  fig8(&c->s, 256, 256);
+  fx_fig8(&c->s, 256, 256);
   c->plan = rt_plan_make(&c->s, 1);
   assert_int_equal(rt_view_make(&c->s.camera, &c->view), RT_OK);
   assert_true(c->plan.tree_nodes <= 256);
@@ -270,7 +248,7 @@ static void trace_tree(const rt_scene_t *s, const rt_plan_t *plan, const rt_view
 static void tree_agreement_edges_not_textures(void **state) {
   (void)state;
   rt_scene_t s;
-  fig8(&s, 256, 256);
+  fx_fig8(&s, 256, 256);
   rt_plan_t plan = rt_plan_make(&s, 1);
   rt_view_t v;
   rt_view_make(&s.camera, &v);
@@ -366,41 +344,11 @@ static void guard_catches_small_objects(void **state) {
   assert_false(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, &tilted, &lamp, 1));
   /* spheres of the Fig. 8 scene: one, exact */
   rt_scene_t s;
-  fig8(&s, 8, 8);
+  fx_fig8(&s, 8, 8);
   pt_bsphere_t b[4];
   assert_int_equal(pt_guard_spheres(&s, b, 4), 1);
   assert_close(b[0].r, 1.0, 0.0, 0.0);
   rt_scene_free(&s);
-}
-
-/* The exact renderer's image of s at side x side samples per pixel, into e (allocated here). */
-static void render_exact(const rt_scene_t *s, int side, int threads, rt_image_t *e) {
-  rt_plan_t plan = rt_plan_make(s, side * side);
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = side;
-  eo.threads = threads;
-  assert_int_equal(rt_image_alloc(e, s->camera.width, s->camera.height), RT_OK);
-  assert_int_equal(rt_render(s, &plan, &eo, e, NULL), RT_OK);
-}
-
-/* scenes/NAME.json, its image rescaled to `width` pixels across (the aspect kept). */
-static void scene_file(const char *name, int width, rt_scene_t *s) {
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/scenes/%s.json", PENCIL_SOURCE_DIR, name);
-  rt_scene_init(s);
-  assert_int_equal(io_scene_load(path, s, err, sizeof err), 0);
-  s->camera.height = (int)lrint((double)width * s->camera.height / s->camera.width);
-  s->camera.width = width;
-}
-
-static void render_pencil(const rt_scene_t *s, int side, int threads, const pt_options_t *base,
-                          rt_image_t *img, pt_extra_t *x, pt_stats_t *st) {
-  rt_plan_t plan = rt_plan_make(s, side * side);
-  pt_options_t o = base ? *base : (pt_options_t)PT_OPTIONS_DEFAULT;
-  o.spp_side = side;
-  o.threads = threads;
-  assert_int_equal(rt_image_alloc(img, s->camera.width, s->camera.height), RT_OK);
-  assert_int_equal(pt_render(s, &plan, &o, img, x, NULL, st), RT_OK);
 }
 
 /* Step 1 and steps 3-4: on the bare board every initial domain is smooth and accepted whole;
@@ -412,27 +360,23 @@ static void subdivision_only_at_edges(void **state) {
   (void)state;
   for (int interp = 1; interp >= 0; interp--) {
     rt_scene_t s;
-    rt_image_t img;
-    pt_stats_t st;
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.interp = interp;
-    board(&s, 40, 40);
-    render_pencil(&s, 1, 1, &o, &img, NULL, &st);
+    fx_board(&s, 40, 40);
+    pt_stats_t st = fx_pencil_stats(&s, 1, 1, &o);
     assert_int_equal(st.cells, 64); /* 8 x 8 domains of 5 x 5 pixels */
     assert_int_equal(st.cells_accepted, 64);
     assert_int_equal(st.cells_edge, 0);
     assert_int_equal(st.samples[PT_METHOD_EXACT], 0);
     assert_true(interp ? st.samples[PT_METHOD_INTERP] == 40 * 40
                        : st.samples[PT_METHOD_MATRIX] == 40 * 40);
-    rt_image_free(&img);
     rt_scene_free(&s);
-    fig8(&s, 40, 40);
-    render_pencil(&s, 1, 1, &o, &img, NULL, &st);
+    fx_fig8(&s, 40, 40);
+    st = fx_pencil_stats(&s, 1, 1, &o);
     assert_true(st.cells > 64);
     assert_true(st.cells_edge > 0);
     assert_true(st.samples[PT_METHOD_EXACT] > 0);
     assert_true(st.samples[PT_METHOD_EXACT] < 40 * 40 / 4);
-    rt_image_free(&img);
     rt_scene_free(&s);
   }
 }
@@ -445,76 +389,24 @@ static void subdivision_only_at_edges(void **state) {
 static void interpolation_error_on_board(void **state) {
   (void)state;
   rt_scene_t s;
-  board(&s, 40, 40);
-  rt_plan_t plan = rt_plan_make(&s, 4);
+  fx_board(&s, 40, 40);
   pt_options_t o = PT_OPTIONS_DEFAULT;
-  o.spp_side = 2;
-  o.threads = 1;
   o.measure = 1;
-  rt_image_t img;
-  pt_stats_t st;
-  assert_int_equal(rt_image_alloc(&img, 40, 40), RT_OK);
-  assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, &st), RT_OK);
+  pt_stats_t st = fx_pencil_stats(&s, 2, 1, &o);
   assert_true(st.samples[PT_METHOD_INTERP] > 40 * 40 * 4 * 9 / 10);
   assert_true(st.lattice_points < 40 * 40);
   assert_int_equal(st.within, st.measured);
   assert_true(st.max_error <= 0.5);
   assert_int_equal(st.mismatches, 0);
   o.rho = 1e-4;
-  assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, &st), RT_OK);
+  st = fx_pencil_stats(&s, 2, 1, &o);
   assert_true(st.lattice_points + st.lattice_reused > 40 * 40); /* points the cells used */
   assert_true(st.lerp_samples == 0); /* the board's hits come from its matrix per sample */
   assert_int_equal(st.within, st.measured);
-  rt_image_free(&img);
   rt_scene_free(&s);
 }
 
-/* How far pixel k's transmission-path checkerboard point moves to its right and lower
- * neighbours, in squares (the exact image's aux channels); INFINITY off the board. */
-static double board_step(const rt_image_t *e, int k, int w, int h) {
-  int i = k % w, j = k / w;
-  const float *u = e->ch[RT_CH_T_U], *v = e->ch[RT_CH_T_V];
-  double m = 0.0;
-  if (i + 1 >= w || j + 1 >= h || !isfinite(u[k]) || !isfinite(u[k + 1]) || !isfinite(u[k + w]))
-    return INFINITY;
-  m = fmax(hypot(u[k + 1] - u[k], v[k + 1] - v[k]), hypot(u[k + w] - u[k], v[k + w] - v[k]));
-  return m;
-}
-
-/* Pencil image p of s against the exact image at side x side samples per pixel, over the
- * pixels where the checkerboard (transmission path) moves by less than half a square to the
- * next pixel, so that a square edge is not inside most of them: the RMS difference over their
- * channels, how many differ by more than 0.1, the largest difference, and their number. */
-typedef struct {
-  double rms, worst;
-  int big, n;
-} board_diff_t;
-
-static board_diff_t board_difference(const rt_scene_t *s, const rt_image_t *p, int side) {
-  int w = s->camera.width, h = s->camera.height;
-  rt_image_t e;
-  render_exact(s, side, 1, &e);
-  board_diff_t r = {0.0, 0.0, 0, 0};
-  double sq = 0.0;
-  for (int k = 0; k < w * h; k++) {
-    if (!(board_step(&e, k, w, h) < 0.5))
-      continue;
-    double m = 0.0;
-    for (int c = 0; c < 3; c++) {
-      double d = (double)p->ch[c][k] - (double)e.ch[c][k];
-      sq += d * d;
-      m = fmax(m, fabs(d));
-    }
-    r.big += m > 0.1;
-    r.worst = fmax(r.worst, m);
-    r.n++;
-  }
-  r.rms = r.n ? sqrt(sq / (3.0 * r.n)) : 0.0;
-  rt_image_free(&e);
-  return r;
-}
-
-/* Biquadratic interpolation (interp.c, PT_BIQUAD_FACTOR) takes over where bilinear is not
+/* Biquadratic interpolation (interp.h, PT_BIQUAD_FACTOR) takes over where bilinear is not
  * accurate enough, on the glass ball of Fig. 8 at 49 spp, and the samples stay within rho as
  * the issue requires of the default mode (>= 99.8%, largest error under 2 rho). Certified mode,
  * which accepts measured errors only, interpolates a quarter by its parent's biquadratic where
@@ -524,39 +416,32 @@ static void biquadratic_cells_stay_within_rho(void **state) {
   (void)state;
   enum { W = 64, H = 64 };
   rt_scene_t s;
-  fig8(&s, W, H);
-  rt_plan_t plan = rt_plan_make(&s, 49);
-  rt_image_t p;
-  pt_stats_t st;
+  fx_fig8(&s, W, H);
   pt_options_t o = PT_OPTIONS_DEFAULT;
-  o.spp_side = 7;
-  o.threads = 1;
   o.measure = 1;
-  assert_int_equal(rt_image_alloc(&p, W, H), RT_OK);
-  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
+  pt_stats_t st = fx_pencil_stats(&s, 7, 1, &o);
   assert_true(st.biquad_cells > 0);
   assert_true(st.within >= st.measured * 998 / 1000);
   assert_true(st.max_error < 2.0 * o.rho);
   o.certified = 1;
-  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
+  st = fx_pencil_stats(&s, 7, 1, &o);
   assert_true(st.biquad_cells > 0);
   assert_int_equal(st.within, st.measured);
   /* the sweep's settings (9 spp, rho from 0.05 to 1/2) in both modes: a biquadratic node that is
    * not textured must not be taken for a textured leaf (it once picked a "checker square" on
    * the sphere: NaN, and an out-of-range material index) */
-  rt_plan_t plan9 = rt_plan_make(&s, 9);
-  o.spp_side = 3;
   const double rhos[3] = {0.05, 0.25, 0.5};
   for (int c = 0; c < 2; c++)
     for (int r = 0; r < 3; r++) {
       o.certified = c;
       o.rho = rhos[r];
-      assert_int_equal(pt_render(&s, &plan9, &o, &p, NULL, NULL, &st), RT_OK);
+      rt_image_t p;
+      fx_render_pencil(&s, 3, 1, &o, &p, NULL, &st);
       assert_true(st.within >= st.measured * (c ? 1000 : 998) / 1000);
       for (int k = 0; k < W * H; k++)
         assert_true(isfinite(p.ch[0][k]) && p.ch[0][k] >= 0.0f && p.ch[0][k] < 4.0f);
+      rt_image_free(&p);
     }
-  rt_image_free(&p);
   rt_scene_free(&s);
 }
 
@@ -574,53 +459,27 @@ static void pencil_image_matches_exact(void **state) {
   (void)state;
   enum { W = 48, H = 48 };
   rt_scene_t s;
-  fig8(&s, W, H);
-  rt_plan_t plan = rt_plan_make(&s, 4);
-  rt_image_t p;
-  pt_stats_t st;
+  fx_fig8(&s, W, H);
   pt_options_t o = PT_OPTIONS_DEFAULT;
-  o.spp_side = 2;
-  o.threads = 1;
   o.measure = 1;
-  assert_int_equal(rt_image_alloc(&p, W, H), RT_OK);
-  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
+  pt_stats_t st = fx_pencil_stats(&s, 2, 1, &o);
   assert_true(st.within >= st.measured * 995 / 1000);
   o.rho = 0.05;
-  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
+  rt_image_t p;
+  fx_render_pencil(&s, 2, 1, &o, &p, NULL, &st);
   assert_true(st.within >= st.measured * 995 / 1000);
-  board_diff_t d = board_difference(&s, &p, 2);
+  fx_diff_t d = fx_board_difference(&s, &p, 2);
   assert_true(d.n > W * H / 3);
   assert_true(d.rms < 0.01);
   assert_true(d.big <= d.n / 100);
   assert_true(d.worst <= 0.25);
+  rt_image_free(&p);
   o.rho = 0.5;
   o.certified = 1;
-  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, &st), RT_OK);
+  st = fx_pencil_stats(&s, 2, 1, &o);
   assert_int_equal(st.within, st.measured);
   assert_int_equal(st.mismatches, 0);
-  rt_image_free(&p);
   rt_scene_free(&s);
-}
-
-/* The largest difference of any channel of any pixel between image p and the exact renderer's
- * image of s at side x side samples per pixel; *rms (when not NULL) the RMS difference over all
- * channels and pixels. */
-static double largest_difference_from_exact(const rt_scene_t *s, const rt_image_t *p, int side,
-                                            double *rms) {
-  rt_image_t e;
-  int w = s->camera.width, h = s->camera.height;
-  render_exact(s, side, 1, &e);
-  double worst = 0.0, sq = 0.0;
-  for (int k = 0; k < w * h; k++)
-    for (int c = 0; c < 3; c++) {
-      double d = (double)p->ch[c][k] - (double)e.ch[c][k];
-      worst = fmax(worst, fabs(d));
-      sq += d * d;
-    }
-  if (rms)
-    *rms = sqrt(sq / (3.0 * w * h));
-  rt_image_free(&e);
-  return worst;
 }
 
 /* The largest sample grid (RT_MAX_SPP_SIDE^2 = 256 per pixel, beyond the paper's 49, for Fig. 9
@@ -632,7 +491,7 @@ static void largest_sample_grid(void **state) {
   (void)state;
   enum { W = 20, H = 20, S = RT_MAX_SPP_SIDE };
   rt_scene_t s;
-  fig8(&s, W, H);
+  fx_fig8(&s, W, H);
   s.camera.look_at = px_vec3(0.0, 1.0, 0.0); /* the ball fills the view */
   s.camera.fov_deg = 20.0;
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
@@ -642,14 +501,13 @@ static void largest_sample_grid(void **state) {
     o.certified = cert;
     rt_image_t p;
     pt_stats_t st;
-    render_pencil(&s, S, 2, &o, &p, NULL, &st);
+    fx_render_pencil(&s, S, 2, &o, &p, NULL, &st);
     uint64_t all = (uint64_t)W * H * S * S;
     assert_true(st.samples[0] + st.samples[1] + st.samples[2] == all);
     assert_true(st.measured == all);
     assert_int_equal(st.mismatches, 0);
     assert_true(cert ? st.within == st.measured : st.within >= 0.998 * (double)st.measured);
-    double rms;
-    largest_difference_from_exact(&s, &p, S, &rms);
+    double rms = fx_exact_difference(&s, &p, S).rms;
     print_message("certified %d: %.5f%% within rho, max %.3f, exact samples %llu, rms %.4f\n", cert,
                   100.0 * (double)st.within / (double)st.measured, st.max_error,
                   (unsigned long long)st.samples[PT_METHOD_EXACT], rms);
@@ -657,20 +515,6 @@ static void largest_sample_grid(void **state) {
     rt_image_free(&p);
   }
   rt_scene_free(&s);
-}
-
-/* The board() stage with a mirror ball of radius 1 at (0, 1, 0), the camera aimed at it (the
- * scene is not prepared). Returns the ball's object index. */
-static int add_mirror_ball(rt_scene_t *s) {
-  rt_material_t m = rt_material_default("mirror");
-  m.ka = 0.05;
-  m.kd = 0.1;
-  m.kr = 0.8;
-  int mm, ball;
-  rt_scene_add_material(s, &m, &mm);
-  rt_scene_add_sphere(s, px_vec3(0.0, 1.0, 0.0), 1.0, mm, &ball);
-  s->camera.look_at = px_vec3(0.0, 1.0, 0.0);
-  return ball;
 }
 
 /* Rays spawned at interpolated hits: a bilinear interpolation of points on a sphere lies inside
@@ -684,49 +528,27 @@ static void mirror_ball_reflections_match_exact(void **state) {
   (void)state;
   enum { W = 48, H = 48 };
   rt_scene_t s;
-  board(&s, W, H);
-  int ball = add_mirror_ball(&s);
+  fx_board(&s, W, H);
+  int ball = fx_add_mirror_ball(&s);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
-  rt_plan_t plan = rt_plan_make(&s, 4);
   rt_image_t p, e;
-  pt_options_t o = PT_OPTIONS_DEFAULT;
-  o.spp_side = 2;
-  o.threads = 1;
-  assert_int_equal(rt_image_alloc(&p, W, H), RT_OK);
-  assert_int_equal(pt_render(&s, &plan, &o, &p, NULL, NULL, NULL), RT_OK);
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = 2;
-  eo.threads = 1;
-  assert_int_equal(rt_image_alloc(&e, W, H), RT_OK);
-  assert_int_equal(rt_render(&s, &plan, &eo, &e, NULL), RT_OK);
-  double sq = 0.0;
-  int n = 0, big = 0;
-  for (int k = 0; k < W * H; k++) {
-    if (e.ch[RT_CH_ID][k] != (float)ball)
-      continue;
-    double mx = 0.0;
-    for (int c = 0; c < 3; c++) {
-      double d = (double)p.ch[c][k] - (double)e.ch[c][k];
-      sq += d * d;
-      mx = fmax(mx, fabs(d));
-    }
-    big += mx > 0.3;
-    n++;
-  }
-  print_message("ball pixels %d, rms %g, off by > 0.3: %d\n", n, sqrt(sq / (3.0 * n)), big);
-  assert_true(n > W * H / 10);
-  assert_true(sqrt(sq / (3.0 * n)) < 0.05);
-  assert_true(big <= 3 * n / 100);
+  fx_render_pencil(&s, 2, 1, NULL, &p, NULL, NULL);
+  fx_render_exact(&s, 2, 1, &e);
+  fx_diff_t d = fx_object_difference(&e, &p, ball, 0.3);
+  print_message("ball pixels %d, rms %g, off by > 0.3: %d\n", d.n, d.rms, d.big);
+  assert_true(d.n > W * H / 10);
+  assert_true(d.rms < 0.05);
+  assert_true(d.big <= 3 * d.n / 100);
   rt_image_free(&p);
   rt_image_free(&e);
   rt_scene_free(&s);
 }
 
-/* The board, a mirror ball and a small matte ball at c of radius r, seen from the board()
+/* The board, a mirror ball and a small matte ball at c of radius r, seen from the fx_board()
  * camera aimed at the mirror ball. */
 static void mirror_and_small_ball(rt_scene_t *s, int w, int h, px_vec3_t c, double r) {
-  board(s, w, h);
-  add_mirror_ball(s);
+  fx_board(s, w, h);
+  fx_add_mirror_ball(s);
   rt_material_t dull = rt_material_default("dull");
   int md, small;
   rt_scene_add_material(s, &dull, &md);
@@ -751,25 +573,22 @@ static void guard_catches_objects_seen_in_mirrors(void **state) {
   rt_scene_t s;
   mirror_and_small_ball(&s, W, H, px_vec3(0.8, 0.3, -2.0), 0.12);
   for (int cert = 0; cert <= 1; cert++) {
-    rt_image_t img;
-    pt_stats_t st;
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.certified = cert;
     o.measure = 1;
-    render_pencil(&s, 3, 1, &o, &img, NULL, &st);
+    pt_stats_t st = fx_pencil_stats(&s, 3, 1, &o);
     print_message("certified %d: %llu guarded paths, %llu mismatches of %llu samples\n", cert,
                   (unsigned long long)st.paths_guard, (unsigned long long)st.mismatches,
                   (unsigned long long)st.measured);
     assert_true(st.paths_guard > 0);
     assert_int_equal(st.mismatches, 0);
-    rt_image_free(&img);
   }
   rt_scene_free(&s);
   mirror_and_small_ball(&s, W, H, px_vec3(0.0, 8.0, -10.0), 1.5);
   rt_image_t p;
   pt_stats_t st;
-  render_pencil(&s, 3, 1, NULL, &p, NULL, &st);
-  double worst = largest_difference_from_exact(&s, &p, 3, NULL);
+  fx_render_pencil(&s, 3, 1, NULL, &p, NULL, &st);
+  double worst = fx_exact_difference(&s, &p, 3).worst;
   print_message("against the sky: %llu guarded paths, largest pixel difference %g\n",
                 (unsigned long long)st.paths_guard, worst);
   assert_true(st.paths_guard > 0);
@@ -790,7 +609,7 @@ static void guard_catches_small_shadows(void **state) {
   (void)state;
   enum { W = 40, H = 40 };
   rt_scene_t s;
-  board(&s, W, H);
+  fx_board(&s, W, H);
   rt_material_t dull = rt_material_default("dull");
   int md, small;
   rt_scene_add_material(&s, &dull, &md);
@@ -801,8 +620,8 @@ static void guard_catches_small_shadows(void **state) {
     pt_stats_t st;
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.certified = cert;
-    render_pencil(&s, 3, 1, &o, &p, NULL, &st);
-    double worst = largest_difference_from_exact(&s, &p, 3, NULL);
+    fx_render_pencil(&s, 3, 1, &o, &p, NULL, &st);
+    double worst = fx_exact_difference(&s, &p, 3).worst;
     print_message("certified %d: %llu guarded shadows, largest pixel difference %g\n", cert,
                   (unsigned long long)st.lights_guard, worst);
     assert_true(st.lights_guard > 0);
@@ -812,8 +631,8 @@ static void guard_catches_small_shadows(void **state) {
   rt_scene_free(&s);
 }
 
-/* A shadow edge on a faint node is interpolated across, its error bounded (interp.c,
- * faint_bound): in Fig. 8 the board seen after four internal reflections in the glass ball has
+/* A shadow edge on a faint node is interpolated across, its error bounded (interp_error.c,
+ * pt__faint_bound): in Fig. 8 the board seen after four internal reflections in the glass ball has
  * W_k = 0.75 0.15^4 0.75 = 2.8e-4, so its brightness is at most W_k (ka Ia + kd I) 0.9 =
  * 2.6e-4, within half the default brightness tolerance (4.9e-4). Not with a tenth of that
  * tolerance, nor when the ball reflects more (kr = 0.5: W_k = 0.035 for the same node); in
@@ -823,7 +642,7 @@ static void faint_shadow_edges_interpolated(void **state) {
   enum { W = 48, H = 48 };
   for (int c = 0; c < 3; c++) {
     rt_scene_t s;
-    fig8(&s, W, H);
+    fx_fig8(&s, W, H);
     pt_options_t o = PT_OPTIONS_DEFAULT;
     if (c == 1)
       o.brightness_tol /= 10.0;
@@ -832,8 +651,8 @@ static void faint_shadow_edges_interpolated(void **state) {
         s.material[m].kr = 0.5;
     rt_image_t p;
     pt_stats_t st;
-    render_pencil(&s, 3, 1, &o, &p, NULL, &st);
-    board_diff_t d = board_difference(&s, &p, 3);
+    fx_render_pencil(&s, 3, 1, &o, &p, NULL, &st);
+    fx_diff_t d = fx_board_difference(&s, &p, 3);
     print_message("case %d: %llu lattice cells with faint shadow edges; against the exact image "
                   "RMS %.4f, %d of %d pixels over 0.1, largest %.3f\n",
                   c, (unsigned long long)st.faint_cells, d.rms, d.big, d.n, d.worst);
@@ -863,63 +682,30 @@ static void fresnel_weights_match_exact(void **state) {
   enum { W = 64, H = 64 };
   for (int fresnel = 0; fresnel <= 1; fresnel++) {
     rt_scene_t s;
-    fig8(&s, W, H);
+    fx_fig8(&s, W, H);
     for (int m = 0; m < s.nmaterial; m++)
       if (s.material[m].kt > 0.0)
         s.material[m].fresnel = fresnel;
     rt_plan_t plan = rt_plan_make(&s, 4);
     assert_int_equal(rt_plan_has(&plan, RT_EFFECT_FRESNEL), fresnel);
     rt_image_t e, p;
-    render_exact(&s, 2, 1, &e);
+    fx_render_exact(&s, 2, 1, &e);
     for (int cert = 0; cert <= 1; cert++) {
       pt_options_t o = PT_OPTIONS_DEFAULT;
       o.certified = cert;
       pt_stats_t st;
-      render_pencil(&s, 2, 1, &o, &p, NULL, &st);
-      double sum = 0.0, sq = 0.0;
-      int n = 0;
-      for (int k = 0; k < W * H; k++) {
-        if (e.ch[RT_CH_ID][k] != 1.0f) /* the glass ball */
-          continue;
-        for (int c = 0; c < 3; c++) {
-          double d = (double)p.ch[c][k] - (double)e.ch[c][k];
-          sum += d;
-          sq += d * d;
-        }
-        n++;
-      }
-      double mean = sum / (3.0 * n), rms = sqrt(sq / (3.0 * n));
+      fx_render_pencil(&s, 2, 1, &o, &p, NULL, &st);
+      fx_diff_t d = fx_object_difference(&e, &p, 1, 0.1); /* the glass ball */
       print_message("fresnel %d certified %d: %d ball pixels, mean difference %.5f, RMS %.4f\n",
-                    fresnel, cert, n, mean, rms);
-      assert_true(n > W * H / 10);
-      assert_true(fabs(mean) < 0.003);
-      assert_true(rms < 0.035);
+                    fresnel, cert, d.n, d.mean, d.rms);
+      assert_true(d.n > W * H / 10);
+      assert_true(fabs(d.mean) < 0.003);
+      assert_true(d.rms < 0.035);
       rt_image_free(&p);
     }
     rt_image_free(&e);
     rt_scene_free(&s);
   }
-}
-
-/* Over the pixels whose centre ray meets object obj first in the exact image e (-1: nothing):
- * their number, and the mean (over channels too) and the largest difference of image p there. */
-static int object_difference(const rt_image_t *e, const rt_image_t *p, int obj, double *mean,
-                             double *worst) {
-  double sum = 0.0;
-  int n = 0;
-  *worst = 0.0;
-  for (int k = 0; k < e->width * e->height; k++) {
-    if (e->ch[RT_CH_ID][k] != (float)obj)
-      continue;
-    n++;
-    for (int c = 0; c < 3; c++) {
-      double d = (double)p->ch[c][k] - (double)e->ch[c][k];
-      sum += d;
-      *worst = fmax(*worst, fabs(d));
-    }
-  }
-  *mean = n ? sum / (3.0 * n) : 0.0;
-  return n;
 }
 
 /* Every scene of scenes/ (scaled to 96 pixels wide, 4 spp), both modes: on each object that
@@ -932,23 +718,22 @@ static void every_scene_unbiased_per_object(void **state) {
   const char *names[] = {"fig8", "balls", "mesh1000", "fig11"};
   for (int sc = 0; sc < 4; sc++) {
     rt_scene_t s;
-    scene_file(names[sc], 96, &s);
+    fx_scene_file(names[sc], 96, &s);
     rt_image_t e;
-    render_exact(&s, 2, 2, &e);
+    fx_render_exact(&s, 2, 2, &e);
     for (int cert = 0; cert <= 1; cert++) {
       pt_options_t o = PT_OPTIONS_DEFAULT;
       o.certified = cert;
       rt_image_t p;
       pt_stats_t st;
-      render_pencil(&s, 2, 2, &o, &p, NULL, &st);
+      fx_render_pencil(&s, 2, 2, &o, &p, NULL, &st);
       for (int obj = -1; obj < s.nobject; obj++) {
-        double mean, worst;
-        int n = object_difference(&e, &p, obj, &mean, &worst);
-        if (n < 100)
+        fx_diff_t d = fx_object_difference(&e, &p, obj, 0.1);
+        if (d.n < 100)
           continue;
         print_message("%s certified %d object %d: %d pixels, mean difference %.5f\n", names[sc],
-                      cert, obj, n, mean);
-        assert_true(fabs(mean) < 0.003);
+                      cert, obj, d.n, d.mean);
+        assert_true(fabs(d.mean) < 0.003);
       }
       rt_image_free(&p);
     }
@@ -970,30 +755,29 @@ static void every_scene_unbiased_per_object(void **state) {
 static void exact_subtrees_start_at_exact_hits_and_are_measured(void **state) {
   (void)state;
   rt_scene_t s;
-  scene_file("fig11", 192, &s);
+  fx_scene_file("fig11", 192, &s);
   int torus = -1;
   for (int i = 0; i < s.nobject; i++)
     if (strcmp(s.object[i].name, "glass torus") == 0)
       torus = i;
   assert_true(torus >= 0);
   rt_image_t e;
-  render_exact(&s, 1, 2, &e);
+  fx_render_exact(&s, 1, 2, &e);
   for (int cert = 0; cert <= 1; cert++) {
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.certified = cert;
     o.measure = 1;
     rt_image_t p;
     pt_stats_t st;
-    render_pencil(&s, 1, 2, &o, &p, NULL, &st);
-    double mean, worst;
-    int n = object_difference(&e, &p, torus, &mean, &worst);
+    fx_render_pencil(&s, 1, 2, &o, &p, NULL, &st);
+    fx_diff_t d = fx_object_difference(&e, &p, torus, 0.1);
     print_message("fig11 192x192 certified %d: %d torus pixels, %llu partly exact cells, largest "
                   "difference %.3g; %llu of %llu samples with measured points, %llu within rho\n",
-                  cert, n, (unsigned long long)st.cells_partial, worst,
+                  cert, d.n, (unsigned long long)st.cells_partial, d.worst,
                   (unsigned long long)st.with_points, (unsigned long long)st.measured,
                   (unsigned long long)st.within);
-    assert_true(n > 5000 && st.cells_partial > 0);
-    assert_true(worst < 0.01);
+    assert_true(d.n > 5000 && st.cells_partial > 0);
+    assert_true(d.worst < 0.01);
     assert_true(st.with_points * 100 > st.measured * 55); /* 46% without the subtrees' points */
     assert_int_equal(st.within, st.measured);
     assert_int_equal(st.mismatches, 0);
@@ -1013,32 +797,27 @@ static void all_within(const char *what, const pt_stats_t *st) {
 }
 
 /* Certified mode halves a measured lattice cell whose nodes are too curved in one direction
- * only (interp.c, halve_dir) instead of cutting it into four measured quarters: it fires on
+ * only (interp_error.c, pt__halving) instead of cutting it into four measured quarters: it fires on
  * Fig. 8 at 49 spp, where the board seen through the glass ball is compressed vertically, and
  * every sample stays within rho there and on scenes/balls.json; the default mode, whose
  * quarters are first estimated at no cost, never halves. */
 static void certified_halves_stay_within_rho(void **state) {
   (void)state;
   rt_scene_t s;
-  fig8(&s, 64, 64);
+  fx_fig8(&s, 64, 64);
   pt_options_t o = PT_OPTIONS_DEFAULT;
   o.measure = 1;
-  rt_image_t p;
-  pt_stats_t st;
-  render_pencil(&s, 7, 1, &o, &p, NULL, &st);
+  pt_stats_t st = fx_pencil_stats(&s, 7, 1, &o);
   assert_int_equal(st.halved_cells, 0);
-  rt_image_free(&p);
   o.certified = 1;
-  render_pencil(&s, 7, 1, &o, &p, NULL, &st);
+  st = fx_pencil_stats(&s, 7, 1, &o);
   all_within("fig8 64x64 49 spp", &st);
   assert_true(st.halved_cells > 0);
   assert_true(st.max_error <= o.rho);
-  rt_image_free(&p);
   rt_scene_free(&s);
-  scene_file("balls", 128, &s);
-  render_pencil(&s, 4, 2, &o, &p, NULL, &st);
+  fx_scene_file("balls", 128, &s);
+  st = fx_pencil_stats(&s, 4, 2, &o);
   all_within("balls 128 wide 16 spp", &st);
-  rt_image_free(&p);
   rt_scene_free(&s);
 }
 
@@ -1051,9 +830,9 @@ static void image_bias_finds_systematic_errors(void **state) {
   (void)state;
   enum { W = 32, H = 32 };
   rt_scene_t s;
-  fig8(&s, W, H);
+  fx_fig8(&s, W, H);
   rt_image_t x, p;
-  render_exact(&s, 1, 1, &x);
+  fx_render_exact(&s, 1, 1, &x);
   assert_int_equal(rt_image_alloc(&p, W, H), RT_OK);
   int nball = 0;
   for (int k = 0; k < W * H; k++)
@@ -1110,7 +889,7 @@ static void error_maximum_keeps_nan(void **state) {
 static void measure_counts_diffuse_surfaces(void **state) {
   (void)state;
   rt_scene_t s;
-  fig8(&s, 32, 32);
+  fx_fig8(&s, 32, 32);
   assert_true(pt_surface_measured(&s, 0));  /* the checkerboard */
   assert_false(pt_surface_measured(&s, 1)); /* the glass ball */
   rt_scene_free(&s);
@@ -1136,9 +915,7 @@ static void measure_counts_diffuse_surfaces(void **state) {
     rt_scene_add_light(&s, &l);
     s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.9, 0.0}, {0, 1, 0}, 40.0, 32, 32};
     assert_int_equal(rt_scene_prepare(&s), RT_OK);
-    rt_image_t img;
-    pt_stats_t st;
-    render_pencil(&s, 2, 1, &o, &img, NULL, &st);
+    pt_stats_t st = fx_pencil_stats(&s, 2, 1, &o);
     print_message("plain plane %d: %llu of %llu samples with measured points, max %g\n", plain,
                   (unsigned long long)st.with_points, (unsigned long long)st.measured,
                   st.max_error);
@@ -1151,7 +928,6 @@ static void measure_counts_diffuse_surfaces(void **state) {
       assert_int_equal(st.with_points, 0);
       assert_true(st.max_error == 0.0);
     }
-    rt_image_free(&img);
     rt_scene_free(&s);
   }
 }
@@ -1161,15 +937,14 @@ static void measure_counts_diffuse_surfaces(void **state) {
 static void image_does_not_depend_on_threads(void **state) {
   (void)state;
   rt_scene_t s;
-  fig8(&s, 30, 22);
+  fx_fig8(&s, 30, 22);
   rt_image_t a, b;
   pt_stats_t sa, sb;
   static float ma[30 * 22], mb[30 * 22];
   pt_extra_t xa = {NULL, ma, NULL}, xb = {NULL, mb, NULL};
-  render_pencil(&s, 3, 1, NULL, &a, &xa, &sa);
-  render_pencil(&s, 3, 2, NULL, &b, &xb, &sb);
-  for (int c = 0; c < RT_CH_COUNT; c++)
-    assert_memory_equal(a.ch[c], b.ch[c], sizeof(float) * 30 * 22);
+  fx_render_pencil(&s, 3, 1, NULL, &a, &xa, &sa);
+  fx_render_pencil(&s, 3, 2, NULL, &b, &xb, &sb);
+  fx_assert_images_equal(&a, &b);
   assert_memory_equal(ma, mb, sizeof ma);
   assert_true(sa.cells == sb.cells && sa.samples[0] == sb.samples[0] &&
               sa.samples[1] == sb.samples[1] && sa.samples[2] == sb.samples[2]);
@@ -1179,24 +954,23 @@ static void image_does_not_depend_on_threads(void **state) {
 }
 
 /* Lattice points shared by neighbouring lattice cells are traced once per cell and reused
- * (interp.c): the image and every decision must be those of tracing each lattice cell's points
+ * (interp_memo.c): the image and every decision must be those of tracing each lattice cell's points
  * anew, in both modes. The reused points live in other storage than the re-traced ones, so this
  * also fails when an evaluation reads what a lattice point did not write (certified mode once
  * read the rays of miss nodes that a corner had not reached). */
 static void lattice_memo_changes_nothing(void **state) {
   (void)state;
   rt_scene_t s;
-  fig8(&s, 96, 96);
+  fx_fig8(&s, 96, 96);
   for (int cert = 0; cert <= 1; cert++) {
     rt_image_t a, b;
     pt_stats_t sa, sb;
     pt_options_t o = PT_OPTIONS_DEFAULT;
     o.certified = cert;
-    render_pencil(&s, 3, 1, &o, &a, NULL, &sa);
+    fx_render_pencil(&s, 3, 1, &o, &a, NULL, &sa);
     o.memo = 0;
-    render_pencil(&s, 3, 1, &o, &b, NULL, &sb);
-    for (int c = 0; c < RT_CH_COUNT; c++)
-      assert_memory_equal(a.ch[c], b.ch[c], sizeof(float) * 96 * 96);
+    fx_render_pencil(&s, 3, 1, &o, &b, NULL, &sb);
+    fx_assert_images_equal(&a, &b);
     assert_true(sa.lattice_reused > 0);
     assert_int_equal(sb.lattice_reused, 0);
     assert_int_equal(sa.lattice_points + sa.lattice_reused, sb.lattice_points);
@@ -1211,7 +985,7 @@ static void lattice_memo_changes_nothing(void **state) {
 static void bad_options_rejected(void **state) {
   (void)state;
   rt_scene_t s;
-  fig8(&s, 8, 8);
+  fx_fig8(&s, 8, 8);
   rt_plan_t plan = rt_plan_make(&s, 1);
   rt_image_t img;
   static float err[8 * 8];

@@ -5,15 +5,15 @@
  * The Whitted recursion of rt_shade_hit() is evaluated in its unrolled form: the radiance of a
  * sample is the sum over the nodes k of its tree of W_k * direct_k, where direct_k is
  * rt_shade_direct() at node k's hit and W_k the product of the rt_shade_children() weights along
- * the path from the eye. The children's hits come from the cell's paths, not from a scene
+ * the path from the eye. The children's hits come from the domain's paths, not from a scene
  * search: each node's paraxial ray psi' = T psi meets the node's own primitive (MATRIX mode), or
  * its hit point and direction are interpolated from four lattice points (INTERP mode). Keeping
  * W_k and W_k * direct_k per node lets ray interpolation interpolate the brightness of every
- * node on which it is linear and shade only the others (cell.c).
+ * node on which it is linear and shade only the others (interp_plan.c).
  *
- * Shadow queries return the transmittance recorded once per cell at the axial ray's node for the
- * lights whose visibility agrees at the cell's centre and corners (rt_tree_node_t lit/blocked);
- * for the other lights a shadow ray is traced per sample. Whenever a sample leaves the cell's
+ * Shadow queries return the transmittance recorded once per domain at the axial ray's node for the
+ * lights whose visibility agrees at the domain's centre and corners (rt_tree_node_t lit/blocked);
+ * for the other lights a shadow ray is traced per sample. Whenever a sample leaves the domain's
  * paths (its paraxial ray misses the node's primitive, or shading asks for a child the tree does
  * not have) or reaches a subtree where the corners' trees differ, that part is traced exactly. */
 #include <math.h>
@@ -24,10 +24,10 @@
 #include "render/vec_inline.h"
 
 static void mark_exact(pt_eval_t *E, int k) {
-  if (!E->rec)
+  if (!E->geom)
     return;
-  E->rec[k].ok = 2;
-  const pt_node_t *n = &E->C->node[k];
+  E->geom[k].ok = 2;
+  const pt_node_t *n = &E->C->paths.node[k];
   for (int c = 0; c < 2; c++)
     if (n->child[c] >= 0)
       mark_exact(E, n->child[c]);
@@ -37,7 +37,7 @@ static void mark_exact(pt_eval_t *E, int k) {
  * by shade.h before it builds the shadow segment; the axial sample records instead). */
 static int known_cb(void *ctx, int l, rt_rgb_t *through) {
   const pt_eval_t *E = ctx;
-  const pt_node_t *n = &E->C->node[E->cur];
+  const pt_node_t *n = &E->C->paths.node[E->cur];
   if (l >= PT_MAX_LIGHTS || !(n->known & (1u << l)) ||
       (E->record_shadow && (n->light_agree & (1u << l))))
     return 0;
@@ -47,7 +47,7 @@ static int known_cb(void *ctx, int l, rt_rgb_t *through) {
 
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
   pt_eval_t *E = ctx;
-  pt_node_t *n = &E->C->node[E->cur];
+  pt_node_t *n = &E->C->paths.node[E->cur];
   if (q->light < PT_MAX_LIGHTS) {
     unsigned bit = 1u << q->light;
     if (E->record_shadow && (n->light_agree & bit)) {
@@ -58,13 +58,13 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
       return;
     }
   }
-  /* a light whose visibility differs across the cell, one the axial ray's surface faced away
+  /* a light whose visibility differs across the domain, one the axial ray's surface faced away
    * from, or one beyond PT_MAX_LIGHTS (those known_cb() did not answer): a shadow ray per
    * sample */
   E->C->ex.stats.shadow++;
   q->through = rt_transmittance(E->C->s, &q->ray);
-  if (E->lattice && E->rec && q->light < 32) { /* where the visibility changes over the cell */
-    pt_geom_t *g = &E->rec[E->cur];
+  if (E->lattice && E->geom && q->light < 32) { /* where the visibility changes over the domain */
+    pt_geom_t *g = &E->geom[E->cur];
     rt_rgb_t t = q->through;
     g->lit |= (uint32_t)(t.r == 1.0 && t.g == 1.0 && t.b == 1.0) << q->light;
     g->dark |= (uint32_t)(t.r == 0.0 && t.g == 0.0 && t.b == 0.0) << q->light;
@@ -72,16 +72,16 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
 }
 
 /* Radiance along child ray c of pencil node k by the exact tracer (unweighted). With
- * E->record_sub the subtree's rays are recorded in C->sub under a root standing for node k, so
+ * E->record_sub the subtree's rays are recorded in C->sub.tree under a root standing for node k, so
  * that the measure compares its points with the exact tracer's: they start at the pencil's hit
  * of k, which may be interpolated. */
 static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth) {
   pt_ctx_t *C = E->C;
   rt_tracer_t ex = rt_exact_tracer(&C->ex);
-  rt_tree_t *t = &C->sub;
+  rt_tree_t *t = &C->sub.tree;
   if (!E->record_sub || k < 0)
     return ex.child(ex.ctx, c, depth);
-  if (t->n >= t->cap || C->nsub >= C->cap) { /* not recorded: the measure cannot compare it */
+  if (t->n >= t->cap || C->sub.n >= C->cap) { /* not recorded: the measure cannot compare it */
     t->overflow = 1;
     return ex.child(ex.ctx, c, depth);
   }
@@ -92,8 +92,8 @@ static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth)
                                 .texel = -1,
                                 .t = INFINITY,
                                 .weight = rt_rgb(1, 1, 1)};
-  C->sub_root[C->nsub] = r;
-  C->sub_from[C->nsub++] = k;
+  C->sub.root[C->sub.n] = r;
+  C->sub.from[C->sub.n++] = k;
   rt_tree_t *saved = C->ex.tree;
   int saved_node = C->ex.node;
   C->ex.tree = t;
@@ -132,12 +132,12 @@ static int verified(pt_eval_t *E, const pt_node_t *n, const rt_ray_t *r, double 
  * the path (misses a primitive or lacks the child). */
 static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   pt_ctx_t *C = E->C;
-  pt_xgeom_t *x = &C->xg[k];
+  pt_xgeom_t *x = &C->sample.exact[k];
   if (x->stamp == E->stamp)
     return x;
   x->stamp = E->stamp;
   x->ok = 0;
-  const pt_node_t *n = &C->node[k];
+  const pt_node_t *n = &C->paths.node[k];
   rt_ray_t r = E->primary;
   if (n->parent >= 0) {
     const pt_xgeom_t *px = exact_geom(E, n->parent);
@@ -147,8 +147,8 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
     rt_surface_t sf;
     rt_child_t ch; /* only the child of the path's kind (shading builds both) */
     node_surface(E, n->parent, px->p, px->d, &ray, &sf);
-    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->node[n->parent].depth, (rt_ray_kind_t)n->kind,
-                        &ch))
+    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->paths.node[n->parent].depth,
+                        (rt_ray_kind_t)n->kind, &ch))
       return x;
     r = ch.ray;
   }
@@ -162,37 +162,38 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   return x;
 }
 
-/* Whether a child of node n is traced exactly per sample in this evaluation (the cell's tree marks
- * it exact, or the quad's plan traces it below an edge). */
+/* Whether a child of node n is traced exactly per sample in this evaluation (the domain's tree
+ * marks it exact, or the lattice cell's plan traces it below an edge). */
 static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
   for (int c = 0; c < 2; c++) {
     int kc = n->child[c];
-    if (kc >= 0 && (E->C->node[kc].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[kc])))
+    if (kc >= 0 && (E->C->paths.node[kc].pencil == PT_NODE_EXACT ||
+                    (E->exact_subtree && E->exact_subtree[kc])))
       return 1;
   }
   return 0;
 }
 
 /* Node k's hit point and arriving direction for this sample; 0 when the sample's ray misses the
- * node's primitive (it left the cell's paths). `from` is the ray arriving at the node as shading
+ * node's primitive (it left the domain's paths). `from` is the ray arriving at the node as shading
  * spawned it (NULL for the primary ray). */
 static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t *hit,
                          px_vec3_t *d) {
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   if (E->exact_spawn && !E->lattice && spawns_exact(E, n)) {
     /* the exact tracer takes the rays spawned here: an interpolated (or matrix) hit and
      * direction, though within the tolerance, would put their error into every surface below,
      * where nothing bounds it (a glass polyhedron's facets turn it into another colour: Fig. 11;
      * a ray leaving the glass ball near grazing meets the board hundreds of pixel intervals
      * away). So the sample's own ray carried along the node's path (exact_geom; for the primary
-     * node one primitive test). Leaving the path, the sample has left the cell's paths. */
+     * node one primitive test). Leaving the path, the sample has left the domain's paths. */
     const pt_xgeom_t *x = exact_geom(E, k);
     E->spawnfail |= !x->ok;
     *hit = x->p;
     *d = x->d;
     return x->ok;
   }
-  if (E->mode == PT_EV_INTERP && E->own && E->own[k]) { /* this node: per sample */
+  if (E->mode == PT_EV_INTERP && E->traced && E->traced[k]) { /* this node: per sample */
     if (n->pencil == PT_NODE_PATH) {
       const pt_xgeom_t *x = exact_geom(E, k);
       *hit = x->p;
@@ -202,11 +203,12 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     px_vec3_t p;
     return pt_node_ray(n, E->xi, &p, d) && pt_node_hit(E->C->s, n, p, *d, hit);
   }
-  if (E->mode == PT_EV_INTERP && E->q2 && E->q2[k]) { /* biquadratic over the quad's grid */
+  /* biquadratic over the lattice cell's grid */
+  if (E->mode == PT_EV_INTERP && E->biquadratic && E->biquadratic[k]) {
     px_vec3_t p = {0, 0, 0}, dd = {0, 0, 0};
     for (int i = 0; i < 9; i++) {
-      p = v3_axpy(E->w9[i], E->g9[i][k].p, p);
-      dd = v3_axpy(E->w9[i], E->g9[i][k].d, dd);
+      p = v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
+      dd = v3_axpy(E->grid_w[i], E->grid[i][k].d, dd);
     }
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* back onto the sphere, as below */
@@ -218,8 +220,9 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     return 1;
   }
   if (E->mode == PT_EV_INTERP) {
-    const double *w = E->w;
-    const pt_geom_t *a = &E->g[0][k], *b = &E->g[1][k], *c = &E->g[2][k], *e = &E->g[3][k];
+    const double *w = E->corner_w;
+    const pt_geom_t *a = &E->corner[0][k], *b = &E->corner[1][k], *c = &E->corner[2][k],
+                    *e = &E->corner[3][k];
     *hit = v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* a chord lies inside the sphere: back onto its surface,
@@ -232,7 +235,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     return 1;
   }
   if (n->pencil == PT_NODE_PATH) { /* exactly along the path */
-    int exact_parent = n->parent < 0 || E->C->node[n->parent].pencil == PT_NODE_PATH;
+    int exact_parent = n->parent < 0 || E->C->paths.node[n->parent].pencil == PT_NODE_PATH;
     if (from && exact_parent) { /* spawned at an exact hit: the sample's own ray */
       double t;
       if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t) ||
@@ -240,7 +243,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
         return 0;
       *hit = v3_axpy(t, from->ray.d, from->ray.o);
       *d = from->ray.d;
-      E->C->xg[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
+      E->C->sample.exact[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
       return 1;
     }
     const pt_xgeom_t *x = exact_geom(E, k);
@@ -255,7 +258,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
 /* The surface record of node k at (hit, d) for shade.h. */
 static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,
                          rt_surface_t *sf) {
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   rt_hit_t h = {0.0, hit, rt_prim_normal(E->C->s, n->prim, hit), n->prim, n->object};
   *ray = (rt_ray_t){hit, d, 0.0, INFINITY, n->ior, -1};
   rt_shade_surface(E->C->s, &h, ray, sf);
@@ -263,21 +266,21 @@ static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, 
 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from);
 
-/* The children of node k at surface sf: those the cell's paths cover by eval_node(), the others
+/* The children of node k at surface sf: those the domain's paths cover by eval_node(), the others
  * by the exact tracer (geometry-only evaluations just mark them); `only_exact` skips the former
  * (the caller interpolates them). */
 static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w, int only_exact) {
-  const pt_node_t *n = &E->C->node[k];
+  const pt_node_t *n = &E->C->paths.node[k];
   rt_child_t ch[2];
   int nc = -1;
   if (only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
-    /* both children are in the cell's tree, so the sample cannot have one it lacks: when only
+    /* both children are in the domain's tree, so the sample cannot have one it lacks: when only
      * one of them is traced exactly, only that one is built (the other is interpolated) */
     int exact[2];
     for (int c = 0; c < 2; c++)
-      exact[c] =
-          E->C->node[n->child[c]].pencil == PT_NODE_EXACT || (E->xsub && E->xsub[n->child[c]]);
+      exact[c] = E->C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
+                 (E->exact_subtree && E->exact_subtree[n->child[c]]);
     if (exact[0] != exact[1])
       nc = rt_shade_child(E->C->s, E->C->plan, sf, ray, n->depth,
                           (rt_ray_kind_t)n->child_kind[exact[0] ? 0 : 1], &ch[0]);
@@ -290,7 +293,8 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
              : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
                                                    : -1;
-    if (kc >= 0 && E->C->node[kc].pencil != PT_NODE_EXACT && !(E->xsub && E->xsub[kc])) {
+    if (kc >= 0 && E->C->paths.node[kc].pencil != PT_NODE_EXACT &&
+        !(E->exact_subtree && E->exact_subtree[kc])) {
       if (!only_exact)
         sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));
       continue;
@@ -298,10 +302,10 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     if (kc >= 0) { /* the corners' trees differ below here: traced exactly */
       E->partial = 1;
       mark_exact(E, kc);
-    } else { /* a child the cell's tree does not have: the sample left the cell's paths */
+    } else { /* a child the domain's tree does not have: the sample left the domain's paths */
       E->fallback = 1;
-      if (E->rec)
-        E->rec[k].fb |= (uint8_t)(1u << ch[i].kind);
+      if (E->geom)
+        E->geom[k].exact_kinds |= (uint8_t)(1u << ch[i].kind);
     }
     /* lattice points record where the paths end, not radiance; a measured geometry-only
      * evaluation traces the subtree for its points */
@@ -311,7 +315,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   return sum;
 }
 
-/* The sample's ray left node n's path: an edge the cell's corners saw (verify node) or not. */
+/* The sample's ray left node n's path: an edge the domain's corners saw (verify node) or not. */
 static void left(pt_eval_t *E, const pt_node_t *n) {
   if (n->verify)
     E->vfail = E->partial = 1;
@@ -321,13 +325,13 @@ static void left(pt_eval_t *E, const pt_node_t *n) {
 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from) {
   pt_ctx_t *C = E->C;
-  const pt_node_t *n = &C->node[k];
-  pt_geom_t *g = E->rec ? &E->rec[k] : NULL;
+  const pt_node_t *n = &C->paths.node[k];
+  pt_geom_t *g = E->geom ? &E->geom[k] : NULL;
   if (n->miss) {
     const rt_ray_t *r = from ? &from->ray : E->mode == PT_EV_MATRIX ? &E->primary : NULL;
     rt_hit_t h;
     /* certified mode: the sample's own ray must still meet nothing (a horizon or an object
-     * between the cell's corners would otherwise go unseen) */
+     * between the domain's corners would otherwise go unseen) */
     if ((C->opt->certified || n->verify) && r && rt_intersect(C->s, r, &h)) {
       left(E, n);
       mark_exact(E, k);
@@ -347,7 +351,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     return l;
   }
   px_vec3_t hit, d;
-  if (!node_geometry(E, k, from, &hit, &d)) { /* left the cell's paths: exact from here */
+  if (!node_geometry(E, k, from, &hit, &d)) { /* left the domain's paths: exact from here */
     left(E, n);
     mark_exact(E, k);
     if (E->lattice || !(E->shade || (E->record_sub && from)))
@@ -361,7 +365,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     g->w = w;
     g->l = rt_rgb(0, 0, 0);
     g->ok = 1;
-    g->fb = 0;
+    g->exact_kinds = 0;
     g->su = g->sv = 0;
     g->lit = g->dark = 0;
     if (n->textured)
@@ -398,29 +402,29 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
 }
 
 rt_rgb_t pt__eval(pt_eval_t *E) {
-  if (E->rec)
-    for (int k = 0; k < E->C->nnode; k++)
-      E->rec[k].ok = E->rec[k].fb = 0;
+  if (E->geom)
+    for (int k = 0; k < E->C->paths.n; k++)
+      E->geom[k].ok = E->geom[k].exact_kinds = 0;
   if (E->record_sub) {
-    E->C->sub.n = E->C->sub.overflow = 0;
-    E->C->nsub = 0;
+    E->C->sub.tree.n = E->C->sub.tree.overflow = 0;
+    E->C->sub.n = 0;
   }
   E->cur = -1;
   E->fallback = 0;
   E->vfail = 0;
-  E->ownfail = 0;
+  E->traced_failed = 0;
   E->spawnfail = 0;
   E->partial = 0;
-  E->stamp = ++E->C->stamp;
+  E->stamp = ++E->C->sample.stamp;
   return eval_node(E, 0, rt_rgb(1, 1, 1), NULL);
 }
 
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children) {
-  if (E->C->node[k].miss) /* the sky: no surface to shade (and no children) */
+  if (E->C->paths.node[k].miss) /* the sky: no surface to shade (and no children) */
     return direct ? rt_rgb_mul(w, E->C->s->background) : rt_rgb(0, 0, 0);
   px_vec3_t hit, d;
-  if (!node_geometry(E, k, NULL, &hit, &d)) { /* only an own node's ray can leave its path */
-    E->ownfail = 1;
+  if (!node_geometry(E, k, NULL, &hit, &d)) { /* only a traced node's ray can leave its path */
+    E->traced_failed = 1;
     return rt_rgb(0, 0, 0);
   }
   rt_ray_t ray;
@@ -441,14 +445,14 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
 
 int pt__spawns_exact(const pt_eval_t *E) {
   const pt_ctx_t *C = E->C;
-  for (int k = 0; k < C->nnode; k++)
-    if (!C->node[k].miss && spawns_exact(E, &C->node[k]))
+  for (int k = 0; k < C->paths.n; k++)
+    if (!C->paths.node[k].miss && spawns_exact(E, &C->paths.node[k]))
       return 1;
   return 0;
 }
 
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]) {
   rt_ray_t r = rt_view_ray(C->view, x, y, 1.0);
-  xi[0] = v3_dot(C->frame.x1, r.d);
-  xi[1] = v3_dot(C->frame.x2, r.d);
+  xi[0] = v3_dot(C->paths.frame.x1, r.d);
+  xi[1] = v3_dot(C->paths.frame.x2, r.d);
 }

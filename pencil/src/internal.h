@@ -1,5 +1,5 @@
 /* internal.h -- private: the per-thread state of the pencil renderer and the functions shared by
- * its translation units (eval.c: one sample through the domain's paths; cell.c: steps 2-4 of
+ * its translation units (eval.c: one sample through the domain's paths; domain.c: steps 2-4 of
  * section 4.1 (1) for one domain; render.c: the screen loop). */
 #ifndef PENCIL_INTERNAL_H
 #define PENCIL_INTERNAL_H
@@ -23,12 +23,13 @@ typedef struct {
   uint32_t lit;  /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
   uint32_t dark; /**< ... and was fully blocked */
   uint8_t ok;    /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
-  uint8_t fb;    /**< bit k: the child of rt_ray_kind_t k was traced exactly */
+  uint8_t exact_kinds; /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
 
 /** A node's exact geometry for one sample (exact along the known path, memoised per sample). */
 typedef struct {
-  px_vec3_t p, d;
+  px_vec3_t p;    /**< exact hit point */
+  px_vec3_t d;    /**< unit direction of the exact arriving ray */
   uint32_t stamp; /**< the evaluation it belongs to */
   int ok;         /**< 0: the sample's ray does not meet the node's primitive */
 } pt_xgeom_t;
@@ -42,83 +43,142 @@ typedef struct {
   uint64_t rays; /**< exact rays traced for its samples */
 } pixel_t;
 
-/** The lattice points of the cell being interpolated, by their position: neighbouring lattice
- *  cells share edge midpoints, which depend only on the position and the cell's paths, so each is
- *  traced once per cell. Open addressing over `slot` (a slot is in use when its `gen` is the
- *  current one, so a new cell only bumps `now`). */
+/** The lattice points of the domain being interpolated, by their position: neighbouring lattice
+ *  cells share corners and edge midpoints, which depend only on the position and the domain's
+ *  paths, so each is traced once per domain. Open addressing over `slot` (a slot is in use when
+ *  its `gen` is the current one, so a new domain only bumps `now`). */
 typedef struct {
   pt_geom_t *g;   /**< storage: `entries` node records, a point's nodes contiguous */
   size_t entries; /**< node records in g */
-  int stride;     /**< records per point: the current cell's node count */
+  int stride;     /**< records per point: the current domain's node count */
   double *xy;     /**< position of each stored point, 2 per point */
   double *xi2;    /**< |xi|^2 of its primary ray */
-  uint8_t *ok;    /**< traced without leaving the cell's paths */
-  int n, cap;     /**< points stored / room this cell (a full memo traces into the caller's
-                       storage) */
+  uint8_t *ok;    /**< traced without leaving the domain's paths */
+  int n;          /**< points stored */
+  int cap;        /**< room this domain (a full memo traces into the caller's storage) */
   int maxpts;     /**< room in xy, xi2 and ok: cap is at most this */
   int32_t *slot;  /**< hash table, nslot entries: index of a stored point */
   uint32_t *gen;  /**< generation of each slot */
-  uint32_t now;   /**< the current cell's generation */
+  uint32_t now;   /**< the current domain's generation */
   int nslot;      /**< a power of two, at least 2 maxpts */
-} pt_lmemo_t;
+} pt_lattice_memo_t;
 
-/** Per-thread state; every buffer is allocated once before the screen loop. */
+/** The plan of the lattice cell being interpolated, per node of the domain's tree (cap entries
+ *  each; interp_plan.c fills them, the lattice cell's samples read them). */
 typedef struct {
-  const rt_scene_t *s;
-  const rt_plan_t *plan;
-  const rt_view_t *view;
-  const pt_options_t *opt;
-  rt_image_t *img;
-  pt_extra_t *extra;
-  float *sample_error;
-  const pt_bsphere_t *guard;
-  int nguard;
-  int cap;                  /**< ray-tree capacity (plan->tree_nodes) */
-  rt_exact_t ex;            /**< the exact tracer (axial, corner, fallback and edge rays) */
-  rt_tree_t tree;           /**< the current cell's axial tree */
-  rt_tree_t tree2;          /**< corner and measurement trees */
-  rt_tree_t sub;            /**< measure: the subtrees one sample's evaluation traced exactly,
-                                 each under a root node standing for the pencil node it hangs
-                                 from (PT_SUB_TREES x cap nodes; pt__measure compares their
-                                 points with the exact tracer's) */
-  int *sub_root, *sub_from; /**< ... each subtree's root in `sub` and its pencil node (cap) */
-  int *sub_xk;              /**< ... pt__measure: the exact tree's node on that node's path (cap) */
-  int nsub;
-  pt_ctree_t *corner;       /**< corner tree cache of the current domain, (N+1)^2 */
-  pt_cnode_t *corner_nodes; /**< their node storage (one block; entries are swapped) */
-  int dom_x0, dom_y0;       /**< the current domain's top-left pixel */
-  pt_node_t *node;          /**< the current cell's paths, one per tree node */
-  int *map;                 /**< pt_tree_agree() scratch, 4 x cap */
-  uint8_t *agree;           /**< pt_tree_agree() output, cap */
-  uint32_t *light;          /**< pt_tree_agree() output, cap */
-  int nnode;
-  px_frame_t frame; /**< the current cell's input frame at the eye */
-  double dpix;      /**< the current cell's larger pixel step |delta_i| in xi */
-  int kt, kr;       /**< nodes on the transmission-first / reflection-first paths to the
-                         checkerboard, or -1 */
-  pt_path_scratch_t path;
-  pt_geom_t *lat;       /**< the root quad's 3 x 3 lattice points x cap nodes */
-  pixel_t *acc;         /**< the interpolated cell's pixels, N^2 */
-  int *loc;             /**< per-pixel plan: nodes shaded per sample (cap) */
-  uint8_t *locd, *loce; /**< ... with their direct term / with exactly traced children */
-  int *loct;            /**< per-quad plan: textured nodes whose square changes (cap) */
-  int *lsm;             /**< per-quad plan: the nodes whose brightness is interpolated (cap) */
-  uint8_t *xsub;        /**< per-quad plan: verify nodes (and below) traced exactly (cap) */
-  uint8_t *own;         /**< per-quad plan: nodes traced per sample by matrix or path (cap) */
-  uint8_t *q2;          /**< per-quad plan: nodes whose hits are interpolated biquadratically
-                             from the quad's 3 x 3 grid (cap) */
-  uint8_t *faint;       /**< per-quad plan: nodes whose shading is interpolated across a shadow
-                             edge, their brightness being within a bound (interp.c) (cap) */
-  pt_geom_t *ref;       /**< refinement grids: PT_QUAD_LEVELS x 5 points x cap nodes */
-  pt_lmemo_t memo;      /**< the current cell's lattice points by position (interp.c) */
-  pt_geom_t *rec;       /**< one sample's geometry, cap nodes */
-  pt_xgeom_t *xg;       /**< one sample's exact geometry along the paths, cap nodes */
-  int vary_w;           /**< the weights W_k vary with the hits (a Fresnel split): a lattice
-                             cell's nodes shaded per sample count the error of their interpolated
-                             W_k (interp.c) */
-  uint32_t stamp;       /**< evaluation counter for xg */
-  pt_stats_t st;
+  int *shaded;            /**< nodes shaded per sample at their interpolated hits */
+  uint8_t *shaded_direct; /**< ... with their direct term (per entry of `shaded`) */
+  uint8_t *shaded_exact;  /**< ... with their exactly traced children (per entry of `shaded`) */
+  int *leaves;            /**< textured leaves whose checker square changes over the lattice cell */
+  int *linear;            /**< nodes whose brightness is interpolated (the brightness test) */
+  uint8_t *exact_subtree; /**< per node: traced exactly per sample with its subtree (a verify
+                               node that a grid point did not confirm, and below) */
+  uint8_t *traced;        /**< per node: hits traced per sample by its matrix or along its path
+                               (too curved to interpolate) */
+  uint8_t *biquadratic; /**< per node: hits interpolated biquadratically from the lattice cell's (or
+                             certified: its parent's) 3 x 3 grid */
+  uint8_t *faint;       /**< per node: shading interpolated across a shadow edge, its
+                             brightness being within a bound (interp_error.c) */
+} pt_lattice_plan_t;
+
+/** Ray interpolation's state for one accepted domain (interp*.c). */
+typedef struct {
+  pt_geom_t *root;        /**< the root lattice cell's 3 x 3 points x cap nodes */
+  pt_geom_t *refine;      /**< refinement grids: PT_LATTICE_LEVELS x 5 points x cap nodes */
+  pixel_t *pixels;        /**< the domain's pixels being accumulated, N^2 */
+  pt_lattice_memo_t memo; /**< the domain's lattice points by position */
+  pt_lattice_plan_t plan; /**< the current lattice cell's plan */
+} pt_lattice_t;
+
+/** The exact trees one thread traces into (rt_exact_t.tree points at one while it traces). */
+typedef struct {
+  rt_tree_t axial; /**< the current domain's axial ray's tree (step 2) */
+  rt_tree_t probe; /**< single rays': corners, auxiliary channels, the measure's exact tree */
+} pt_trees_t;
+
+/** The measure's record of the subtrees that one sample's evaluation traced exactly, each under a
+ *  root node standing for the pencil node it hangs from (pt__measure compares their points with
+ *  the exact tracer's). */
+typedef struct {
+  rt_tree_t tree;  /**< the subtrees, PT_SUB_TREES x cap nodes */
+  int *root;       /**< each subtree's root in `tree` (cap) */
+  int *from;       /**< ... the pencil node it hangs from (cap) */
+  int *exact_node; /**< ... the exact tree's node on that node's path (pt__measure; cap) */
+  int n;           /**< subtrees recorded */
+} pt_subtrees_t;
+
+/** Step 3 for the current domain: its corners' trees and their agreement with the axial tree. */
+typedef struct {
+  pt_ctree_t *tree;  /**< corner tree cache of the current domain, (N+1)^2 */
+  pt_cnode_t *nodes; /**< their node storage (one block; entries are swapped) */
+  int x0, y0;        /**< the current initial domain's top-left pixel (the cache's origin) */
+  int *map;          /**< pt_tree_agree() scratch, 4 x cap */
+  uint8_t *agree;    /**< pt_tree_agree() output per axial node, cap */
+  uint32_t *light;   /**< pt_tree_agree() output per axial node: lights agreeing, cap */
+} pt_corners_t;
+
+/** Step 2 for the current domain: the paths of its axial tree and their system matrices. */
+typedef struct {
+  pt_node_t *node;           /**< one per tree node (cap) */
+  int n;                     /**< nodes of the current domain's tree */
+  px_frame_t frame;          /**< the domain's input frame at the eye (xi is measured in it) */
+  int transmit, reflect;     /**< nodes on the transmission-first / reflection-first paths to the
+                                  checkerboard (auxiliary channels, measure), or -1 */
+  pt_path_scratch_t scratch; /**< pt_path_build()'s workspace */
+} pt_paths_t;
+
+/** One sample's evaluation: its geometry and exact geometry per node (cap each). */
+typedef struct {
+  pt_geom_t *geom;   /**< one sample's geometry (auxiliary channels, measure) */
+  pt_xgeom_t *exact; /**< one sample's exact geometry along the paths */
+  uint32_t stamp;    /**< evaluation counter for `exact` */
+} pt_sample_t;
+
+/** Per-thread state: the renderer's inputs (not owned) and the parts that hold the thread's
+ *  buffers, each allocated once before the screen loop (pt__ctx_alloc) so that no ray
+ *  allocates. */
+typedef struct {
+  const rt_scene_t *s;       /**< the prepared scene */
+  const rt_plan_t *plan;     /**< the render plan (effects, tree size) */
+  const rt_view_t *view;     /**< the camera's rays */
+  const pt_options_t *opt;   /**< the caller's options */
+  rt_image_t *img;           /**< the image being written */
+  pt_extra_t *extra;         /**< the caller's extra channels (or NULL) */
+  float *sample_error;       /**< the caller's per-sample errors (or NULL) */
+  const pt_bsphere_t *guard; /**< the small-object guard's bounding spheres ... */
+  int nguard;                /**< ... and their number */
+  int weights_vary;          /**< the weights W_k vary with the hits (a Fresnel split): a
+                                  lattice cell's nodes shaded per sample count the error of
+                                  their interpolated W_k (interp_error.c) */
+  int cap;                   /**< ray-tree capacity (plan->tree_nodes): nodes of every part */
+  rt_exact_t ex;             /**< the exact tracer (axial, corner, fallback and edge rays) */
+  pt_trees_t trees;          /**< its exact trees */
+  pt_subtrees_t sub;         /**< measure: one sample's subtrees traced exactly */
+  pt_corners_t corners;      /**< step 3 for the current domain */
+  pt_paths_t paths;          /**< step 2 for the current domain */
+  pt_lattice_t lattice;      /**< ray interpolation of the current domain */
+  pt_sample_t sample;        /**< one sample's evaluation */
+  pt_stats_t st;             /**< this thread's counters */
 } pt_ctx_t;
+
+/* context.c: each part's buffers for trees of `cap` nodes and domains of n x n pixels; an
+ * alloc returns 0 when some allocation failed (its free then frees what was allocated), and a
+ * free leaves the part empty. */
+int pt__trees_alloc(pt_trees_t *t, int cap);
+void pt__trees_free(pt_trees_t *t);
+int pt__subtrees_alloc(pt_subtrees_t *t, int cap);
+void pt__subtrees_free(pt_subtrees_t *t);
+int pt__corners_alloc(pt_corners_t *c, int cap, int n);
+void pt__corners_free(pt_corners_t *c);
+int pt__paths_alloc(pt_paths_t *p, int cap);
+void pt__paths_free(pt_paths_t *p);
+int pt__lattice_alloc(pt_lattice_t *l, int cap, int n);
+void pt__lattice_free(pt_lattice_t *l);
+int pt__sample_alloc(pt_sample_t *x, int cap);
+void pt__sample_free(pt_sample_t *x);
+/** Every part of C (its inputs set); 0 on failure, after which pt__ctx_free() frees. */
+int pt__ctx_alloc(pt_ctx_t *C, int cap, int n);
+void pt__ctx_free(pt_ctx_t *C);
 
 enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
 
@@ -131,54 +191,62 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
  *  variation between the checked points; docs/pencil.md). */
 #define PT_CERTIFIED_MARGIN 0.7
 
-/** max(a, b) without a libm call (fmax() is one; make_plan() made 2.2 million of them at 49 spp
- *  on Fig. 8), and NaN-propagating where fmax() drops a NaN: an error that is NaN stays NaN, and
- *  the tests that use it are written to reject it (!(e <= tol)). */
+/** max(a, b) without a libm call (fmax() is one, and the lattice's error estimates make very
+ *  many: docs/tuning.md), and NaN-propagating where fmax() drops a NaN: an error that is NaN stays
+ * NaN, and the tests that use it are written to reject it (!(e <= tol)). */
 static inline double pt_max(double a, double b) {
   return a > b || a != a ? a : b;
 }
 
-/** Depth of the quadtree of lattice cells (halvings of the cell) at most. */
-#define PT_QUAD_LEVELS 12
+/** Depth of the quadtree of lattice cells (halvings of the domain) at most. */
+#define PT_LATTICE_LEVELS 12
 
-/** One sample's evaluation through the current cell's paths. */
+/** One sample's evaluation through the current domain's paths. */
 typedef struct {
-  pt_ctx_t *C;
-  int mode;               /**< PT_EV_MATRIX or PT_EV_INTERP */
-  double xi[2];           /**< MATRIX: the sample's xi in the cell frame */
-  rt_ray_t primary;       /**< MATRIX: the sample's primary ray (for an exact fallback) */
-  const double *w;        /**< INTERP: bilinear weights of the 4 lattice points */
-  const pt_geom_t *g[4];  /**< INTERP: their geometry, indexed by node */
-  pt_geom_t *rec;         /**< per-node geometry out (cap entries), or NULL */
-  int shade;              /**< 0: geometry only */
-  int record_shadow;      /**< 1: trace shadow rays and store them in the nodes (axial sample) */
-  int lattice;            /**< 1: a lattice point: also fill pt_geom_t.lt of textured nodes;
-                               subtrees leaving the paths are marked, not traced (its radiance
-                               is not used) */
-  int cur;                /**< node being shaded */
-  uint32_t stamp;         /**< this evaluation's xg stamp */
-  int fallback;           /**< set when the sample left the cell's paths (traced exactly there) */
-  int vfail;              /**< set when a verify node's scene search failed (traced exactly) */
-  const uint8_t *xsub;    /**< INTERP: nodes whose subtrees are traced exactly in this quad */
-  const uint8_t *own;     /**< INTERP: nodes whose hits come from their matrices (or path) per
-                               sample in this quad (xi and primary set), not interpolated */
-  const uint8_t *q2;      /**< INTERP: nodes interpolated biquadratically (g9, w9), or NULL */
-  const pt_geom_t *g9[9]; /**< INTERP with q2: the quad's 3 x 3 grid, row-major */
-  double w9[9];           /**< INTERP with q2: the sample's biquadratic (Lagrange) weights */
-  int record_sub;         /**< measure: subtrees traced exactly are recorded in C->sub (reset
-                               by pt__eval) */
-  int exact_spawn;        /**< some node has a child traced exactly per sample: such a node
-                               spawns it from the sample's exact hit (primary set; the sample's
-                               ray carried along the node's path), not from an interpolated or
-                               matrix hit (pt__spawns_exact) */
-  int spawnfail;          /**< set when such a node's exact path left the cell's paths (the
-                               sample is then traced exactly) */
-  int ownfail;            /**< set when such a node's per-sample ray left its path */
-  int partial;            /**< set when a subtree where the corners differ was traced exactly */
+  pt_ctx_t *C;                  /**< the thread's state (the domain's paths) */
+  int mode;                     /**< PT_EV_MATRIX or PT_EV_INTERP */
+  double xi[2];                 /**< MATRIX: the sample's xi in the domain's frame */
+  rt_ray_t primary;             /**< MATRIX: the sample's primary ray (for an exact fallback) */
+  const double *corner_w;       /**< INTERP: bilinear weights of the lattice cell's 4 corners */
+  const pt_geom_t *corner[4];   /**< INTERP: their geometry, indexed by node */
+  pt_geom_t *geom;              /**< per-node geometry out (cap entries), or NULL */
+  int shade;                    /**< 0: geometry only */
+  int record_shadow;            /**< 1: trace shadow rays and store them in the nodes (axial
+                                     sample) */
+  int lattice;                  /**< 1: a lattice point: also fill pt_geom_t.lt of textured
+                                     nodes; subtrees leaving the paths are marked, not traced (its
+                                     radiance is not used) */
+  int cur;                      /**< node being shaded */
+  uint32_t stamp;               /**< this evaluation's stamp in C->sample.exact */
+  int fallback;                 /**< set when the sample left the domain's paths (traced exactly
+                                     there) */
+  int vfail;                    /**< set when a verify node's scene search failed (traced
+                                     exactly) */
+  const uint8_t *exact_subtree; /**< INTERP: nodes whose subtrees are traced exactly in this
+                                     lattice cell (pt_lattice_plan_t) */
+  const uint8_t *traced;        /**< INTERP: nodes whose hits come from their matrices (or path)
+                                     per sample in this lattice cell (xi and primary set), not
+                                     interpolated */
+  const uint8_t *biquadratic;   /**< INTERP: nodes interpolated biquadratically (grid, grid_w), or
+                                     NULL */
+  const pt_geom_t *grid[9];     /**< INTERP with biquadratic: the 3 x 3 grid, row-major */
+  double grid_w[9];             /**< INTERP with biquadratic: the sample's biquadratic (Lagrange)
+                                     weights */
+  int record_sub;               /**< measure: subtrees traced exactly are recorded in C->sub
+                                     (reset by pt__eval) */
+  int exact_spawn;              /**< some node has a child traced exactly per sample: such a node
+                                     spawns it from the sample's exact hit (primary set; the
+                                     sample's ray carried along the node's path), not from an
+                                     interpolated or matrix hit (pt__spawns_exact) */
+  int spawnfail;                /**< set when such a node's exact path left the domain's paths
+                                     (the sample is then traced exactly) */
+  int traced_failed;            /**< set when a traced node's per-sample ray left its path */
+  int partial;                  /**< set when a subtree where the corners differ was traced
+                                     exactly */
 } pt_eval_t;
 
-/** pt_eval_t.exact_spawn for evaluations of the current cell with E's xsub (the quad's plan):
- *  whether some node has a child traced exactly per sample. */
+/** pt_eval_t.exact_spawn for evaluations of the current domain with E's exact_subtree (the lattice
+ * cell's plan): whether some node has a child traced exactly per sample. */
 int pt__spawns_exact(const pt_eval_t *E);
 /** Radiance of the sample (black when shade = 0). */
 rt_rgb_t pt__eval(pt_eval_t *E);
@@ -188,11 +256,11 @@ rt_rgb_t pt__eval(pt_eval_t *E);
  *  its children that are traced exactly (children the corners' trees disagree on). */
 rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_children);
 
-/** xi of the primary ray through continuous pixel coordinates (x, y) in the cell frame. */
+/** xi of the primary ray through continuous pixel coordinates (x, y) in the domain frame. */
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 
-/** Steps 2-4 for the cell [x0, x1) x [y0, y1) of the current domain (recursive). */
-void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+/** Steps 2-4 for the (sub)domain [x0, x1) x [y0, y1) of the current initial domain (recursive). */
+void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
 /* sample.c */
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j);
@@ -206,7 +274,7 @@ void pt__aux_exact(pt_ctx_t *C, int i, int j);
 /** Auxiliary channels from the pencil's geometry of the pixel's centre ray. */
 void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec);
 /** Every sample of the pixels of [x0, x1) x [y0, y1) by the exact tracer. */
-void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1);
+void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 /** Fig. 10 bookkeeping of one sample; returns the pixel's running maximum error. */
 double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
                           int a, int b, double pmax);
@@ -214,23 +282,23 @@ double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec
 void pt__geometry(pt_ctx_t *C, pt_eval_t *E);
 /** Write a finished pixel. */
 void pt__pixel_done(pt_ctx_t *C, pixel_t *P);
-/** Step 4a's shadow transmittance once per cell: the axial ray through the cell's paths, tracing
- *  the shadow rays of the lights whose visibility agrees over the cell and storing them in the
- *  nodes (known_cb answers them for every other evaluation of the cell). */
+/** Step 4a's shadow transmittance once per domain: the axial ray through the domain's paths,
+ * tracing the shadow rays of the lights whose visibility agrees over the domain and storing them in
+ * the nodes (known_cb answers them for every other evaluation of the domain). */
 void pt__record_shadows(pt_ctx_t *C, const rt_ray_t *axial);
 /** The primary ray and xi of continuous pixel coordinates (x, y) into E. */
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y);
-/** Sample (a, b) of pixel P through the cell's paths (MATRIX evaluation). */
+/** Sample (a, b) of pixel P through the domain's paths (MATRIX evaluation). */
 void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b);
 /** Auxiliary channels of pixel (i, j) from a MATRIX evaluation of its centre. */
 void pt__aux_matrix(pt_ctx_t *C, int i, int j);
-/** Every sample of pixel (i, j) through the cell's paths. */
+/** Every sample of pixel (i, j) through the domain's paths. */
 void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
 
 /* interp.c */
-/** Step 4a with ray interpolation for the accepted cell [x0, x1) x [y0, y1) whose axial ray (its
+/** Step 4a with ray interpolation for the accepted domain [x0, x1) x [y0, y1) whose axial ray (its
  *  centre's) is `axial`. */
-void pt__interp_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
+void pt__interp_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
 
 /** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h) and the subtrees its
  *  evaluation traced exactly (C->sub), tracing it exactly: e[0] the largest over its measured

@@ -10,16 +10,16 @@
  * tracer's tree of the same ray (paths matched by their sequence of reflections/refractions):
  * error = |J+ (p_pencil - p_exact)|, the distance in pixel intervals on the surface: J is the
  * pixel footprint of that path on the surface (one pixel step along screen x and y, from the path's
- * system matrix at the cell's axial ray, pt_node_t.j), so that where the footprint is stretched
+ * system matrix at the domain's axial ray, pt_node_t.j), so that where the footprint is stretched
  * (a board seen at a grazing angle) a distance along the stretch counts in the stretched
  * interval. The strict variant divides |p_pencil - p_exact| by the smallest pixel interval over
  * all directions instead. The sample's error is the largest over its measured points; a
  * measured point of either tree without a counterpart in the other (the pencil missed an edge) is
  * an infinite error. A subtree the pencil traced exactly per sample starts at the pencil's hit of
- * the node it hangs from, which may be interpolated: its points (recorded in C->sub) are compared
- * in the same way, in the pixel intervals of the cell's node on the same path (a subtree off the
- * cell's paths has none: there only its surfaces are compared). Samples traced exactly from the
- * eye have no error. */
+ * the node it hangs from, which may be interpolated: its points (recorded in C->sub.tree) are
+ * compared in the same way, in the pixel intervals of the domain's node on the same path (a subtree
+ * off the domain's paths has none: there only its surfaces are compared). Samples traced exactly
+ * from the eye have no error. */
 #include <math.h>
 
 #include "internal.h"
@@ -72,32 +72,32 @@ static int follow(const rt_tree_t *a, int k, const rt_tree_t *b, int *last, int 
   return follow_down(b, 0, kinds, m - 1, last, next);
 }
 
-/* The recorded subtree i (C->sub): its points against the exact tree X, whose node on the path of
- * the pencil node the subtree hangs from is xk (-1: none). Its measured points without a
+/* The recorded subtree i (C->sub.tree): its points against the exact tree X, whose node on the path
+ * of the pencil node the subtree hangs from is xk (-1: none). Its measured points without a
  * counterpart on the same primitive are infinite errors; the others are measured in the pixel
- * intervals of the cell's node on the same path, when it has one. Returns the points compared. */
+ * intervals of the domain's node on the same path, when it has one. Returns the points compared. */
 static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, double e[3]) {
-  const rt_tree_t *S = &C->sub, *A = &C->tree;
-  int r = C->sub_root[i], end = i + 1 < C->nsub ? C->sub_root[i + 1] : S->n, points = 0;
+  const rt_tree_t *S = &C->sub.tree, *A = &C->trees.axial;
+  int r = C->sub.root[i], end = i + 1 < C->sub.n ? C->sub.root[i + 1] : S->n, points = 0;
   for (int x = r + 1; x < end; x++) {
     const rt_tree_node_t *sn = &S->node[x];
     if (sn->object < 0 || !pt_surface_measured(C->s, sn->object))
       continue;
     int kinds[64], m = kinds_up(S, x, r, kinds);
     int xx = m >= 0 && xk >= 0 ? follow_down(X, xk, kinds, m, NULL, NULL) : -1;
-    int ka = m >= 0 ? follow_down(A, C->sub_from[i], kinds, m, NULL, NULL) : -1;
+    int ka = m >= 0 ? follow_down(A, C->sub.from[i], kinds, m, NULL, NULL) : -1;
     double d = INFINITY, strict = INFINITY;
     if (xx >= 0 && X->node[xx].prim == sn->prim) {
       d = strict = 0.0;
-      if (ka >= 0 && C->node[ka].measured && C->node[ka].prim == sn->prim) {
+      if (ka >= 0 && C->paths.node[ka].measured && C->paths.node[ka].prim == sn->prim) {
         px_vec3_t v = v3_sub(sn->point, X->node[xx].point);
-        d = pt_pixels(&C->node[ka], v);
-        strict = v3_norm(v) / C->node[ka].interval;
+        d = pt_pixels(&C->paths.node[ka], v);
+        strict = v3_norm(v) / C->paths.node[ka].interval;
       }
     }
     e[0] = fmax(e[0], d);
     e[2] = fmax(e[2], strict);
-    if (ka >= 0 && ka == C->kt)
+    if (ka >= 0 && ka == C->paths.transmit)
       e[1] = fmax(e[1], d);
     points++;
   }
@@ -108,8 +108,8 @@ static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, dou
  * node xk of the pencil node it hangs from, through the subtree's first ray), and then whether
  * the subtree has a node on the same path and primitive: 1 yes, 0 no, -1 not its part. */
 static int sub_has(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, int x) {
-  const rt_tree_t *S = &C->sub;
-  int r = C->sub_root[i], kinds[64], m = xk >= 0 ? kinds_up(X, x, xk, kinds) : -1;
+  const rt_tree_t *S = &C->sub.tree;
+  int r = C->sub.root[i], kinds[64], m = xk >= 0 ? kinds_up(X, x, xk, kinds) : -1;
   if (m <= 0 || r + 1 >= S->n || S->node[r + 1].parent != r || S->node[r + 1].kind != kinds[m - 1])
     return -1;
   int s = follow_down(S, r, kinds, m, NULL, NULL);
@@ -117,15 +117,15 @@ static int sub_has(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, int x) 
 }
 
 int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]) {
-  C->ex.tree = &C->tree2;
+  C->ex.tree = &C->trees.probe;
   rt_exact_primary(&C->ex, ray);
   C->ex.tree = NULL;
-  const rt_tree_t *A = &C->tree, *X = &C->tree2;
+  const rt_tree_t *A = &C->trees.axial, *X = &C->trees.probe;
   e[0] = e[1] = e[2] = 0.0;
   int last, next, points = 0;
   /* pencil -> exact */
-  for (int k = 0; k < C->nnode; k++) {
-    const pt_node_t *n = &C->node[k];
+  for (int k = 0; k < C->paths.n; k++) {
+    const pt_node_t *n = &C->paths.node[k];
     if (!n->measured || rec[k].ok != 1)
       continue;
     points++;
@@ -138,15 +138,15 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
     }
     e[0] = fmax(e[0], d);
     e[2] = fmax(e[2], strict);
-    if (k == C->kt)
+    if (k == C->paths.transmit)
       e[1] = d;
   }
   /* the subtrees traced exactly, where the exact tree has their nodes' counterparts (a
    * recording that overflowed is not compared) */
-  int nsub = C->sub.overflow ? 0 : C->nsub;
+  int nsub = C->sub.tree.overflow ? 0 : C->sub.n;
   for (int i = 0; i < nsub; i++) {
-    C->sub_xk[i] = follow(A, C->sub_from[i], X, &last, &next);
-    points += measure_sub(C, i, X, C->sub_xk[i], e);
+    C->sub.exact_node[i] = follow(A, C->sub.from[i], X, &last, &next);
+    points += measure_sub(C, i, X, C->sub.exact_node[i], e);
   }
   /* exact -> pencil: measured points the pencil did not compute and did not trace exactly (or
    * whose subtree traced exactly has no such point) */
@@ -155,16 +155,17 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
       continue;
     int claimed = -1;
     for (int i = 0; i < nsub && claimed < 0; i++)
-      claimed = sub_has(C, i, X, C->sub_xk[i], x);
+      claimed = sub_has(C, i, X, C->sub.exact_node[i], x);
     if (claimed == 0)
       e[0] = e[2] = INFINITY;
     if (claimed >= 0)
       continue;
     int k = follow(X, x, A, &last, &next), lost = 0;
     if (k >= 0)
-      lost = rec[k].ok == 0 || (C->node[k].prim != X->node[x].prim && rec[k].ok != 2);
+      lost = rec[k].ok == 0 || (C->paths.node[k].prim != X->node[x].prim && rec[k].ok != 2);
     else
-      lost = last < 0 || !(rec[last].ok == 2 || (next >= 0 && (rec[last].fb >> next) & 1u));
+      lost =
+          last < 0 || !(rec[last].ok == 2 || (next >= 0 && (rec[last].exact_kinds >> next) & 1u));
     if (lost)
       e[0] = e[2] = INFINITY;
   }

@@ -132,24 +132,24 @@ static px_status_t exact_error(const pt_path_scratch_t *w, const pt_node_t *n, c
   return PX_OK;
 }
 
-/* The probe "constant": the worst exact error on the spread circle |xi| = xi_cell over
- * xi_cell^2 (not a bound; for comparison with the Appendix bounds). w holds the whole path. */
-static px_status_t probe_c(const pt_path_scratch_t *w, const pt_node_t *n, double xi_cell,
+/* The probe "constant": the worst exact error on the spread circle |xi| = xi_domain over
+ * xi_domain^2 (not a bound; for comparison with the Appendix bounds). w holds the whole path. */
+static px_status_t probe_c(const pt_path_scratch_t *w, const pt_node_t *n, double xi_domain,
                            double *c) {
   double worst = 0.0;
-  if (!(xi_cell > 0.0)) {
+  if (!(xi_domain > 0.0)) {
     *c = 0.0;
     return PX_OK;
   }
   for (int j = 0; j < 8; j++) {
-    double xi[2] = {xi_cell * cos(j * M_PI / 4), xi_cell * sin(j * M_PI / 4)}, e[2];
+    double xi[2] = {xi_domain * cos(j * M_PI / 4), xi_domain * sin(j * M_PI / 4)}, e[2];
     double psi[4] = {0.0, 0.0, xi[0], xi[1]};
     px_status_t st = exact_error(w, n, psi, xi, e, NULL);
     if (st != PX_OK)
       return st;
     worst = fmax(worst, hypot(e[0], e[1]));
   }
-  *c = worst / (xi_cell * xi_cell);
+  *c = worst / (xi_domain * xi_domain);
   return PX_OK;
 }
 

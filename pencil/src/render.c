@@ -12,109 +12,14 @@
 
 #define PT_MAX_GUARD 4096
 
-static void ctx_free(pt_ctx_t *C) {
-  free(C->tree.node);
-  free(C->tree2.node);
-  free(C->sub.node);
-  free(C->sub_root);
-  free(C->sub_from);
-  free(C->sub_xk);
-  free(C->corner_nodes);
-  free(C->corner);
-  free(C->node);
-  free(C->map);
-  free(C->agree);
-  free(C->light);
-  free(C->lat);
-  free(C->acc);
-  free(C->loc);
-  free(C->locd);
-  free(C->loce);
-  free(C->loct);
-  free(C->lsm);
-  free(C->xsub);
-  free(C->own);
-  free(C->q2);
-  free(C->faint);
-  free(C->rec);
-  free(C->xg);
-  free(C->ref);
-  free(C->memo.g);
-  free(C->memo.xy);
-  free(C->memo.xi2);
-  free(C->memo.ok);
-  free(C->memo.slot);
-  free(C->memo.gen);
-}
-
-/* Allocate one thread's scratch; 0 on failure (partial allocations are freed by ctx_free). */
-static int ctx_alloc(pt_ctx_t *C, int cap, int n) {
-  size_t side = (size_t)n + 1, corners = side * side;
-  C->cap = cap;
-  C->tree = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
-  C->tree2 = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
-  C->sub = rt_tree_make(malloc((size_t)PT_SUB_TREES * (size_t)cap * sizeof(rt_tree_node_t)),
-                        PT_SUB_TREES * cap);
-  C->sub_root = malloc((size_t)cap * sizeof *C->sub_root);
-  C->sub_from = malloc((size_t)cap * sizeof *C->sub_from);
-  C->sub_xk = malloc((size_t)cap * sizeof *C->sub_xk);
-  C->corner = calloc(corners, sizeof *C->corner);
-  pt_cnode_t *cn = malloc(corners * (size_t)cap * sizeof *cn);
-  C->node = malloc((size_t)cap * sizeof *C->node);
-  C->map = malloc(4 * (size_t)cap * sizeof *C->map);
-  C->agree = malloc((size_t)cap);
-  C->light = malloc((size_t)cap * sizeof *C->light);
-  C->lat = malloc(9 * (size_t)cap * sizeof *C->lat);
-  C->acc = malloc((size_t)n * (size_t)n * sizeof *C->acc);
-  C->loc = malloc((size_t)cap * sizeof *C->loc);
-  C->locd = malloc((size_t)cap);
-  C->loce = malloc((size_t)cap);
-  C->loct = malloc((size_t)cap * sizeof *C->loct);
-  C->lsm = malloc((size_t)cap * sizeof *C->lsm);
-  C->xsub = calloc((size_t)cap, 1);
-  C->own = calloc((size_t)cap, 1);
-  C->q2 = calloc((size_t)cap, 1);
-  C->faint = calloc((size_t)cap, 1);
-  C->rec = calloc((size_t)cap, sizeof *C->rec);
-  C->xg = calloc((size_t)cap, sizeof *C->xg);
-  C->ref = malloc((size_t)PT_QUAD_LEVELS * 5 * (size_t)cap * sizeof *C->ref);
-  /* lattice memo: a 5 x 5 domain at 49 spp needs at most 33 x 33 points; 8 MiB of node records
-   * (at least one whole tree), a point taking as many as its cell's tree has nodes */
-  size_t mcap = 2048, entries = ((size_t)8 << 20) / sizeof(pt_geom_t);
-  if (entries < (size_t)cap)
-    entries = (size_t)cap;
-  size_t nslot = 1;
-  while (nslot < 2 * mcap)
-    nslot *= 2;
-  C->memo = (pt_lmemo_t){.entries = entries, .maxpts = (int)mcap, .nslot = (int)nslot};
-  C->memo.g = malloc(entries * sizeof(pt_geom_t));
-  C->memo.xy = malloc(2 * mcap * sizeof *C->memo.xy);
-  C->memo.xi2 = malloc(mcap * sizeof *C->memo.xi2);
-  C->memo.ok = malloc(mcap);
-  C->memo.slot = malloc(nslot * sizeof *C->memo.slot);
-  C->memo.gen = calloc(nslot, sizeof *C->memo.gen);
-  if (!C->tree.node || !C->tree2.node || !C->sub.node || !C->sub_root || !C->sub_from ||
-      !C->sub_xk || !C->corner || !cn || !C->node || !C->lat || !C->acc || !C->rec || !C->xg ||
-      !C->ref || !C->map || !C->agree || !C->light || !C->loc || !C->locd || !C->loce || !C->loct ||
-      !C->lsm || !C->xsub || !C->own || !C->q2 || !C->faint || !C->memo.g || !C->memo.xy ||
-      !C->memo.xi2 || !C->memo.ok || !C->memo.slot || !C->memo.gen) {
-    C->corner_nodes = cn;
-    return 0;
-  }
-  C->corner_nodes = cn;
-  for (size_t i = 0; i < corners; i++)
-    C->corner[i] = (pt_ctree_t){cn + i * (size_t)cap, cap, -1, 0};
-  return 1;
-}
-
 /* One initial domain. Corner trees are cached per domain; the left column of a domain is the
  * right column of the one before it in the row, so those trees move over (dx > 0). */
-static void domain(pt_ctx_t *C, int dx, int dy) {
+static void initial_domain(pt_ctx_t *C, int dx, int dy) {
   int n = C->opt->domain, side = n + 1;
-  C->dom_x0 = dx * n;
-  C->dom_y0 = dy * n;
+  C->corners.x0 = dx * n;
+  C->corners.y0 = dy * n;
   for (int r = 0; r < side; r++) {
-    pt_ctree_t *row = C->corner + r * side;
+    pt_ctree_t *row = C->corners.tree + r * side;
     if (dx > 0) { /* swap, so that every entry keeps a buffer of its own */
       pt_ctree_t t = row[0];
       row[0] = row[n];
@@ -125,12 +30,12 @@ static void domain(pt_ctx_t *C, int dx, int dy) {
     for (int i = 1; i < side; i++)
       row[i].n = -1;
   }
-  int x1 = C->dom_x0 + n, y1 = C->dom_y0 + n;
+  int x1 = C->corners.x0 + n, y1 = C->corners.y0 + n;
   if (x1 > C->img->width)
     x1 = C->img->width;
   if (y1 > C->img->height)
     y1 = C->img->height;
-  pt__cell(C, C->dom_x0, C->dom_y0, x1, y1);
+  pt__domain(C, C->corners.x0, C->corners.y0, x1, y1);
 }
 
 static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
@@ -200,9 +105,9 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
                         .sample_error = sample_error,
                         .guard = guard,
                         .nguard = nguard,
-                        .vary_w = rt_plan_has(plan, RT_EFFECT_FRESNEL),
+                        .weights_vary = rt_plan_has(plan, RT_EFFECT_FRESNEL),
                         .ex = rt_exact_make(s, plan, NULL)};
-    if (!ctx_alloc(&ctx[t], plan->tree_nodes, n))
+    if (!pt__ctx_alloc(&ctx[t], plan->tree_nodes, n))
       st = RT_ENOMEM;
   }
   pt_stats_t total;
@@ -220,7 +125,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
 #pragma omp for schedule(dynamic, 1)
       for (int dy = 0; dy < ny; dy++) {
         for (int dx = 0; dx < nx; dx++)
-          domain(C, dx, dy);
+          initial_domain(C, dx, dy);
         if (opt->progress) {
 #pragma omp critical(pt_progress)
           opt->progress(opt->progress_ctx, ++done, ny);
@@ -236,7 +141,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
     }
   }
   for (int t = 0; ctx && t < nt; t++)
-    ctx_free(&ctx[t]);
+    pt__ctx_free(&ctx[t]);
   free(ctx);
   free(guard);
   if (stats)

@@ -1,5 +1,5 @@
 /* sample.c -- what every way of tracing a sample shares (paper section 4.1 (1), section 5): the
- * pixel being accumulated, samples traced through the cell's system matrices, samples and pixels
+ * pixel being accumulated, samples traced through the domain's system matrices, samples and pixels
  * traced exactly (edges and step 4b), the auxiliary channels, and the Fig. 10 bookkeeping. */
 #include <math.h>
 
@@ -40,38 +40,38 @@ void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, dou
  * renderer writes them). */
 void pt__aux_exact(pt_ctx_t *C, int i, int j) {
   rt_ray_t r = rt_view_ray(C->view, i + 0.5, j + 0.5, C->s->ior);
-  C->ex.tree = &C->tree2;
+  C->ex.tree = &C->trees.probe;
   rt_exact_primary(&C->ex, &r);
   C->ex.tree = NULL;
-  const rt_tree_t *t = &C->tree2;
+  const rt_tree_t *t = &C->trees.probe;
   rt_image_set_aux(C->img, C->s, pt__pixel_index(C, i, j), t);
 }
 
 /* Auxiliary channels from the pencil's own pt__geometry of the pixel's centre ray (rec), so that
  * the pencil image's checkerboard points can be compared with the exact image's. */
 void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec) {
-  const int kk[2] = {C->kt, C->kr};
+  const int kk[2] = {C->paths.transmit, C->paths.reflect};
   if (rec[0].ok != 1 || (kk[0] >= 0 && rec[kk[0]].ok != 1) || (kk[1] >= 0 && rec[kk[1]].ok != 1)) {
     pt__aux_exact(C, i, j);
     return;
   }
   size_t k = pt__pixel_index(C, i, j);
-  const pt_node_t *root = &C->node[0];
+  const pt_node_t *root = &C->paths.node[0];
   C->img->ch[RT_CH_Z][k] = root->miss ? INFINITY : (float)v3_norm(v3_sub(rec[0].p, C->view->eye));
   C->img->ch[RT_CH_ID][k] = (float)root->object;
   const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
   for (int p = 0; p < 2; p++) {
     double u = NAN, v = NAN;
     if (kk[p] >= 0)
-      rt_plane_coords(&C->s->prim[C->node[kk[p]].prim].plane, rec[kk[p]].p, &u, &v);
+      rt_plane_coords(&C->s->prim[C->paths.node[kk[p]].prim].plane, rec[kk[p]].p, &u, &v);
     C->img->ch[base[p]][k] = (float)u;
     C->img->ch[base[p] + 1][k] = (float)v;
-    C->img->ch[base[p] + 2][k] = kk[p] >= 0 ? (float)C->node[kk[p]].depth : -1.0f;
+    C->img->ch[base[p] + 2][k] = kk[p] >= 0 ? (float)C->paths.node[kk[p]].depth : -1.0f;
   }
 }
 
-/* Step 3 failed or 4b: every sample of the pixels of the cell by the exact tracer. */
-void pt__exact_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
+/* Step 3 failed or 4b: every sample of the pixels of the domain by the exact tracer. */
+void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   int s = C->opt->spp_side;
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++) {
@@ -104,11 +104,11 @@ double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec
   return pmax;
 }
 
-/* Geometry-only evaluation into C->rec (aux channels, measurement); E is left as it was. */
+/* Geometry-only evaluation into C->sample.geom (aux channels, measurement); E is left as it was. */
 void pt__geometry(pt_ctx_t *C, pt_eval_t *E) {
   pt_eval_t G = *E;
   G.shade = 0;
-  G.rec = C->rec;
+  G.geom = C->sample.geom;
   G.record_sub = C->opt->measure;
   pt__eval(&G);
 }
@@ -129,8 +129,8 @@ void pt__record_shadows(pt_ctx_t *C, const rt_ray_t *axial) {
 
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->primary = rt_view_ray(C->view, x, y, C->s->ior);
-  E->xi[0] = v3_dot(C->frame.x1, E->primary.d);
-  E->xi[1] = v3_dot(C->frame.x2, E->primary.d);
+  E->xi[0] = v3_dot(C->paths.frame.x1, E->primary.d);
+  E->xi[1] = v3_dot(C->paths.frame.x2, E->primary.d);
 }
 
 /* Step 4a with matrices: sample (a, b) of pixel P through the paths. */
@@ -139,12 +139,12 @@ void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
   pt_eval_t E = {.C = C,
                  .mode = PT_EV_MATRIX,
                  .shade = 1,
-                 .rec = C->opt->measure ? C->rec : NULL,
+                 .geom = C->opt->measure ? C->sample.geom : NULL,
                  .record_sub = C->opt->measure};
   pt__xi_of(C, &E, P->i + (a + 0.5) / s, P->j + (b + 0.5) / s);
   E.exact_spawn = pt__spawns_exact(&E);
   rt_rgb_t v = pt__eval(&E);
-  if (E.spawnfail) { /* a node's exact path left the cell's paths: the whole sample exactly */
+  if (E.spawnfail) { /* a node's exact path left the domain's paths: the whole sample exactly */
     P->sum = rt_rgb_add(P->sum, rt_exact_primary(&C->ex, &E.primary));
     P->n[PT_METHOD_EXACT]++;
     if (C->opt->measure) {
@@ -158,14 +158,14 @@ void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
   C->st.fallbacks += (uint64_t)E.fallback;
   C->st.partial += (uint64_t)E.partial;
   if (C->opt->measure)
-    P->pmax = pt__measure_sample(C, &E.primary, C->rec, P->i, P->j, a, b, P->pmax);
+    P->pmax = pt__measure_sample(C, &E.primary, C->sample.geom, P->i, P->j, a, b, P->pmax);
 }
 
 void pt__aux_matrix(pt_ctx_t *C, int i, int j) {
   pt_eval_t E = {.C = C, .mode = PT_EV_MATRIX};
   pt__xi_of(C, &E, i + 0.5, j + 0.5);
   pt__geometry(C, &E);
-  pt__aux_pencil(C, i, j, C->rec);
+  pt__aux_pencil(C, i, j, C->sample.geom);
 }
 
 /* Step 4a with matrices for every sample of pixel (i, j). */

@@ -1,13 +1,13 @@
-/* cell.c -- the procedure of section 4.1 (1) for one domain, steps 2-4:
- *   2) trace the axial ray (the cell's centre) exactly with its tree; a system matrix per path;
+/* domain.c -- the procedure of section 4.1 (1) for one domain, steps 2-4:
+ *   2) trace the axial ray (the domain's centre) exactly with its tree; a system matrix per path;
  *   3) smoothness: the trees of the centre and the four corners must agree (edge.h), and the
- *      small-object guard must not fire; otherwise subdivide, and trace 1-pixel cells exactly;
+ *      small-object guard must not fire; otherwise subdivide, and trace 1-pixel domains exactly;
  *   4) tolerance (Eq. 3) and spread limit (Eqs. 4-6) per path:
- *      a) the cell's spread is within every path's limit: trace its samples with the matrices,
+ *      a) the domain's spread is within every path's limit: trace its samples with the matrices,
  *         or interpolate them (4.1 (2)) from matrix-traced pixel corners when e_int allows;
- *      b) the allowed pencil is narrower than a pixel: trace the cell exactly;
- *      c) otherwise divide the cell so that each part's spread is within the limit; repeat 2-4.
- * In certified mode step 4a also needs every path's exact error on the cell boundary (ex_map at
+ *      b) the allowed pencil is narrower than a pixel: trace the domain exactly;
+ *      c) otherwise divide the domain so that each part's spread is within the limit; repeat 2-4.
+ * In certified mode step 4a also needs every path's exact error on the domain boundary (ex_map at
  * the corners and edge midpoints) to be within tau. */
 #include <math.h>
 #include <stdio.h>
@@ -19,31 +19,31 @@
 #include "render/shade.h"
 #include "render/vec_inline.h"
 
-/* Whether accepted cells are ray-interpolated (4.1 (2)) rather than traced by matrices. */
+/* Whether accepted domains are ray-interpolated (4.1 (2)) rather than traced by matrices. */
 static int interpolating(const pt_ctx_t *C) {
   return C->opt->interp;
 }
 
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
-  pt_ctree_t *ct = &C->corner[(y - C->dom_y0) * side + (x - C->dom_x0)];
+  pt_ctree_t *ct = &C->corners.tree[(y - C->corners.y0) * side + (x - C->corners.x0)];
   if (ct->n < 0) {
     rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
-    C->ex.tree = &C->tree2;
+    C->ex.tree = &C->trees.probe;
     rt_exact_primary(&C->ex, &r);
     C->ex.tree = NULL;
-    pt_ctree_from(ct, &C->tree2);
+    pt_ctree_from(ct, &C->trees.probe);
     C->st.exact_traces++;
   }
   return ct;
 }
 
-/* Step 4a for an accepted cell. */
-static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
-  C->kt = rt_tree_follow(&C->tree, RT_RAY_REFRACT);
-  C->kr = rt_tree_follow(&C->tree, RT_RAY_REFLECT);
+/* Step 4a for an accepted domain. */
+static void accept_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
+  C->paths.transmit = rt_tree_follow(&C->trees.axial, RT_RAY_REFRACT);
+  C->paths.reflect = rt_tree_follow(&C->trees.axial, RT_RAY_REFLECT);
   if (interpolating(C)) { /* its root lattice point at the centre records the shadows */
-    pt__interp_cell(C, x0, y0, x1, y1, axial);
+    pt__interp_domain(C, x0, y0, x1, y1, axial);
     return;
   }
   pt__record_shadows(C, axial);
@@ -54,18 +54,18 @@ static void accept_cell(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ra
       pt__matrix_pixel(C, i, j);
 }
 
-/* Divide the cell into about k x k parts (each at least a pixel) and process them; a 1-pixel
- * cell is traced exactly instead. */
-static void split(pt_ctx_t *C, int x0, int y0, int x1, int y1, int k) {
+/* Divide the domain into about k x k parts (each at least a pixel) and process them; a 1-pixel
+ * domain is traced exactly instead. */
+static void subdivide(pt_ctx_t *C, int x0, int y0, int x1, int y1, int k) {
   int w = x1 - x0, h = y1 - y0;
   if (w <= 1 && h <= 1) {
-    pt__exact_cell(C, x0, y0, x1, y1);
+    pt__exact_domain(C, x0, y0, x1, y1);
     return;
   }
   int kx = w > 1 ? (k < w ? k : w) : 1, ky = h > 1 ? (k < h ? k : h) : 1;
   for (int j = 0; j < ky; j++)
     for (int i = 0; i < kx; i++)
-      pt__cell(C, x0 + i * w / kx, y0 + j * h / ky, x0 + (i + 1) * w / kx, y0 + (j + 1) * h / ky);
+      pt__domain(C, x0 + i * w / kx, y0 + j * h / ky, x0 + (i + 1) * w / kx, y0 + (j + 1) * h / ky);
 }
 
 static double xi_norm(const pt_ctx_t *C, double x, double y) {
@@ -74,17 +74,18 @@ static double xi_norm(const pt_ctx_t *C, double x, double y) {
   return hypot(xi[0], xi[1]);
 }
 
-/* Margin on the radius of a node's hits over the cell taken from its matrix at 8 boundary points
+/* Margin on the radius of a node's hits over the domain taken from its matrix at 8 boundary points
  * (corners and edge midpoints): the boundary between them may bulge, and the paraxial rays are
  * only first-order (a path over its spread limit is off by more than the tolerance, still far
  * less than the radius). */
 #define PT_GUARD_INFLATE 1.5
 
-/* The cell's boundary points, corners and edge midpoints, and their primary xi (computed when
+/* The domain's boundary points, corners and edge midpoints, and their primary xi (computed when
  * first asked for: certified mode's check, or the guard below). */
 typedef struct {
-  double x[8], y[8], xi[8][2];
-  int have;
+  double x[8], y[8]; /* the points in pixels: corner, edge midpoint, corner, ... round the domain */
+  double xi[8][2];   /* their primary rays' xi in the domain's frame (when `have`) */
+  int have;          /* xi is computed */
 } boundary_t;
 
 static boundary_t boundary_of(int x0, int y0, int x1, int y1) {
@@ -99,7 +100,7 @@ static const double (*boundary_xi(const pt_ctx_t *C, boundary_t *b))[2] {
   return (const double(*)[2])b->xi;
 }
 
-/* Radius about n->o of node n's hits for the cell's boundary rays (primary xi), from its
+/* Radius about n->o of node n's hits for the domain's boundary rays (primary xi), from its
  * matrix, on the surface (/ cos of incidence); memoised in n->guard_r. */
 static double hit_radius(const pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   if (n->guard_r >= 0.0)
@@ -114,7 +115,7 @@ static double hit_radius(const pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   return n->guard_r;
 }
 
-/* Half-angle about `axis` of the directions of miss node n's rays over the cell: each boundary
+/* Half-angle about `axis` of the directions of miss node n's rays over the domain: each boundary
  * ray is carried by its parent's matrix to the parent's surface and given the child of n's kind
  * there, as shade.h spawns it; INFINITY when one of them does not meet the surface or has no
  * such child (the guard then fires). */
@@ -139,22 +140,22 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
 }
 
 /* The small-object guard for node k's segment, from its parent's hit to its own (step 3 for
- * what the cell's rays meet after the eye; the primary cone is pt__cell's guard): a bounded object
- * near the segment's pencil, other than the two it joins, may lie between the traced rays,
+ * what the domain's rays meet after the eye; the primary cone is pt__domain's guard): a bounded
+ * object near the segment's pencil, other than the two it joins, may lie between the traced rays,
  * hiding the node from some samples while every traced tree agrees (found on scenes/balls.json:
- * the small ball seen after five reflections inside the glass ball, 23 path mismatches). For a
+ * the small ball seen after five reflections inside the glass ball, as path mismatches). For a
  * ray that leaves the scene (a miss node) the pencil is the cone of its directions from the
  * parent's hits: an object that cone comes near may be seen by samples between the traced rays
  * (a small ball reflected against the sky, tests/test_pencil.c). */
 static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
-  pt_node_t *n = &C->node[k], *par = &C->node[n->parent];
+  pt_node_t *n = &C->paths.node[k], *par = &C->paths.node[n->parent];
   int any = 0;
   for (int i = 0; i < C->nguard && !any; i++)
     any = C->guard[i].object != n->object && C->guard[i].object != par->object;
   if (!any)
     return 0;
   if (n->miss) {
-    px_vec3_t axis = C->tree.node[k].dir;
+    px_vec3_t axis = C->trees.axial.node[k].dir;
     return pt_guard_cone(C->guard, C->nguard, par->o, hit_radius(C, par, b), axis,
                          miss_spread(C, n, par, axis, b), par->object);
   }
@@ -162,8 +163,8 @@ static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
   return pt_guard_segment(C->guard, C->nguard, par->o, n->o, r, par->object, n->object);
 }
 
-/* The small-object guard for node n's shadow rays: a light whose visibility the cell's corners
- * agree on may still be cut off from part of the cell's hits by a bounded object smaller than
+/* The small-object guard for node n's shadow rays: a light whose visibility the domain's corners
+ * agree on may still be cut off from part of the domain's hits by a bounded object smaller than
  * the gaps between them (a small ball's shadow between the corners is otherwise lost:
  * tests/test_pencil.c). Such a light no longer counts as agreeing for the node: the lattice
  * points trace their shadow rays, and interp.c's shadow_guarded() decides per lattice cell. */
@@ -188,45 +189,46 @@ static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
 
 /* Step 2 for every node whose path agrees at the corners: topology for all, matrices for the
  * agreeing ones (a node whose path cannot be re-traced is treated as disagreeing, and so are its
- * descendants). Then step 4 per path: a path is traced with its matrix when the cell's spread is
+ * descendants). Then step 4 per path: a path is traced with its matrix when the domain's spread is
  * within its limit (4a) and, in certified mode, its exact check passed; otherwise exactly along
- * its known path (4b; and 4c unless the cell is subdivided, see pt__cell). *over counts the
+ * its known path (4b; and 4c unless the domain is subdivided, see pt__domain). *over counts the
  * paths over their limit whose pencil is not narrower than a pixel (4c candidates), *paths the
  * agreeing non-miss paths; the return value is the smallest limit among the 4c candidates. In
  * *cost: exact rays per sample that subtrees below disagreeing nodes need. */
-static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, double xi_cell,
+static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, double xi_domain,
                           double dmin, double *cost, int *over, int *paths, int *partial) {
   double need = INFINITY;
   *cost = 0.0;
   *over = *paths = *partial = 0;
-  C->nnode = C->tree.n;
-  int *size = C->loc; /* subtree sizes, scratch (children follow their parents) */
-  for (int k = 0; k < C->nnode; k++)
+  C->paths.n = C->trees.axial.n;
+  int *size = C->lattice.plan.shaded; /* subtree sizes, scratch (children follow their parents) */
+  for (int k = 0; k < C->paths.n; k++)
     size[k] = 1;
-  for (int k = C->nnode - 1; k > 0; k--)
-    size[C->tree.node[k].parent] += size[k];
-  for (int k = 0; k < C->nnode; k++) {
-    pt_node_t *n = &C->node[k];
-    int par = C->tree.node[k].parent;
-    pt_path_topology(C->s, &C->tree, k, par >= 0 ? &C->node[par] : NULL, n);
-    n->light_agree = C->light[k];
-    int parent_ok = par < 0 || C->node[par].pencil != PT_NODE_EXACT;
+  for (int k = C->paths.n - 1; k > 0; k--)
+    size[C->trees.axial.node[k].parent] += size[k];
+  for (int k = 0; k < C->paths.n; k++) {
+    pt_node_t *n = &C->paths.node[k];
+    int par = C->trees.axial.node[k].parent;
+    pt_path_topology(C->s, &C->trees.axial, k, par >= 0 ? &C->paths.node[par] : NULL, n);
+    n->light_agree = C->corners.light[k];
+    int parent_ok = par < 0 || C->paths.node[par].pencil != PT_NODE_EXACT;
     /* with ray interpolation, a node below an edge is traced along its path at the lattice
      * points with a scene search that must confirm it (the lattice then finds the edge) */
-    int verify = !C->agree[k] && parent_ok && par >= 0 && interpolating(C);
-    int mode = (C->agree[k] || verify) && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
-    if (!C->agree[k] && parent_ok) { /* an edge below the primary ray */
-      need = fmin(need, 0.5 * xi_cell);
+    int verify = !C->corners.agree[k] && parent_ok && par >= 0 && interpolating(C);
+    int mode = (C->corners.agree[k] || verify) && parent_ok ? PT_NODE_MATRIX : PT_NODE_EXACT;
+    if (!C->corners.agree[k] && parent_ok) { /* an edge below the primary ray */
+      need = fmin(need, 0.5 * xi_domain);
       *cost += size[k];
     }
     n->guard_r = -1.0;
-    if (mode && pt_path_build(C->s, &C->tree, k, C->node, p, &C->path) != PX_OK)
+    if (mode &&
+        pt_path_build(C->s, &C->trees.axial, k, C->paths.node, p, &C->paths.scratch) != PX_OK)
       mode = PT_NODE_EXACT;
     if (mode && par >= 0 && segment_guarded(C, k, b)) {
       /* traced exactly per sample (a scene search), as below an edge */
       mode = PT_NODE_EXACT;
       C->st.paths_guard++;
-      need = fmin(need, 0.5 * xi_cell);
+      need = fmin(need, 0.5 * xi_domain);
       *cost += size[k];
     }
     if (mode && !n->miss && n->light_agree && rt_plan_has(C->plan, RT_EFFECT_SHADOWS))
@@ -239,10 +241,10 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
     if (mode == PT_NODE_MATRIX && !n->miss) {
       (*paths)++;
       int checked = !p->check || n->e_check <= PT_CERTIFIED_MARGIN * n->tau;
-      if (xi_cell > n->xi_max || !checked) {
+      if (xi_domain > n->xi_max || !checked) {
         mode = PT_NODE_PATH;
         C->st.paths_exact++;
-        if (!(2.0 * n->xi_max < dmin) && xi_cell > n->xi_max) { /* not 4b */
+        if (!(2.0 * n->xi_max < dmin) && xi_domain > n->xi_max) { /* not 4b */
           (*over)++;
           need = fmin(need, n->xi_max);
         }
@@ -255,20 +257,20 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
   /* a path traced exactly needs exact hits on the way: its ancestors are traced along their
    * paths too (which costs no more than their matrices: shade.h computes the reflected and
    * refracted directions anyway) */
-  for (int k = 0; k < C->nnode; k++)
-    if (C->node[k].pencil == PT_NODE_PATH)
-      for (int a = C->node[k].parent; a >= 0 && C->node[a].pencil == PT_NODE_MATRIX;
-           a = C->node[a].parent)
-        C->node[a].pencil = PT_NODE_PATH;
+  for (int k = 0; k < C->paths.n; k++)
+    if (C->paths.node[k].pencil == PT_NODE_PATH)
+      for (int a = C->paths.node[k].parent; a >= 0 && C->paths.node[a].pencil == PT_NODE_MATRIX;
+           a = C->paths.node[a].parent)
+        C->paths.node[a].pencil = PT_NODE_PATH;
   return need;
 }
 
-void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
+void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   pt_stats_t *st = &C->st;
   st->cells++;
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
-  C->ex.tree = &C->tree;
+  C->ex.tree = &C->trees.axial;
   rt_exact_primary(&C->ex, &axial);
   C->ex.tree = NULL;
   st->exact_traces++;
@@ -277,20 +279,20 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   const pt_ctree_t *ct[4];
   for (int i = 0; i < 4; i++)
     ct[i] = corner(C, xs[i], ys[i]);
-  pt_tree_agree(&C->tree, ct, 4, C->map, C->agree, C->light);
-  int edge =
-      C->tree.n == 0 || !C->agree[0] || px_frame_from_z(axial.d, C->view->down, &C->frame) != PX_OK;
-  double xi_cell = 0.0;
+  pt_tree_agree(&C->trees.axial, ct, 4, C->corners.map, C->corners.agree, C->corners.light);
+  int edge = C->trees.axial.n == 0 || !C->corners.agree[0] ||
+             px_frame_from_z(axial.d, C->view->down, &C->paths.frame) != PX_OK;
+  double xi_domain = 0.0;
   for (int i = 0; i < 4 && !edge; i++)
-    xi_cell = fmax(xi_cell, xi_norm(C, xs[i], ys[i]));
+    xi_domain = fmax(xi_domain, xi_norm(C, xs[i], ys[i]));
   if (!edge && C->nguard &&
-      pt_guard_fires(C->guard, C->nguard, C->view->eye, axial.d, asin(fmin(1.0, xi_cell)))) {
+      pt_guard_fires(C->guard, C->nguard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
     edge = 1;
     st->cells_guard++;
   }
   if (edge) {
     st->cells_edge++;
-    split(C, x0, y0, x1, y1, 2);
+    subdivide(C, x0, y0, x1, y1, 2);
     return;
   }
   /* step 2: a system matrix per path; step 4: tolerance and spread limit */
@@ -300,8 +302,8 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   pt__xi(C, cx, cy + 0.5, c);
   pt__xi(C, cx, cy - 0.5, d);
   pt_pencil_t p = {
-      C->view->eye, C->frame,      {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
-      C->opt->rho,  C->opt->bound, xi_cell,
+      C->view->eye, C->paths.frame, {{a[0] - b[0], a[1] - b[1]}, {c[0] - d[0], c[1] - d[1]}},
+      C->opt->rho,  C->opt->bound,  xi_domain,
       NULL};
   boundary_t bnd = boundary_of(x0, y0, x1, y1);
   if (C->opt->certified)
@@ -309,30 +311,29 @@ void pt__cell(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   int partial, over, paths;
   double cost,
       dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
-  C->dpix = fmax(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
-  double need = build_paths(C, &p, &bnd, xi_cell, dmin, &cost, &over, &paths, &partial);
-  if (C->node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
+  double need = build_paths(C, &p, &bnd, xi_domain, dmin, &cost, &over, &paths, &partial);
+  if (C->paths.node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
     st->cells_edge++;
-    split(C, x0, y0, x1, y1, 2);
+    subdivide(C, x0, y0, x1, y1, 2);
     return;
   }
-  /* 4c: subdivide when most paths are over their limit (the pencil is too wide for this cell),
+  /* 4c: subdivide when most paths are over their limit (the pencil is too wide for this domain),
    * or when the subtrees below an edge would cost more exact rays per sample than about
-   * k^2 (5 + nodes) rays for k x k smaller cells (axial and corner trees, matrices). Not with
+   * k^2 (5 + nodes) rays for k x k smaller domains (axial and corner trees, matrices). Not with
    * ray interpolation: there only the lattice points are traced through the paths, those of a
    * path over its limit exactly along it (4b), and the lattice's own error test decides how
-   * finely to interpolate; smaller cells would rebuild every path for the same points, and an
-   * edge below the primary ray mostly runs on through the smaller cells (docs/pencil.md: 2.4x
-   * slower at 49 spp, no more accurate) */
+   * finely to interpolate; smaller domains would rebuild every path for the same points, and an
+   * edge below the primary ray mostly runs on through the smaller domains: slower, and no more
+   * accurate (docs/tuning.md) */
   int w = x1 - x0, h = y1 - y0, s = C->opt->spp_side;
-  double k = ceil(xi_cell / need);
+  double k = ceil(xi_domain / need);
   if (isfinite(need) && (w > 1 || h > 1) && !interpolating(C) &&
-      (2 * over > paths || k * k * (5.0 + C->nnode) < cost * w * h * s * s)) {
+      (2 * over > paths || k * k * (5.0 + C->paths.n) < cost * w * h * s * s)) {
     st->cells_split++;
-    split(C, x0, y0, x1, y1, k > 64.0 ? 64 : (int)fmax(2.0, k));
+    subdivide(C, x0, y0, x1, y1, k > 64.0 ? 64 : (int)fmax(2.0, k));
     return;
   }
   st->cells_accepted++;
   st->cells_partial += (uint64_t)partial;
-  accept_cell(C, x0, y0, x1, y1, &axial);
+  accept_domain(C, x0, y0, x1, y1, &axial);
 }

@@ -1,0 +1,416 @@
+/* interp_plan.c -- how a lattice cell's samples are interpolated (paper section 4.1 (2)): per
+ * node, whether its hits are interpolated bilinearly, biquadratically or traced per sample, and
+ * whether its brightness W_k direct_k is interpolated ("if linearity is assumed for brightness
+ * I(x'), the brightness can also be interpolated") or shaded per sample; accepted when every
+ * node's interpolation error plus its matrix error (Eqs. 4-6) is within the tolerance of Eq. (3)
+ * (rho pixel intervals) and the interpolated brightness within the brightness tolerance. The
+ * small-object guard on shadows keeps a shadow smaller than the lattice from being interpolated
+ * across. */
+#include <assert.h>
+#include <string.h>
+
+#include "interp.h"
+
+/* Whether node k's shadow rays found the same lights unblocked and the same fully blocked at
+ * the nine points of grid R. */
+static int same_visibility(const lattice_point_t (*R)[3], int k) {
+  const pt_geom_t *b = &R[0][0].g[k];
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      if (R[r][c].g[k].lit != b->lit || R[r][c].g[k].dark != b->dark)
+        return 0;
+  return 1;
+}
+
+/* The small-object guard on the shadows of node k over a lattice cell's grid R, for the lights
+ * whose domain-level guard fired (pt_node_t.light_guard): the grid's points agreeing on a light's
+ * visibility do not show that it is the same between them when an object smaller than the
+ * pencil of their shadow rays comes near it (its whole shadow could fall between the points).
+ * The pencil: the ball about the grid's centre hit through the farthest of its points; the gap:
+ * the largest disc that can lie between the points; both grown by half again (domain.c's
+ * PT_GUARD_INFLATE). Cutting the lattice cell shrinks them until the guard no longer fires; else
+ * the node's direct term is shaded per sample. */
+static int shadow_guarded(const pt_ctx_t *C, const lattice_point_t (*R)[3], int k) {
+  const pt_node_t *n = &C->paths.node[k];
+  px_vec3_t c = R[1][1].g[k].p;
+  double r = 0.0, h = 0.0; /* reach from the centre; longest side between neighbouring points */
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      const px_vec3_t p = R[i][j].g[k].p;
+      r = fmax(r, v3_norm(v3_sub(p, c)));
+      if (j < 2)
+        h = fmax(h, v3_norm(v3_sub(R[i][j + 1].g[k].p, p)));
+      if (i < 2)
+        h = fmax(h, v3_norm(v3_sub(R[i + 1][j].g[k].p, p)));
+    }
+  /* a disc free of the nine points lies within a grid square: radius at most h / sqrt 2; both
+   * grown by half again for the map's curvature between the points */
+  r *= 1.5;
+  h *= 1.5 / sqrt(2.0);
+  const px_vec3_t *plane = C->s->prim[n->prim].kind == RT_PRIM_PLANE ? &n->n : NULL;
+  for (int l = 0; l < C->s->nlight && l < 32; l++)
+    if ((n->light_guard & (1u << l)) &&
+        pt_guard_shadow(C->guard, C->nguard, c, r, h, plane, &C->s->light[l], n->object))
+      return 1;
+  return 0;
+}
+
+/* Share of the brightness tolerance that faint nodes (below) may take together. */
+#define PT_FAINT_SHARE 0.5
+
+/* Node evaluations per sample (traced nodes, nodes shaded per sample) that a lattice cell may
+ * spend instead of being cut, in units of the tree's nodes: a cut traces up to 20 points (4
+ * measured quarters) of the whole tree. The budget is where the render's cost was lowest among
+ * the budgets tried (docs/tuning.md). */
+#define PT_PER_SAMPLE_BUDGET 16.0
+
+/* Whether a plan's per-sample work is cheaper than cutting the lattice cell (always when it cannot
+ * be cut). */
+int pt__per_sample_pays(const pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan_t *pl,
+                        int can_cut) {
+  return !can_cut || pl->per_sample_cost * samples_in(C, lc) <= PT_PER_SAMPLE_BUDGET * C->paths.n;
+}
+
+/* What pt__make_plan() carries from one step to the next for one lattice cell. */
+typedef struct {
+  pt_ctx_t *C;                   /* the thread's state */
+  const lattice_cell_t *lc;      /* the lattice cell */
+  const lattice_point_t (*R)[3]; /* the 3 x 3 grid its errors come from (grid_of) */
+  interp_plan_t *pl;             /* the plan being made */
+  int can_cut;  /* the caller can cut the lattice cell instead (pt__per_sample_pays) */
+  int cert;     /* certified mode */
+  double rho;   /* the share of rho (Eq. 3) the hits' errors may use */
+  double ltol;  /* the brightness tolerance */
+  double xi2;   /* the largest |xi|^2 of the lattice cell's corners, for the matrix error (Eq. 4) */
+  int *linear;  /* the nodes whose brightness is interpolated (C->lattice.plan.linear) ... */
+  int nlinear;  /* ... and their number */
+  double faint; /* the faint nodes' bounds, summed */
+  double werr;  /* the weight errors of the nodes shaded per sample, summed */
+} planning_t;
+
+/* Step 1: whether every point of grid R was traced without leaving the domain's paths. */
+static int grid_on_paths(const lattice_point_t (*R)[3]) {
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      if (!R[r][c].ok)
+        return 0;
+  return 1;
+}
+
+/* Step 2: the tolerances of lattice cell lc, and an empty plan. */
+static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, interp_plan_t *pl,
+                       int can_cut) {
+  int cert = C->opt->certified;
+  *P = (planning_t){.C = C, .lc = lc, .R = grid_of(lc), .pl = pl, .can_cut = can_cut, .cert = cert};
+  P->rho = C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (lc->measured ? 1.0 : PT_EINT_MARGIN);
+  P->ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
+  for (int i = 0; i < 4; i++)
+    P->xi2 = pt_max(P->xi2, corner_of(lc, i)->xi2);
+  P->linear = C->lattice.plan.linear;
+  pl->nshaded = pl->nleaves = pl->ntraced = pl->nbiquadratic = pl->nfaint = pl->halve = 0;
+  pl->per_sample_cost = 0.0;
+  for (int i = 0; i < 4; i++)
+    pl->linear_corners[i] = rt_rgb(0, 0, 0);
+  memset(C->lattice.plan.traced, 0, (size_t)C->paths.n);
+  memset(C->lattice.plan.biquadratic, 0, (size_t)C->paths.n);
+  memset(C->lattice.plan.faint, 0, (size_t)C->paths.n);
+}
+
+/* Step 3: a verify node (below an edge the corners saw) that some grid point did not confirm is
+ * traced exactly per sample in this lattice cell, with its subtree (C->lattice.plan.exact_subtree).
+ */
+static void mark_exact_subtrees(pt_ctx_t *C, const lattice_point_t (*R)[3]) {
+  uint8_t *exact = C->lattice.plan.exact_subtree;
+  for (int k = 0; k < C->paths.n; k++) {
+    const pt_node_t *n = &C->paths.node[k];
+    exact[k] = n->parent >= 0 && exact[n->parent];
+    for (int r = 0; r < 3 && n->verify && !exact[k]; r++)
+      for (int c = 0; c < 3; c++)
+        exact[k] |= R[r][c].g[k].ok != 1;
+  }
+}
+
+/* Step 4a, node k's hits: interpolated bilinearly (0), biquadratically over a measured quarter
+ * (0, C->lattice.plan.biquadratic set) or, too curved for either, traced per sample (1,
+ * C->lattice.plan.traced set); -1 when that per-sample work costs more than cutting the lattice
+ * cell (pt__per_sample_pays), with certified mode's halving direction in the plan. */
+static int plan_hits(planning_t *P, int k) {
+  pt_ctx_t *C = P->C;
+  const lattice_cell_t *lc = P->lc;
+  const pt_node_t *n = &C->paths.node[k];
+  interp_plan_t *pl = P->pl;
+  int cert = P->cert;
+  double rho = P->rho;
+  grid3_t p;
+  hits_of(P->R, k, &p);
+  double e_mat = matrix_error(n, P->xi2);
+  double eg = pt__grid_error(lc, &p, norm_pixels, n);
+  int traced = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: traced */
+  if (traced && cert && lc->measured && eg + e_mat <= rho) /* the bound at the samples */
+    traced = !(pt__bilinear_bound_at_samples(C, lc, &p, n) + e_mat <= rho);
+  /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is then
+   * found per sample); certified: the parent's biquadratic itself, over this quarter, where its
+   * deviation from the quarter's five new points - its measured error - is within the margin */
+  int q2 =
+      traced && lc->measured && lc->pg && (!n->textured || n->child[0] < 0) &&
+      (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(lc, n, k) + e_mat <= rho;
+  if (q2) {
+    traced = 0;
+    C->lattice.plan.biquadratic[k] = 1;
+    pl->nbiquadratic++;
+  }
+  if (traced) { /* cost per sample: a matrix product, or the path traced from the eye */
+    C->lattice.plan.traced[k] = 1;
+    pl->ntraced++;
+    pl->per_sample_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
+    if (!pt__per_sample_pays(C, lc, pl, P->can_cut)) {
+      if (cert && lc->measured)
+        pl->halve = pt__halving(C, lc, rho, P->xi2);
+      return -1;
+    }
+  }
+  return traced;
+}
+
+/* Whether textured node k's hits lie in one checker square at the lattice cell's four corners (a
+ * node interpolated biquadratically may leave the corners' convex hull: its square is found per
+ * sample). 1 for a node that is not textured. */
+static int one_square(const planning_t *P, int k) {
+  const pt_node_t *n = &P->C->paths.node[k];
+  int squares = !(n->textured && P->C->lattice.plan.biquadratic[k]);
+  if (n->textured)
+    for (int i = 1; i < 4; i++) {
+      const pt_geom_t *a = &corner_of(P->lc, i)->g[k], *b = &corner_of(P->lc, 0)->g[k];
+      squares = squares && a->su == b->su && a->sv == b->sv;
+    }
+  return squares;
+}
+
+/* Step 4b, node k's brightness: whether it is linear over the lattice cell (every light's
+ * visibility agrees at the domain's centre and corners, or at least at the nine points of the grid
+ * - the brightness test then checks the shading between - and the small-object guard saw no shadow
+ * that may fall between them). If not, a faint node (a textured one only as a leaf) is
+ * interpolated across its shadow edge, its bound counted against the tolerance (*faint set). */
+static int plan_linear(planning_t *P, int k, int squares, int *faint) {
+  pt_ctx_t *C = P->C;
+  const pt_node_t *n = &C->paths.node[k];
+  int smooth = (n->light_agree == ~0u || same_visibility(P->R, k)) &&
+               !(n->light_guard && shadow_guarded(C, P->R, k));
+  *faint = 0;
+  if (!smooth && (squares || n->child[0] < 0)) {
+    double b = pt__faint_bound(C, P->lc, P->R, k);
+    if (P->faint + b <= PT_FAINT_SHARE * P->ltol) {
+      P->faint += b;
+      smooth = *faint = 1;
+      C->lattice.plan.faint[k] = 1;
+      P->pl->nfaint++;
+    }
+  }
+  return smooth;
+}
+
+/* Whether a child of node n is traced exactly per sample (the domain's tree marks it exact, or
+ * this lattice cell's plan traces it below an edge). */
+static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
+  int exact_children = 0;
+  for (int c = 0; c < 2; c++)
+    exact_children |= n->child[c] >= 0 && (C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
+                                           C->lattice.plan.exact_subtree[n->child[c]]);
+  return exact_children;
+}
+
+/* Step 4c: node k is shaded per sample at its interpolated hits (its direct term when `direct`,
+ * its exactly traced children when `exact_children`); 0 when the per-sample work then costs more
+ * than cutting the lattice cell. */
+static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_children) {
+  pt_ctx_t *C = P->C;
+  const pt_node_t *n = &C->paths.node[k];
+  interp_plan_t *pl = P->pl;
+  if (direct && !traced)
+    pl->per_sample_cost += 1.0; /* shaded per sample (a shadow edge) */
+  if (exact_children)
+    for (int c = 0; c < 2; c++)
+      pl->per_sample_cost +=
+          n->child[c] >= 0 && C->lattice.plan.exact_subtree[n->child[c]] ? 2.0 : 0.0;
+  if (!pt__per_sample_pays(C, P->lc, pl, P->can_cut))
+    return 0;
+  pl->shaded[pl->nshaded] = k;
+  pl->shaded_direct[pl->nshaded] = (uint8_t)direct;
+  pl->shaded_exact[pl->nshaded++] = (uint8_t)exact_children;
+  if (direct)
+    P->werr += pt__weight_error(C, P->lc, P->R, k);
+  return 1;
+}
+
+/* Step 4, node k of the domain's tree: how its hits and its brightness are interpolated; 0 (and
+ * *why) when the lattice cell cannot be interpolated. */
+static int plan_node(planning_t *P, int k, int *why) {
+  pt_ctx_t *C = P->C;
+  interp_plan_t *pl = P->pl;
+  int reached, exact;
+  if (C->lattice.plan.exact_subtree[k])
+    return 1;
+  reach(P->R, k, &reached, &exact);
+  if (reached == 0 || exact == 9)
+    return 1; /* not reached, or traced exactly per sample through its parent */
+  if (reached != 9 || exact != 0) {
+    *why = WHY_REACH;
+    return 0;
+  }
+  const pt_node_t *n = &C->paths.node[k];
+  int smooth = 1, exact_children = 0, leaf_texture = 0, traced = 0, faint = 0;
+  *why = WHY_ERROR; /* what any failure below is */
+  if (!n->miss) {
+    traced = plan_hits(P, k);
+    if (traced < 0)
+      return 0;
+    int squares = one_square(P, k);
+    smooth = !traced && plan_linear(P, k, squares, &faint);
+    exact_children = has_exact_children(C, n);
+    if (smooth && !squares && !traced) {
+      /* the direct term is linear for each material: the sample's square picks one. Children
+       * would be weighted by the material too, so only for leaves */
+      if (n->child[0] >= 0)
+        return 0;
+      assert(n->textured); /* only a checkerboard has squares to pick per sample */
+      pl->leaves[pl->nleaves++] = k;
+      smooth = 0;
+      leaf_texture = 1;
+    }
+  }
+  if (smooth && !faint) /* the brightness test: a faint node's error is its bound */
+    P->linear[P->nlinear++] = k;
+  if (smooth)
+    for (int i = 0; i < 4; i++)
+      pl->linear_corners[i] = rt_rgb_add(pl->linear_corners[i], corner_of(P->lc, i)->g[k].l);
+  if (leaf_texture && !exact_children)
+    return 1;
+  if (!smooth || exact_children)
+    return plan_shaded(P, k, !smooth && !leaf_texture, traced, exact_children);
+  return 1;
+}
+
+/* The deviation of the brightness interpolated over the lattice cell from the traced one at its
+ * grid: that of the linear nodes' sum, plus for the textured leaves whose square changes the larger
+ * of their two materials' sums. Leaves whose flag is set in `skip` (when not NULL) are left out
+ * of those sums. (pt__make_plan() skips the faint leaves, whose error is their bound, on its first
+ * test only, and counts them in its later tests: kept as it was, images being compared bit for
+ * bit across this restructuring.) */
+static double brightness_error(const planning_t *P, const uint8_t *skip) {
+  const lattice_point_t(*R)[3] = P->R;
+  const interp_plan_t *pl = P->pl;
+  grid3_t sm, t0, t1; /* brightness of the linear nodes; of the textured leaves per material */
+  memset(&sm, 0, sizeof sm);
+  t0 = t1 = sm;
+  for (int j = 0; j < P->nlinear; j++)
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[P->linear[j]].l));
+  for (int j = 0; j < pl->nleaves; j++)
+    for (int r = 0; r < 3 && !(skip && skip[pl->leaves[j]]); r++)
+      for (int c = 0; c < 3; c++) {
+        t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[pl->leaves[j]].lt[0]));
+        t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[pl->leaves[j]].lt[1]));
+      }
+  double el = pt__grid_error(P->lc, &sm, norm_rgb, NULL);
+  if (pl->nleaves)
+    el += pt_max(pt__grid_error(P->lc, &t0, norm_rgb, NULL),
+                 pt__grid_error(P->lc, &t1, norm_rgb, NULL));
+  return el;
+}
+
+/* The interpolated node whose own brightness is least linear over the lattice cell: index m into
+ * the linear nodes (*leaf 0) or into the plan's textured leaves (*leaf 1, faint ones left out); -1
+ * when none deviates. */
+static int least_linear(const planning_t *P, int *leaf) {
+  const lattice_point_t(*R)[3] = P->R;
+  const interp_plan_t *pl = P->pl;
+  int best = -1;
+  double eb = 0.0;
+  *leaf = 0;
+  for (int m = 0; m < P->nlinear; m++) {
+    grid3_t b;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        b.v[r][c] = rgb_vec(R[r][c].g[P->linear[m]].l);
+    double e = pt__grid_error(P->lc, &b, norm_rgb, NULL);
+    if (e > eb)
+      eb = e, best = m, *leaf = 0;
+  }
+  for (int m = 0; m < pl->nleaves; m++) {
+    grid3_t b0, b1;
+    if (P->C->lattice.plan.faint[pl->leaves[m]])
+      continue;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        b0.v[r][c] = rgb_vec(R[r][c].g[pl->leaves[m]].lt[0]);
+        b1.v[r][c] = rgb_vec(R[r][c].g[pl->leaves[m]].lt[1]);
+      }
+    double e = pt_max(pt__grid_error(P->lc, &b0, norm_rgb, NULL),
+                      pt__grid_error(P->lc, &b1, norm_rgb, NULL));
+    if (e > eb)
+      eb = e, best = m, *leaf = 1;
+  }
+  return best;
+}
+
+/* Step 5b: the brightness of node `best` (least_linear's) is shaded per sample at its
+ * interpolated hits (as at a shadow edge) while the rest is interpolated; 0 when that costs more
+ * than cutting the lattice cell. */
+static int shade_least_linear(planning_t *P, int best, int leaf) {
+  pt_ctx_t *C = P->C;
+  interp_plan_t *pl = P->pl;
+  int k = leaf ? pl->leaves[best] : P->linear[best];
+  if (leaf) {
+    pl->leaves[best] = pl->leaves[--pl->nleaves];
+  } else {
+    P->linear[best] = P->linear[--P->nlinear];
+    for (int i = 0; i < 4; i++)
+      pl->linear_corners[i] =
+          rt_rgb_add(pl->linear_corners[i], rt_rgb_scale(corner_of(P->lc, i)->g[k].l, -1.0));
+  }
+  int m = 0;
+  while (m < pl->nshaded && pl->shaded[m] != k)
+    m++;
+  if (m == pl->nshaded) {
+    pl->shaded[pl->nshaded] = k;
+    pl->shaded_exact[pl->nshaded++] = 0;
+  }
+  pl->shaded_direct[m] = 1;
+  pl->per_sample_cost += 1.0;
+  P->werr += pt__weight_error(C, P->lc, P->R, k);
+  return pt__per_sample_pays(C, P->lc, pl, P->can_cut);
+}
+
+/* Whether lattice cell lc may be interpolated, and how (see interp.c's comment); on failure *why
+ * says what failed. It stops as soon as the per-sample work exceeds what pt__per_sample_pays()
+ * allows (the caller cuts such a lattice cell, when it can be cut). The steps: 1 the grid stayed on
+ * the domain's paths; 2 tolerances; 3 subtrees traced exactly; 4 per node, its hits (Eqs. 3-4 with
+ * the interpolation error), its brightness, its per-sample shading; 5 the brightness
+ * interpolated over the lattice cell within the tolerance, shading the least linear nodes per
+ * sample until it is. */
+int pt__make_plan(pt_ctx_t *C, const lattice_cell_t *lc, interp_plan_t *pl, int can_cut, int *why) {
+  if (!grid_on_paths(grid_of(lc))) {
+    *why = WHY_LEFT;
+    return 0;
+  }
+  planning_t P;
+  plan_begin(&P, C, lc, pl, can_cut);
+  mark_exact_subtrees(C, P.R);
+  int failed; /* *why is written on failure only */
+  for (int k = 0; k < C->paths.n; k++)
+    if (!plan_node(&P, k, &failed)) {
+      *why = failed;
+      return 0;
+    }
+  /* step 5a: is the brightness linear over the lattice cell? (a NaN error is never accepted) */
+  for (double el = brightness_error(&P, C->lattice.plan.faint); !(el + P.faint + P.werr <= P.ltol);
+       el = brightness_error(&P, NULL)) {
+    int leaf, best = least_linear(&P, &leaf);
+    if (best < 0 || !shade_least_linear(&P, best, leaf)) {
+      *why = WHY_ERROR;
+      return 0;
+    }
+  }
+  return 1;
+}
