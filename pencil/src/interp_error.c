@@ -152,10 +152,10 @@ double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const latti
       const double wc[3] = {g->w.r, g->w.g, g->w.b};
       const rt_rgb_t *ls[3] = {&g->l, &g->lt[0], &g->lt[1]};
       for (int i = 0; i < (C->paths.node[k].textured ? 3 : 1); i++) {
-        const double lc[3] = {ls[i]->r, ls[i]->g, ls[i]->b};
+        const double light[3] = {ls[i]->r, ls[i]->g, ls[i]->b};
         for (int ch = 0; ch < 3; ch++)
           if (wc[ch] > 0.0)
-            dmax = pt_max(dmax, fabs(lc[ch]) / wc[ch]);
+            dmax = pt_max(dmax, fabs(light[ch]) / wc[ch]);
       }
     }
   return pt__grid_error(lc, &w, norm_rgb, NULL) * dmax;
