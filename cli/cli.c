@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/builtin.h"
 #include "io/scene_json.h"
-#include "render/builtin.h"
 #include "renderers/renderer.h"
 
 int cli_parse_double(const char *opt, const char *text, double *out) {

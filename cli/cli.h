@@ -11,8 +11,8 @@
 #include <stdio.h>
 
 #include "args.h"
+#include "core/scene.h"
 #include "paraxial/system.h"
-#include "render/scene.h"
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 

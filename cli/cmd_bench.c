@@ -9,9 +9,9 @@
 #include <string.h>
 
 #include "cli.h"
+#include "core/builtin.h"
 #include "io/json.h"
 #include "io/output.h"
-#include "render/builtin.h"
 #include "render/render.h"
 #include "validation/timing.h"
 
@@ -50,7 +50,7 @@ typedef struct {
 /* N renders of scene s with `threads`; median time and rays per second in *r. */
 static int measure(const rt_scene_t *s, int side, int threads, int runs, result_t *r) {
   rt_plan_t plan = rt_plan_make(s, side * side);
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t opt = XR_OPTIONS_DEFAULT;
   opt.spp_side = side;
   opt.threads = threads;
   opt.aux = 0;
@@ -61,7 +61,7 @@ static int measure(const rt_scene_t *s, int side, int threads, int runs, result_
     return 0;
   for (int k = 0; k < runs; k++) {
     double t0 = val_wall_seconds();
-    if (rt_render(s, &plan, &opt, &img, &st) != RT_OK) {
+    if (xr_render(s, &plan, &opt, &img, &st) != RT_OK) {
       rt_image_free(&img);
       return 0;
     }

@@ -3,10 +3,10 @@
 #include <stdio.h>
 
 #include "cmocka_main.h"
+#include "core/builtin.h"
+#include "core/camera.h"
 #include "io/scene_json.h"
 #include "pencil_fixtures.h"
-#include "render/builtin.h"
-#include "render/camera.h"
 
 void fx_fig8(rt_scene_t *s, int w, int h) {
   rt_scene_init(s);
@@ -53,11 +53,11 @@ int fx_add_mirror_ball(rt_scene_t *s) {
 
 void fx_render_exact(const rt_scene_t *s, int side, int threads, rt_image_t *e) {
   rt_plan_t plan = rt_plan_make(s, side * side);
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t eo = XR_OPTIONS_DEFAULT;
   eo.spp_side = side;
   eo.threads = threads;
   assert_int_equal(rt_image_alloc(e, s->camera.width, s->camera.height), RT_OK);
-  assert_int_equal(rt_render(s, &plan, &eo, e, NULL), RT_OK);
+  assert_int_equal(xr_render(s, &plan, &eo, e, NULL), RT_OK);
 }
 
 void fx_render_pencil(const rt_scene_t *s, int side, int threads, const pt_options_t *base,

@@ -7,9 +7,9 @@
 #ifndef PENCIL_TESTS_PENCIL_FIXTURES_H
 #define PENCIL_TESTS_PENCIL_FIXTURES_H
 
+#include "core/scene.h"
 #include "pencil/pencil.h"
 #include "render/render.h"
-#include "render/scene.h"
 
 /* ---- scenes ---------------------------------------------------------------------------- */
 

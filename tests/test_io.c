@@ -11,9 +11,10 @@
 
 #include "../io/src/json_locate.h"
 #include "cmocka_main.h"
+#include "core/builtin.h"
 #include "io/image_io.h"
 #include "io/scene_json.h"
-#include "render/builtin.h"
+#include "render/render.h"
 
 #ifndef PENCIL_SOURCE_DIR
 #error "PENCIL_SOURCE_DIR must name the source tree (tests/CMakeLists.txt)"
@@ -154,15 +155,15 @@ static void fig8_file_equals_builtin(void **state) {
   assert_int_equal(a.spp, b.spp);
   assert_int_equal(a.max_depth, b.max_depth);
   rt_image_t ia, ib;
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t opt = XR_OPTIONS_DEFAULT;
   a.camera.width = b.camera.width = 12;
   a.camera.height = b.camera.height = 10;
   rt_plan_t pa = rt_plan_make(&a, 1), pb = rt_plan_make(&b, 1);
   assert_int_equal(pa.on, pb.on);
   assert_int_equal(rt_image_alloc(&ia, 12, 10), RT_OK);
   assert_int_equal(rt_image_alloc(&ib, 12, 10), RT_OK);
-  assert_int_equal(rt_render(&a, &pa, &opt, &ia, NULL), RT_OK);
-  assert_int_equal(rt_render(&b, &pb, &opt, &ib, NULL), RT_OK);
+  assert_int_equal(xr_render(&a, &pa, &opt, &ia, NULL), RT_OK);
+  assert_int_equal(xr_render(&b, &pb, &opt, &ib, NULL), RT_OK);
   for (int c = 0; c < RT_CH_COUNT; c++)
     assert_memory_equal(ia.ch[c], ib.ch[c], sizeof(float) * 120);
   rt_image_free(&ia);

@@ -10,12 +10,12 @@
 
 #include "bound.h"
 #include "cmocka_main.h"
+#include "core/camera.h"
 #include "exact/trace.h"
 #include "internal.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"
 #include "pencil/pencil.h"
-#include "render/camera.h"
 #include "render/render.h"
 #include "validation/figures.h"
 
@@ -48,9 +48,9 @@ static void build_cell_checked(cell_t *c, double x, double y, pt_bound_t bound, 
   assert_int_equal(rt_view_make(&c->s.camera, &c->view), RT_OK);
   assert_true(c->plan.tree_nodes <= 256);
   c->tree = rt_tree_make(c->buf, c->plan.tree_nodes);
-  rt_exact_t ex = rt_exact_make(&c->s, &c->plan, &c->tree);
+  xr_exact_t ex = xr_exact_make(&c->s, &c->plan, &c->tree);
   rt_ray_t axial = rt_view_ray(&c->view, x, y, c->s.ior);
-  rt_exact_primary(&ex, &axial);
+  xr_exact_primary(&ex, &axial);
   memset(&c->p, 0, sizeof c->p);
   c->p.eye = c->view.eye;
   assert_int_equal(px_frame_from_z(axial.d, c->view.down, &c->p.frame), PX_OK);
@@ -237,9 +237,9 @@ static void axis_ray_meets_axial_hit(void **state) {
 /* Trees of single rays for the edge test. */
 static void trace_tree(const rt_scene_t *s, const rt_plan_t *plan, const rt_view_t *v, double x,
                        double y, rt_tree_t *t) {
-  rt_exact_t ex = rt_exact_make(s, plan, t);
+  xr_exact_t ex = xr_exact_make(s, plan, t);
   rt_ray_t r = rt_view_ray(v, x, y, s->ior);
-  rt_exact_primary(&ex, &r);
+  xr_exact_primary(&ex, &r);
 }
 
 /* Step 3: trees that differ only in checker squares agree (texture does not bend rays), a ray
@@ -872,13 +872,13 @@ static void image_bias_finds_systematic_errors(void **state) {
  * is NaN (fmax would drop it), so that an error computed as NaN is rejected, not accepted. */
 static void error_maximum_keeps_nan(void **state) {
   (void)state;
-  assert_true(pt_max(1.0, 2.0) == 2.0);
-  assert_true(pt_max(2.0, 1.0) == 2.0);
-  assert_true(pt_max(-1.0, INFINITY) == INFINITY);
-  assert_true(isnan(pt_max(NAN, 1.0)));
-  assert_true(isnan(pt_max(1.0, NAN)));
-  assert_true(isnan(pt_max(pt_max(0.0, NAN), 3.0)));
-  assert_false(pt_max(NAN, 0.0) <= 0.5); /* a test written as e <= tol rejects it */
+  assert_true(px_max(1.0, 2.0) == 2.0);
+  assert_true(px_max(2.0, 1.0) == 2.0);
+  assert_true(px_max(-1.0, INFINITY) == INFINITY);
+  assert_true(isnan(px_max(NAN, 1.0)));
+  assert_true(isnan(px_max(1.0, NAN)));
+  assert_true(isnan(px_max(px_max(0.0, NAN), 3.0)));
+  assert_false(px_max(NAN, 0.0) <= 0.5); /* a test written as e <= tol rejects it */
 }
 
 /* Which surfaces the Fig. 10 measure compares (pt_surface_measured): those with a diffuse term.

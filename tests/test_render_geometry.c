@@ -1,4 +1,4 @@
-/* test_render_geometry.c -- the renderer's ray-surface intersections (reference/render) against
+/* test_render_geometry.c -- the renderer's ray-surface intersections (core/) against
  * reference/'s exact tracer (ex_quadric roots through ex_trace_axial), concave polygons, the
  * closed-polyhedron checks, and the BVH against brute force. */
 #include <math.h>
@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "cmocka_main.h"
+#include "core/builtin.h"
+#include "core/intersect.h"
 #include "exact/trace.h"
-#include "render/builtin.h"
-#include "render/intersect.h"
 
 /* Two independent double-precision evaluations of the same root: the sphere formulas differ
  * (rt: distance of the line from the centre; ex: general quadric), each good to a few ulps of

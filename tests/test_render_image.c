@@ -5,9 +5,9 @@
 #include <string.h>
 
 #include "cmocka_main.h"
+#include "core/builtin.h"
+#include "core/intersect.h"
 #include "exact/trace.h"
-#include "render/builtin.h"
-#include "render/intersect.h"
 #include "render/render.h"
 
 static void fig8(rt_scene_t *s, int w, int h) {
@@ -19,11 +19,11 @@ static void fig8(rt_scene_t *s, int w, int h) {
 
 static void render(const rt_scene_t *s, int side, int threads, rt_image_t *img, rt_stats_t *st) {
   rt_plan_t plan = rt_plan_make(s, side * side);
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t opt = XR_OPTIONS_DEFAULT;
   opt.spp_side = side;
   opt.threads = threads;
   assert_int_equal(rt_image_alloc(img, s->camera.width, s->camera.height), RT_OK);
-  assert_int_equal(rt_render(s, &plan, &opt, img, st), RT_OK);
+  assert_int_equal(xr_render(s, &plan, &opt, img, st), RT_OK);
 }
 
 /* Pixels are independent and each is computed the same way by whichever thread: bitwise equal
@@ -87,14 +87,14 @@ static void box_filter_is_the_mean_of_samples(void **state) {
   rt_view_t v;
   assert_int_equal(rt_view_make(&s.camera, &v), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 4);
-  rt_exact_t ex = rt_exact_make(&s, &plan, NULL);
+  xr_exact_t ex = xr_exact_make(&s, &plan, NULL);
   for (int j = 0; j < 9; j += 4)
     for (int i = 0; i < 9; i += 3) {
       double sum = 0;
       for (int b = 0; b < 2; b++)
         for (int a = 0; a < 2; a++) {
           rt_ray_t r = rt_view_ray(&v, i + (a + 0.5) / 2, j + (b + 0.5) / 2, 1.0);
-          sum += rt_exact_primary(&ex, &r).g;
+          sum += xr_exact_primary(&ex, &r).g;
         }
       assert_close(img.ch[RT_CH_G][j * 9 + i], sum / 4, 1e-6, 1e-7); /* float rounding */
     }
@@ -113,20 +113,20 @@ static void ray_trees_are_free_and_discriminating(void **state) {
   rt_view_make(&s.camera, &v);
   rt_tree_node_t b1[128], b2[128], b3[128];
   rt_tree_t t1 = rt_tree_make(b1, 128), t2 = rt_tree_make(b2, 128), t3 = rt_tree_make(b3, 128);
-  rt_exact_t plain = rt_exact_make(&s, &plan, NULL), rec = rt_exact_make(&s, &plan, &t1);
+  xr_exact_t plain = xr_exact_make(&s, &plan, NULL), rec = xr_exact_make(&s, &plan, &t1);
   rt_ray_t centre = rt_view_ray(&v, 32.5, 30.5, 1.0);
-  rt_rgb_t c0 = rt_exact_primary(&plain, &centre), c1 = rt_exact_primary(&rec, &centre);
+  rt_rgb_t c0 = xr_exact_primary(&plain, &centre), c1 = xr_exact_primary(&rec, &centre);
   assert_memory_equal(&c0, &c1, sizeof c0);
   assert_memory_equal(&plain.stats, &rec.stats, sizeof plain.stats);
   assert_true(t1.n > 3);
   assert_int_equal(t1.node[0].object, 1); /* the glass ball */
   rec.tree = &t2;
   rt_ray_t near = rt_view_ray(&v, 32.5 + 1e-4, 30.5, 1.0);
-  rt_exact_primary(&rec, &near);
+  xr_exact_primary(&rec, &near);
   assert_true(rt_tree_same(&t1, &t2));
   rec.tree = &t3;
   rt_ray_t floor = rt_view_ray(&v, 2.5, 62.5, 1.0);
-  rt_exact_primary(&rec, &floor);
+  xr_exact_primary(&rec, &floor);
   assert_false(rt_tree_same(&t1, &t3));
   assert_int_equal(t3.node[0].object, 0);
   assert_true(t3.node[0].texel == 0 || t3.node[0].texel == 1);
@@ -199,7 +199,7 @@ static void every_sample_tree_reaches_the_caller(void **state) {
   rt_scene_t s;
   fig8(&s, 6, 5);
   rt_plan_t plan = rt_plan_make(&s, 4);
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t opt = XR_OPTIONS_DEFAULT;
   samples_t S;
   memset(&S, 0, sizeof S);
   opt.spp_side = 2;
@@ -208,7 +208,7 @@ static void every_sample_tree_reaches_the_caller(void **state) {
   opt.sample_ctx = &S;
   rt_image_t img;
   assert_int_equal(rt_image_alloc(&img, 6, 5), RT_OK);
-  assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_OK);
+  assert_int_equal(xr_render(&s, &plan, &opt, &img, NULL), RT_OK);
   for (int k = 0; k < 30; k++) {
     assert_int_equal(S.calls[k], 4 + 1);
     assert_true(S.nodes[k] >= 5);
@@ -223,18 +223,18 @@ static void bad_options_rejected(void **state) {
   rt_scene_t s;
   fig8(&s, 4, 4);
   rt_plan_t plan = rt_plan_make(&s, 1);
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t opt = XR_OPTIONS_DEFAULT;
   rt_image_t img, small;
   assert_int_equal(rt_image_alloc(&img, 4, 4), RT_OK);
   opt.spp_side = 0;
-  assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_EINVAL);
+  assert_int_equal(xr_render(&s, &plan, &opt, &img, NULL), RT_EINVAL);
   opt.spp_side = RT_MAX_SPP_SIDE + 1;
-  assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_EINVAL);
+  assert_int_equal(xr_render(&s, &plan, &opt, &img, NULL), RT_EINVAL);
   opt.spp_side = 1;
   assert_int_equal(rt_image_alloc(&small, 3, 4), RT_OK);
-  assert_int_equal(rt_render(&s, &plan, &opt, &small, NULL), RT_EINVAL);
+  assert_int_equal(xr_render(&s, &plan, &opt, &small, NULL), RT_EINVAL);
   rt_scene_add_sphere(&s, px_vec3(3, 0, 0), 0.5, 0, NULL); /* changed: BVH dropped */
-  assert_int_equal(rt_render(&s, &plan, &opt, &img, NULL), RT_ENOTREADY);
+  assert_int_equal(xr_render(&s, &plan, &opt, &img, NULL), RT_ENOTREADY);
   rt_image_free(&small);
   assert_int_equal(rt_image_alloc(&small, 0, 4), RT_EINVAL);
   rt_image_free(&img);

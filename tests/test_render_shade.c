@@ -1,4 +1,4 @@
-/* test_render_shade.c -- the shading module (reference/render/src/shade.c): reflected and
+/* test_render_shade.c -- the shading module (core/src/shade.c): reflected and
  * refracted directions against reference/'s exact tracer (ex_trace_axial through the same
  * quadrics), shadow attenuation by transparent occluders (textbook 9.1: k_t(1) ... k_t(N) I),
  * the illumination terms, Fresnel and total internal reflection, and the effects plan. */
@@ -6,8 +6,9 @@
 #include <string.h>
 
 #include "cmocka_main.h"
+#include "core/intersect.h"
+#include "core/shade_paths.h"
 #include "exact/trace.h"
-#include "render/intersect.h"
 #include "render/render.h"
 
 /* Same quadric, same vector laws (both go through px_interface_outgoing), normals from two
@@ -73,8 +74,8 @@ static ex_axial_t exact_path(const rt_ray_t *r, const ex_stage_t *st, size_t n) 
 static void trace_tree(const rt_scene_t *s, const rt_plan_t *plan, const rt_ray_t *r,
                        rt_tree_node_t *buf, int cap, rt_tree_t *t) {
   *t = rt_tree_make(buf, cap);
-  rt_exact_t ex = rt_exact_make(s, plan, t);
-  rt_exact_primary(&ex, r);
+  xr_exact_t ex = xr_exact_make(s, plan, t);
+  xr_exact_primary(&ex, r);
   assert_false(t->overflow);
 }
 
@@ -329,11 +330,11 @@ static void parallel_light_and_its_shadow(void **state) {
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
-  rt_exact_t ex = rt_exact_make(&s, &plan, NULL);
+  xr_exact_t ex = xr_exact_make(&s, &plan, NULL);
   rt_ray_t lit = ray_to(px_vec3(5, 3, -4), px_vec3(3, 0, 2));
   rt_ray_t dark = ray_to(px_vec3(5, 3, -4), px_vec3(0.2, 0, -0.3));
-  assert_close(rt_exact_primary(&ex, &lit).r, 0.5, 1e-15, 0); /* kd C I N.L = 1 * 1 * 0.5 * 1 */
-  assert_true(rt_exact_primary(&ex, &dark).r == 0.0);
+  assert_close(xr_exact_primary(&ex, &lit).r, 0.5, 1e-15, 0); /* kd C I N.L = 1 * 1 * 0.5 * 1 */
+  assert_true(xr_exact_primary(&ex, &dark).r == 0.0);
   assert_int_equal(ex.stats.shadow, 2);
   rt_scene_free(&s);
 }
@@ -454,10 +455,10 @@ static void plan_skips_effects_the_scene_does_not_use(void **state) {
   assert_non_null(strstr(plan.why[RT_EFFECT_REFRACTION], "no transparent material"));
   assert_int_equal(plan.tree_nodes, s.max_depth + 1); /* a chain of reflections */
   rt_image_t img;
-  rt_render_options_t opt = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t opt = XR_OPTIONS_DEFAULT;
   rt_stats_t st;
   assert_int_equal(rt_image_alloc(&img, 8, 8), RT_OK);
-  assert_int_equal(rt_render(&s, &plan, &opt, &img, &st), RT_OK);
+  assert_int_equal(xr_render(&s, &plan, &opt, &img, &st), RT_OK);
   assert_true(st.reflect > 0);
   assert_int_equal(st.refract, 0);
   assert_int_equal(st.shadow, 0);
@@ -465,7 +466,7 @@ static void plan_skips_effects_the_scene_does_not_use(void **state) {
   plan = rt_plan_make(&s, 1);
   assert_int_equal(plan.on & ((1u << RT_EFFECT_REFLECTION) | (1u << RT_EFFECT_REFRACTION)), 0);
   assert_int_equal(plan.tree_nodes, 1);
-  assert_int_equal(rt_render(&s, &plan, &opt, &img, &st), RT_OK);
+  assert_int_equal(xr_render(&s, &plan, &opt, &img, &st), RT_OK);
   assert_int_equal(st.reflect + st.refract + st.shadow, 0);
   assert_int_equal(st.primary, 64);
   rt_image_free(&img);

@@ -6,8 +6,8 @@
 #include <string.h>
 
 #include "cmocka_main.h"
+#include "core/builtin.h"
 #include "pencil/pencil.h"
-#include "render/builtin.h"
 #include "renderers/renderer.h"
 
 static void entries_are_well_formed(void **state) {

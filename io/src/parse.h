@@ -6,8 +6,8 @@
 #include <jansson.h>
 #include <stddef.h>
 
+#include "core/scene.h"
 #include "json_locate.h"
-#include "render/scene.h"
 
 #define IO_PATH_MAX 16
 

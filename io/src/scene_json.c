@@ -6,9 +6,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/camera.h"
 #include "io/scene_json.h"
 #include "parse.h"
-#include "render/camera.h"
 
 static int parse_camera(io_parse_t *P, json_t *c) {
   static const char *const keys[] = {"eye", "look_at", "up", "fov", "width", "height", NULL};

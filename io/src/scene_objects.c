@@ -5,9 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/builtin.h"
 #include "io/scene_json.h"
 #include "parse.h"
-#include "render/builtin.h"
 
 static int parse_sphere(io_parse_t *P, json_t *o, int mat, int *obj) {
   static const char *const keys[] = {"type", "name", "material", "center", "radius", NULL};

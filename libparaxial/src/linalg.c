@@ -3,10 +3,10 @@
 
 #include <math.h>
 
-#include "vec3_impl.h"
+#include "fma_clones.h"
 
 /* The functions that call fma() are cloned for CPUs with FMA instructions (PX_FMA_CLONES,
- * vec3_impl.h): the pencil tracer multiplies system matrices and takes dot products per lattice
+ * fma_clones.h): the pencil tracer multiplies system matrices and takes dot products per lattice
  * cell and path so often that each libm fma() call costing more than its arithmetic showed in
  * its profile (docs/tuning.md). Results are identical: fma() is correctly rounded either way. */
 
@@ -14,28 +14,28 @@ px_vec3_t px_vec3(double x, double y, double z) {
   return (px_vec3_t){x, y, z};
 }
 px_vec3_t px_vec3_add(px_vec3_t a, px_vec3_t b) {
-  return vec3_add(a, b);
+  return px_v3_add(a, b);
 }
 px_vec3_t px_vec3_sub(px_vec3_t a, px_vec3_t b) {
-  return vec3_sub(a, b);
+  return px_v3_sub(a, b);
 }
 px_vec3_t px_vec3_scale(px_vec3_t a, double s) {
-  return vec3_scale(a, s);
+  return px_v3_scale(a, s);
 }
 PX_FMA_CLONES px_vec3_t px_vec3_axpy(double s, px_vec3_t x, px_vec3_t y) {
-  return vec3_axpy(s, x, y);
+  return px_v3_axpy_fma(s, x, y);
 }
 PX_FMA_CLONES double px_vec3_dot(px_vec3_t a, px_vec3_t b) {
-  return vec3_dot(a, b);
+  return px_v3_dot_fma(a, b);
 }
 PX_FMA_CLONES px_vec3_t px_vec3_cross(px_vec3_t a, px_vec3_t b) {
-  return vec3_cross(a, b);
+  return px_v3_cross(a, b);
 }
 PX_FMA_CLONES double px_vec3_norm(px_vec3_t a) {
-  return vec3_norm(a);
+  return px_v3_norm_fma(a);
 }
 PX_FMA_CLONES px_status_t px_vec3_normalize(px_vec3_t a, px_vec3_t *out) {
-  return vec3_normalize(a, out);
+  return px_v3_normalize(a, out);
 }
 
 px_mat2_t px_mat2(double a, double b, double c, double d) {
@@ -69,11 +69,11 @@ px_mat2_t px_mat2_transpose(px_mat2_t a) {
   return px_mat2(a.m[0][0], a.m[1][0], a.m[0][1], a.m[1][1]);
 }
 PX_FMA_CLONES double px_mat2_det(px_mat2_t a) {
-  return diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]);
+  return px_diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]);
 }
 
 PX_FMA_CLONES px_status_t px_mat2_inverse(px_mat2_t a, px_mat2_t *out) {
-  double det = diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]); /* px_mat2_det */
+  double det = px_diff_products(a.m[0][0], a.m[1][1], a.m[0][1], a.m[1][0]); /* px_mat2_det */
   if (!(fabs(det) > 1e-300) || !isfinite(det))
     return PX_ESINGULAR;
   px_mat2_t r = px_mat2_scale(px_mat2(a.m[1][1], -a.m[0][1], -a.m[1][0], a.m[0][0]), 1.0 / det);

@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "vec3_impl.h"
+#include "fma_clones.h"
 
 /* Rays and frames are accepted when they agree to this many units of the last place of a unit
  * vector times 1e6: loose enough for frames carried through a long cascade, tight enough to
@@ -99,26 +99,26 @@ px_status_t px_interface_canonical(double theta, double radius, double n1, doubl
                            out);
 }
 
-PX_FMA_CLONES /* per ray in the renderers: see vec3_impl.h */
+PX_FMA_CLONES /* per ray in the renderers: see fma_clones.h */
     px_status_t
     px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_vec3_t *s_out,
                           double *cos_out) {
-  double ci = vec3_dot(ifc->nu, ifc->s);
+  double ci = px_v3_dot_fma(ifc->nu, ifc->s);
   px_vec3_t d;
   double co;
   if (ev == PX_EVENT_REFLECT) {
-    d = vec3_axpy(-2.0 * ci, ifc->nu, ifc->s);
+    d = px_v3_axpy_fma(-2.0 * ci, ifc->nu, ifc->s);
     co = -ci;
   } else {
     double eta = ifc->n1 / ifc->n2;
-    double sin_i = vec3_norm(vec3_cross(ifc->nu, ifc->s));
+    double sin_i = px_v3_norm_fma(px_v3_cross(ifc->nu, ifc->s));
     double k = (1.0 - eta * sin_i) * (1.0 + eta * sin_i); /* cos^2(theta'), no cancellation */
     if (k < 0.0)
       return PX_ETIR;
     co = sqrt(k);
-    d = vec3_add(vec3_scale(ifc->s, eta), vec3_scale(ifc->nu, co - eta * ci));
+    d = px_v3_add(px_v3_scale(ifc->s, eta), px_v3_scale(ifc->nu, co - eta * ci));
   }
-  if (vec3_normalize(d, s_out) != PX_OK)
+  if (px_v3_normalize(d, s_out) != PX_OK)
     return PX_ENONFINITE;
   *cos_out = co;
   return PX_OK;

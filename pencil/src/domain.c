@@ -14,10 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/intersect.h"
+#include "core/shade.h"
+#include "core/shade_paths.h"
 #include "internal.h"
-#include "render/intersect.h"
-#include "render/shade.h"
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 /* Whether accepted domains are ray-interpolated (4.1 (2)) rather than traced by matrices. */
 static int interpolating(const pt_ctx_t *C) {
@@ -30,7 +31,7 @@ static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   if (ct->n < 0) {
     rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
     C->ex.tree = &C->trees.probe;
-    rt_exact_primary(&C->ex, &r);
+    xr_exact_primary(&C->ex, &r);
     C->ex.tree = NULL;
     pt_ctree_from(ct, &C->trees.probe);
     C->st.exact_traces++;
@@ -109,7 +110,7 @@ static double hit_radius(const pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   double r = 0.0;
   for (int j = 0; j < 8 && isfinite(r); j++) {
     px_vec3_t p, d;
-    r = pt_node_ray(n, bxi[j], &p, &d) ? fmax(r, v3_norm(v3_sub(p, n->o))) : INFINITY;
+    r = pt_node_ray(n, bxi[j], &p, &d) ? fmax(r, px_v3_norm(px_v3_sub(p, n->o))) : INFINITY;
   }
   n->guard_r = PT_GUARD_INFLATE * r / n->cos_in;
   return n->guard_r;
@@ -134,7 +135,7 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
     rt_shade_surface(C->s, &h, &ray, &sf);
     if (!rt_shade_child(C->s, C->plan, &sf, &ray, par->depth, (rt_ray_kind_t)n->kind, &ch))
       return INFINITY;
-    cmin = fmin(cmin, v3_dot(ch.ray.d, axis));
+    cmin = fmin(cmin, px_v3_dot(ch.ray.d, axis));
   }
   return PT_GUARD_INFLATE * acos(fmax(-1.0, cmin));
 }
@@ -271,7 +272,7 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
   C->ex.tree = &C->trees.axial;
-  rt_exact_primary(&C->ex, &axial);
+  xr_exact_primary(&C->ex, &axial);
   C->ex.tree = NULL;
   st->exact_traces++;
   /* step 3: smoothness, node by node; the primary ray must meet the same surface everywhere */

@@ -6,8 +6,8 @@
 
 #include <math.h>
 
-#include "render/intersect.h"
-#include "render/vec_inline.h"
+#include "core/intersect.h"
+#include "paraxial/vec3.h"
 
 static pt_cnode_t compact(const rt_tree_node_t *a) {
   return (pt_cnode_t){a->parent, a->object, a->prim, a->lit, a->blocked, a->kind, a->flags};
@@ -93,30 +93,30 @@ int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
       out[n++] = (pt_bsphere_t){sp->c, sp->r, o};
       continue;
     }
-    px_vec3_t lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    px_vec3_t lo = px_v3(INFINITY, INFINITY, INFINITY), hi = px_v3(-INFINITY, -INFINITY, -INFINITY);
     for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
       px_vec3_t a, b;
       if (!rt_prim_bounds(s, p, &a, &b))
         continue;
-      lo = v3(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
-      hi = v3(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
+      lo = px_v3(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
+      hi = px_v3(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
     }
     if (!(lo.x <= hi.x))
       continue;
-    px_vec3_t c = v3_scale(v3_add(lo, hi), 0.5);
-    out[n++] = (pt_bsphere_t){c, 0.5 * v3_norm(v3_sub(hi, lo)), o};
+    px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
+    out[n++] = (pt_bsphere_t){c, 0.5 * px_v3_norm(px_v3_sub(hi, lo)), o};
   }
   return n;
 }
 
 int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half) {
   for (int i = 0; i < n; i++) {
-    px_vec3_t v = v3_sub(b[i].c, eye);
-    double dist = v3_norm(v);
+    px_vec3_t v = px_v3_sub(b[i].c, eye);
+    double dist = px_v3_norm(v);
     if (dist <= b[i].r)
       continue; /* the eye is inside: the object surrounds every cone */
     double gamma = asin(b[i].r / dist);
-    double ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dist)));
+    double ang = acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
     if (ang < gamma + half && ang + half > gamma)
       return 1; /* intersects the cone without containing it */
   }
@@ -125,15 +125,16 @@ int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, 
 
 int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, double r, int skip_a,
                      int skip_b) {
-  px_vec3_t pq = v3_sub(q, p);
-  double len2 = v3_dot(pq, pq);
+  px_vec3_t pq = px_v3_sub(q, p);
+  double len2 = px_v3_dot(pq, pq);
   for (int i = 0; i < n; i++) {
     if (b[i].object == skip_a || b[i].object == skip_b)
       continue;
-    px_vec3_t v = v3_sub(b[i].c, p);
-    double t = len2 > 0.0 ? fmax(0.0, fmin(1.0, v3_dot(v, pq) / len2)) : 0.0;
-    double dist = v3_norm(v3_sub(v, v3_scale(pq, t))); /* centre to the nearest segment point */
-    if (!(dist > b[i].r + r))                          /* a NaN radius fires */
+    px_vec3_t v = px_v3_sub(b[i].c, p);
+    double t = len2 > 0.0 ? fmax(0.0, fmin(1.0, px_v3_dot(v, pq) / len2)) : 0.0;
+    double dist =
+        px_v3_norm(px_v3_sub(v, px_v3_scale(pq, t))); /* centre to the nearest segment point */
+    if (!(dist > b[i].r + r))                         /* a NaN radius fires */
       return 1;
   }
   return 0;
@@ -144,12 +145,12 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
   for (int i = 0; i < n; i++) {
     if (b[i].object == skip)
       continue;
-    px_vec3_t v = v3_sub(b[i].c, p);
-    double dist = v3_norm(v), grown = b[i].r + r;
+    px_vec3_t v = px_v3_sub(b[i].c, p);
+    double dist = px_v3_norm(v), grown = b[i].r + r;
     if (!(dist > grown)) /* also a NaN radius */
       return 1;
     double gamma = asin(grown / dist);
-    double ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dist)));
+    double ang = acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
     if (!(ang > gamma + half)) /* also a NaN half-angle */
       return 1;
   }
@@ -161,40 +162,40 @@ int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double 
   if (!(r >= 0.0) || !(gap >= 0.0))
     return 1;
   int parallel = light->kind == RT_LIGHT_PARALLEL;
-  px_vec3_t axis = v3_scale(light->v, -1.0); /* parallel: towards the light */
+  px_vec3_t axis = px_v3_scale(light->v, -1.0); /* parallel: towards the light */
   double dist = INFINITY, half = 0.0;
   if (!parallel) { /* the cone from the light through the ball of radius r about p */
-    px_vec3_t d = v3_sub(p, light->v);
-    dist = v3_norm(d);
+    px_vec3_t d = px_v3_sub(p, light->v);
+    dist = px_v3_norm(d);
     if (!(dist > r))
       return 1;
-    axis = v3_scale(d, 1.0 / dist);
+    axis = px_v3_scale(d, 1.0 / dist);
     half = asin(r / dist);
   }
   /* on a plane a shadow is stretched by 1 / cos of the light's incidence: a gap holds it only
    * when its narrow width, the light's view of the gap shrunk by that cosine, exceeds it */
   if (normal)
-    gap *= fabs(v3_dot(*normal, axis));
+    gap *= fabs(px_v3_dot(*normal, axis));
   for (int i = 0; i < n; i++) {
     if (b[i].object == skip)
       continue;
     double R = b[i].r;
     if (parallel) { /* the cylinder of radius r about the ray from p */
-      px_vec3_t w = v3_sub(b[i].c, p);
-      double t = v3_dot(w, axis), rho = v3_norm(v3_sub(w, v3_scale(axis, t)));
+      px_vec3_t w = px_v3_sub(b[i].c, p);
+      double t = px_v3_dot(w, axis), rho = px_v3_norm(px_v3_sub(w, px_v3_scale(axis, t)));
       if (t < -(R + r) || !(rho < R + r))
         continue; /* behind the hits, or beside the rays */
       if (R >= gap && t - R > r)
         continue; /* too large to fall between the traced rays (wholly towards the light) */
       return 1;
     }
-    px_vec3_t v = v3_sub(b[i].c, light->v);
-    double dc = v3_norm(v);
+    px_vec3_t v = px_v3_sub(b[i].c, light->v);
+    double dc = px_v3_norm(v);
     if (!(dc > R))
       return 1; /* the light is inside it */
     if (dc - R >= dist + r)
       continue; /* wholly beyond the hits */
-    double gamma = asin(R / dc), ang = acos(fmax(-1.0, fmin(1.0, v3_dot(v, axis) / dc)));
+    double gamma = asin(R / dc), ang = acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dc)));
     if (!(ang < gamma + half))
       continue; /* beside the rays */
     if (gamma >= asin(fmin(1.0, gap / dist)) && dc + R < dist - r)

@@ -19,9 +19,10 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/intersect.h"
+#include "core/shade_paths.h"
 #include "internal.h"
-#include "render/intersect.h"
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 static void mark_exact(pt_eval_t *E, int k) {
   if (!E->geom)
@@ -77,7 +78,7 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
  * of k, which may be interpolated. */
 static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth) {
   pt_ctx_t *C = E->C;
-  rt_tracer_t ex = rt_exact_tracer(&C->ex);
+  rt_tracer_t ex = xr_exact_tracer(&C->ex);
   rt_tree_t *t = &C->sub.tree;
   if (!E->record_sub || k < 0)
     return ex.child(ex.ctx, c, depth);
@@ -156,7 +157,7 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t) ||
       (n->verify && !verified(E, n, &r, t)))
     return x;
-  x->p = v3_axpy(t, r.d, r.o);
+  x->p = px_v3_axpy(t, r.d, r.o);
   x->d = r.d;
   x->ok = 1;
   return x;
@@ -207,31 +208,32 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
   if (E->mode == PT_EV_INTERP && E->biquadratic && E->biquadratic[k]) {
     px_vec3_t p = {0, 0, 0}, dd = {0, 0, 0};
     for (int i = 0; i < 9; i++) {
-      p = v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
-      dd = v3_axpy(E->grid_w[i], E->grid[i][k].d, dd);
+      p = px_v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
+      dd = px_v3_axpy(E->grid_w[i], E->grid[i][k].d, dd);
     }
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* back onto the sphere, as below */
-      px_vec3_t r = v3_sub(p, pr->sphere.c);
-      p = v3_axpy(pr->sphere.r / v3_norm(r), r, pr->sphere.c);
+      px_vec3_t r = px_v3_sub(p, pr->sphere.c);
+      p = px_v3_axpy(pr->sphere.r / px_v3_norm(r), r, pr->sphere.c);
     }
     *hit = p;
-    *d = v3_unit(dd);
+    *d = px_v3_unit(dd);
     return 1;
   }
   if (E->mode == PT_EV_INTERP) {
     const double *w = E->corner_w;
     const pt_geom_t *a = &E->corner[0][k], *b = &E->corner[1][k], *c = &E->corner[2][k],
                     *e = &E->corner[3][k];
-    *hit = v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
+    *hit = px_v3_axpy(w[0], a->p,
+                      px_v3_axpy(w[1], b->p, px_v3_axpy(w[2], c->p, px_v3_scale(e->p, w[3]))));
     const rt_prim_t *pr = &E->C->s->prim[n->prim];
     if (pr->kind == RT_PRIM_SPHERE) { /* a chord lies inside the sphere: back onto its surface,
                                          so that rays spawned here start on the right side */
-      px_vec3_t r = v3_sub(*hit, pr->sphere.c);
-      *hit = v3_axpy(pr->sphere.r / v3_norm(r), r, pr->sphere.c);
+      px_vec3_t r = px_v3_sub(*hit, pr->sphere.c);
+      *hit = px_v3_axpy(pr->sphere.r / px_v3_norm(r), r, pr->sphere.c);
     }
-    *d = v3_unit(
-        v3_axpy(w[0], a->d, v3_axpy(w[1], b->d, v3_axpy(w[2], c->d, v3_scale(e->d, w[3])))));
+    *d = px_v3_unit(px_v3_axpy(
+        w[0], a->d, px_v3_axpy(w[1], b->d, px_v3_axpy(w[2], c->d, px_v3_scale(e->d, w[3])))));
     return 1;
   }
   if (n->pencil == PT_NODE_PATH) { /* exactly along the path */
@@ -241,7 +243,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
       if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t) ||
           (n->verify && !verified(E, n, &from->ray, t)))
         return 0;
-      *hit = v3_axpy(t, from->ray.d, from->ray.o);
+      *hit = px_v3_axpy(t, from->ray.d, from->ray.o);
       *d = from->ray.d;
       E->C->sample.exact[k] = (pt_xgeom_t){*hit, *d, E->stamp, 1};
       return 1;
@@ -338,7 +340,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
       if (E->lattice || !(E->shade || (E->record_sub && from)))
         return rt_rgb(0, 0, 0);
       return from ? rt_rgb_mul(w, exact_child(E, n->parent, from, n->depth))
-                  : rt_exact_primary(&C->ex, r);
+                  : xr_exact_primary(&C->ex, r);
     }
     rt_rgb_t l = rt_rgb_mul(w, C->s->background);
     if (g) {
@@ -357,7 +359,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     if (E->lattice || !(E->shade || (E->record_sub && from)))
       return rt_rgb(0, 0, 0);
     return from ? rt_rgb_mul(w, exact_child(E, n->parent, from, n->depth))
-                : rt_exact_primary(&C->ex, &E->primary);
+                : xr_exact_primary(&C->ex, &E->primary);
   }
   if (g) {
     g->p = hit;
@@ -453,6 +455,6 @@ int pt__spawns_exact(const pt_eval_t *E) {
 
 void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]) {
   rt_ray_t r = rt_view_ray(C->view, x, y, 1.0);
-  xi[0] = v3_dot(C->paths.frame.x1, r.d);
-  xi[1] = v3_dot(C->paths.frame.x2, r.d);
+  xi[0] = px_v3_dot(C->paths.frame.x1, r.d);
+  xi[1] = px_v3_dot(C->paths.frame.x2, r.d);
 }

@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 
+#include "paraxial/vec3.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"
 #include "pencil/pencil.h"
@@ -90,7 +91,7 @@ typedef struct {
   pt_lattice_plan_t plan; /**< the current lattice cell's plan */
 } pt_lattice_t;
 
-/** The exact trees one thread traces into (rt_exact_t.tree points at one while it traces). */
+/** The exact trees one thread traces into (xr_exact_t.tree points at one while it traces). */
 typedef struct {
   rt_tree_t axial; /**< the current domain's axial ray's tree (step 2) */
   rt_tree_t probe; /**< single rays': corners, auxiliary channels, the measure's exact tree */
@@ -151,7 +152,7 @@ typedef struct {
                                   lattice cell's nodes shaded per sample count the error of
                                   their interpolated W_k (interp_error.c) */
   int cap;                   /**< ray-tree capacity (plan->tree_nodes): nodes of every part */
-  rt_exact_t ex;             /**< the exact tracer (axial, corner, fallback and edge rays) */
+  xr_exact_t ex;             /**< the exact tracer (axial, corner, fallback and edge rays) */
   pt_trees_t trees;          /**< its exact trees */
   pt_subtrees_t sub;         /**< measure: one sample's subtrees traced exactly */
   pt_corners_t corners;      /**< step 3 for the current domain */
@@ -190,13 +191,6 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
 /** Share of rho that the certified mode's checks may use (the margin covers third-order
  *  variation between the checked points; docs/pencil.md). */
 #define PT_CERTIFIED_MARGIN 0.7
-
-/** max(a, b) without a libm call (fmax() is one, and the lattice's error estimates make very
- *  many: docs/tuning.md), and NaN-propagating where fmax() drops a NaN: an error that is NaN stays
- * NaN, and the tests that use it are written to reject it (!(e <= tol)). */
-static inline double pt_max(double a, double b) {
-  return a > b || a != a ? a : b;
-}
 
 /** Depth of the quadtree of lattice cells (halvings of the domain) at most. */
 #define PT_LATTICE_LEVELS 12

@@ -31,8 +31,8 @@ double pt__biquad_deviation(const lattice_cell_t *lc, const pt_node_t *n, int k)
     biquadratic_weights(0.5 * lc->qx + 0.25 * at[m][1], 0.5 * lc->qy + 0.25 * at[m][0], w);
     px_vec3_t b = {0, 0, 0};
     for (int i = 0; i < 9; i++)
-      b = v3_axpy(w[i], lc->pg[i / 3][i % 3].g[k].p, b);
-    d = pt_max(d, pt_pixels(n, v3_sub(lc->g[at[m][0]][at[m][1]].g[k].p, b)));
+      b = px_v3_axpy(w[i], lc->pg[i / 3][i % 3].g[k].p, b);
+    d = px_max(d, pt_pixels(n, px_v3_sub(lc->g[at[m][0]][at[m][1]].g[k].p, b)));
   }
   return d;
 }
@@ -43,11 +43,12 @@ static void grid_deviations(const grid3_t *G, double (*norm)(const void *, px_ve
                             const void *ctx, double d[5]) {
   const px_vec3_t(*v)[3] = G->v;
   for (int r = 0; r < 3; r += 2) /* top and bottom edges; left and right edges */
-    d[r / 2] = norm(ctx, v3_sub(v[r][1], v3_scale(v3_add(v[r][0], v[r][2]), 0.5)));
+    d[r / 2] = norm(ctx, px_v3_sub(v[r][1], px_v3_scale(px_v3_add(v[r][0], v[r][2]), 0.5)));
   for (int c = 0; c < 3; c += 2)
-    d[2 + c / 2] = norm(ctx, v3_sub(v[1][c], v3_scale(v3_add(v[0][c], v[2][c]), 0.5)));
-  px_vec3_t m = v3_scale(v3_add(v3_add(v[0][0], v[0][2]), v3_add(v[2][0], v[2][2])), 0.25);
-  d[4] = norm(ctx, v3_sub(v[1][1], m));
+    d[2 + c / 2] = norm(ctx, px_v3_sub(v[1][c], px_v3_scale(px_v3_add(v[0][c], v[2][c]), 0.5)));
+  px_vec3_t m =
+      px_v3_scale(px_v3_add(px_v3_add(v[0][0], v[0][2]), px_v3_add(v[2][0], v[2][2])), 0.25);
+  d[4] = norm(ctx, px_v3_sub(v[1][1], m));
 }
 
 /* Interpolation error of a lattice cell from its grid values G, as a vector measured by `norm`:
@@ -61,13 +62,13 @@ double pt__grid_error(const lattice_cell_t *lc, const grid3_t *G,
   if (lc->measured) {
     double d[5];
     grid_deviations(G, norm, ctx, d);
-    return pt_max(pt_max(pt_max(d[0], d[1]), pt_max(d[2], d[3])), d[4]);
+    return px_max(px_max(px_max(d[0], d[1]), px_max(d[2], d[3])), d[4]);
   }
   double ex = 0.0, ey = 0.0;
   for (int e = 0; e < 2; e++) {
     int r = lc->qy + e, c = lc->qx + e;
-    ex = pt_max(ex, norm(ctx, v3_add(v3_sub(v[r][0], v3_scale(v[r][1], 2.0)), v[r][2])));
-    ey = pt_max(ey, norm(ctx, v3_add(v3_sub(v[0][c], v3_scale(v[1][c], 2.0)), v[2][c])));
+    ex = px_max(ex, norm(ctx, px_v3_add(px_v3_sub(v[r][0], px_v3_scale(v[r][1], 2.0)), v[r][2])));
+    ey = px_max(ey, norm(ctx, px_v3_add(px_v3_sub(v[0][c], px_v3_scale(v[1][c], 2.0)), v[2][c])));
   }
   return (ex + ey) / 8.0;
 }
@@ -92,7 +93,7 @@ double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lattice_cell_t *lc
     for (int gx = gx0; gx < gx1; gx++) {
       double lu[3];
       lagrange3(((gx + 0.5) / s - lc->x0) / lc->w, lu);
-      worst = pt_max(worst, fabs(lu[1]) * row + col * (dl * fabs(lu[0]) + dr * fabs(lu[2])));
+      worst = px_max(worst, fabs(lu[1]) * row + col * (dl * fabs(lu[0]) + dr * fabs(lu[2])));
     }
   }
   return worst;
@@ -117,7 +118,7 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++) {
       w.v[r][c] = rgb_vec(R[r][c].g[k].w);
-      wmax = pt_max(wmax, norm_rgb(NULL, w.v[r][c]));
+      wmax = px_max(wmax, norm_rgb(NULL, w.v[r][c]));
     }
   wmax += pt__grid_error(lc, &w, norm_rgb, NULL);
   int spec = rt_plan_has(C->plan, RT_EFFECT_SPECULAR);
@@ -128,7 +129,7 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
     for (int l = 0; l < s->nlight; l++)
       d += norm_rgb(NULL, rgb_vec(s->light[l].intensity)) *
            (mt->kd * norm_rgb(NULL, rgb_vec(mt->color)) + (spec ? mt->ks : 0.0));
-    dmax = pt_max(dmax, d);
+    dmax = px_max(dmax, d);
   }
   return wmax * dmax;
 }
@@ -155,7 +156,7 @@ double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const latti
         const double light[3] = {ls[i]->r, ls[i]->g, ls[i]->b};
         for (int ch = 0; ch < 3; ch++)
           if (wc[ch] > 0.0)
-            dmax = pt_max(dmax, fabs(light[ch]) / wc[ch]);
+            dmax = px_max(dmax, fabs(light[ch]) / wc[ch]);
       }
     }
   return pt__grid_error(lc, &w, norm_rgb, NULL) * dmax;
@@ -193,12 +194,12 @@ int pt__halving(const pt_ctx_t *C, const lattice_cell_t *lc, double rho, double 
     double e_mat = matrix_error(n, xi2);
     double d[5];
     grid_deviations(&p, norm_pixels, n, d);
-    double eu = pt_max(d[0], d[1]), ev = pt_max(d[2], d[3]);
+    double eu = px_max(d[0], d[1]), ev = px_max(d[2], d[3]);
     double hx = f * (eu / 4.0 + ev) + e_mat, hy = f * (eu + ev / 4.0) + e_mat;
     okx = okx && hx <= rho;
     oky = oky && hy <= rho;
-    ex = pt_max(ex, hx);
-    ey = pt_max(ey, hy);
+    ex = px_max(ex, hx);
+    ey = px_max(ey, hy);
   }
   if (okx && oky)
     return ex <= ey ? 1 : 2;

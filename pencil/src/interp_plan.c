@@ -37,11 +37,11 @@ static int shadow_guarded(const pt_ctx_t *C, const lattice_point_t (*R)[3], int 
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) {
       const px_vec3_t p = R[i][j].g[k].p;
-      r = fmax(r, v3_norm(v3_sub(p, c)));
+      r = fmax(r, px_v3_norm(px_v3_sub(p, c)));
       if (j < 2)
-        h = fmax(h, v3_norm(v3_sub(R[i][j + 1].g[k].p, p)));
+        h = fmax(h, px_v3_norm(px_v3_sub(R[i][j + 1].g[k].p, p)));
       if (i < 2)
-        h = fmax(h, v3_norm(v3_sub(R[i + 1][j].g[k].p, p)));
+        h = fmax(h, px_v3_norm(px_v3_sub(R[i + 1][j].g[k].p, p)));
     }
   /* a disc free of the nine points lies within a grid square: radius at most h / sqrt 2; both
    * grown by half again for the map's curvature between the points */
@@ -105,7 +105,7 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
   P->rho = C->opt->rho * (cert ? PT_CERTIFIED_MARGIN : 1.0) * (lc->measured ? 1.0 : PT_EINT_MARGIN);
   P->ltol = C->opt->brightness_tol * (cert ? PT_CERTIFIED_MARGIN : 1.0);
   for (int i = 0; i < 4; i++)
-    P->xi2 = pt_max(P->xi2, corner_of(lc, i)->xi2);
+    P->xi2 = px_max(P->xi2, corner_of(lc, i)->xi2);
   P->linear = C->lattice.plan.linear;
   pl->nshaded = pl->nleaves = pl->ntraced = pl->nbiquadratic = pl->nfaint = pl->halve = 0;
   pl->per_sample_cost = 0.0;
@@ -305,16 +305,16 @@ static double brightness_error(const planning_t *P, const uint8_t *skip) {
   for (int j = 0; j < P->nlinear; j++)
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++)
-        sm.v[r][c] = v3_add(sm.v[r][c], rgb_vec(R[r][c].g[P->linear[j]].l));
+        sm.v[r][c] = px_v3_add(sm.v[r][c], rgb_vec(R[r][c].g[P->linear[j]].l));
   for (int j = 0; j < pl->nleaves; j++)
     for (int r = 0; r < 3 && !(skip && skip[pl->leaves[j]]); r++)
       for (int c = 0; c < 3; c++) {
-        t0.v[r][c] = v3_add(t0.v[r][c], rgb_vec(R[r][c].g[pl->leaves[j]].lt[0]));
-        t1.v[r][c] = v3_add(t1.v[r][c], rgb_vec(R[r][c].g[pl->leaves[j]].lt[1]));
+        t0.v[r][c] = px_v3_add(t0.v[r][c], rgb_vec(R[r][c].g[pl->leaves[j]].lt[0]));
+        t1.v[r][c] = px_v3_add(t1.v[r][c], rgb_vec(R[r][c].g[pl->leaves[j]].lt[1]));
       }
   double el = pt__grid_error(P->lc, &sm, norm_rgb, NULL);
   if (pl->nleaves)
-    el += pt_max(pt__grid_error(P->lc, &t0, norm_rgb, NULL),
+    el += px_max(pt__grid_error(P->lc, &t0, norm_rgb, NULL),
                  pt__grid_error(P->lc, &t1, norm_rgb, NULL));
   return el;
 }
@@ -346,7 +346,7 @@ static int least_linear(const planning_t *P, int *leaf) {
         b0.v[r][c] = rgb_vec(R[r][c].g[pl->leaves[m]].lt[0]);
         b1.v[r][c] = rgb_vec(R[r][c].g[pl->leaves[m]].lt[1]);
       }
-    double e = pt_max(pt__grid_error(P->lc, &b0, norm_rgb, NULL),
+    double e = px_max(pt__grid_error(P->lc, &b0, norm_rgb, NULL),
                       pt__grid_error(P->lc, &b1, norm_rgb, NULL));
     if (e > eb)
       eb = e, best = m, *leaf = 1;

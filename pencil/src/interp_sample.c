@@ -12,12 +12,12 @@
 static int leaf_parity(const pt_eval_t *E, int k, const double w[4]) {
   const pt_geom_t *g0 = &E->corner[0][k], *g1 = &E->corner[1][k], *g2 = &E->corner[2][k],
                   *g3 = &E->corner[3][k];
-  px_vec3_t p =
-      v3_axpy(w[0], g0->p, v3_axpy(w[1], g1->p, v3_axpy(w[2], g2->p, v3_scale(g3->p, w[3]))));
+  px_vec3_t p = px_v3_axpy(
+      w[0], g0->p, px_v3_axpy(w[1], g1->p, px_v3_axpy(w[2], g2->p, px_v3_scale(g3->p, w[3]))));
   if (E->biquadratic && E->biquadratic[k]) { /* biquadratic (E->grid_w) */
     p = (px_vec3_t){0, 0, 0};
     for (int i = 0; i < 9; i++)
-      p = v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
+      p = px_v3_axpy(E->grid_w[i], E->grid[i][k].p, p);
   }
   const rt_plane_t *pl0 = &E->C->s->prim[E->C->paths.node[k].prim].plane;
   double u, v;
@@ -75,15 +75,16 @@ static int misses_nothing(const pt_ctx_t *C, const pt_eval_t *E, const double w[
                     *e = &E->corner[3][k];
     if (!interpolated_miss(C, E, k))
       continue;
-    px_vec3_t o =
-        v3_axpy(w[0], a->p, v3_axpy(w[1], b->p, v3_axpy(w[2], c->p, v3_scale(e->p, w[3]))));
-    px_vec3_t d =
-        v3_axpy(w[0], a->d, v3_axpy(w[1], b->d, v3_axpy(w[2], c->d, v3_scale(e->d, w[3]))));
+    px_vec3_t o = px_v3_axpy(
+        w[0], a->p, px_v3_axpy(w[1], b->p, px_v3_axpy(w[2], c->p, px_v3_scale(e->p, w[3]))));
+    px_vec3_t d = px_v3_axpy(
+        w[0], a->d, px_v3_axpy(w[1], b->d, px_v3_axpy(w[2], c->d, px_v3_scale(e->d, w[3]))));
     for (int u = 0; u < s->nunbounded; u++) {
       const rt_prim_t *pr = &s->prim[s->unbounded[u]];
       if (pr->kind != RT_PRIM_PLANE)
         continue;
-      double side = v3_dot(pr->plane.n, v3_sub(o, pr->plane.p)), towards = v3_dot(pr->plane.n, d);
+      double side = px_v3_dot(pr->plane.n, px_v3_sub(o, pr->plane.p)),
+             towards = px_v3_dot(pr->plane.n, d);
       if (side * towards < 0.0)
         return 0; /* heads for the plane from its side: it would meet it */
     }
@@ -107,9 +108,9 @@ int pt__misses_nothing_anywhere(const pt_ctx_t *C, const pt_eval_t *E) {
       int pos = 1, neg = 1;
       for (int i = 0; i < 4; i++) {
         const pt_geom_t *g = &E->corner[i][k];
-        px_vec3_t r = v3_sub(g->p, pr->plane.p);
-        double side = v3_dot(pr->plane.n, r), towards = v3_dot(pr->plane.n, g->d);
-        double eps = 1e-9 * (1.0 + v3_norm(g->p) + v3_norm(pr->plane.p));
+        px_vec3_t r = px_v3_sub(g->p, pr->plane.p);
+        double side = px_v3_dot(pr->plane.n, r), towards = px_v3_dot(pr->plane.n, g->d);
+        double eps = 1e-9 * (1.0 + px_v3_norm(g->p) + px_v3_norm(pr->plane.p));
         pos = pos && side > eps && towards >= 0.0;
         neg = neg && side < -eps && towards <= 0.0;
       }

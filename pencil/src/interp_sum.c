@@ -56,8 +56,8 @@ void pt__sampling_begin(pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan
       double cu = 0.0, cv = 0.0;
       const double(*g)[2] = S->uv[m];
       for (int r = 0; r < 3; r++) {
-        cu = pt_max(cu, fabs(4.0 * (g[3 * r][t] - 2.0 * g[3 * r + 1][t] + g[3 * r + 2][t])));
-        cv = pt_max(cv, fabs(4.0 * (g[r][t] - 2.0 * g[3 + r][t] + g[6 + r][t])));
+        cu = px_max(cu, fabs(4.0 * (g[3 * r][t] - 2.0 * g[3 * r + 1][t] + g[3 * r + 2][t])));
+        cv = px_max(cv, fabs(4.0 * (g[r][t] - 2.0 * g[3 + r][t] + g[6 + r][t])));
       }
       S->curv[m][t][0] = 1.25 * cu;
       S->curv[m][t][1] = 1.25 * cv;

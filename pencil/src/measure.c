@@ -23,7 +23,7 @@
 #include <math.h>
 
 #include "internal.h"
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 /* The kinds of the rays from node x of tree t up to node `stop`, which is not included, deepest
  * first, into kinds[64]; their number, or -1 when `stop` is not an ancestor of x. */
@@ -90,9 +90,9 @@ static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, dou
     if (xx >= 0 && X->node[xx].prim == sn->prim) {
       d = strict = 0.0;
       if (ka >= 0 && C->paths.node[ka].measured && C->paths.node[ka].prim == sn->prim) {
-        px_vec3_t v = v3_sub(sn->point, X->node[xx].point);
+        px_vec3_t v = px_v3_sub(sn->point, X->node[xx].point);
         d = pt_pixels(&C->paths.node[ka], v);
-        strict = v3_norm(v) / C->paths.node[ka].interval;
+        strict = px_v3_norm(v) / C->paths.node[ka].interval;
       }
     }
     e[0] = fmax(e[0], d);
@@ -118,7 +118,7 @@ static int sub_has(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, int x) 
 
 int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]) {
   C->ex.tree = &C->trees.probe;
-  rt_exact_primary(&C->ex, ray);
+  xr_exact_primary(&C->ex, ray);
   C->ex.tree = NULL;
   const rt_tree_t *A = &C->trees.axial, *X = &C->trees.probe;
   e[0] = e[1] = e[2] = 0.0;
@@ -132,9 +132,9 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
     int x = follow(A, k, X, &last, &next);
     double d = INFINITY, strict = INFINITY;
     if (x >= 0 && X->node[x].prim == n->prim) {
-      px_vec3_t v = v3_sub(rec[k].p, X->node[x].point);
+      px_vec3_t v = px_v3_sub(rec[k].p, X->node[x].point);
       d = pt_pixels(n, v);
-      strict = v3_norm(v) / n->interval;
+      strict = px_v3_norm(v) / n->interval;
     }
     e[0] = fmax(e[0], d);
     e[2] = fmax(e[2], strict);

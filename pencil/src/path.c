@@ -10,9 +10,9 @@
 #include <math.h>
 
 #include "bound.h"
+#include "core/intersect.h"
 #include "paraxial/bounds.h"
-#include "render/intersect.h"
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 /* The quadric of a primitive: sphere, or the plane of a plane or polygon. */
 static ex_quadric_t prim_quadric(const rt_scene_t *s, int prim) {
@@ -21,28 +21,28 @@ static ex_quadric_t prim_quadric(const rt_scene_t *s, int prim) {
     return ex_quadric_sphere(p->sphere.c, p->sphere.r);
   if (p->kind == RT_PRIM_PLANE)
     return ex_quadric_plane(p->plane.p, p->plane.n);
-  return ex_quadric_plane(v3_scale(p->polygon.n, p->polygon.d), p->polygon.n);
+  return ex_quadric_plane(px_v3_scale(p->polygon.n, p->polygon.d), p->polygon.n);
 }
 
 /* Index after a refraction at tree node a, by rt_shade_surface()'s rule: the object's index when
  * the ray enters it (meets the outward side), the scene's when it leaves. */
 static double index_after(const rt_scene_t *s, const rt_tree_node_t *a) {
   px_vec3_t n = rt_prim_normal(s, a->prim, a->point);
-  int entering = v3_dot(n, a->dir) < 0.0;
+  int entering = px_v3_dot(n, a->dir) < 0.0;
   return entering ? rt_scene_material_at(s, a->prim, a->point, NULL)->ior : s->ior;
 }
 
 double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3_t e2, px_vec3_t ez,
                     px_vec3_t n, px_vec3_t j[2], double ginv[3]) {
-  double cz = v3_dot(n, ez);
+  double cz = px_v3_dot(n, ez);
   for (int i = 0; i < 2; i++) {
     double x1 = b.m[0][0] * delta[i][0] + b.m[0][1] * delta[i][1];
     double x2 = b.m[1][0] * delta[i][0] + b.m[1][1] * delta[i][1];
-    px_vec3_t v = v3_add(v3_scale(e1, x1), v3_scale(e2, x2));
+    px_vec3_t v = px_v3_add(px_v3_scale(e1, x1), px_v3_scale(e2, x2));
     /* slide along ez onto the tangent plane: v - (n.v / n.ez) ez */
-    j[i] = cz != 0.0 ? v3_axpy(-v3_dot(n, v) / cz, ez, v) : v;
+    j[i] = cz != 0.0 ? px_v3_axpy(-px_v3_dot(n, v) / cz, ez, v) : v;
   }
-  double g00 = v3_dot(j[0], j[0]), g01 = v3_dot(j[0], j[1]), g11 = v3_dot(j[1], j[1]);
+  double g00 = px_v3_dot(j[0], j[0]), g01 = px_v3_dot(j[0], j[1]), g11 = px_v3_dot(j[1], j[1]);
   double det = g00 * g11 - g01 * g01;
   double lmin = 0.5 * (g00 + g11 - hypot(g00 - g11, 2.0 * g01));
   if (!(det > 1e-24 * (g00 + g11) * (g00 + g11)) || !(lmin > 0.0)) {
@@ -56,7 +56,7 @@ double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3
 }
 
 double pt_pixels(const pt_node_t *n, px_vec3_t e) {
-  double r0 = v3_dot(n->j[0], e), r1 = v3_dot(n->j[1], e);
+  double r0 = px_v3_dot(n->j[0], e), r1 = px_v3_dot(n->j[1], e);
   double a0 = n->ginv[0] * r0 + n->ginv[1] * r1, a1 = n->ginv[1] * r0 + n->ginv[2] * r1;
   return sqrt(a0 * a0 + a1 * a1); /* pixel counts: far from overflow, hypot's care not needed */
 }
@@ -77,17 +77,17 @@ int pt_node_ray(const pt_node_t *n, const double xi[2], px_vec3_t *p, px_vec3_t 
   double c2 = 1.0 - s1 * s1 - s2 * s2;
   if (!(c2 > 0.0))
     return 0;
-  *p = v3_axpy(x1, n->e1, v3_axpy(x2, n->e2, n->o));
-  *d = v3_axpy(s1, n->e1, v3_axpy(s2, n->e2, v3_scale(n->ez, sqrt(c2))));
+  *p = px_v3_axpy(x1, n->e1, px_v3_axpy(x2, n->e2, n->o));
+  *d = px_v3_axpy(s1, n->e1, px_v3_axpy(s2, n->e2, px_v3_scale(n->ez, sqrt(c2))));
   return 1;
 }
 
 int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t d, px_vec3_t *hit) {
   const rt_prim_t *pr = &s->prim[n->prim];
   if (pr->kind == RT_PRIM_SPHERE) { /* |p + t d - c|^2 = r^2, the root nearest t = 0 */
-    px_vec3_t oc = v3_sub(p, pr->sphere.c);
-    double b = v3_dot(oc, d);
-    double c = (v3_norm(oc) - pr->sphere.r) * (v3_norm(oc) + pr->sphere.r);
+    px_vec3_t oc = px_v3_sub(p, pr->sphere.c);
+    double b = px_v3_dot(oc, d);
+    double c = (px_v3_norm(oc) - pr->sphere.r) * (px_v3_norm(oc) + pr->sphere.r);
     double disc = b * b - c;
     if (disc < 0.0)
       return 0;
@@ -95,19 +95,19 @@ int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t 
     double t = q != 0.0 ? c / q : 0.0;
     if (fabs(q) < fabs(t))
       t = q;
-    *hit = v3_axpy(t, d, p);
+    *hit = px_v3_axpy(t, d, p);
     return 1;
   }
   px_vec3_t nn = pr->kind == RT_PRIM_PLANE ? pr->plane.n : pr->polygon.n;
-  double off = pr->kind == RT_PRIM_PLANE ? v3_dot(nn, pr->plane.p) : pr->polygon.d;
-  double den = v3_dot(nn, d);
+  double off = pr->kind == RT_PRIM_PLANE ? px_v3_dot(nn, pr->plane.p) : pr->polygon.d;
+  double den = px_v3_dot(nn, d);
   if (den == 0.0)
     return 0;
-  double t = (off - v3_dot(nn, p)) / den;
-  *hit = v3_axpy(t, d, p);
+  double t = (off - px_v3_dot(nn, p)) / den;
+  *hit = px_v3_axpy(t, d, p);
   if (pr->kind == RT_PRIM_POLYGON) { /* inside test: a short segment straddling the plane */
     double h = 1e-6 * (1.0 + fabs(hit->x) + fabs(hit->y) + fabs(hit->z));
-    rt_ray_t seg = {v3_axpy(-h, d, *hit), d, 0.0, 2.0 * h, 1.0, -1};
+    rt_ray_t seg = {px_v3_axpy(-h, d, *hit), d, 0.0, 2.0 * h, 1.0, -1};
     double tt;
     if (!rt_prim_intersect(s, n->prim, &seg, 2.0 * h, &tt))
       return 0;
@@ -310,7 +310,7 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   if (st != PX_OK)
     return st;
   /* the re-traced axial ray must end where the renderer's did */
-  if (v3_norm(v3_sub(w->ax.out_origin, nd->point)) > 1e-7 * (1.0 + w->ax.length))
+  if (px_v3_norm(px_v3_sub(w->ax.out_origin, nd->point)) > 1e-7 * (1.0 + w->ax.length))
     return PX_EMISS;
   px_cascade_t cas;
   st = ex_axial_cascade(&w->sys, &w->ax, PX_VARIANT_CORRECTED, out->step, 3, &cas);
@@ -326,7 +326,7 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   out->e2 = w->ax.out_frame.x2;
   out->ez = w->ax.out_frame.z;
   out->n = nd->normal;
-  out->cos_in = fabs(v3_dot(out->n, out->ez));
+  out->cos_in = fabs(px_v3_dot(out->n, out->ez));
   if (!(out->cos_in > PX_COS_MIN))
     return PX_EGRAZING;
   out->interval =

@@ -106,7 +106,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
                         .guard = guard,
                         .nguard = nguard,
                         .weights_vary = rt_plan_has(plan, RT_EFFECT_FRESNEL),
-                        .ex = rt_exact_make(s, plan, NULL)};
+                        .ex = xr_exact_make(s, plan, NULL)};
     if (!pt__ctx_alloc(&ctx[t], plan->tree_nodes, n))
       st = RT_ENOMEM;
   }

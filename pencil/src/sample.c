@@ -4,7 +4,7 @@
 #include <math.h>
 
 #include "internal.h"
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j) {
   return (size_t)j * (size_t)C->img->width + (size_t)i;
@@ -41,7 +41,7 @@ void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, dou
 void pt__aux_exact(pt_ctx_t *C, int i, int j) {
   rt_ray_t r = rt_view_ray(C->view, i + 0.5, j + 0.5, C->s->ior);
   C->ex.tree = &C->trees.probe;
-  rt_exact_primary(&C->ex, &r);
+  xr_exact_primary(&C->ex, &r);
   C->ex.tree = NULL;
   const rt_tree_t *t = &C->trees.probe;
   rt_image_set_aux(C->img, C->s, pt__pixel_index(C, i, j), t);
@@ -57,7 +57,8 @@ void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec) {
   }
   size_t k = pt__pixel_index(C, i, j);
   const pt_node_t *root = &C->paths.node[0];
-  C->img->ch[RT_CH_Z][k] = root->miss ? INFINITY : (float)v3_norm(v3_sub(rec[0].p, C->view->eye));
+  C->img->ch[RT_CH_Z][k] =
+      root->miss ? INFINITY : (float)px_v3_norm(px_v3_sub(rec[0].p, C->view->eye));
   C->img->ch[RT_CH_ID][k] = (float)root->object;
   const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
   for (int p = 0; p < 2; p++) {
@@ -80,7 +81,7 @@ void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
       for (int b = 0; b < s; b++)
         for (int a = 0; a < s; a++) {
           rt_ray_t r = rt_view_ray(C->view, i + (a + 0.5) / s, j + (b + 0.5) / s, C->s->ior);
-          sum = rt_rgb_add(sum, rt_exact_primary(&C->ex, &r));
+          sum = rt_rgb_add(sum, xr_exact_primary(&C->ex, &r));
           if (C->opt->measure) {
             const double zero[3] = {0.0, 0.0, 0.0};
             pt__account(C, zero, 0, pt__error_slot(C, i, j, a, b));
@@ -129,8 +130,8 @@ void pt__record_shadows(pt_ctx_t *C, const rt_ray_t *axial) {
 
 void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->primary = rt_view_ray(C->view, x, y, C->s->ior);
-  E->xi[0] = v3_dot(C->paths.frame.x1, E->primary.d);
-  E->xi[1] = v3_dot(C->paths.frame.x2, E->primary.d);
+  E->xi[0] = px_v3_dot(C->paths.frame.x1, E->primary.d);
+  E->xi[1] = px_v3_dot(C->paths.frame.x2, E->primary.d);
 }
 
 /* Step 4a with matrices: sample (a, b) of pixel P through the paths. */
@@ -145,7 +146,7 @@ void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
   E.exact_spawn = pt__spawns_exact(&E);
   rt_rgb_t v = pt__eval(&E);
   if (E.spawnfail) { /* a node's exact path left the domain's paths: the whole sample exactly */
-    P->sum = rt_rgb_add(P->sum, rt_exact_primary(&C->ex, &E.primary));
+    P->sum = rt_rgb_add(P->sum, xr_exact_primary(&C->ex, &E.primary));
     P->n[PT_METHOD_EXACT]++;
     if (C->opt->measure) {
       const double zero[3] = {0.0, 0.0, 0.0};

@@ -1,8 +1,9 @@
 /* exact.c -- the renderer table's entry for the exact renderer: recursive (Whitted) ray tracing
- * with the exact Snell-law tracer (reference/render/render.h; textbook "Recursive Ray Tracing",
+ * with the exact Snell-law tracer (render/render.h; textbook "Recursive Ray Tracing",
  * course notes "Ray Tracing"). It has no options of its own and adds no channels: every other
  * renderer is timed and measured against it. */
 #include "entries.h"
+#include "render/render.h"
 
 /** The exact renderer has no options; the struct keeps the table's generic code uniform. */
 typedef struct {
@@ -14,13 +15,13 @@ static const exact_options_t defaults = {0};
 static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_common_t *c,
                           const void *options, rn_output_t *out) {
   (void)options;
-  rt_render_options_t o = RT_RENDER_OPTIONS_DEFAULT;
+  xr_options_t o = XR_OPTIONS_DEFAULT;
   o.spp_side = c->spp_side;
   o.threads = c->threads;
   o.aux = c->aux;
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
-  return rt_render(s, plan, &o, out->image, out->stats);
+  return xr_render(s, plan, &o, out->image, out->stats);
 }
 
 static int describe(const void *options, rn_attr_t *attrs) {

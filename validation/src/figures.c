@@ -12,11 +12,11 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/builtin.h"
 #include "io/image_io.h"
 #include "io/json.h"
 #include "io/output.h"
 #include "io/scene_json.h"
-#include "render/builtin.h"
 
 /* The paper's numbers (section 5). */
 #define PAPER_SPEEDUP_9 7.6
@@ -120,11 +120,16 @@ int val_image_bias(const rt_scene_t *s, const rt_image_t *P, const rt_image_t *X
 /* The exact render of a measurement: aux channels on (the image's id channel judges bias). */
 static int render_exact(const rt_scene_t *s, const rt_plan_t *plan, int side, int threads,
                         rt_image_t *img) {
-  rt_render_options_t eo = RT_RENDER_OPTIONS_DEFAULT;
-  eo.spp_side = side;
-  eo.threads = threads;
-  eo.aux = 1;
-  return rt_render(s, plan, &eo, img, NULL) == RT_OK;
+  const rn_renderer_t *x = rn_exact();
+  unsigned char xopt[64]; /* the exact renderer's (empty) options */
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.spp_side = side;
+  c.threads = threads;
+  rn_output_t out = {.image = img};
+  if (x->options_size > sizeof xopt)
+    return 0;
+  rn_defaults(x, xopt);
+  return x->render(s, plan, &c, xopt, &out) == RT_OK;
 }
 
 /* Fill out's statistics from its counters, the per-sample errors and the two images. */

@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "render/render.h"
+#include "core/image.h"
 
 /** A named float32 channel of width x height values (caller-owned) beside an image's own. */
 typedef struct {

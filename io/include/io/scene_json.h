@@ -10,7 +10,7 @@
 
 #include <stddef.h>
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 /** Load the scene in `path` into s (any previous content is freed) and prepare it. Returns 0,
  *  or -1 with the message in err[cap] and s left empty. Duplicate keys are errors. */

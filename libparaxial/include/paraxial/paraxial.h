@@ -10,5 +10,6 @@
 #include "paraxial/linalg.h"
 #include "paraxial/status.h"
 #include "paraxial/system.h"
+#include "paraxial/vec3.h"
 
 #endif

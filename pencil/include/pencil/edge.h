@@ -17,8 +17,8 @@
 
 #include <stdint.h>
 
-#include "render/raytree.h"
-#include "render/scene.h"
+#include "core/raytree.h"
+#include "core/scene.h"
 
 /** What the comparison looks at, per node. */
 typedef struct {

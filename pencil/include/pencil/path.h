@@ -27,10 +27,10 @@
 #ifndef PENCIL_PATH_H
 #define PENCIL_PATH_H
 
+#include "core/raytree.h"
+#include "core/scene.h"
 #include "exact/trace.h"
 #include "pencil/pencil.h"
-#include "render/raytree.h"
-#include "render/scene.h"
 
 /** Lights whose shadow transmittance a domain records once (lights beyond are traced per
  *  sample); the ray tree records visibility for the first 32 lights as well. */

@@ -10,48 +10,31 @@
 #include <omp.h>
 #endif
 
-#include "render/intersect.h"
+#include "core/intersect.h"
 
 typedef struct {
   const rt_scene_t *s;
   const rt_plan_t *plan;
   const rt_view_t *view;
-  const rt_render_options_t *opt;
+  const xr_options_t *opt;
   rt_image_t *img;
 } job_t;
 
-void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
-  const rt_tree_node_t *root = &t->node[0];
-  img->ch[RT_CH_Z][k] = (float)root->t;
-  img->ch[RT_CH_ID][k] = (float)root->object;
-  const rt_ray_kind_t prefer[2] = {RT_RAY_REFRACT, RT_RAY_REFLECT};
-  const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
-  for (int p = 0; p < 2; p++) {
-    int n = rt_tree_follow(t, prefer[p]);
-    double u = NAN, v = NAN;
-    if (n >= 0)
-      rt_plane_coords(&s->prim[t->node[n].prim].plane, t->node[n].point, &u, &v);
-    img->ch[base[p]][k] = (float)u;
-    img->ch[base[p] + 1][k] = (float)v;
-    img->ch[base[p] + 2][k] = n >= 0 ? (float)t->node[n].depth : -1.0f;
-  }
-}
-
 /* One sample; records its tree when the centre ray's aux channels or the caller want it. */
-static rt_rgb_t sample(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int record, int i, int j,
+static rt_rgb_t sample(const job_t *J, xr_exact_t *ex, rt_tree_t *tree, int record, int i, int j,
                        int a, int b) {
   int s = J->opt->spp_side;
   double x = a < 0 ? i + 0.5 : i + (a + 0.5) / s, y = b < 0 ? j + 0.5 : j + (b + 0.5) / s;
   rt_ray_t r = rt_view_ray(J->view, x, y, J->s->ior);
   ex->tree = record ? tree : NULL;
-  rt_rgb_t c = rt_exact_primary(ex, &r);
+  rt_rgb_t c = xr_exact_primary(ex, &r);
   ex->tree = NULL;
   if (record && J->opt->on_sample)
     J->opt->on_sample(J->opt->sample_ctx, i, j, a, b, tree, c);
   return c;
 }
 
-static void render_pixel(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int i, int j) {
+static void render_pixel(const job_t *J, xr_exact_t *ex, rt_tree_t *tree, int i, int j) {
   int s = J->opt->spp_side, aux = J->opt->aux && tree, every = J->opt->on_sample && tree;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
   int have_centre = 0;
@@ -75,15 +58,6 @@ static void render_pixel(const job_t *J, rt_exact_t *ex, rt_tree_t *tree, int i,
   J->img->ch[RT_CH_B][k] = (float)(sum.b * w);
 }
 
-int rt_thread_count(int requested) {
-#ifdef _OPENMP
-  return requested > 0 ? requested : omp_get_max_threads();
-#else
-  (void)requested;
-  return 1;
-#endif
-}
-
 static void stats_add(rt_stats_t *a, const rt_stats_t *b) {
   a->primary += b->primary;
   a->reflect += b->reflect;
@@ -100,7 +74,7 @@ static void render_rows(const job_t *J, rt_tree_node_t **buf, int nt, rt_stats_t
     me = omp_get_thread_num();
 #endif
     rt_tree_t tree = rt_tree_make(buf[me], J->plan->tree_nodes);
-    rt_exact_t ex = rt_exact_make(J->s, J->plan, NULL);
+    xr_exact_t ex = xr_exact_make(J->s, J->plan, NULL);
 #pragma omp for schedule(dynamic, 1)
     for (int j = 0; j < height; j++) {
       for (int i = 0; i < J->img->width; i++)
@@ -115,7 +89,7 @@ static void render_rows(const job_t *J, rt_tree_node_t **buf, int nt, rt_stats_t
   }
 }
 
-rt_status_t rt_render(const rt_scene_t *s, const rt_plan_t *plan, const rt_render_options_t *opt,
+rt_status_t xr_render(const rt_scene_t *s, const rt_plan_t *plan, const xr_options_t *opt,
                       rt_image_t *img, rt_stats_t *stats) {
   rt_view_t view;
   if (!s->bvh)

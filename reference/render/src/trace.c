@@ -3,17 +3,17 @@
  * the ray tree when the caller asks for it (course notes 1.7.2: the ray tree). */
 #include <math.h>
 
-#include "render/intersect.h"
+#include "core/intersect.h"
 #include "render/render.h"
 
-static rt_rgb_t trace_ray(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from);
+static rt_rgb_t trace_ray(xr_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from);
 
 static rt_rgb_t child_cb(void *ctx, const rt_child_t *child, int depth) {
   return trace_ray(ctx, &child->ray, depth, child);
 }
 
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
-  rt_exact_t *ex = ctx;
+  xr_exact_t *ex = ctx;
   ex->stats.shadow++;
   q->through = rt_transmittance(ex->scene, &q->ray);
   if (ex->tree && ex->node >= 0 && q->light < 32) {
@@ -25,17 +25,17 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
   }
 }
 
-rt_tracer_t rt_exact_tracer(rt_exact_t *ex) {
+rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
   return (rt_tracer_t){child_cb, shadow_cb, ex, NULL}; /* every shadow segment is traced */
 }
 
-rt_exact_t rt_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
-  return (rt_exact_t){s, plan, tree, -1, {0, 0, 0, 0}};
+xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
+  return (xr_exact_t){s, plan, tree, -1, {0, 0, 0, 0}};
 }
 
 /* Append a node for `ray` (parent = the node being shaded); -1 when the buffer is full or the
  * parent was itself dropped. */
-static int record(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from) {
+static int record(xr_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from) {
   rt_tree_t *t = ex->tree;
   if ((depth > 0 && ex->node < 0) || t->n >= t->cap) {
     t->overflow = 1;
@@ -58,7 +58,7 @@ static int record(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child
   return t->n++;
 }
 
-static void record_hit(rt_exact_t *ex, int node, const rt_surface_t *sf, int depth) {
+static void record_hit(xr_exact_t *ex, int node, const rt_surface_t *sf, int depth) {
   rt_tree_node_t *nd = &ex->tree->node[node];
   nd->object = sf->hit.object;
   nd->prim = sf->hit.prim;
@@ -71,7 +71,7 @@ static void record_hit(rt_exact_t *ex, int node, const rt_surface_t *sf, int dep
     nd->flags |= RT_NODE_DEPTH_LIMIT;
 }
 
-static rt_rgb_t trace_ray(rt_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from) {
+static rt_rgb_t trace_ray(xr_exact_t *ex, const rt_ray_t *ray, int depth, const rt_child_t *from) {
   if (!from)
     ex->stats.primary++;
   else if (from->kind == RT_RAY_REFRACT)
@@ -91,13 +91,13 @@ static rt_rgb_t trace_ray(rt_exact_t *ex, const rt_ray_t *ray, int depth, const 
     record_hit(ex, node, &sf, depth);
   int saved = ex->node;
   ex->node = node;
-  rt_tracer_t tr = rt_exact_tracer(ex);
+  rt_tracer_t tr = xr_exact_tracer(ex);
   rt_rgb_t c = rt_shade_hit(ex->scene, ex->plan, &sf, ray, depth, &tr);
   ex->node = saved;
   return c;
 }
 
-rt_rgb_t rt_exact_primary(rt_exact_t *ex, const rt_ray_t *ray) {
+rt_rgb_t xr_exact_primary(xr_exact_t *ex, const rt_ray_t *ray) {
   if (ex->tree) {
     ex->tree->n = 0;
     ex->tree->overflow = 0;

@@ -18,7 +18,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "render/render.h"
+#include "core/image.h"
+#include "core/plan.h"
 
 /** Most extra channels an entry adds to the image. */
 #define RN_MAX_CHANNELS 4

@@ -12,54 +12,12 @@
 
 #include <stdint.h>
 
-#include "render/camera.h"
-#include "render/plan.h"
-#include "render/raytree.h"
-#include "render/scene.h"
-#include "render/shade.h"
-
-/** Image channels, float32 each. Names are the OpenEXR channel names. */
-typedef enum {
-  RT_CH_R = 0, /**< box-filtered linear radiance, red */
-  RT_CH_G,     /**< green */
-  RT_CH_B,     /**< blue */
-  RT_CH_Z,     /**< centre ray: distance from the eye to the first hit (INFINITY on a miss) */
-  RT_CH_ID,    /**< centre ray: object index of the first hit, -1 on a miss */
-  RT_CH_T_U,   /**< centre ray, transmission-first path: checkerboard u (NaN: never met) */
-  RT_CH_T_V,   /**< ... checkerboard v */
-  RT_CH_T_K,   /**< ... reflections/refractions before the board (-1: never met) */
-  RT_CH_R_U,   /**< reflection-first path: checkerboard u */
-  RT_CH_R_V,   /**< ... checkerboard v */
-  RT_CH_R_K,   /**< ... reflections/refractions before the board (-1: never met) */
-  RT_CH_COUNT
-} rt_channel_t;
-
-/** OpenEXR name of a channel: "R", "G", "B", "Z", "id", "pathT.u", ... */
-const char *rt_channel_name(rt_channel_t c);
-
-typedef struct {
-  int width, height;
-  float *ch[RT_CH_COUNT]; /**< ch[c][j * width + i], row j from the top; owned by the image */
-} rt_image_t;
-
-rt_status_t rt_image_alloc(rt_image_t *img, int width, int height);
-void rt_image_free(rt_image_t *img);
-/** Fill the auxiliary channels (Z, id, both paths' checkerboard u, v and event counts) of pixel
- *  index k from the ray tree of that pixel's centre ray. Shared by every renderer, so that the
- *  channels mean the same whichever method made the image. */
-void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t);
-
-/** Ray counts (all generations, summed over threads). */
-typedef struct {
-  uint64_t primary; /**< eye rays, including the extra centre rays of even s */
-  uint64_t reflect;
-  uint64_t refract;
-  uint64_t shadow;
-} rt_stats_t;
-
-static inline uint64_t rt_stats_total(const rt_stats_t *s) {
-  return s->primary + s->reflect + s->refract + s->shadow;
-}
+#include "core/camera.h"
+#include "core/image.h"
+#include "core/plan.h"
+#include "core/raytree.h"
+#include "core/scene.h"
+#include "core/shade.h"
 
 /** The exact tracer's per-thread state: an rt_tracer_t for shade.h plus an optional ray tree. */
 typedef struct {
@@ -68,17 +26,17 @@ typedef struct {
   rt_tree_t *tree; /**< NULL: record nothing */
   int node;        /**< tree node of the ray being shaded (recording only) */
   rt_stats_t stats;
-} rt_exact_t;
+} xr_exact_t;
 
 /** A tracer over a prepared scene; tree may be NULL. */
-rt_exact_t rt_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree);
+xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree);
 
 /** Radiance along a primary ray (textbook Trace(r, 0)); records the sample's tree from scratch
  *  when the tracer has one. */
-rt_rgb_t rt_exact_primary(rt_exact_t *ex, const rt_ray_t *ray);
+rt_rgb_t xr_exact_primary(xr_exact_t *ex, const rt_ray_t *ray);
 
-/** The shade.h callbacks of the exact tracer, with ctx = the rt_exact_t. */
-rt_tracer_t rt_exact_tracer(rt_exact_t *ex);
+/** The shade.h callbacks of the exact tracer, with ctx = the xr_exact_t. */
+rt_tracer_t xr_exact_tracer(xr_exact_t *ex);
 
 typedef struct {
   int spp_side; /**< s: s x s samples per pixel, 1..RT_MAX_SPP_SIDE */
@@ -93,19 +51,15 @@ typedef struct {
    *  touch per-pixel state or synchronise itself. The tree is valid during the call only. */
   void (*on_sample)(void *ctx, int i, int j, int a, int b, const rt_tree_t *tree, rt_rgb_t c);
   void *sample_ctx;
-} rt_render_options_t;
+} xr_options_t;
 
-#define RT_RENDER_OPTIONS_DEFAULT                                                                  \
+#define XR_OPTIONS_DEFAULT                                                                         \
   { 1, 0, 1, NULL, NULL, NULL, NULL }
-
-/** Threads a render with `requested` threads uses: requested when > 0, else the OpenMP
- *  default (1 without OpenMP). */
-int rt_thread_count(int requested);
 
 /** Render the prepared scene with `plan` into img (allocated by the caller at the camera's
  *  size). Pixels are independent, so the image does not depend on the thread count.
  *  RT_EINVAL for a bad option or image size, RT_ENOTREADY for an unprepared scene, RT_ENOMEM. */
-rt_status_t rt_render(const rt_scene_t *s, const rt_plan_t *plan, const rt_render_options_t *opt,
+rt_status_t xr_render(const rt_scene_t *s, const rt_plan_t *plan, const xr_options_t *opt,
                       rt_image_t *img, rt_stats_t *stats);
 
 #endif

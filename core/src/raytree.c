@@ -1,7 +1,7 @@
 /* raytree.c -- queries on recorded ray trees (textbook 9.1: the binary tree of rays of a
  * pixel; paper section 3: pencils are valid only while neighbouring rays meet the same
  * surfaces, so edges lie where the trees differ). */
-#include "render/raytree.h"
+#include "core/raytree.h"
 
 #include <string.h>
 

@@ -12,7 +12,7 @@
 
 #include <stddef.h>
 
-#include "render/types.h"
+#include "core/types.h"
 
 #define RT_NAME_MAX 48
 

@@ -42,6 +42,8 @@ static inline rt_rgb_t rt_rgb_scale(rt_rgb_t a, double s) {
 static inline rt_rgb_t rt_rgb_madd(rt_rgb_t a, double s, rt_rgb_t b) {
   return (rt_rgb_t){a.r + s * b.r, a.g + s * b.g, a.b + s * b.b};
 }
+/** The largest component of a colour, which is finite (scene ranges, io/src/parse.h): a plain
+ *  comparison, so no NaN test is paid per shadow query. */
 static inline double rt_rgb_max(rt_rgb_t a) {
   double m = a.r > a.g ? a.r : a.g;
   return m > a.b ? m : a.b;

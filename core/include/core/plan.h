@@ -10,7 +10,7 @@
 #ifndef RENDER_PLAN_H
 #define RENDER_PLAN_H
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 typedef enum {
   RT_EFFECT_SHADOWS = 0,   /**< shadow rays towards the lights (textbook 9.1) */

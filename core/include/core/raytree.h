@@ -12,7 +12,7 @@
 
 #include <stdint.h>
 
-#include "render/types.h"
+#include "core/types.h"
 
 /** Node flags. */
 enum {

@@ -3,7 +3,7 @@
 #ifndef RENDER_SHADE_IMPL_H
 #define RENDER_SHADE_IMPL_H
 
-#include "render/shade.h"
+#include "core/shade.h"
 
 /** Offset origin for a secondary ray leaving the surface on the side `side` (+1: the side the
  *  incoming ray came from, -1: the far side). */

@@ -3,7 +3,7 @@
 #ifndef RENDER_CAMERA_H
 #define RENDER_CAMERA_H
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 /** The camera's orthonormal frame and image-plane scale, computed once. */
 typedef struct {

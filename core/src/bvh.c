@@ -7,7 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "render/intersect.h"
+#include "core/intersect.h"
 
 #define LEAF_MAX 4 /* leaves never need more; below this the SAH is not consulted */
 #define NBIN 16

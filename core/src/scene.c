@@ -1,7 +1,7 @@
 /* scene.c -- building the scene model: materials, spheres, checkered planes, polygons, lights
  * (textbook 9.1; course notes 1.7.1.5, "mapping a pattern": the checkerboard as a function of
  * the plane's coordinates). Polyhedra are in polyhedron.c, the BVH in bvh.c. */
-#include "render/scene.h"
+#include "core/scene.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "bvh.h"
-#include "render/intersect.h"
-#include "render/vec_inline.h"
+#include "core/intersect.h"
+#include "paraxial/vec3.h"
 #include "scene_impl.h"
 
 const char *rt_strerror(rt_status_t s) {
@@ -196,9 +196,9 @@ void rt_scene_name_object(rt_scene_t *s, int object, const char *name) {
 }
 
 void rt_plane_coords(const rt_plane_t *pl, px_vec3_t p, double *u, double *v) {
-  px_vec3_t d = v3_sub(p, pl->p);
-  *u = v3_dot(d, pl->u);
-  *v = v3_dot(d, pl->v);
+  px_vec3_t d = px_v3_sub(p, pl->p);
+  *u = px_v3_dot(d, pl->u);
+  *v = px_v3_dot(d, pl->v);
 }
 
 /* Parity of the integer-valued double k, as fmod(fabs(k), 2.0) gives it but without the libm

@@ -3,7 +3,7 @@
 #ifndef RENDER_BVH_H
 #define RENDER_BVH_H
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 /* The binary tree as built: one box per node, depth-first (the left child follows its parent). */
 typedef struct {

@@ -2,7 +2,7 @@
 #ifndef RENDER_SCENE_IMPL_H
 #define RENDER_SCENE_IMPL_H
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 /** Append an object of `kind` with `nprim` zeroed primitives (owned by it) and invalidate the
  *  BVH; the caller fills the primitives. */

@@ -6,7 +6,7 @@
 #ifndef RENDER_INTERSECT_H
 #define RENDER_INTERSECT_H
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 /** Nearest distance t in (ray->tmin, tmax) at which the ray meets primitive `prim`; returns 1
  *  and writes *t, or 0 when there is none. Spheres use the cancellation-free form of the

@@ -2,20 +2,21 @@
  * 9.1: Trace(r, d) and AccLightSource(q); course notes 1.7.1.1-1.7.1.2: ambient and diffuse
  * terms; Phong's specular term). Reflected directions come from px_interface_outgoing(), the
  * same vector law that libparaxial's system matrices and reference/'s exact tracer use. */
-#include "render/shade.h"
+#include "core/shade.h"
+#include "core/shade_paths.h"
 
 #include <math.h>
 
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 #include "shade_impl.h"
 
 void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *ray,
                       rt_surface_t *out) {
-  double dn = v3_dot(hit->n, ray->d);
+  double dn = px_v3_dot(hit->n, ray->d);
   out->hit = *hit;
   out->entering = dn < 0.0;
-  out->nf = dn < 0.0 ? hit->n : v3_scale(hit->n, -1.0);
+  out->nf = dn < 0.0 ? hit->n : px_v3_scale(hit->n, -1.0);
   out->mat = rt_scene_material_at(s, hit->prim, hit->p, &out->texel);
   out->n1 = ray->ior;
   out->n2 = out->entering ? out->mat->ior : s->ior;
@@ -23,8 +24,9 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 
 px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side) {
   px_vec3_t p = sf->hit.p;
-  double scale = 1.0 + maxd(fabs(p.x), maxd(fabs(p.y), fabs(p.z))); /* p is finite */
-  return v3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
+  double ax = fabs(p.x), ay = fabs(p.y), az = fabs(p.z); /* p is finite: plain comparisons */
+  double scale = 1.0 + (ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az));
+  return px_v3_axpy(side * RT_SURFACE_OFFSET * scale, sf->nf, p);
 }
 
 static int planar_prim(const rt_scene_t *s, int prim) {
@@ -35,13 +37,13 @@ static int planar_prim(const rt_scene_t *s, int prim) {
 static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
   if (l->kind == RT_LIGHT_PARALLEL) {
     *dist = INFINITY;
-    return v3_scale(l->v, -1.0);
+    return px_v3_scale(l->v, -1.0);
   }
-  px_vec3_t d = v3_sub(l->v, p);
-  *dist = v3_norm(d);
+  px_vec3_t d = px_v3_sub(l->v, p);
+  *dist = px_v3_norm(d);
   if (!(*dist > 0.0) || !isfinite(*dist))
-    return v3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
-  return v3_scale(d, 1.0 / *dist);
+    return px_v3(0, 0, 0); /* light on the surface: contributes nothing (N.L = 0) */
+  return px_v3_scale(d, 1.0 / *dist);
 }
 
 /* x^n for Phong's (R.V)^n, 0 < x <= 1: by repeated squaring when n is a whole number up to 1024
@@ -74,7 +76,7 @@ shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const
   q.light = l;
   q.ray = (rt_ray_t){o, dir, 0.0, dist, ray->ior, planar_prim(s, sf->hit.prim) ? sf->hit.prim : -1};
   if (isfinite(dist))
-    q.ray.tmax = v3_dot(v3_sub(s->light[l].v, o), dir);
+    q.ray.tmax = px_v3_dot(px_v3_sub(s->light[l].v, o), dir);
   q.through = rt_rgb(1, 1, 1);
   tr->shadow(tr->ctx, &q);
   return q.through;
@@ -87,8 +89,8 @@ static inline __attribute__((always_inline)) rt_rgb_t light_term(const rt_materi
                                                                  double ndl) {
   rt_rgb_t term = rt_rgb_scale(m->color, m->kd * ndl);
   if (spec) { /* Phong: (R.V)^n with R the mirror image of L, V = -d; R.V = L.reflect(d) */
-    px_vec3_t rd = v3_axpy(-2.0 * v3_dot(ray->d, sf->nf), sf->nf, ray->d);
-    double rv = v3_dot(rd, L);
+    px_vec3_t rd = px_v3_axpy(-2.0 * px_v3_dot(ray->d, sf->nf), sf->nf, ray->d);
+    double rv = px_v3_dot(rd, L);
     if (rv > 0.0)
       term = rt_rgb_add(term, rt_rgb_scale(rt_rgb(1, 1, 1), m->ks * phong_pow(rv, m->phong)));
   }
@@ -105,7 +107,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
   for (int l = 0; l < s->nlight; l++) {
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
-    double ndl = v3_dot(sf->nf, L);
+    double ndl = px_v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue; /* the surface faces away from the light */
     rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, tr);
@@ -132,7 +134,7 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
   for (int l = 0; l < s->nlight && (lit[0] || lit[1]); l++) {
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
-    double ndl = v3_dot(sf->nf, L);
+    double ndl = px_v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue;
     rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, tr);
@@ -148,7 +150,7 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
 /* The mirror child (px_interface_outgoing with PX_EVENT_REFLECT: s' = s - 2 (nu.s) nu). */
 static int reflect_child(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w, int tir, rt_child_t *out) {
-  px_interface_t ifc = {.s = ray->d, .nu = v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = sf->n1};
+  px_interface_t ifc = {.s = ray->d, .nu = px_v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = sf->n1};
   px_vec3_t dir;
   double co;
   if (!(rt_rgb_max(w) > 0.0) || px_interface_outgoing(&ifc, PX_EVENT_REFLECT, &dir, &co) != PX_OK)

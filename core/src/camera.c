@@ -1,10 +1,10 @@
 /* camera.c -- the pinhole camera (course notes 1.7.2: each pixel is mapped to a ray from the eye
  * through the image plane; textbook 9.1: "for each pixel p, r = ray from the eye through p"). */
-#include "render/camera.h"
+#include "core/camera.h"
 
 #include <math.h>
 
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 rt_status_t rt_view_make(const rt_camera_t *cam, rt_view_t *out) {
   rt_view_t v;
@@ -29,7 +29,7 @@ rt_status_t rt_view_make(const rt_camera_t *cam, rt_view_t *out) {
 rt_ray_t rt_view_ray(const rt_view_t *v, double x, double y, double ior) {
   double sx = (2.0 * x / v->width - 1.0) * v->half_w;
   double sy = (2.0 * y / v->height - 1.0) * v->half_h;
-  px_vec3_t d = v3_axpy(sx, v->right, v3_axpy(sy, v->down, v->forward));
+  px_vec3_t d = px_v3_axpy(sx, v->right, px_v3_axpy(sy, v->down, v->forward));
   /* |d| >= 1: forward is unit and orthogonal to the offsets */
-  return (rt_ray_t){v->eye, v3_unit(d), 0.0, INFINITY, ior, -1};
+  return (rt_ray_t){v->eye, px_v3_unit(d), 0.0, INFINITY, ior, -1};
 }

@@ -13,15 +13,15 @@
  *     rt_shade_surface(scene, &hit, &ray, &sf);
  *     rt_rgb_t c = rt_shade_hit(scene, plan, &sf, &ray, depth, &tracer);
  * rt_shade_hit() = rt_shade_direct() + sum over rt_shade_children() of weight * tracer child.
- * A pencil renderer may call the three parts itself (e.g. to trace children as pencils), and
- * rt_shade_child() for the one child of a known path.
+ * A renderer that traces children as pencils calls the parts itself; core/shade_paths.h has
+ * the entry points for renderers that follow known paths of a ray tree.
  * All functions are thread-safe and allocate nothing.
  */
 #ifndef RENDER_SHADE_H
 #define RENDER_SHADE_H
 
-#include "render/plan.h"
-#include "render/scene.h"
+#include "core/plan.h"
+#include "core/scene.h"
 
 /** Relative offset of secondary-ray origins off the surface, times (1 + |p|_inf): far above
  *  the rounding error of a double-precision hit point (~1e-16 |p|) and far below any feature
@@ -66,9 +66,10 @@ typedef struct {
   void (*shadow)(void *ctx, rt_shadow_t *q);
   void *ctx; /**< passed through */
   /** Optional (NULL: every query goes to shadow()): 1 with *through filled when the tracer
-   *  already knows the transmittance towards light `light` from the surface being shaded (the
-   *  pencil tracer's transmittance recorded once per cell), so that the shadow segment is not
-   *  built; 0 to be asked through shadow(). */
+   *  already knows the transmittance towards light `light` from the surface being shaded (a
+   *  renderer that shares shadow queries among neighbouring samples, as the pencil renderer
+   *  does per domain), so that the shadow segment is not built; 0 to be asked through
+   *  shadow(). */
   int (*known)(void *ctx, int light, rt_rgb_t *through);
 } rt_tracer_t;
 
@@ -82,14 +83,6 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                          const rt_ray_t *ray, const rt_tracer_t *tr);
 
-/** rt_shade_direct() at one point for its own material (out[0]) and for `other` in its place
- *  (out[1]), each bit for bit as rt_shade_direct() gives it, with each light's direction and
- *  shadow transmittance found once for both: a checkerboard's two materials at a lattice point
- *  of the pencil tracer. */
-void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
-                      const rt_material_t *other, const rt_ray_t *ray, const rt_tracer_t *tr,
-                      rt_rgb_t out[2]);
-
 /** The coherent children of the hit, at most 2, in out[]: returns how many. Reflection when the
  *  plan has RT_EFFECT_REFLECTION and the material reflects; refraction (or its total internal
  *  reflection) only when the plan has RT_EFFECT_REFRACTION and kt > 0. Children with zero
@@ -97,15 +90,6 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
  *  depth >= plan->max_depth. */
 int rt_shade_children(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                       const rt_ray_t *ray, int depth, rt_child_t out[2]);
-
-/** The one child of rt_shade_children() of the given kind (RT_RAY_REFLECT, including a total
- *  internal reflection, or RT_RAY_REFRACT), bit for bit the same ray and weight, without building
- *  the other: for a renderer that follows a known path of the ray tree. Returns 0, as
- *  rt_shade_children() returns no such child, at the depth limit, when the plan or the material
- *  has no such effect, for a mirror child of zero weight and for refraction under total internal
- *  reflection. */
-int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
-                   const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_child_t *out);
 
 /** The full Whitted shading of a hit by a generation-`depth` ray: direct light plus the
  *  children's radiance from tr->child(). */

@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "render/render.h"
+#include "core/image.h"
 
 static const char *const channel_names[RT_CH_COUNT] = {
     "R", "G", "B", "Z", "id", "pathT.u", "pathT.v", "pathT.k", "pathR.u", "pathR.v", "pathR.k"};
@@ -35,4 +35,21 @@ void rt_image_free(rt_image_t *img) {
     img->ch[c] = NULL;
   }
   img->width = img->height = 0;
+}
+
+void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
+  const rt_tree_node_t *root = &t->node[0];
+  img->ch[RT_CH_Z][k] = (float)root->t;
+  img->ch[RT_CH_ID][k] = (float)root->object;
+  const rt_ray_kind_t prefer[2] = {RT_RAY_REFRACT, RT_RAY_REFLECT};
+  const rt_channel_t base[2] = {RT_CH_T_U, RT_CH_R_U};
+  for (int p = 0; p < 2; p++) {
+    int n = rt_tree_follow(t, prefer[p]);
+    double u = NAN, v = NAN;
+    if (n >= 0)
+      rt_plane_coords(&s->prim[t->node[n].prim].plane, t->node[n].point, &u, &v);
+    img->ch[base[p]][k] = (float)u;
+    img->ch[base[p] + 1][k] = (float)v;
+    img->ch[base[p] + 2][k] = n >= 0 ? (float)t->node[n].depth : -1.0f;
+  }
 }

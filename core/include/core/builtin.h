@@ -5,7 +5,7 @@
 #ifndef RENDER_BUILTIN_H
 #define RENDER_BUILTIN_H
 
-#include "render/scene.h"
+#include "core/scene.h"
 
 /** Fig. 8: glass sphere (radius 1, index 1.5) over a checkerboard, one point light, 256 x 256,
  *  9 samples per pixel. `s` must be freshly initialised; it is prepared on return. */

@@ -1,7 +1,7 @@
 /* plan.c -- deciding the effects plan from the scene (issue 4, "effects plan"): an effect runs
  * only when some object's material or the scene's settings call for it (textbook 9.1: the
  * reflective and refractive children exist only "if object(q) is reflective/refractive"). */
-#include "render/plan.h"
+#include "core/plan.h"
 
 #include <stdarg.h>
 #include <stdio.h>

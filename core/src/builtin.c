@@ -2,7 +2,7 @@
  * over a checkerboard", 256 x 256, nine rays per pixel) and a 1,000-polygon faceted sphere for
  * the benchmark. The paper gives no radius, index, camera or light; scenes/README.md records
  * the values chosen here, and scenes/fig8.json is the same scene as a file. */
-#include "render/builtin.h"
+#include "core/builtin.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,26 +6,36 @@
 
 #include <math.h>
 
-#include "render/scene.h"
-#include "render/vec_inline.h"
+#include "core/scene.h"
+#include "paraxial/vec3.h"
+
+/** The slab test's ordered min and max: a < b ? a : b and a > b ? a : b, the second operand
+ *  when either is NaN. Unlike px_min and px_max (paraxial/vec3.h) they drop a NaN of the first
+ *  operand; the slab test in query.c relies on that for rays parallel to a slab (0 * inf). */
+static inline double ordered_min(double a, double b) {
+  return a < b ? a : b;
+}
+static inline double ordered_max(double a, double b) {
+  return a > b ? a : b;
+}
 
 /* Roots of |o + t d - c|^2 = r^2 for unit d, ascending; 0 on a miss. The discriminant is taken
  * as r^2 - |oc - (oc.d) d|^2 (squared distance of the line from the centre), which does not
  * cancel catastrophically for distant spheres, and the near root from the product of the roots,
  * (|oc| - r)(|oc| + r), which is accurate for origins on or near the surface. */
 static inline int sphere_roots(const rt_sphere_t *sp, const rt_ray_t *ray, double t[2]) {
-  px_vec3_t oc = v3_sub(ray->o, sp->c);
-  double b = v3_dot(oc, ray->d);
-  px_vec3_t perp = v3_axpy(-b, ray->d, oc);
-  double disc = (sp->r - v3_norm(perp)) * (sp->r + v3_norm(perp));
+  px_vec3_t oc = px_v3_sub(ray->o, sp->c);
+  double b = px_v3_dot(oc, ray->d);
+  px_vec3_t perp = px_v3_axpy(-b, ray->d, oc);
+  double disc = (sp->r - px_v3_norm(perp)) * (sp->r + px_v3_norm(perp));
   if (disc < 0.0)
     return 0;
   double q = -b - copysign(sqrt(disc), b); /* the root of larger magnitude */
-  double len = v3_norm(oc);
+  double len = px_v3_norm(oc);
   double prod = (len - sp->r) * (len + sp->r); /* t0 t1 */
   double t1 = q, t2 = q != 0.0 ? prod / q : 0.0;
-  t[0] = mind(t1, t2);
-  t[1] = maxd(t1, t2);
+  t[0] = ordered_min(t1, t2);
+  t[1] = ordered_max(t1, t2);
   return 2;
 }
 
@@ -35,9 +45,9 @@ static inline int sphere_roots(const rt_sphere_t *sp, const rt_ray_t *ray, doubl
 static inline int polygon_inside_2d(const px_vec3_t *v, int count, int ia, int ib, double px,
                                     double py) {
   int inside = 0;
-  double xj = v3_at(v[count - 1], ia), yj = v3_at(v[count - 1], ib);
+  double xj = px_v3_at(v[count - 1], ia), yj = px_v3_at(v[count - 1], ib);
   for (int i = 0; i < count; i++) { /* edge from vertex j = i - 1 to vertex i */
-    double xi = v3_at(v[i], ia), yi = v3_at(v[i], ib);
+    double xi = px_v3_at(v[i], ia), yi = px_v3_at(v[i], ib);
     if ((yi > py) != (yj > py) && px < (xj - xi) * (py - yi) / (yj - yi) + xi)
       inside = !inside;
     xj = xi;
@@ -61,10 +71,10 @@ static inline int polygon_inside(const rt_scene_t *s, const rt_polygon_t *pg, px
 
 /* Distance to the plane n.x = d along the ray; 0 when parallel or outside (tmin, tmax). */
 static inline int plane_t(px_vec3_t n, double d, const rt_ray_t *ray, double tmax, double *t) {
-  double den = v3_dot(n, ray->d);
+  double den = px_v3_dot(n, ray->d);
   if (den == 0.0)
     return 0;
-  double tt = (d - v3_dot(n, ray->o)) / den;
+  double tt = (d - px_v3_dot(n, ray->o)) / den;
   if (!(tt > ray->tmin && tt < tmax))
     return 0;
   *t = tt;
@@ -75,15 +85,15 @@ static inline int plane_t(px_vec3_t n, double d, const rt_ray_t *ray, double tma
 static inline px_vec3_t prim_normal(const rt_prim_t *pr, px_vec3_t p) {
   switch (pr->kind) {
   case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
-    px_vec3_t d = v3_sub(p, pr->sphere.c);
-    return v3_scale(d, 1.0 / v3_norm(d));
+    px_vec3_t d = px_v3_sub(p, pr->sphere.c);
+    return px_v3_scale(d, 1.0 / px_v3_norm(d));
   }
   case RT_PRIM_PLANE:
     return pr->plane.n;
   case RT_PRIM_POLYGON:
     return pr->polygon.n;
   }
-  return v3(0, 0, 1);
+  return px_v3(0, 0, 1);
 }
 
 /* Nearest crossing in (ray->tmin, tmax); the body of rt_prim_intersect(), inlined into the BVH
@@ -107,11 +117,11 @@ static inline int prim_hit(const rt_scene_t *s, int prim, const rt_ray_t *ray, d
     return 0;
   }
   case RT_PRIM_PLANE:
-    return plane_t(p->plane.n, v3_dot(p->plane.n, p->plane.p), ray, tmax, t);
+    return plane_t(p->plane.n, px_v3_dot(p->plane.n, p->plane.p), ray, tmax, t);
   case RT_PRIM_POLYGON: {
     double tt;
     if (!plane_t(p->polygon.n, p->polygon.d, ray, tmax, &tt) ||
-        !polygon_inside(s, &p->polygon, v3_axpy(tt, ray->d, ray->o)))
+        !polygon_inside(s, &p->polygon, px_v3_axpy(tt, ray->d, ray->o)))
       return 0;
     *t = tt;
     return 1;

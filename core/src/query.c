@@ -3,11 +3,11 @@
  * occluders, "k_t(1) k_t(2) ... k_t(N) I instead of I" (9.1). Nothing here allocates. */
 #include <math.h>
 
-#include "render/vec_inline.h"
+#include "paraxial/vec3.h"
 
 #include "bvh.h"
+#include "core/intersect.h"
 #include "prim.h"
-#include "render/intersect.h"
 
 typedef struct {
   double o[3], inv[3];
@@ -24,15 +24,15 @@ static slab_ray_t slab_ray(const rt_ray_t *r) {
 static double box_entry(const rt_bvh_node_t *nd, const slab_ray_t *r, double t0, double t1) {
   for (int k = 0; k < 3; k++) {
     double a = (nd->lo[k] - r->o[k]) * r->inv[k], b = (nd->hi[k] - r->o[k]) * r->inv[k];
-    t0 = maxd(mind(a, b), t0);
-    t1 = mind(maxd(a, b), t1);
+    t0 = ordered_max(ordered_min(a, b), t0);
+    t1 = ordered_min(ordered_max(a, b), t1);
   }
   return t0 <= t1 ? t0 : INFINITY;
 }
 
 /* Two doubles operated on lane by lane: SSE2 (part of every x86-64) where available, plain pairs
  * elsewhere. Each lane does exactly what box_entry() does: minpd(a, b) is a < b ? a : b and
- * maxpd(a, b) is a > b ? a : b, NaN included, as mind() and maxd(). */
+ * maxpd(a, b) is a > b ? a : b, NaN included, as ordered_min() and ordered_max(). */
 #if defined(__SSE2__)
 #include <emmintrin.h>
 typedef __m128d v2d_t;
@@ -68,10 +68,10 @@ static inline v2d_t v2_splat(double a) {
   return (v2d_t){{a, a}};
 }
 static inline v2d_t v2_min(v2d_t a, v2d_t b) {
-  return (v2d_t){{mind(a.v[0], b.v[0]), mind(a.v[1], b.v[1])}};
+  return (v2d_t){{ordered_min(a.v[0], b.v[0]), ordered_min(a.v[1], b.v[1])}};
 }
 static inline v2d_t v2_max(v2d_t a, v2d_t b) {
-  return (v2d_t){{maxd(a.v[0], b.v[0]), maxd(a.v[1], b.v[1])}};
+  return (v2d_t){{ordered_max(a.v[0], b.v[0]), ordered_max(a.v[1], b.v[1])}};
 }
 static inline v2d_t v2_sub(v2d_t a, v2d_t b) {
   return (v2d_t){{a.v[0] - b.v[0], a.v[1] - b.v[1]}};
@@ -106,7 +106,7 @@ static void pair_entry(const rt_bvh_pair_t *pr, const slab_ray_t *r, double t0, 
 
 static void fill_hit(const rt_scene_t *s, const rt_ray_t *ray, int prim, double t, rt_hit_t *h) {
   h->t = t;
-  h->p = v3_axpy(t, ray->d, ray->o);
+  h->p = px_v3_axpy(t, ray->d, ray->o);
   h->n = prim_normal(&s->prim[prim], h->p);
   h->prim = prim;
   h->object = s->prim[prim].object;
@@ -197,7 +197,7 @@ int rt_intersect_brute(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit) 
 
 /* Multiply *tr by what crossing `prim` at distance t lets through; 0 when that is nothing. */
 static int attenuate(const rt_scene_t *s, int prim, const rt_ray_t *ray, double t, rt_rgb_t *tr) {
-  px_vec3_t p = v3_axpy(t, ray->d, ray->o);
+  px_vec3_t p = px_v3_axpy(t, ray->d, ray->o);
   const rt_material_t *m = rt_scene_material_at(s, prim, p, NULL);
   if (!(m->kt > 0.0)) {
     *tr = rt_rgb(0, 0, 0);
@@ -205,8 +205,8 @@ static int attenuate(const rt_scene_t *s, int prim, const rt_ray_t *ray, double 
   }
   const rt_prim_t *pr = &s->prim[prim];
   /* outward normal, unnormalised for a sphere: only the sign of its dot with d is needed */
-  px_vec3_t out = pr->kind == RT_PRIM_SPHERE ? v3_sub(p, pr->sphere.c) : prim_normal(pr, p);
-  if (s->object[pr->object].closed && v3_dot(out, ray->d) < 0.0)
+  px_vec3_t out = pr->kind == RT_PRIM_SPHERE ? px_v3_sub(p, pr->sphere.c) : prim_normal(pr, p);
+  if (s->object[pr->object].closed && px_v3_dot(out, ray->d) < 0.0)
     return 1; /* entering a closed object: its factor is applied once, on the way out */
   *tr = rt_rgb_mul(*tr, rt_rgb_scale(m->transmittance, m->kt));
   return rt_rgb_max(*tr) > 0.0;

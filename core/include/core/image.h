@@ -1,0 +1,61 @@
+/* image.h -- the image every renderer writes: float RGB and the auxiliary accuracy channels
+ * computed from each pixel's centre-ray tree (1987 paper, section 5, Fig. 10: errors are
+ * distances between checkerboard points found by two tracers, so the channels let a file be
+ * judged without the renderer), and the ray counts every renderer reports. */
+#ifndef CORE_IMAGE_H
+#define CORE_IMAGE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/raytree.h"
+#include "core/scene.h"
+
+/** Image channels, float32 each. Names are the OpenEXR channel names. */
+typedef enum {
+  RT_CH_R = 0, /**< box-filtered linear radiance, red */
+  RT_CH_G,     /**< green */
+  RT_CH_B,     /**< blue */
+  RT_CH_Z,     /**< centre ray: distance from the eye to the first hit (INFINITY on a miss) */
+  RT_CH_ID,    /**< centre ray: object index of the first hit, -1 on a miss */
+  RT_CH_T_U,   /**< centre ray, transmission-first path: checkerboard u (NaN: never met) */
+  RT_CH_T_V,   /**< ... checkerboard v */
+  RT_CH_T_K,   /**< ... reflections/refractions before the board (-1: never met) */
+  RT_CH_R_U,   /**< reflection-first path: checkerboard u */
+  RT_CH_R_V,   /**< ... checkerboard v */
+  RT_CH_R_K,   /**< ... reflections/refractions before the board (-1: never met) */
+  RT_CH_COUNT
+} rt_channel_t;
+
+/** OpenEXR name of a channel: "R", "G", "B", "Z", "id", "pathT.u", ... */
+const char *rt_channel_name(rt_channel_t c);
+
+typedef struct {
+  int width, height;
+  float *ch[RT_CH_COUNT]; /**< ch[c][j * width + i], row j from the top; owned by the image */
+} rt_image_t;
+
+rt_status_t rt_image_alloc(rt_image_t *img, int width, int height);
+void rt_image_free(rt_image_t *img);
+/** Fill the auxiliary channels (Z, id, both paths' checkerboard u, v and event counts) of pixel
+ *  index k from the ray tree of that pixel's centre ray. Shared by every renderer, so that the
+ *  channels mean the same whichever method made the image. */
+void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t);
+
+/** Ray counts (all generations, summed over threads). */
+typedef struct {
+  uint64_t primary; /**< eye rays, including the extra centre rays of even s */
+  uint64_t reflect;
+  uint64_t refract;
+  uint64_t shadow;
+} rt_stats_t;
+
+static inline uint64_t rt_stats_total(const rt_stats_t *s) {
+  return s->primary + s->reflect + s->refract + s->shadow;
+}
+
+/** Threads a render with `requested` threads uses: requested when > 0, else the OpenMP
+ *  default (1 without OpenMP). */
+int rt_thread_count(int requested);
+
+#endif
