@@ -65,7 +65,7 @@ static void build_cell_checked(cell_t *c, double x, double y, pt_bound_t bound, 
   c->p.delta[1][1] = d[1] - e[1];
   c->p.rho = 0.5;
   c->p.bound = bound;
-  c->p.xi_cell = 0.005;
+  c->p.xi_domain = 0.005;
   if (half > 0.0) {
     const double px[8] = {-1, 0, 1, 1, 1, 0, -1, -1}, py[8] = {-1, -1, -1, 0, 1, 1, 1, 0};
     for (int j = 0; j < 8; j++)
@@ -364,17 +364,17 @@ static void subdivision_only_at_edges(void **state) {
     o.interp = interp;
     fx_board(&s, 40, 40);
     pt_stats_t st = fx_pencil_stats(&s, 1, 1, &o);
-    assert_int_equal(st.cells, 64); /* 8 x 8 domains of 5 x 5 pixels */
-    assert_int_equal(st.cells_accepted, 64);
-    assert_int_equal(st.cells_edge, 0);
+    assert_int_equal(st.domains, 64); /* 8 x 8 domains of 5 x 5 pixels */
+    assert_int_equal(st.domains_accepted, 64);
+    assert_int_equal(st.domains_edge, 0);
     assert_int_equal(st.samples[PT_METHOD_EXACT], 0);
     assert_true(interp ? st.samples[PT_METHOD_INTERP] == 40 * 40
                        : st.samples[PT_METHOD_MATRIX] == 40 * 40);
     rt_scene_free(&s);
     fx_fig8(&s, 40, 40);
     st = fx_pencil_stats(&s, 1, 1, &o);
-    assert_true(st.cells > 64);
-    assert_true(st.cells_edge > 0);
+    assert_true(st.domains > 64);
+    assert_true(st.domains_edge > 0);
     assert_true(st.samples[PT_METHOD_EXACT] > 0);
     assert_true(st.samples[PT_METHOD_EXACT] < 40 * 40 / 4);
     rt_scene_free(&s);
@@ -420,12 +420,12 @@ static void biquadratic_cells_stay_within_rho(void **state) {
   pt_options_t o = PT_OPTIONS_DEFAULT;
   o.measure = 1;
   pt_stats_t st = fx_pencil_stats(&s, 7, 1, &o);
-  assert_true(st.biquad_cells > 0);
+  assert_true(st.biquad_lattice_cells > 0);
   assert_true(st.within >= st.measured * 998 / 1000);
   assert_true(st.max_error < 2.0 * o.rho);
   o.certified = 1;
   st = fx_pencil_stats(&s, 7, 1, &o);
-  assert_true(st.biquad_cells > 0);
+  assert_true(st.biquad_lattice_cells > 0);
   assert_int_equal(st.within, st.measured);
   /* the sweep's settings (9 spp, rho from 0.05 to 1/2) in both modes: a biquadratic node that is
    * not textured must not be taken for a textured leaf (it once picked a "checker square" on
@@ -655,11 +655,11 @@ static void faint_shadow_edges_interpolated(void **state) {
     fx_diff_t d = fx_board_difference(&s, &p, 3);
     print_message("case %d: %llu lattice cells with faint shadow edges; against the exact image "
                   "RMS %.4f, %d of %d pixels over 0.1, largest %.3f\n",
-                  c, (unsigned long long)st.faint_cells, d.rms, d.big, d.n, d.worst);
+                  c, (unsigned long long)st.faint_lattice_cells, d.rms, d.big, d.n, d.worst);
     if (c == 0)
-      assert_true(st.faint_cells > 0);
+      assert_true(st.faint_lattice_cells > 0);
     else
-      assert_int_equal(st.faint_cells, 0);
+      assert_int_equal(st.faint_lattice_cells, 0);
     assert_true(d.n > W * H / 3);
     assert_true(d.rms < 0.01);
     assert_true(d.big <= d.n / 100);
@@ -773,10 +773,10 @@ static void exact_subtrees_start_at_exact_hits_and_are_measured(void **state) {
     fx_diff_t d = fx_object_difference(&e, &p, torus, 0.1);
     print_message("fig11 192x192 certified %d: %d torus pixels, %llu partly exact cells, largest "
                   "difference %.3g; %llu of %llu samples with measured points, %llu within rho\n",
-                  cert, d.n, (unsigned long long)st.cells_partial, d.worst,
+                  cert, d.n, (unsigned long long)st.domains_partial, d.worst,
                   (unsigned long long)st.with_points, (unsigned long long)st.measured,
                   (unsigned long long)st.within);
-    assert_true(d.n > 5000 && st.cells_partial > 0);
+    assert_true(d.n > 5000 && st.domains_partial > 0);
     assert_true(d.worst < 0.01);
     assert_true(st.with_points * 100 > st.measured * 55); /* 46% without the subtrees' points */
     assert_int_equal(st.within, st.measured);
@@ -790,7 +790,7 @@ static void exact_subtrees_start_at_exact_hits_and_are_measured(void **state) {
 /* A certified render's statistics: something was measured, and every sample within rho. */
 static void all_within(const char *what, const pt_stats_t *st) {
   print_message("%s certified: %llu halves, %llu of %llu samples within rho, largest %.3f\n", what,
-                (unsigned long long)st->halved_cells, (unsigned long long)st->within,
+                (unsigned long long)st->halved_lattice_cells, (unsigned long long)st->within,
                 (unsigned long long)st->measured, st->max_error);
   assert_true(st->with_points > 0);
   assert_int_equal(st->within, st->measured);
@@ -808,11 +808,11 @@ static void certified_halves_stay_within_rho(void **state) {
   pt_options_t o = PT_OPTIONS_DEFAULT;
   o.measure = 1;
   pt_stats_t st = fx_pencil_stats(&s, 7, 1, &o);
-  assert_int_equal(st.halved_cells, 0);
+  assert_int_equal(st.halved_lattice_cells, 0);
   o.certified = 1;
   st = fx_pencil_stats(&s, 7, 1, &o);
   all_within("fig8 64x64 49 spp", &st);
-  assert_true(st.halved_cells > 0);
+  assert_true(st.halved_lattice_cells > 0);
   assert_true(st.max_error <= o.rho);
   rt_scene_free(&s);
   fx_scene_file("balls", 128, &s);
@@ -946,7 +946,7 @@ static void image_does_not_depend_on_threads(void **state) {
   fx_render_pencil(&s, 3, 2, NULL, &b, &xb, &sb);
   fx_assert_images_equal(&a, &b);
   assert_memory_equal(ma, mb, sizeof ma);
-  assert_true(sa.cells == sb.cells && sa.samples[0] == sb.samples[0] &&
+  assert_true(sa.domains == sb.domains && sa.samples[0] == sb.samples[0] &&
               sa.samples[1] == sb.samples[1] && sa.samples[2] == sb.samples[2]);
   rt_image_free(&a);
   rt_image_free(&b);

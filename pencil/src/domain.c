@@ -212,7 +212,7 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
     int par = C->trees.axial.node[k].parent;
     pt_path_topology(C->s, &C->trees.axial, k, par >= 0 ? &C->paths.node[par] : NULL, n);
     n->light_agree = C->corners.light[k];
-    int parent_ok = par < 0 || C->paths.node[par].pencil != PT_NODE_EXACT;
+    int parent_ok = par < 0 || C->paths.node[par].mode != PT_NODE_EXACT;
     /* with ray interpolation, a node below an edge is traced along its path at the lattice
      * points with a scene search that must confirm it (the lattice then finds the edge) */
     int verify = !C->corners.agree[k] && parent_ok && par >= 0 && interpolating(C);
@@ -251,7 +251,7 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
         }
       }
     }
-    n->pencil = mode;
+    n->mode = mode;
     if (mode == PT_NODE_EXACT || n->light_agree != ~0u)
       *partial = 1;
   }
@@ -259,16 +259,16 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
    * paths too (which costs no more than their matrices: shade.h computes the reflected and
    * refracted directions anyway) */
   for (int k = 0; k < C->paths.n; k++)
-    if (C->paths.node[k].pencil == PT_NODE_PATH)
-      for (int a = C->paths.node[k].parent; a >= 0 && C->paths.node[a].pencil == PT_NODE_MATRIX;
+    if (C->paths.node[k].mode == PT_NODE_PATH)
+      for (int a = C->paths.node[k].parent; a >= 0 && C->paths.node[a].mode == PT_NODE_MATRIX;
            a = C->paths.node[a].parent)
-        C->paths.node[a].pencil = PT_NODE_PATH;
+        C->paths.node[a].mode = PT_NODE_PATH;
   return need;
 }
 
 void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   pt_stats_t *st = &C->st;
-  st->cells++;
+  st->domains++;
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
   C->ex.tree = &C->trees.axial;
@@ -289,10 +289,10 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   if (!edge && C->nguard &&
       pt_guard_fires(C->guard, C->nguard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
     edge = 1;
-    st->cells_guard++;
+    st->domains_guard++;
   }
   if (edge) {
-    st->cells_edge++;
+    st->domains_edge++;
     subdivide(C, x0, y0, x1, y1, 2);
     return;
   }
@@ -313,8 +313,8 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   double cost,
       dmin = fmin(hypot(p.delta[0][0], p.delta[0][1]), hypot(p.delta[1][0], p.delta[1][1]));
   double need = build_paths(C, &p, &bnd, xi_domain, dmin, &cost, &over, &paths, &partial);
-  if (C->paths.node[0].pencil == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
-    st->cells_edge++;
+  if (C->paths.node[0].mode == PT_NODE_EXACT) { /* the primary path cannot be re-traced */
+    st->domains_edge++;
     subdivide(C, x0, y0, x1, y1, 2);
     return;
   }
@@ -330,11 +330,11 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   double k = ceil(xi_domain / need);
   if (isfinite(need) && (w > 1 || h > 1) && !interpolating(C) &&
       (2 * over > paths || k * k * (5.0 + C->paths.n) < cost * w * h * s * s)) {
-    st->cells_split++;
+    st->domains_split++;
     subdivide(C, x0, y0, x1, y1, k > 64.0 ? 64 : (int)fmax(2.0, k));
     return;
   }
-  st->cells_accepted++;
-  st->cells_partial += (uint64_t)partial;
+  st->domains_accepted++;
+  st->domains_partial += (uint64_t)partial;
   accept_domain(C, x0, y0, x1, y1, &axial);
 }

@@ -168,8 +168,8 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
 static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
   for (int c = 0; c < 2; c++) {
     int kc = n->child[c];
-    if (kc >= 0 && (E->C->paths.node[kc].pencil == PT_NODE_EXACT ||
-                    (E->exact_subtree && E->exact_subtree[kc])))
+    if (kc >= 0 &&
+        (E->C->paths.node[kc].mode == PT_NODE_EXACT || (E->exact_subtree && E->exact_subtree[kc])))
       return 1;
   }
   return 0;
@@ -195,7 +195,7 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
     return x->ok;
   }
   if (E->mode == PT_EV_INTERP && E->traced && E->traced[k]) { /* this node: per sample */
-    if (n->pencil == PT_NODE_PATH) {
+    if (n->mode == PT_NODE_PATH) {
       const pt_xgeom_t *x = exact_geom(E, k);
       *hit = x->p;
       *d = x->d;
@@ -236,8 +236,8 @@ static int node_geometry(pt_eval_t *E, int k, const rt_child_t *from, px_vec3_t 
         w[0], a->d, px_v3_axpy(w[1], b->d, px_v3_axpy(w[2], c->d, px_v3_scale(e->d, w[3])))));
     return 1;
   }
-  if (n->pencil == PT_NODE_PATH) { /* exactly along the path */
-    int exact_parent = n->parent < 0 || E->C->paths.node[n->parent].pencil == PT_NODE_PATH;
+  if (n->mode == PT_NODE_PATH) { /* exactly along the path */
+    int exact_parent = n->parent < 0 || E->C->paths.node[n->parent].mode == PT_NODE_PATH;
     if (from && exact_parent) { /* spawned at an exact hit: the sample's own ray */
       double t;
       if (!rt_prim_intersect(E->C->s, n->prim, &from->ray, from->ray.tmax, &t) ||
@@ -281,7 +281,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
      * one of them is traced exactly, only that one is built (the other is interpolated) */
     int exact[2];
     for (int c = 0; c < 2; c++)
-      exact[c] = E->C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
+      exact[c] = E->C->paths.node[n->child[c]].mode == PT_NODE_EXACT ||
                  (E->exact_subtree && E->exact_subtree[n->child[c]]);
     if (exact[0] != exact[1])
       nc = rt_shade_child(E->C->s, E->C->plan, sf, ray, n->depth,
@@ -295,7 +295,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
              : n->child_kind[1] == (int)ch[i].kind ? n->child[1]
                                                    : -1;
-    if (kc >= 0 && E->C->paths.node[kc].pencil != PT_NODE_EXACT &&
+    if (kc >= 0 && E->C->paths.node[kc].mode != PT_NODE_EXACT &&
         !(E->exact_subtree && E->exact_subtree[kc])) {
       if (!only_exact)
         sum = rt_rgb_add(sum, eval_node(E, kc, wc, &ch[i]));

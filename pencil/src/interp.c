@@ -47,8 +47,8 @@ static void emit_samples(pt_ctx_t *C, const domain_pixels_t *A, const lattice_ce
   sampling_t S;
   if (pl)
     pt__sampling_begin(C, lc, pl, &S);
-  C->st.biquad_cells += (uint64_t)(pl && pl->nbiquadratic);
-  C->st.faint_cells += (uint64_t)(pl && pl->nfaint);
+  C->st.biquad_lattice_cells += (uint64_t)(pl && pl->nbiquadratic);
+  C->st.faint_lattice_cells += (uint64_t)(pl && pl->nfaint);
   for (int j = gy0 / s; j <= (gy1 - 1) / s; j++)
     for (int i = gx0 / s; i <= (gx1 - 1) / s; i++) {
       int a0 = gx0 - i * s, a1 = gx1 - i * s, b0 = gy0 - j * s, b1 = gy1 - j * s;
@@ -128,7 +128,7 @@ static void halve(pt_ctx_t *C, const domain_pixels_t *A, const lattice_cell_t *l
       }
     }
     part.measured = 1;
-    C->st.halved_cells++;
+    C->st.halved_lattice_cells++;
     process_lattice_cell(C, A, &part, level + 1);
   }
 }

@@ -215,7 +215,7 @@ static inline void hits_of(const lattice_point_t (*R)[3], int k, grid3_t *p) {
  * on its surface: C |xi|^2 / |cos| (Eq. 4), or the certified check's; 0 for a path traced
  * exactly. */
 static inline double matrix_error(const pt_node_t *n, double xi2) {
-  return n->pencil == PT_NODE_PATH ? 0.0 : px_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+  return n->mode == PT_NODE_PATH ? 0.0 : px_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
 }
 
 /* Samples of the grid (global sample indices g = i s + a, at (g + 0.5) / s) in [x0, x0 + w). */

@@ -162,7 +162,7 @@ static int plan_hits(planning_t *P, int k) {
   if (traced) { /* cost per sample: a matrix product, or the path traced from the eye */
     C->lattice.plan.traced[k] = 1;
     pl->ntraced++;
-    pl->per_sample_cost += n->pencil == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
+    pl->per_sample_cost += n->mode == PT_NODE_PATH ? 1.0 + n->depth : 1.0;
     if (!pt__per_sample_pays(C, lc, pl, P->can_cut)) {
       if (cert && lc->measured)
         pl->halve = pt__halving(C, lc, rho, P->xi2);
@@ -214,7 +214,7 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
 static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
   int exact_children = 0;
   for (int c = 0; c < 2; c++)
-    exact_children |= n->child[c] >= 0 && (C->paths.node[n->child[c]].pencil == PT_NODE_EXACT ||
+    exact_children |= n->child[c] >= 0 && (C->paths.node[n->child[c]].mode == PT_NODE_EXACT ||
                                            C->lattice.plan.exact_subtree[n->child[c]]);
   return exact_children;
 }

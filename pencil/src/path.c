@@ -244,7 +244,7 @@ void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const p
     out->ior = index_after(s, &tree->node[nd->parent]);
   else
     out->ior = parent->ior;
-  out->pencil = 0;
+  out->mode = 0;
   out->verify = 0;
   out->light_agree = 0;
   out->light_guard = 0;
@@ -340,7 +340,7 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   if (p->bound == PT_BOUND_PROBE) {
     st = pt_path_full(s, tree, k, p, w);
     if (st == PX_OK)
-      st = probe_c(w, out, p->xi_cell, &out->c);
+      st = probe_c(w, out, p->xi_domain, &out->c);
   } else {
     st = pt__bound_step(parent, sm, p->bound, out, &out->c);
   }

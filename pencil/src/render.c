@@ -39,15 +39,15 @@ static void initial_domain(pt_ctx_t *C, int dx, int dy) {
 }
 
 static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
-  a->cells += b->cells;
-  a->cells_edge += b->cells_edge;
-  a->cells_guard += b->cells_guard;
-  a->cells_accepted += b->cells_accepted;
-  a->cells_split += b->cells_split;
+  a->domains += b->domains;
+  a->domains_edge += b->domains_edge;
+  a->domains_guard += b->domains_guard;
+  a->domains_accepted += b->domains_accepted;
+  a->domains_split += b->domains_split;
   a->paths_exact += b->paths_exact;
   a->paths_guard += b->paths_guard;
   a->lights_guard += b->lights_guard;
-  a->cells_partial += b->cells_partial;
+  a->domains_partial += b->domains_partial;
   a->partial += b->partial;
   a->exact_traces += b->exact_traces;
   for (int m = 0; m < 3; m++)
@@ -58,9 +58,9 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
     a->matrix_samples[r] += b->matrix_samples[r];
   a->lattice_points += b->lattice_points;
   a->lattice_reused += b->lattice_reused;
-  a->biquad_cells += b->biquad_cells;
-  a->faint_cells += b->faint_cells;
-  a->halved_cells += b->halved_cells;
+  a->biquad_lattice_cells += b->biquad_lattice_cells;
+  a->faint_lattice_cells += b->faint_lattice_cells;
+  a->halved_lattice_cells += b->halved_lattice_cells;
   a->measured += b->measured;
   a->with_points += b->with_points;
   a->within += b->within;

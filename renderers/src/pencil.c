@@ -71,18 +71,19 @@ static void report(FILE *f, const rn_report_t *r) {
   const pt_options_t *o = r->options;
   const rt_scene_t *s = r->scene;
   uint64_t n = st->samples[0] + st->samples[1] + st->samples[2];
-  fprintf(
-      f,
-      "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
-      "%.1f%% interpolated, %.1f%% exact; %llu cells (%llu accepted, %llu partly exact, %llu edge, "
-      "%llu split), %llu paths exact, %llu guarded (and %llu shadows); %llu exact rays -> %s\n",
-      s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, pt_bound_name(o->bound),
-      o->certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
-      100.0 * st->samples[0] / n, (unsigned long long)st->cells,
-      (unsigned long long)st->cells_accepted, (unsigned long long)st->cells_partial,
-      (unsigned long long)st->cells_edge, (unsigned long long)st->cells_split,
-      (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
-      (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays), r->out);
+  fprintf(f,
+          "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
+          "%.1f%% interpolated, %.1f%% exact; %llu domains (%llu accepted, %llu partly exact, %llu "
+          "edge, "
+          "%llu split), %llu paths exact, %llu guarded (and %llu shadows); %llu exact rays -> %s\n",
+          s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, pt_bound_name(o->bound),
+          o->certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
+          100.0 * st->samples[0] / n, (unsigned long long)st->domains,
+          (unsigned long long)st->domains_accepted, (unsigned long long)st->domains_partial,
+          (unsigned long long)st->domains_edge, (unsigned long long)st->domains_split,
+          (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
+          (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays),
+          r->out);
   fprintf(f,
           "ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
           "cells, %llu with faint shadow edges, %llu halves; samples by "
@@ -90,8 +91,8 @@ static void report(FILE *f, const rn_report_t *r) {
           "left the paths, %llu reach, %llu error; "
           "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
           (unsigned long long)st->lattice_points, (unsigned long long)st->lattice_reused,
-          (unsigned long long)st->biquad_cells, (unsigned long long)st->faint_cells,
-          (unsigned long long)st->halved_cells, (unsigned long long)st->matrix_samples[0],
+          (unsigned long long)st->biquad_lattice_cells, (unsigned long long)st->faint_lattice_cells,
+          (unsigned long long)st->halved_lattice_cells, (unsigned long long)st->matrix_samples[0],
           (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
           (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
           (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);

@@ -73,7 +73,7 @@ typedef struct {
                              diffuse term (pt_surface_measured) */
   int child[2];         /**< tree indices of the children, -1 when absent */
   int child_kind[2];    /**< their rt_ray_kind_t */
-  int pencil;           /**< pt_node_mode_t: how the samples' rays of this node are traced */
+  int mode;             /**< pt_node_mode_t: how the samples' rays of this node are traced */
   int verify;           /**< PATH with ray interpolation where the corners' trees differ at or
                              above the node: the exact ray along the path must meet the node's
                              own surface first in a scene search, else it is traced exactly */
@@ -102,7 +102,7 @@ typedef struct {
                             node's output frame (ex_map's psi'), which its children's checks
                             carry on by one step */
   double guard_r;      /**< radius about o of the node's hits over the cell, for the small-object
-                            guard of secondary segments (pencil/src/cell.c); < 0: not computed */
+                            guard of secondary segments (pencil/src/domain.c); < 0: not computed */
   unsigned known;      /**< bit l: through[l] recorded for light l */
   rt_rgb_t through[PT_MAX_LIGHTS]; /**< shadow transmittance of the axial hit, per light */
   int nstep; /**< elements of the step from the parent (transfer; interface + transfer) */
@@ -127,14 +127,14 @@ typedef struct {
   double delta[2][2];       /**< xi-increments of one pixel step along the two screen axes */
   double rho;               /**< Eq. (3) */
   pt_bound_t bound;         /**< source of C */
-  double xi_cell;           /**< the cell's spread: largest |xi| of its samples (for the probe) */
+  double xi_domain;         /**< the cell's spread: largest |xi| of its samples (for the probe) */
   const double (*check)[2]; /**< certified mode: xi of the 8 boundary points (corner, edge
                                  midpoint, corner, midpoint, ... in order round the cell), or
                                  NULL */
 } pt_pencil_t;
 
 /** Topology of node k of `tree` (parent, children, surface, medium) into *out, with no matrix
- *  yet (pencil = 0, tau = xi_max = INFINITY). `parent` is the already filled parent node (NULL
+ *  yet (mode = 0, tau = xi_max = INFINITY). `parent` is the already filled parent node (NULL
  *  for the root). */
 void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
                       pt_node_t *out);

@@ -89,41 +89,43 @@ typedef struct {
 
 /** Counters of one render (summed over threads). */
 typedef struct {
-  uint64_t cells;          /**< domains and sub-domains examined */
-  uint64_t cells_edge;     /**< ... found to contain an edge (trees differ, or the guard) */
-  uint64_t cells_guard;    /**< ... of which only the small-object guard fired */
-  uint64_t cells_accepted; /**< ... traced with matrices (step 4a, possibly with some paths
+  uint64_t domains;          /**< domains and sub-domains examined */
+  uint64_t domains_edge;     /**< ... found to contain an edge (trees differ, or the guard) */
+  uint64_t domains_guard;    /**< ... of which only the small-object guard fired */
+  uint64_t domains_accepted; /**< ... traced with matrices (step 4a, possibly with some paths
                                 traced exactly: 4b per path) */
-  uint64_t cells_split;    /**< ... subdivided for the spread limit (step 4c) */
-  uint64_t paths_exact;    /**< paths of accepted or split cells over their spread limit or
-                                failing the certified check (traced exactly, or split) */
-  uint64_t paths_guard;    /**< paths of examined cells traced exactly per sample because a
-                                bounded object came near their segment (small-object guard) */
-  uint64_t lights_guard;   /**< node-light pairs of examined cells whose direct term is shaded
-                                per sample because a bounded object may shadow part of the cell */
-  uint64_t cells_partial;  /**< accepted cells whose corner trees differ below the primary ray:
+  uint64_t domains_split;    /**< ... subdivided for the spread limit (step 4c) */
+  uint64_t paths_exact;      /**< paths of accepted or split cells over their spread limit or
+                                  failing the certified check (traced exactly, or split) */
+  uint64_t paths_guard;      /**< paths of examined cells traced exactly per sample because a
+                                  bounded object came near their segment (small-object guard) */
+  uint64_t lights_guard;     /**< node-light pairs of examined cells whose direct term is shaded
+                                  per sample because a bounded object may shadow part of the cell */
+  uint64_t domains_partial;  /**< accepted cells whose corner trees differ below the primary ray:
                                 those subtrees (or shadow rays) are traced exactly per sample */
-  uint64_t exact_traces;   /**< exact primary traces for axial and corner rays */
-  uint64_t samples[3];     /**< samples by pt_method_t */
-  uint64_t fallbacks;      /**< samples that left their cell's paths (an unforeseen exact trace) */
-  uint64_t partial;        /**< samples with a subtree traced exactly where the corners differ */
-  uint64_t lerp_samples;   /**< interpolated samples whose brightness was interpolated too */
-  uint64_t matrix_samples[4]; /**< samples of accepted cells traced by matrices because: 0 the
-                                  cell has too few samples to interpolate, or interpolation is
-                                  off, 1 a lattice point left the cell's paths, 2 the lattice
-                                  points reached different nodes, 3 the interpolation error plus
-                                  the matrix error exceeds rho, or the brightness is not linear,
-                                  on the smallest lattice cell */
-  uint64_t lattice_points;    /**< points traced through the paths for ray interpolation */
-  uint64_t lattice_reused;    /**< lattice points a cell needed again (a quad's edge midpoint is
-                                   its neighbour's): taken from the cell's memo, not traced */
-  uint64_t biquad_cells;      /**< lattice cells where some node's hits were interpolated
-                                   biquadratically (bilinear was not accurate enough) */
-  uint64_t faint_cells;       /**< lattice cells where some node's shading was interpolated
-                                   across a shadow edge, its whole light term being within a
-                                   share of the brightness tolerance (interp.c) */
-  uint64_t halved_cells;      /**< certified mode: lattice cells made by halving a cell whose
-                                   nodes were too curved in one direction (interp.c) */
+  uint64_t exact_traces;     /**< exact primary traces for axial and corner rays */
+  uint64_t samples[3];       /**< samples by pt_method_t */
+  uint64_t fallbacks;    /**< samples that left their cell's paths (an unforeseen exact trace) */
+  uint64_t partial;      /**< samples with a subtree traced exactly where the corners differ */
+  uint64_t lerp_samples; /**< interpolated samples whose brightness was interpolated too */
+  uint64_t matrix_samples[4];    /**< samples of accepted cells traced by matrices because: 0 the
+                                     cell has too few samples to interpolate, or interpolation is
+                                     off, 1 a lattice point left the cell's paths, 2 the lattice
+                                     points reached different nodes, 3 the interpolation error plus
+                                     the matrix error exceeds rho, or the brightness is not linear,
+                                     on the smallest lattice cell */
+  uint64_t lattice_points;       /**< points traced through the paths for ray interpolation */
+  uint64_t lattice_reused;       /**< lattice points a cell needed again (a quad's edge midpoint is
+                                      its neighbour's): taken from the cell's memo, not traced */
+  uint64_t biquad_lattice_cells; /**< lattice cells where some node's hits were interpolated
+                              biquadratically (bilinear was not accurate enough) */
+  uint64_t
+      faint_lattice_cells;       /**< lattice cells where some node's shading was interpolated
+                              across a shadow edge, its whole light term being within a
+                              share of the brightness tolerance (interp_error.c, counted in interp.c) */
+  uint64_t halved_lattice_cells; /**< certified mode: lattice cells made by halving a cell whose
+                              nodes were too curved in one direction (interp_error.c, counted in
+                              interp.c) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
