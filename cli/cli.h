@@ -68,8 +68,6 @@ int cli_element_check(const char *cmd, cli_element_t *e);
 int cmd_matrix(int argc, char **argv);
 int cmd_verify(int argc, char **argv);
 int cmd_render(int argc, char **argv);
-/** `pencil render --method pencil` (cmd_render_pencil.c). */
-int cmd_render_pencil(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 /** `pencil bench pencil` (cmd_bench_pencil.c); argv[0] is "pencil". */
 int cmd_bench_pencil(int argc, char **argv);

@@ -62,8 +62,8 @@ typedef struct {
                               interpolated brightness from the traced one at a lattice cell's
                               midpoints and centre, >= 0 (the paper assumes linearity) */
   int memo;              /**< ray interpolation: 1 traces a lattice point that neighbouring lattice
-                              cells share once per cell and reuses it (the same point: images are
-                              identical); 0 traces it for each lattice cell (for checking that) */
+                              cells share once per domain and reuses it (the same point: images
+                              are identical); 0 traces it for each lattice cell (for checking) */
   /** Called after each finished row of domains with (rows done, rows total), serialised. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
