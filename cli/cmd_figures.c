@@ -17,7 +17,9 @@ static void help_figures(FILE *f) {
   fprintf(
       f,
       "usage: pencil figures [SCENE.json] [--out DIR] [--quick] [--threads N] [--runs N]\n"
-      "                      [--size WxH] [--no-sweep] [--fig9-spp LIST] [--method NAME]\n\n"
+      "                      [--size WxH] [--no-sweep] [--fig9-spp LIST] [--method NAME]\n"
+      "                      [--shard K/N]\n"
+      "       pencil figures --merge --out DIR\n\n"
       "The paper's section 5 with the pencil renderer, on SCENE.json or the built-in Fig. 8\n"
       "scene (a glass sphere over a checkerboard, 256x256):\n"
       "  Fig. 8   DIR/fig8.exr, fig8.png: the pencil-traced image at 9 samples per pixel\n"
@@ -40,6 +42,12 @@ static void help_figures(FILE *f) {
       "  --size WxH     override the image size\n"
       "  --no-sweep     skip the rho sweep\n"
       "  --method NAME  the renderer compared with exact tracing (default pencil)\n"
+      "  --shard K/N    run only the K-th of N shares of the work (for running on N machines:\n"
+      "                 scripts/slurm-shards.sh, scripts/mpi-shards); the results go to\n"
+      "                 DIR/shards/, the images of Fig. 8 to DIR/ from the shard that makes\n"
+      "                 them\n"
+      "  --merge        run nothing: merge DIR/shards/ (all N shards of one run) into the\n"
+      "                 outputs a single run writes; takes only --out DIR\n"
       "  --fig9-spp LIST\n"
       "                 Fig. 9's samples per pixel, increasing squares up to 256 (default the\n"
       "                 paper's 1,4,9,16,25,36,49; 1,...,49,100,144,256 extends it to where\n"
@@ -50,22 +58,25 @@ static void help_figures(FILE *f) {
 }
 
 static void help_sweep(FILE *f) {
-  fprintf(f,
-          "usage: pencil sweep [SCENE.json] [--rho R1,R2,...] [--spp N] [--out DIR] [--quick]\n"
-          "                    [--threads N] [--runs N] [--size WxH] [--method NAME]\n\n"
-          "What accuracy costs in time: for each rho, the CPU-time ratio pencil / exact (median\n"
-          "of N interleaved runs) and the Fig. 10 error statistics (fraction of samples within\n"
-          "rho, 99th percentile, maximum) for the corrected and printed bounds and the certified\n"
-          "mode. Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.png (plot).\n\n"
-          "options:\n"
-          "  --rho LIST     comma-separated rho values > 0 (default 0.05,0.1,0.25,0.5,1,2)\n"
-          "  --spp N        samples per pixel, a square 1..256 (default 9)\n"
-          "  --out DIR      output directory (default figures)\n"
-          "  --quick        64x64 image, rho 0.5,1 (tests)\n"
-          "  --method NAME  the renderer compared with exact tracing (default pencil); its\n"
-          "                 --rho, --bounds and --certified options are swept\n"
-          "  --threads N    threads (default 1); --runs N timed runs (default 3); --size WxH\n"
-          "Exit codes: 0 done; 1 a render or a file failed; 2 usage or scene error.\n");
+  fprintf(
+      f, "usage: pencil sweep [SCENE.json] [--rho R1,R2,...] [--spp N] [--out DIR] [--quick]\n"
+         "                    [--threads N] [--runs N] [--size WxH] [--method NAME] [--shard K/N]\n"
+         "       pencil sweep --merge --out DIR\n\n"
+         "What accuracy costs in time: for each rho, the CPU-time ratio pencil / exact (median\n"
+         "of N interleaved runs) and the Fig. 10 error statistics (fraction of samples within\n"
+         "rho, 99th percentile, maximum) for the corrected and printed bounds and the certified\n"
+         "mode. Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.png (plot).\n\n"
+         "options:\n"
+         "  --rho LIST     comma-separated rho values > 0 (default 0.05,0.1,0.25,0.5,1,2)\n"
+         "  --spp N        samples per pixel, a square 1..256 (default 9)\n"
+         "  --out DIR      output directory (default figures)\n"
+         "  --quick        64x64 image, rho 0.5,1 (tests)\n"
+         "  --method NAME  the renderer compared with exact tracing (default pencil); its\n"
+         "                 --rho, --bounds and --certified options are swept\n"
+         "  --shard K/N    run only the K-th of N shares of the rows (results in DIR/shards/)\n"
+         "  --merge        merge DIR/shards/ into sweep.csv, sweep.json and the plot\n"
+         "  --threads N    threads (default 1); --runs N timed runs (default 3); --size WxH\n"
+         "Exit codes: 0 done; 1 a render or a file failed; 2 usage or scene error.\n");
 }
 
 static int parse_rho(const char *v, val_figures_opts_t *o) {
@@ -97,18 +108,22 @@ enum {
   OPT_FIG9,
   OPT_QUICK,
   OPT_NO_SWEEP,
-  OPT_METHOD
+  OPT_METHOD,
+  OPT_SHARD,
+  OPT_MERGE
 };
 
 static const cli_spec_t figures_specs[] = {
     {"--out", 0, 1, OPT_OUT},           {"--threads", 0, 1, OPT_THREADS},
     {"--runs", 0, 1, OPT_RUNS},         {"--size", 0, 1, OPT_SIZE},
     {"--fig9-spp", 0, 1, OPT_FIG9},     {"--quick", 0, 0, OPT_QUICK},
-    {"--no-sweep", 0, 0, OPT_NO_SWEEP}, {"--method", 0, 1, OPT_METHOD}};
+    {"--no-sweep", 0, 0, OPT_NO_SWEEP}, {"--method", 0, 1, OPT_METHOD},
+    {"--shard", 0, 1, OPT_SHARD},       {"--merge", 0, 0, OPT_MERGE}};
 static const cli_spec_t sweep_specs[] = {
     {"--out", 0, 1, OPT_OUT},     {"--threads", 0, 1, OPT_THREADS}, {"--runs", 0, 1, OPT_RUNS},
     {"--size", 0, 1, OPT_SIZE},   {"--rho", 0, 1, OPT_RHO},         {"--spp", 0, 1, OPT_SPP},
-    {"--quick", 0, 0, OPT_QUICK}, {"--method", 0, 1, OPT_METHOD}};
+    {"--quick", 0, 0, OPT_QUICK}, {"--method", 0, 1, OPT_METHOD},   {"--shard", 0, 1, OPT_SHARD},
+    {"--merge", 0, 0, OPT_MERGE}};
 
 static int parse_fig9(const char *v, val_figures_opts_t *o) {
   if (!cli_parse_spp_list("figures", "--fig9-spp", v, o->spp, VAL_MAX_SPP, &o->nspp))
@@ -130,6 +145,17 @@ static int parse_method(const char *cmd, const char *v, val_figures_opts_t *o) {
                    cmd, v),
            0;
   o->method = r;
+  return 1;
+}
+
+/* "K/N" with 1 <= K <= N <= 10000. */
+static int parse_shard(const char *cmd, const char *v, val_figures_opts_t *o) {
+  char tail;
+  if (sscanf(v, "%d/%d%c", &o->shard, &o->nshards, &tail) != 2 || o->nshards < 1 ||
+      o->nshards > 10000 || o->shard < 1 || o->shard > o->nshards)
+    return fprintf(stderr, "pencil %s: --shard: expected K/N with 1 <= K <= N <= 10000, got '%s'\n",
+                   cmd, v),
+           0;
   return 1;
 }
 
@@ -171,6 +197,10 @@ static int apply(const char *cmd, const cli_arg_t *g, val_figures_opts_t *o, int
   case OPT_NO_SWEEP:
     o->sweep = 0;
     return 1;
+  case OPT_SHARD:
+    return parse_shard(cmd, v, o);
+  case OPT_MERGE:
+    return o->merge = 1;
   default:
     return parse_method(cmd, v, o);
   }
@@ -192,6 +222,16 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
   free(args);
   if (n == CLI_ARGS_HELP)
     return -1;
+  if (ok && o->merge && given & ~((1 << OPT_MERGE) | (1 << OPT_OUT)))
+    ok = (fprintf(stderr,
+                  "pencil %s: --merge takes only --out DIR: the run's options come from "
+                  "its shard files\n",
+                  cmd),
+          0);
+  if (ok && o->merge && o->scene)
+    ok =
+        (fprintf(stderr, "pencil %s: --merge takes no scene: it comes from the shard files\n", cmd),
+         0);
   if (ok && o->quick) {
     static const int spp[] = {1, 9, 49};
     static const double rho[] = {0.5, 1.0};

@@ -4,6 +4,7 @@
  * pixel"), the measured error distribution (Fig. 10), the pencil-traced image (Fig. 8), the rho
  * sweep, and the comparison with the paper's numbers. */
 #include "validation/figures.h"
+#include "figures_impl.h"
 #include "validation/timing.h"
 
 #include <errno.h>
@@ -263,12 +264,7 @@ static json_t *json_errors(const val_errors_t *e, int spp) {
 
 /* ---- the sweep ---------------------------------------------------------------------------- */
 
-typedef struct {
-  double rho;
-  int variant; /* 0 corrected bounds, 1 printed bounds, 2 certified */
-  val_timing_t t;
-  val_errors_t e;
-} sweep_row_t;
+typedef val_sweep_row_t sweep_row_t;
 
 static const char *const variant_names[] = {"corrected", "printed", "certified"};
 
@@ -276,33 +272,24 @@ static const char *variant_name(const sweep_row_t *r) {
   return variant_names[r->variant];
 }
 
-static int run_sweep(const val_figures_opts_t *o, const rt_scene_t *s, sweep_row_t *rows,
-                     int *nrows) {
-  int n = 0, spp = o->sweep_spp;
-  for (int i = 0; i < o->nrho; i++)
-    for (int v = 0; v < 3; v++) {
-      sweep_row_t *r = &rows[n];
-      char rho[32];
-      snprintf(rho, sizeof rho, "%.17g", o->rho[i]);
-      const char *const set[][2] = {
-          {"--rho", rho}, {"--bounds", v == 1 ? "printed" : "corrected"}, {"--certified", NULL}};
-      method_t m;
-      r->rho = o->rho[i];
-      r->variant = v;
-      if (method_make(o, &m, set, v == 2 ? 3 : 2) != 0)
-        return -1;
-      /* each row times its own exact renders, interleaved with the method's, so that a change
-       * of the machine's load during the sweep affects both alike */
-      if (val_time_pair(s, m.m, spp, o->threads, o->runs, &r->t) != 0 ||
-          val_measure(s, m.m, spp, o->threads, &r->e, NULL, NULL, NULL, NULL) != 0)
-        return -1;
-      if (o->log)
-        fprintf(o->log, "  sweep rho %-5g %-9s ratio %.3f  within %.5f%%  p99 %.3f  max %.3f\n",
-                r->rho, variant_name(r), r->t.ratio, 100.0 * r->e.fraction_within, r->e.p99,
-                r->e.max_error);
-      n++;
-    }
-  *nrows = n;
+/* Sweep row r (its rho and variant set by val__results_init). */
+static int run_sweep_row(const val_figures_opts_t *o, const rt_scene_t *s, sweep_row_t *r) {
+  char rho[32];
+  snprintf(rho, sizeof rho, "%.17g", r->rho);
+  const char *const set[][2] = {{"--rho", rho},
+                                {"--bounds", r->variant == 1 ? "printed" : "corrected"},
+                                {"--certified", NULL}};
+  method_t m;
+  if (method_make(o, &m, set, r->variant == 2 ? 3 : 2) != 0)
+    return -1;
+  /* each row times its own exact renders, interleaved with the method's, so that a change of
+   * the machine's load during the sweep affects both alike */
+  if (val_time_pair(s, m.m, o->sweep_spp, o->threads, o->runs, &r->t) != 0 ||
+      val_measure(s, m.m, o->sweep_spp, o->threads, &r->e, NULL, NULL, NULL, NULL) != 0)
+    return -1;
+  if (o->log)
+    fprintf(o->log, "  sweep rho %-5g %-9s ratio %.3f  within %.5f%%  p99 %.3f  max %.3f\n", r->rho,
+            variant_name(r), r->t.ratio, 100.0 * r->e.fraction_within, r->e.p99, r->e.max_error);
   return 0;
 }
 
@@ -350,45 +337,16 @@ static void run_plot(const val_figures_opts_t *o) {
 }
 
 /* The top of every JSON file: the scene, the image, the method and how things were timed. */
-static json_t *json_head(const val_figures_opts_t *o, const rt_scene_t *s) {
+static json_t *json_head(const val_figures_opts_t *o, int width, int height) {
   return json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:s}", "scene",
-                   o->scene ? o->scene : "built-in fig8", "method", o->method->name, "width",
-                   s->camera.width, "height", s->camera.height, "threads", o->threads, "runs",
-                   o->runs, "time", "process CPU seconds, median of runs");
-}
-
-int val_sweep(const val_figures_opts_t *o) {
-  rt_scene_t s;
-  sweep_row_t rows[3 * VAL_MAX_RHO];
-  int n = 0, rc = load_scene(o, &s); /* a bad scene leaves the output folder alone */
-  if (rc != 0)
-    return rc;
-  rc = make_dir(o->out_dir) == 0 ? run_sweep(o, &s, rows, &n) : -1;
-  if (rc == 0 && write_sweep(o, rows, n) == 0) {
-    json_t *root = json_head(o, &s);
-    json_object_set_new(root, "sweep", json_sweep(o, rows, n));
-    rc = write_json(o, "sweep.json", root);
-  } else {
-    rc = -1;
-  }
-  rt_scene_free(&s);
-  if (rc == 0)
-    run_plot(o);
-  return rc;
+                   o->scene ? o->scene : "built-in fig8", "method", o->method->name, "width", width,
+                   "height", height, "threads", o->threads, "runs", o->runs, "time",
+                   "process CPU seconds, median of runs");
 }
 
 /* ---- the figures -------------------------------------------------------------------------- */
 
-typedef struct {
-  val_timing_t fig9[VAL_MAX_SPP];
-  val_errors_t fig10, t49, c49; /* Fig. 10 at 9 spp; the 49-spp targets, plain and certified */
-  val_timing_t tc49;            /* certified timing at the largest spp */
-  val_timing_t floor, cfloor;   /* the same spp with no accuracy asked (NOACC_RHO, NOACC_BTOL),
-                                   plain and certified: what the method costs here at the least */
-  sweep_row_t sweep[3 * VAL_MAX_RHO];
-  int nsweep;
-  int fig8_spp, target_spp;
-} results_t;
+typedef val_results_t results_t;
 
 static int write_fig9(const val_figures_opts_t *o, const results_t *r) {
   io_atomic_t a;
@@ -426,8 +384,8 @@ static json_t *json_timing(const val_timing_t *t) {
                    "pencil_wall_s", io_json_number(t->pencil_wall));
 }
 
-static int write_summary(const val_figures_opts_t *o, const rt_scene_t *s, const results_t *r) {
-  json_t *root = json_head(o, s), *fig9 = json_array();
+static int write_summary(const val_figures_opts_t *o, int width, int height, const results_t *r) {
+  json_t *root = json_head(o, width, height), *fig9 = json_array();
   const val_timing_t *t9 = timing_at(o, r, r->fig8_spp), *tt = timing_at(o, r, r->target_spp);
   /* the speed-up is null when Fig. 9 leaves out Fig. 8's spp */
   json_object_set_new(root, "fig8",
@@ -521,7 +479,8 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
   return miss;
 }
 
-/* Figs. 8 and 10: the measured render at Fig. 8's spp, with both images and the error map. */
+/* Figs. 8 and 10: the measured render at Fig. 8's spp; its images and error map are written
+ * here, by whichever shard runs it. */
 static int run_fig8(const val_figures_opts_t *o, const rt_scene_t *s, const method_t *m,
                     results_t *r) {
   int w = s->camera.width, h = s->camera.height, rc = -1;
@@ -536,9 +495,8 @@ static int run_fig8(const val_figures_opts_t *o, const rt_scene_t *s, const meth
               0 &&
           write_images(o, "fig8", &pi, &m->m, ch.channels, r->fig8_spp) == 0 &&
           write_images(o, "fig8_exact", &ei, NULL, NULL, r->fig8_spp) == 0 &&
-          write_error_map(o, &m->m, ch.channels, w, h, rho) == 0 &&
-          write_hist(o, &r->fig10.counts) == 0)
-        rc = 0;
+          write_error_map(o, &m->m, ch.channels, w, h, rho) == 0)
+        rc = 0; /* the histogram is written with the other outputs, from r->fig10 */
       rt_image_free(&ei);
     }
     rt_image_free(&pi);
@@ -547,7 +505,12 @@ static int run_fig8(const val_figures_opts_t *o, const rt_scene_t *s, const meth
   return rc;
 }
 
-static int run_figures(const val_figures_opts_t *o, rt_scene_t *s, results_t *r) {
+/* The methods of the figures: default, certified, and both with no accuracy asked. */
+typedef struct {
+  method_t plain, cert, noacc, noacc_cert;
+} methods_t;
+
+static int methods_make(const val_figures_opts_t *o, methods_t *m) {
   char noacc_rho[32], noacc_btol[32];
   snprintf(noacc_rho, sizeof noacc_rho, "%g", NOACC_RHO);
   snprintf(noacc_btol, sizeof noacc_btol, "%g", NOACC_BTOL);
@@ -555,74 +518,145 @@ static int run_figures(const val_figures_opts_t *o, rt_scene_t *s, results_t *r)
   /* the least the method costs: nothing to be accurate about */
   const char *const noacc[][2] = {
       {"--rho", noacc_rho}, {"--brightness-tol", noacc_btol}, {"--certified", NULL}};
-  method_t po, pc, pf, pcf;
-  if (method_make(o, &po, NULL, 0) != 0 || method_make(o, &pc, cert, 1) != 0 ||
-      method_make(o, &pf, noacc, 2) != 0 || method_make(o, &pcf, noacc, 3) != 0)
-    return -1;
-  r->fig8_spp = 9;
-  r->target_spp = o->spp[o->nspp - 1];
-  for (int k = 0; k < o->nspp; k++)
-    if (o->spp[k] == TARGET_SPP)
-      r->target_spp = TARGET_SPP;
-  for (int k = 0; k < o->nspp; k++) {
-    if (val_time_pair(s, po.m, o->spp[k], o->threads, o->runs, &r->fig9[k]) != 0)
-      return -1;
-    if (o->log)
-      fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f\n", o->spp[k],
-              r->fig9[k].exact_s, o->method->name, r->fig9[k].pencil_s, r->fig9[k].ratio);
-  }
-  if (run_fig8(o, s, &po, r) != 0)
-    return -1;
-  if (o->log)
-    fprintf(o->log,
-            "  Fig. 10: %.5f%% of %llu samples within rho = %g, max %.3f, p99 %.3f (%llu samples "
-            "with measured points)\n",
-            100.0 * r->fig10.fraction_within, (unsigned long long)r->fig10.samples, r->fig10.rho,
-            r->fig10.max_error, r->fig10.p99, (unsigned long long)r->fig10.samples_with_points);
-  /* the targets at the largest spp: errors of the plain and certified modes, certified time */
-  if (val_measure(s, po.m, r->target_spp, o->threads, &r->t49, NULL, NULL, NULL, NULL) != 0 ||
-      val_measure(s, pc.m, r->target_spp, o->threads, &r->c49, NULL, NULL, NULL, NULL) != 0 ||
-      val_time_pair(s, pc.m, r->target_spp, o->threads, o->runs, &r->tc49) != 0)
-    return -1;
-  if (val_time_pair(s, pf.m, r->target_spp, o->threads, o->runs, &r->floor) != 0 ||
-      val_time_pair(s, pcf.m, r->target_spp, o->threads, o->runs, &r->cfloor) != 0)
-    return -1;
-  if (o->log)
-    fprintf(o->log,
-            "  certified at %d spp: ratio %.3f, %.5f%% within, max %.3f; with no accuracy asked "
-            "%.3f (certified %.3f)\n",
-            r->target_spp, r->tc49.ratio, 100.0 * r->c49.fraction_within, r->c49.max_error,
-            r->floor.ratio, r->cfloor.ratio);
-  return o->sweep ? run_sweep(o, s, r->sweep, &r->nsweep) : 0;
+  return method_make(o, &m->plain, NULL, 0) == 0 && method_make(o, &m->cert, cert, 1) == 0 &&
+                 method_make(o, &m->noacc, noacc, 2) == 0 &&
+                 method_make(o, &m->noacc_cert, noacc, 3) == 0
+             ? 0
+             : -1;
 }
 
-int val_figures(const val_figures_opts_t *o) {
-  rt_scene_t s;
-  results_t *r = calloc(1, sizeof *r);
-  if (!r)
-    return -1;
-  int ls = load_scene(o, &s); /* a bad scene leaves the output folder alone */
-  if (ls != 0 || make_dir(o->out_dir) != 0) {
-    if (ls == 0)
-      rt_scene_free(&s);
-    free(r);
-    return ls != 0 ? ls : -1;
+/* Run one work item into r; 0, or -1 (message on stderr). */
+static int run_item(const val_figures_opts_t *o, const rt_scene_t *s, const methods_t *m,
+                    val_item_t it, results_t *r) {
+  int spp = r->target_spp, rc = 0;
+  switch (it.kind) {
+  case VAL_ITEM_FIG9:
+    rc = val_time_pair(s, m->plain.m, o->spp[it.index], o->threads, o->runs, &r->fig9[it.index]);
+    if (rc == 0 && o->log)
+      fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f\n", o->spp[it.index],
+              r->fig9[it.index].exact_s, o->method->name, r->fig9[it.index].pencil_s,
+              r->fig9[it.index].ratio);
+    return rc;
+  case VAL_ITEM_FIG8:
+    rc = run_fig8(o, s, &m->plain, r);
+    if (rc == 0 && o->log)
+      fprintf(o->log,
+              "  Fig. 10: %.5f%% of %llu samples within rho = %g, max %.3f, p99 %.3f (%llu "
+              "samples with measured points)\n",
+              100.0 * r->fig10.fraction_within, (unsigned long long)r->fig10.samples, r->fig10.rho,
+              r->fig10.max_error, r->fig10.p99, (unsigned long long)r->fig10.samples_with_points);
+    return rc;
+  case VAL_ITEM_TARGET:
+    return val_measure(s, m->plain.m, spp, o->threads, &r->t49, NULL, NULL, NULL, NULL);
+  case VAL_ITEM_TARGET_CERT:
+    return val_measure(s, m->cert.m, spp, o->threads, &r->c49, NULL, NULL, NULL, NULL);
+  case VAL_ITEM_TIME_CERT:
+    rc = val_time_pair(s, m->cert.m, spp, o->threads, o->runs, &r->tc49);
+    if (rc == 0 && o->log)
+      fprintf(o->log, "  certified at %d spp: ratio %.3f\n", spp, r->tc49.ratio);
+    return rc;
+  case VAL_ITEM_NOACC:
+    rc = val_time_pair(s, m->noacc.m, spp, o->threads, o->runs, &r->floor);
+    if (rc == 0 && o->log)
+      fprintf(o->log, "  no accuracy asked at %d spp: ratio %.3f\n", spp, r->floor.ratio);
+    return rc;
+  case VAL_ITEM_NOACC_CERT:
+    rc = val_time_pair(s, m->noacc_cert.m, spp, o->threads, o->runs, &r->cfloor);
+    if (rc == 0 && o->log)
+      fprintf(o->log, "  no accuracy asked, certified: ratio %.3f\n", r->cfloor.ratio);
+    return rc;
+  default:
+    return run_sweep_row(o, s, &r->sweep[it.index]);
   }
-  if (o->log)
-    fprintf(o->log, "pencil figures: %s, %dx%d, %d thread(s), median of %d runs -> %s/\n",
-            o->scene ? o->scene : "built-in Fig. 8 scene", s.camera.width, s.camera.height,
-            o->threads, o->runs, o->out_dir);
-  int rc = run_figures(o, &s, r);
-  if (rc == 0)
-    rc = write_fig9(o, r) == 0 && write_summary(o, &s, r) == 0 &&
+}
+
+/* The outputs of a whole run (single or merged). */
+static int write_outputs(const val_figures_opts_t *o, int sweep_only, int width, int height,
+                         const results_t *r) {
+  int rc = 0;
+  if (sweep_only) {
+    rc = write_sweep(o, r->sweep, r->nsweep);
+    if (rc == 0) {
+      json_t *root = json_head(o, width, height);
+      json_object_set_new(root, "sweep", json_sweep(o, r->sweep, r->nsweep));
+      rc = write_json(o, "sweep.json", root);
+    }
+  } else {
+    rc = write_fig9(o, r) == 0 && write_hist(o, &r->fig10.counts) == 0 &&
+                 write_summary(o, width, height, r) == 0 &&
                  (!o->sweep || write_sweep(o, r->sweep, r->nsweep) == 0)
              ? 0
              : -1;
+  }
   if (rc == 0) {
     run_plot(o);
-    print_table(o, r); /* a missed target is reported, not an error */
+    if (!sweep_only)
+      print_table(o, r); /* a missed target is reported, not an error */
   }
+  return rc;
+}
+
+/* A run of `pencil figures` (sweep_only 0) or `pencil sweep` (1): every work item, or this
+ * shard's, or none when merging shard files. */
+static int run(const val_figures_opts_t *opts, int sweep_only) {
+  const char *command = sweep_only ? "sweep" : "figures";
+  val_figures_opts_t o = *opts;
+  results_t *r = calloc(1, sizeof *r);
+  int width = 0, height = 0, rc = 0;
+  if (!r)
+    return -1;
+  if (o.merge) {
+    json_t *keep = NULL;
+    rc = val__shard_merge(&o, command, &width, &height, r, &keep);
+    if (rc == 0) {
+      if (o.log)
+        fprintf(o.log, "pencil %s --merge: %s -> %s/\n", command,
+                o.scene ? o.scene : "built-in Fig. 8 scene", o.out_dir);
+      rc = write_outputs(&o, sweep_only, width, height, r);
+    }
+    json_decref(keep);
+    free(r);
+    return rc;
+  }
+  rt_scene_t s;
+  rc = load_scene(&o, &s); /* a bad scene leaves the output folder alone */
+  if (rc != 0) {
+    free(r);
+    return rc;
+  }
+  width = s.camera.width;
+  height = s.camera.height;
+  val_item_t items[VAL_MAX_ITEMS];
+  int nitems = val__items(&o, sweep_only, items);
+  methods_t m;
+  val__results_init(&o, r);
+  rc = make_dir(o.out_dir) == 0 && methods_make(&o, &m) == 0 ? 0 : -1;
+  if (rc == 0 && o.log)
+    fprintf(o.log, "pencil %s: %s, %dx%d, %d thread(s), median of %d runs%s -> %s/\n", command,
+            o.scene ? o.scene : "built-in Fig. 8 scene", width, height, o.threads, o.runs,
+            o.nshards ? " (one shard)" : "", o.out_dir);
+  for (int j = 0; j < nitems && rc == 0; j++)
+    if (!o.nshards || j % o.nshards == o.shard - 1)
+      rc = run_item(&o, &s, &m, items[j], r);
   rt_scene_free(&s);
+  if (rc == 0 && o.nshards) {
+    json_t *config = val__config_json(&o, command, width, height);
+    rc = config ? val__shard_write(&o, command, config, items, nitems, r) : -1;
+    json_decref(config);
+    if (rc == 0 && o.log)
+      fprintf(o.log, "shard %d of %d done: merge with 'pencil %s --merge --out DIR' when all are\n",
+              o.shard, o.nshards, command);
+  } else if (rc == 0) {
+    rc = write_outputs(&o, sweep_only, width, height, r);
+  }
   free(r);
   return rc;
+}
+
+int val_figures(const val_figures_opts_t *o) {
+  return run(o, 0);
+}
+
+int val_sweep(const val_figures_opts_t *o) {
+  return run(o, 1);
 }

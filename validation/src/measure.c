@@ -187,4 +187,3 @@ int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_e
     rt_image_free(&ei);
   return rc;
 }
-

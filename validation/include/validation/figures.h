@@ -97,10 +97,14 @@ typedef struct {
   int nspp;
   double rho[VAL_MAX_RHO]; /**< sweep */
   int nrho;
-  int sweep_spp;    /**< samples per pixel of the sweep */
-  int sweep;        /**< 1: run the sweep too */
-  const char *plot; /**< plotting script (run as /usr/bin/python3 PLOT DIR) or NULL */
-  FILE *log;        /**< progress and the comparison table (stdout) */
+  int sweep_spp;      /**< samples per pixel of the sweep */
+  int sweep;          /**< 1: run the sweep too */
+  const char *plot;   /**< plotting script (run as /usr/bin/python3 PLOT DIR) or NULL */
+  FILE *log;          /**< progress and the comparison table (stdout) */
+  int shard, nshards; /**< nshards > 0: run only work item j with j mod nshards = shard - 1 and
+                           record its results in DIR/shards/ (the outputs come from --merge) */
+  int merge;          /**< 1: run nothing; merge DIR/shards/ into the outputs of one run (the
+                           configuration comes from the shard files) */
 } val_figures_opts_t;
 
 /** Defaults for `pencil figures`: Fig. 9 at 1, 4, ..., 49 spp, 3 runs, 1 thread, the sweep at
