@@ -18,7 +18,7 @@ static void help_figures(FILE *f) {
       f,
       "usage: pencil figures [SCENE.json] [--out DIR] [--quick] [--threads N] [--runs N]\n"
       "                      [--size WxH] [--no-sweep] [--fig9-spp LIST] [--method NAME]\n"
-      "                      [--shard K/N]\n"
+      "                      [--only LIST] [--shard K/N]\n"
       "       pencil figures --merge --out DIR\n\n"
       "The paper's section 5 with the pencil renderer, on SCENE.json or the built-in Fig. 8\n"
       "scene (a glass sphere over a checkerboard, 256x256):\n"
@@ -46,6 +46,8 @@ static void help_figures(FILE *f) {
       "                 scripts/slurm-shards.sh, scripts/mpi-shards); the results go to\n"
       "                 DIR/shards/, the images of Fig. 8 to DIR/ from the shard that makes\n"
       "                 them\n"
+      "  --only LIST    run these figures alone: fig8 (with fig10: one measured render),\n"
+      "                 fig9, targets, sweep; summary.json holds only their sections\n"
       "  --merge        run nothing: merge DIR/shards/ (all N shards of one run) into the\n"
       "                 outputs a single run writes; takes only --out DIR\n"
       "  --fig9-spp LIST\n"
@@ -110,7 +112,8 @@ enum {
   OPT_NO_SWEEP,
   OPT_METHOD,
   OPT_SHARD,
-  OPT_MERGE
+  OPT_MERGE,
+  OPT_ONLY
 };
 
 static const cli_spec_t figures_specs[] = {
@@ -118,7 +121,8 @@ static const cli_spec_t figures_specs[] = {
     {"--runs", 0, 1, OPT_RUNS},         {"--size", 0, 1, OPT_SIZE},
     {"--fig9-spp", 0, 1, OPT_FIG9},     {"--quick", 0, 0, OPT_QUICK},
     {"--no-sweep", 0, 0, OPT_NO_SWEEP}, {"--method", 0, 1, OPT_METHOD},
-    {"--shard", 0, 1, OPT_SHARD},       {"--merge", 0, 0, OPT_MERGE}};
+    {"--shard", 0, 1, OPT_SHARD},       {"--merge", 0, 0, OPT_MERGE},
+    {"--only", 0, 1, OPT_ONLY}};
 static const cli_spec_t sweep_specs[] = {
     {"--out", 0, 1, OPT_OUT},     {"--threads", 0, 1, OPT_THREADS}, {"--runs", 0, 1, OPT_RUNS},
     {"--size", 0, 1, OPT_SIZE},   {"--rho", 0, 1, OPT_RHO},         {"--spp", 0, 1, OPT_SPP},
@@ -157,6 +161,36 @@ static int parse_shard(const char *cmd, const char *v, val_figures_opts_t *o) {
                    cmd, v),
            0;
   return 1;
+}
+
+/* A comma-separated list of fig8, fig9, fig10 (= fig8), targets, sweep. */
+static int parse_only(const char *v, val_figures_opts_t *o) {
+  static const struct {
+    const char *name;
+    unsigned bit;
+  } names[] = {{"fig8", VAL_ONLY_FIG8},
+               {"fig10", VAL_ONLY_FIG8},
+               {"fig9", VAL_ONLY_FIG9},
+               {"targets", VAL_ONLY_TARGETS},
+               {"sweep", VAL_ONLY_SWEEP}};
+  o->only = 0;
+  for (const char *t = v;;) {
+    size_t len = strcspn(t, ",");
+    unsigned bit = 0;
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+      if (strlen(names[k].name) == len && strncmp(names[k].name, t, len) == 0)
+        bit = names[k].bit;
+    if (!bit)
+      return fprintf(stderr,
+                     "pencil figures: --only: expected a comma-separated list of fig8, "
+                     "fig9, fig10, targets and sweep, got '%s'\n",
+                     v),
+             0;
+    o->only |= bit;
+    if (!t[len])
+      return 1;
+    t += len + 1;
+  }
 }
 
 /* One argument; 1 ok, 0 usage error (printed). */
@@ -201,6 +235,8 @@ static int apply(const char *cmd, const cli_arg_t *g, val_figures_opts_t *o, int
     return parse_shard(cmd, v, o);
   case OPT_MERGE:
     return o->merge = 1;
+  case OPT_ONLY:
+    return parse_only(v, o);
   default:
     return parse_method(cmd, v, o);
   }

@@ -79,6 +79,16 @@ check "--merge takes only --out" "[ $rc -eq 2 ] && grep -q 'takes only --out' er
 $pencil sweep --quick --shard 3/2 --out x >/dev/null 2>"err"; rc=$?
 check "--shard 3/2 is refused" "[ $rc -eq 2 ] && grep -q 'K/N' err"
 
+# a single figure on its own
+$pencil figures "${fig[@]}" --only fig9 --out only9 >/dev/null 2>&1; rc=$?
+check "--only fig9 times Fig. 9 alone" \
+  "[ $rc -eq 0 ] && [ -s only9/fig9.csv ] && [ ! -e only9/fig8.exr ] && $py -c 'import json,sys; d=json.load(open(\"only9/summary.json\")); sys.exit(not (d[\"only\"] == [\"fig9\"] and \"fig9\" in d and \"fig10\" not in d and \"targets\" not in d))'"
+$pencil figures "${fig[@]}" --only fig10 --out only10 >/dev/null 2>&1; rc=$?
+check "--only fig10 makes Figs. 8 and 10 alone, equal to the full run's" \
+  "[ $rc -eq 0 ] && [ -s only10/fig8.exr ] && [ ! -e only10/fig9.csv ] && cmp -s f1/fig10_hist.csv only10/fig10_hist.csv"
+$pencil figures --only fig11 --out x >/dev/null 2>"err"; rc=$?
+check "--only fig11 is refused, listing the figures" "[ $rc -eq 2 ] && grep -q 'fig8, fig9, fig10, targets and sweep' err"
+
 for k in 1 2; do
   SLURM_ARRAY_TASK_ID=$k SLURM_ARRAY_TASK_COUNT=2 PENCIL=$pencil \
     bash "$src/scripts/slurm-shards.sh" sweep slurm "${swp[@]}" >/dev/null 2>&1 || echo "slurm task $k failed"

@@ -385,29 +385,51 @@ static json_t *json_timing(const val_timing_t *t) {
 }
 
 static int write_summary(const val_figures_opts_t *o, int width, int height, const results_t *r) {
+  unsigned sel = val__selected(o, 0);
   json_t *root = json_head(o, width, height), *fig9 = json_array();
   const val_timing_t *t9 = timing_at(o, r, r->fig8_spp), *tt = timing_at(o, r, r->target_spp);
+  if (!(sel & VAL_ONLY_FIG9)) /* a figure run alone: the others' numbers were not measured */
+    t9 = tt = NULL;
+  if (o->only) {
+    static const char *const names[] = {"fig8", "fig9", "targets", "sweep"};
+    json_t *only = json_array();
+    for (int k = 0; k < 4; k++)
+      if (o->only & (1u << k))
+        json_array_append_new(only, json_string(names[k]));
+    json_object_set_new(root, "only", only);
+  }
   /* the speed-up is null when Fig. 9 leaves out Fig. 8's spp */
-  json_object_set_new(root, "fig8",
-                      json_pack("{s:i, s:s, s:s, s:s, s:o}", "spp", r->fig8_spp, "exr", "fig8.exr",
-                                "png", "fig8.png", "exact_png", "fig8_exact.png", "speedup",
-                                t9 ? io_json_number(1.0 / t9->ratio) : json_null()));
-  for (int k = 0; k < o->nspp; k++)
-    json_array_append_new(fig9, json_timing(&r->fig9[k]));
-  json_object_set_new(root, "fig9", fig9);
-  int below = below_spp(o, r);
-  json_object_set_new(root, "fig9_below_0_1_from_spp", below ? json_integer(below) : json_null());
-  json_object_set_new(root, "fig10", json_errors(&r->fig10, r->fig8_spp));
-  json_t *targets = json_pack(
-      "{s:i, s:{s:o, s:o}, s:{s:o, s:o, s:o, s:o}, s:{s:o, s:o, s:o, s:o}}", "spp", r->target_spp,
-      "pencil", "ratio", io_json_number(tt ? tt->ratio : NAN), "errors",
-      json_errors(&r->t49, r->target_spp), "certified", "ratio", io_json_number(r->tc49.ratio),
-      "exact_s", io_json_number(r->tc49.exact_s), "pencil_s", io_json_number(r->tc49.pencil_s),
-      "errors", json_errors(&r->c49, r->target_spp), "no_accuracy", "rho",
-      io_json_number(NOACC_RHO), "brightness_tol", io_json_number(NOACC_BTOL), "ratio",
-      io_json_number(r->floor.ratio), "certified_ratio", io_json_number(r->cfloor.ratio));
-  json_object_set_new(root, "targets", targets);
-  json_object_set_new(root, "sweep", json_sweep(o, r->sweep, r->nsweep));
+  if (sel & VAL_ONLY_FIG8)
+    json_object_set_new(root, "fig8",
+                        json_pack("{s:i, s:s, s:s, s:s, s:o}", "spp", r->fig8_spp, "exr",
+                                  "fig8.exr", "png", "fig8.png", "exact_png", "fig8_exact.png",
+                                  "speedup", t9 ? io_json_number(1.0 / t9->ratio) : json_null()));
+  if (sel & VAL_ONLY_FIG9) {
+    for (int k = 0; k < o->nspp; k++)
+      json_array_append_new(fig9, json_timing(&r->fig9[k]));
+    json_object_set_new(root, "fig9", fig9);
+    int below = below_spp(o, r);
+    json_object_set_new(root, "fig9_below_0_1_from_spp", below ? json_integer(below) : json_null());
+  } else {
+    json_decref(fig9);
+  }
+  if (sel & VAL_ONLY_FIG8)
+    json_object_set_new(root, "fig10", json_errors(&r->fig10, r->fig8_spp));
+  if (sel & VAL_ONLY_TARGETS)
+    json_object_set_new(
+        root, "targets",
+        json_pack("{s:i, s:{s:o, s:o}, s:{s:o, s:o, s:o, s:o}, s:{s:o, s:o, s:o, s:o}}", "spp",
+                  r->target_spp, "pencil", "ratio", io_json_number(tt ? tt->ratio : NAN), "errors",
+                  json_errors(&r->t49, r->target_spp), "certified", "ratio",
+                  io_json_number(r->tc49.ratio), "exact_s", io_json_number(r->tc49.exact_s),
+                  "pencil_s", io_json_number(r->tc49.pencil_s), "errors",
+                  json_errors(&r->c49, r->target_spp), "no_accuracy", "rho",
+                  io_json_number(NOACC_RHO), "brightness_tol", io_json_number(NOACC_BTOL), "ratio",
+                  io_json_number(r->floor.ratio), "certified_ratio",
+                  io_json_number(r->cfloor.ratio)));
+  if (!o->only || (sel & VAL_ONLY_SWEEP))
+    json_object_set_new(root, "sweep",
+                        json_sweep(o, r->sweep, (sel & VAL_ONLY_SWEEP) ? r->nsweep : 0));
   json_object_set_new(root, "paper",
                       json_pack("{s:f, s:f, s:f, s:f}", "fig8_speedup_9spp", PAPER_SPEEDUP_9,
                                 "fig9_ratio_49spp", PAPER_RATIO_49, "fig10_fraction_within",
@@ -582,15 +604,17 @@ static int write_outputs(const val_figures_opts_t *o, int sweep_only, int width,
       rc = write_json(o, "sweep.json", root);
     }
   } else {
-    rc = write_fig9(o, r) == 0 && write_hist(o, &r->fig10.counts) == 0 &&
+    unsigned sel = val__selected(o, 0);
+    rc = (!(sel & VAL_ONLY_FIG9) || write_fig9(o, r) == 0) &&
+                 (!(sel & VAL_ONLY_FIG8) || write_hist(o, &r->fig10.counts) == 0) &&
                  write_summary(o, width, height, r) == 0 &&
-                 (!o->sweep || write_sweep(o, r->sweep, r->nsweep) == 0)
+                 (!(sel & VAL_ONLY_SWEEP) || write_sweep(o, r->sweep, r->nsweep) == 0)
              ? 0
              : -1;
   }
   if (rc == 0) {
     run_plot(o);
-    if (!sweep_only)
+    if (!sweep_only && !o->only)
       print_table(o, r); /* a missed target is reported, not an error */
   }
   return rc;

@@ -50,6 +50,9 @@ typedef struct {
 /** The most work items of a run. */
 #define VAL_MAX_ITEMS (VAL_MAX_SPP + 6 + 3 * VAL_MAX_RHO)
 
+/** The figures a run makes: VAL_ONLY_* bits (`pencil sweep`: the sweep; else o->only, or every
+ *  figure, the sweep unless o->sweep is 0). */
+unsigned val__selected(const val_figures_opts_t *o, int sweep_only);
 /** The work items of `pencil figures` (sweep_only 0) or `pencil sweep` (1), in run order. */
 int val__items(const val_figures_opts_t *o, int sweep_only, val_item_t *items);
 /** The item's stable name in shard files: "fig9:49", "fig8", "sweep:3", ... */

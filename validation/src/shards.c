@@ -17,15 +17,23 @@
 
 /* ---- the work items ------------------------------------------------------------------------ */
 
+unsigned val__selected(const val_figures_opts_t *o, int sweep_only) {
+  unsigned all = VAL_ONLY_FIG8 | VAL_ONLY_FIG9 | VAL_ONLY_TARGETS | (o->sweep ? VAL_ONLY_SWEEP : 0);
+  return sweep_only ? VAL_ONLY_SWEEP : o->only ? o->only : all;
+}
+
 int val__items(const val_figures_opts_t *o, int sweep_only, val_item_t *items) {
+  unsigned sel = val__selected(o, sweep_only);
   int n = 0;
-  if (!sweep_only) {
+  if (sel & VAL_ONLY_FIG9)
     for (int k = 0; k < o->nspp; k++)
       items[n++] = (val_item_t){VAL_ITEM_FIG9, k};
-    for (int kind = VAL_ITEM_FIG8; kind <= VAL_ITEM_NOACC_CERT; kind++)
+  if (sel & VAL_ONLY_FIG8)
+    items[n++] = (val_item_t){VAL_ITEM_FIG8, 0};
+  if (sel & VAL_ONLY_TARGETS)
+    for (int kind = VAL_ITEM_TARGET; kind <= VAL_ITEM_NOACC_CERT; kind++)
       items[n++] = (val_item_t){(val_item_kind_t)kind, 0};
-  }
-  if (sweep_only || o->sweep)
+  if (sel & VAL_ONLY_SWEEP)
     for (int k = 0; k < 3 * o->nrho; k++)
       items[n++] = (val_item_t){VAL_ITEM_SWEEP, k};
   return n;
@@ -113,14 +121,16 @@ static int timing_in(json_t *j, val_timing_t *t) {
 #define ERR_DOUBLES(X)                                                                             \
   X(rho)                                                                                           \
   X(fraction_within)                                                                               \
-  X(p99) X(max_error) X(fraction_within_strict) X(max_error_strict) X(fraction_within_t)           \
-      X(max_error_t) X(image_rms) X(image_max) X(image_bias)
+  X(p99)                                                                                           \
+  X(max_error) X(fraction_within_strict) X(max_error_strict) X(fraction_within_t) X(max_error_t)   \
+      X(image_rms) X(image_max) X(image_bias)
 #define ERR_COUNTS(X) X(samples) X(samples_with_points) X(mismatches)
 #define CNT_DOUBLES(X) X(max_error) X(max_error_t) X(max_error_strict)
 #define CNT_COUNTS(X)                                                                              \
   X(measured)                                                                                      \
   X(with_points)                                                                                   \
-  X(within) X(mismatches) X(within_t) X(within_strict) X(samples_exact) X(samples_matrix)          \
+  X(within)                                                                                        \
+  X(mismatches) X(within_t) X(within_strict) X(samples_exact) X(samples_matrix)                    \
       X(samples_interpolated)
 
 static json_t *errors_json(const val_errors_t *e) {
@@ -195,6 +205,7 @@ static int config_in(json_t *c, val_figures_opts_t *o, int *width, int *height) 
   o->quick = json_is_true(json_object_get(c, "quick"));
   o->sweep_spp = (int)json_integer_value(json_object_get(c, "sweep_spp"));
   o->sweep = json_is_true(json_object_get(c, "sweep"));
+  o->only = (unsigned)json_integer_value(json_object_get(c, "only"));
   o->nspp = (int)json_array_size(spp);
   for (int k = 0; k < o->nspp; k++)
     o->spp[k] = (int)json_integer_value(json_array_get(spp, (size_t)k));

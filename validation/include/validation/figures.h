@@ -103,9 +103,19 @@ typedef struct {
   FILE *log;          /**< progress and the comparison table (stdout) */
   int shard, nshards; /**< nshards > 0: run only work item j with j mod nshards = shard - 1 and
                            record its results in DIR/shards/ (the outputs come from --merge) */
+  unsigned only;      /**< 0: every figure; else a mask of VAL_ONLY_* (`--only`): run those
+                           figures alone and write their outputs */
   int merge;          /**< 1: run nothing; merge DIR/shards/ into the outputs of one run (the
                            configuration comes from the shard files) */
 } val_figures_opts_t;
+
+/** Figures that `--only` selects (val_figures_opts_t.only). */
+enum {
+  VAL_ONLY_FIG8 = 1u,    /**< Figs. 8 and 10: the measured render, images, error map, histogram */
+  VAL_ONLY_FIG9 = 2u,    /**< Fig. 9: the time ratios */
+  VAL_ONLY_TARGETS = 4u, /**< the 49-spp targets and the no-accuracy ratios */
+  VAL_ONLY_SWEEP = 8u    /**< the rho sweep */
+};
 
 /** Defaults for `pencil figures`: Fig. 9 at 1, 4, ..., 49 spp, 3 runs, 1 thread, the sweep at
  *  rho 0.05 ... 2 with 9 spp. */
