@@ -24,6 +24,10 @@
 #include "paraxial/cascade.h"
 #include "paraxial/system.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Coefficients of one element's error functions (A-1): e_x = a x^2 + b x xi + c xi^2 and
  *  e_xi = d x^2 + e x xi + f xi^2. Units with a length L: a 1/L, b 1, c L, d 1/L^2, e 1/L,
  *  f 1. The printed variant may hold negative values (it is verbatim); corrected ones are >= 0. */
@@ -112,5 +116,9 @@ typedef enum {
  *  input. */
 px_status_t px_spread_limit(double c, double k3, double tau, double cap, double *xi_max,
                             px_spread_regime_t *regime);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

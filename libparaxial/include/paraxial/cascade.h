@@ -12,6 +12,10 @@
 
 #include "paraxial/system.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum {
   PX_ELEMENT_TRANSFER = 0, /**< propagation in a homogeneous medium, Eq. (1) */
   PX_ELEMENT_REFRACT = 1,  /**< refraction at a smooth surface, Eq. (2) */
@@ -51,5 +55,9 @@ px_mat4_t px_cascade_after(const px_cascade_t *c, size_t i);
 
 /** T_i^b = T(i-1) ... T1 (identity for i = 1) with i 1-based as in the Appendix. */
 px_mat4_t px_cascade_before(const px_cascade_t *c, size_t i);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -10,6 +10,10 @@
 
 #include "paraxial/linalg.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
   px_vec3_t x1; /**< first transverse axis, x1 = x2 x z */
   px_vec3_t x2; /**< second transverse axis */
@@ -33,5 +37,9 @@ double px_frame_defect(px_frame_t f);
 /** Theta of Eq. (2): Theta_ij = x_i . u_j for the frame's transverse axes and a surface
  *  tangent basis (u1, u2). */
 px_mat2_t px_frame_theta(px_frame_t f, px_vec3_t u1, px_vec3_t u2);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

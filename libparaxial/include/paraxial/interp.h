@@ -11,6 +11,10 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** out = a x1 + (1 - a) x0. `out` may alias x0 or x1. */
 void px_interp_linear(size_t n, const double *x0, const double *x1, double a, double *out);
 
@@ -29,5 +33,9 @@ double px_interp_error_max(size_t n, const double *xm1, const double *x0, const 
  *  each of length n, at (u, v) in [0, 1]^2. */
 void px_interp_bilinear(size_t n, const double *c00, const double *c10, const double *c01,
                         const double *c11, double u, double v, double *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

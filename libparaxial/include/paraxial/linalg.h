@@ -8,6 +8,10 @@
 
 #include "paraxial/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
   double x, y, z;
 } px_vec3_t;
@@ -69,5 +73,9 @@ px_ray4_t px_mat4_apply(px_mat4_t t, px_ray4_t psi);
 double px_mat4_maxabs(px_mat4_t a);
 /** 1 when every entry is finite. */
 int px_mat4_isfinite(px_mat4_t a);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -11,5 +11,6 @@
 #include "paraxial/status.h"
 #include "paraxial/system.h"
 #include "paraxial/vec3.h"
+#include "paraxial/version.h"
 
 #endif

@@ -7,6 +7,10 @@
 #ifndef PARAXIAL_STATUS_H
 #define PARAXIAL_STATUS_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum {
   PX_OK = 0,     /**< success */
   PX_EINVAL,     /**< a parameter is out of range or not finite (the message names which) */
@@ -26,5 +30,9 @@ const char *px_strerror(px_status_t status);
  *  Below it the matrix entries grow like 1/cos and the paraxial region is narrower than
  *  double precision can resolve, so PX_EGRAZING is returned instead. */
 #define PX_COS_MIN 1e-10
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -19,6 +19,10 @@
 #include "paraxial/frame.h"
 #include "paraxial/linalg.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Which form of Eq. (2) to evaluate. */
 typedef enum {
   /** Derived by the project and confirmed by exact Snell-law tracing (default). */
@@ -90,5 +94,9 @@ px_status_t px_interface_matrix(const px_interface_t *ifc, px_event_t ev, px_fra
  *  (0 or +-Inf = plane) at incidence theta (radians). ev selects refraction or reflection. */
 px_status_t px_element_matrix(px_event_t ev, double theta, double n1, double n2, double radius,
                               px_variant_t variant, px_mat4_t *t);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

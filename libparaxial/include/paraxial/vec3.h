@@ -40,17 +40,20 @@ static inline double px_min(double a, double b) {
   return a < b || a != a ? a : b;
 }
 
+/** The vector (x, y, z); an initialised local rather than a compound literal, so that the header
+ *  is also valid C++. */
 static inline px_vec3_t px_v3(double x, double y, double z) {
-  return (px_vec3_t){x, y, z};
+  px_vec3_t v = {x, y, z};
+  return v;
 }
 static inline px_vec3_t px_v3_add(px_vec3_t a, px_vec3_t b) {
-  return (px_vec3_t){a.x + b.x, a.y + b.y, a.z + b.z};
+  return px_v3(a.x + b.x, a.y + b.y, a.z + b.z);
 }
 static inline px_vec3_t px_v3_sub(px_vec3_t a, px_vec3_t b) {
-  return (px_vec3_t){a.x - b.x, a.y - b.y, a.z - b.z};
+  return px_v3(a.x - b.x, a.y - b.y, a.z - b.z);
 }
 static inline px_vec3_t px_v3_scale(px_vec3_t a, double s) {
-  return (px_vec3_t){a.x * s, a.y * s, a.z * s};
+  return px_v3(a.x * s, a.y * s, a.z * s);
 }
 /** Component `axis` (0, 1, 2). */
 static inline double px_v3_at(px_vec3_t v, int axis) {
@@ -61,7 +64,7 @@ static inline double px_v3_at(px_vec3_t v, int axis) {
 
 /** s * x + y */
 static inline px_vec3_t px_v3_axpy(double s, px_vec3_t x, px_vec3_t y) {
-  return (px_vec3_t){s * x.x + y.x, s * x.y + y.y, s * x.z + y.z};
+  return px_v3(s * x.x + y.x, s * x.y + y.y, s * x.z + y.z);
 }
 static inline double px_v3_dot(px_vec3_t a, px_vec3_t b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
@@ -78,7 +81,7 @@ static inline px_vec3_t px_v3_unit(px_vec3_t a) {
 
 /** s * x + y, each component one fma() */
 static inline px_vec3_t px_v3_axpy_fma(double s, px_vec3_t x, px_vec3_t y) {
-  return (px_vec3_t){fma(s, x.x, y.x), fma(s, x.y, y.y), fma(s, x.z, y.z)};
+  return px_v3(fma(s, x.x, y.x), fma(s, x.y, y.y), fma(s, x.z, y.z));
 }
 static inline double px_v3_dot_fma(px_vec3_t a, px_vec3_t b) {
   return fma(a.x, b.x, fma(a.y, b.y, a.z * b.z));
@@ -93,8 +96,8 @@ static inline double px_diff_products(double a, double b, double c, double d) {
   return fma(a, b, -cd) + err;
 }
 static inline px_vec3_t px_v3_cross(px_vec3_t a, px_vec3_t b) {
-  return (px_vec3_t){px_diff_products(a.y, b.z, a.z, b.y), px_diff_products(a.z, b.x, a.x, b.z),
-                     px_diff_products(a.x, b.y, a.y, b.x)};
+  return px_v3(px_diff_products(a.y, b.z, a.z, b.y), px_diff_products(a.z, b.x, a.x, b.z),
+               px_diff_products(a.x, b.y, a.y, b.x));
 }
 /** a / |a| (fused norm); PX_ESINGULAR for a zero, infinite or NaN vector. */
 static inline px_status_t px_v3_normalize(px_vec3_t a, px_vec3_t *out) {
