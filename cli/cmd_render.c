@@ -12,6 +12,7 @@
 #include "args.h"
 #include "cli.h"
 #include "io/image_io.h"
+#include "io/output.h"
 #include "renderers/renderer.h"
 #include "validation/timing.h"
 
@@ -24,14 +25,19 @@ enum {
   OPT_NO_AUX,
   OPT_EXPLAIN,
   OPT_MEASURE,
+  OPT_MAX_MEMORY,
   OPT_RENDERER
 };
 
-static const cli_spec_t common[] = {
-    {"--output", 'o', 1, OPT_OUTPUT}, {"--method", 0, 1, OPT_METHOD},
-    {"--spp", 0, 1, OPT_SPP},         {"--threads", 0, 1, OPT_THREADS},
-    {"--size", 0, 1, OPT_SIZE},       {"--no-aux", 0, 0, OPT_NO_AUX},
-    {"--explain", 0, 0, OPT_EXPLAIN}, {"--measure", 0, 0, OPT_MEASURE}};
+static const cli_spec_t common[] = {{"--output", 'o', 1, OPT_OUTPUT},
+                                    {"--method", 0, 1, OPT_METHOD},
+                                    {"--spp", 0, 1, OPT_SPP},
+                                    {"--threads", 0, 1, OPT_THREADS},
+                                    {"--size", 0, 1, OPT_SIZE},
+                                    {"--no-aux", 0, 0, OPT_NO_AUX},
+                                    {"--explain", 0, 0, OPT_EXPLAIN},
+                                    {"--measure", 0, 0, OPT_MEASURE},
+                                    {"--max-memory", 0, 1, OPT_MAX_MEMORY}};
 #define NCOMMON ((int)(sizeof common / sizeof common[0]))
 #define MAX_SPECS 64
 
@@ -63,7 +69,9 @@ static void help(FILE *f, const rn_renderer_t *r) {
           "  --measure             methods that approximate: trace every sample exactly too and\n"
           "                        print the Fig. 10 error statistics (points on surfaces with a\n"
           "                        diffuse term: Fig. 8's board)\n"
-          "  --explain             print the effects plan (which effects run and why)\n");
+          "  --explain             print the effects plan (which effects run and why)\n"
+          "  --max-memory SIZE     refuse a render whose image needs more than SIZE (512M, 8G;\n"
+          "                        default: the memory available now)\n");
   if (r && r->noptions > 0) {
     fprintf(f, "\n%s\n\noptions of --method %s:\n", r->description, r->name);
     rn_print_options(f, r, 2);
@@ -80,6 +88,7 @@ typedef struct {
   const char *scene, *out;
   long spp, threads, width, height;
   int explain, no_aux, measure;
+  size_t max_memory; /**< refuse a render needing more (bytes); 0: the memory available */
   const rn_renderer_t *r;
   void *opt; /**< the renderer's options (r->options_size bytes) */
 } args_t;
@@ -150,6 +159,14 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return a->no_aux = 1;
   case OPT_EXPLAIN:
     return a->explain = 1;
+  case OPT_MAX_MEMORY:
+    if (!io_parse_size(g->value, &a->max_memory))
+      return fprintf(stderr,
+                     "pencil render: --max-memory: expected a size such as 512M or 8G, got "
+                     "'%s'\n",
+                     g->value),
+             0;
+    return 1;
   case OPT_MEASURE:
     if (!a->r->errors)
       return fprintf(stderr,
@@ -231,8 +248,27 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
   return 1;
 }
 
+/* 1 when the render fits in the memory allowed; else a message and 0. */
+static int memory_fits(const args_t *a, const rt_scene_t *s, int spp) {
+  size_t need = rn_memory_estimate(a->r, s->camera.width, s->camera.height, spp, 0);
+  size_t have = a->max_memory ? a->max_memory : io_memory_available();
+  if (have == 0 || need <= have)
+    return 1;
+  char n[32], h[32];
+  io_format_size(need, n, sizeof n);
+  io_format_size(have, h, sizeof h);
+  fprintf(stderr,
+          "pencil render: a %dx%d image needs at least %s (%d float channels and the preview), "
+          "more than the %s %s; use a smaller --size, or --max-memory to allow more\n",
+          s->camera.width, s->camera.height, n, RT_CH_COUNT + a->r->nchannels, h,
+          a->max_memory ? "--max-memory allows" : "available");
+  return 0;
+}
+
 static int render(const args_t *a, rt_scene_t *s) {
   int spp = a->spp > 0 ? (int)a->spp : s->spp;
+  if (a->out && !memory_fits(a, s, spp))
+    return CLI_USAGE;
   rt_plan_t plan = rt_plan_make(s, spp);
   if (a->explain)
     explain(stdout, &plan, a->scene ? a->scene : "the built-in Fig. 8 scene");

@@ -51,6 +51,12 @@ $pencil render $small -o "$tmp/fifo.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "-o naming a FIFO is refused and the FIFO stays" "[ $rc -eq 1 ] && [ -p '$tmp/fifo.exr' ]"
 check "no temporary files are left behind" "[ -z \"\$(ls -A '$tmp' | grep '^\\.')\" ]"
 
+$pencil render --size 64x64 --max-memory 100K -o "$tmp/mem.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a render above --max-memory is refused before it starts, saying how much it needs" \
+  "[ $rc -eq 2 ] && grep -q 'needs at least 188.0 KB' '$tmp/err' && [ ! -e '$tmp/mem.exr' ]"
+$pencil render --size 64x64 --max-memory 8Q -o "$tmp/mem.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "--max-memory 8Q is refused" "[ $rc -eq 2 ] && grep -q 'such as 512M' '$tmp/err'"
+
 # an old output survives a failed write: the preview's name is taken by a directory
 echo old >"$tmp/keep.exr"
 mkdir "$tmp/keep.png"

@@ -3,10 +3,12 @@
  * child processes without a shell, CSV quoting, and JSON that round-trips any string. */
 #include <dirent.h>
 #include <jansson.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "cmocka_main.h"
@@ -171,6 +173,54 @@ static void json_round_trips_any_string_and_carries_provenance(void **state) {
   rmdir(dir);
 }
 
+/* An interrupted write (SIGINT while the temporary file is open) leaves nothing behind, and the
+ * process still dies of the signal. */
+static void interrupted_write_leaves_no_temporary(void **state) {
+  (void)state;
+  char dir[512], path[600], err[512];
+  temp_dir(dir, sizeof dir);
+  snprintf(path, sizeof path, "%s/x.exr", dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    io_atomic_t a;
+    io_cleanup_on_signals();
+    if (io_atomic_open(&a, path, err, sizeof err) != 0)
+      _exit(3);
+    fputs("half a file", a.f);
+    fflush(a.f);
+    raise(SIGINT);
+    _exit(4); /* not reached */
+  }
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT);
+  assert_int_equal(hidden_files(dir), 0);
+  assert_int_equal(access(path, F_OK), -1);
+  rmdir(dir);
+}
+
+static void sizes_parse_and_print(void **state) {
+  (void)state;
+  size_t b = 0;
+  char buf[32];
+  assert_int_equal(io_parse_size("512M", &b), 1);
+  assert_true(b == 512u * 1024u * 1024u);
+  assert_int_equal(io_parse_size("1.5G", &b), 1);
+  assert_true(b == (size_t)(1.5 * 1024 * 1024 * 1024));
+  assert_int_equal(io_parse_size("1000", &b), 1);
+  assert_true(b == 1000);
+  assert_int_equal(io_parse_size("8Q", &b), 0);
+  assert_int_equal(io_parse_size("-1G", &b), 0);
+  assert_int_equal(io_parse_size("G", &b), 0);
+  assert_int_equal(io_parse_size("0", &b), 0);
+  io_format_size((size_t)12670000000ull, buf, sizeof buf);
+  assert_string_equal(buf, "11.8 GB");
+  io_format_size(100, buf, sizeof buf);
+  assert_string_equal(buf, "100 bytes");
+  assert_true(io_memory_available() > 0); /* Linux: /proc/meminfo */
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(check_refuses_what_is_not_a_file),
@@ -179,6 +229,8 @@ int main(int argc, char **argv) {
       cmocka_unit_test(run_reports_exit_status_without_a_shell),
       cmocka_unit_test(csv_fields_are_quoted_when_needed),
       cmocka_unit_test(json_round_trips_any_string_and_carries_provenance),
+      cmocka_unit_test(sizes_parse_and_print),
+      cmocka_unit_test(interrupted_write_leaves_no_temporary),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -237,4 +238,51 @@ void io_csv_field(FILE *f, const char *s) {
     fputc(*p, f);
   }
   fputc('"', f);
+}
+
+/* ---- memory -------------------------------------------------------------------------------- */
+
+size_t io_memory_available(void) {
+  FILE *f = fopen("/proc/meminfo", "r");
+  char line[256];
+  unsigned long long kb = 0;
+  while (f && fgets(line, sizeof line, f))
+    if (sscanf(line, "MemAvailable: %llu kB", &kb) == 1)
+      break;
+  if (f)
+    fclose(f);
+  if (kb > 0)
+    return kb > SIZE_MAX / 1024 ? SIZE_MAX : (size_t)kb * 1024;
+  long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? (size_t)pages * (size_t)page : 0;
+}
+
+int io_parse_size(const char *text, size_t *bytes) {
+  char *end = NULL;
+  if (!(*text >= '0' && *text <= '9'))
+    return 0;
+  double v = strtod(text, &end);
+  double unit = 1.0;
+  if (*end && end[1] == '\0') {
+    const char *units = "KMGT";
+    const char *u = strchr(units, *end == 'k' ? 'K' : *end);
+    if (!u || !*u)
+      return 0;
+    for (const char *p = units; p <= u; p++)
+      unit *= 1024.0;
+    end++;
+  }
+  if (*end != '\0' || !(v * unit >= 1.0) || v * unit >= (double)SIZE_MAX)
+    return 0;
+  *bytes = (size_t)(v * unit);
+  return 1;
+}
+
+void io_format_size(size_t bytes, char *buf, size_t cap) {
+  static const char *const units[] = {"bytes", "KB", "MB", "GB", "TB"};
+  double v = (double)bytes;
+  int k = 0;
+  while (v >= 1024.0 && k < 4)
+    v /= 1024.0, k++;
+  snprintf(buf, cap, k == 0 ? "%.0f %s" : "%.1f %s", v, units[k]);
 }

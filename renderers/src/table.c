@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -185,6 +186,15 @@ int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel) {
         return 1;
       }
   return 0;
+}
+
+size_t rn_memory_estimate(const rn_renderer_t *r, int width, int height, int spp,
+                          int with_sample_errors) {
+  double px = (double)width * (double)height;
+  double bytes = px * (4.0 * (RT_CH_COUNT + r->nchannels) + 3.0); /* float planes, preview */
+  if (with_sample_errors)
+    bytes += px * 4.0 * spp;
+  return bytes >= (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
 }
 
 rt_status_t rn_channels_alloc(const rn_renderer_t *r, int width, int height, rn_output_t *out) {

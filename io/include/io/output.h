@@ -56,6 +56,17 @@ void io_cleanup_on_signals(void);
  *  how it ended). */
 int io_run(char *const argv[], char *err, size_t cap);
 
+/** Memory this process may still use without swapping: MemAvailable of /proc/meminfo (Linux),
+ *  else the free physical pages. 0 when neither can be read (then nothing can be judged). */
+size_t io_memory_available(void);
+
+/** Parse a size such as 512M, 8G, 1.5G or 1000000 (bytes; K, M, G, T are powers of 1024) into
+ *  *bytes; 1, or 0 when the text is not one. */
+int io_parse_size(const char *text, size_t *bytes);
+
+/** "11.8 GB" style (powers of 1024) for messages. */
+void io_format_size(size_t bytes, char *buf, size_t cap);
+
 /** Write s as one CSV field (RFC 4180: quoted, with doubled quotes, when it holds a comma, a
  *  quote, a line break or leading/trailing space). */
 void io_csv_field(FILE *f, const char *s);

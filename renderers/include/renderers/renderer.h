@@ -182,6 +182,13 @@ int rn_parse_double(const char *text, double *out);
  *  file unannounced. */
 int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel);
 
+/** Bytes a render of width x height pixels by r needs at least, before it starts: the image
+ *  and its auxiliary channels, r's extra channels, the per-sample errors of a measured render
+ *  (when with_sample_errors), and the 8-bit preview. Renderer-internal buffers that grow with
+ *  the scene (ray trees, the pencil's domain state) come on top. Saturates at SIZE_MAX. */
+size_t rn_memory_estimate(const rn_renderer_t *r, int width, int height, int spp,
+                          int with_sample_errors);
+
 /** Copy the entry's defaults into options (options_size bytes). */
 void rn_defaults(const rn_renderer_t *r, void *options);
 
