@@ -80,6 +80,22 @@ int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *
   }
 }
 
+cli_arg_t *cli_args(const char *cmd, int argc, char **argv, const cli_spec_t *specs, int nspecs,
+                    void (*help)(FILE *), int *n, int *rc) {
+  cli_arg_t *args = malloc((size_t)(argc > 0 ? argc : 1) * sizeof *args);
+  *n = args ? cli_parse(cmd, argc, argv, specs, nspecs, args) : -1;
+  *rc = CLI_OK;
+  if (*n >= 0)
+    return args;
+  free(args);
+  if (*n == CLI_ARGS_HELP)
+    help(stdout);
+  else if (!args)
+    fprintf(stderr, "pencil %s: out of memory\n", cmd);
+  *rc = *n == CLI_ARGS_HELP ? CLI_OK : CLI_USAGE;
+  return NULL;
+}
+
 int cli_is_help(const char *arg) {
   return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0;
 }

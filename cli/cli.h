@@ -26,6 +26,11 @@ int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out)
 /** A comma-separated list of such numbers, at most `max`, into out[0 .. *n - 1]. */
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
                        int *n);
+/** cli_parse() of argv[1 .. argc-1] for `pencil CMD` (argv[0] the subcommand's word) into a
+ *  new array (free() it): returns it with the count in *n, or NULL when the command is done,
+ *  with *rc = CLI_OK after help(stdout) for -h/--help, CLI_USAGE after a message. */
+cli_arg_t *cli_args(const char *cmd, int argc, char **argv, const cli_spec_t *specs, int nspecs,
+                    void (*help)(FILE *), int *n, int *rc);
 /** 1 when argv[i] is -h or --help. */
 int cli_is_help(const char *arg);
 

@@ -146,36 +146,35 @@ int cmd_bench(int argc, char **argv) {
   const char *json = NULL;
   static const cli_spec_t specs[] = {
       {"--runs", 0, 1, 1}, {"--size", 0, 1, 2}, {"--spp", 0, 1, 3}, {"--json", 0, 1, 4}};
-  cli_arg_t args[64];
-  if (argc - 1 > 64)
-    return fprintf(stderr, "pencil bench render: too many arguments\n"), CLI_USAGE;
-  int n = cli_parse("bench render", argc - 1, argv + 1, specs, 4, args);
-  if (n == CLI_ARGS_HELP) {
-    help(stdout);
-    return CLI_OK;
-  }
-  if (n < 0)
-    return CLI_USAGE;
-  for (int k = 0; k < n; k++) {
-    const char *v = args[k].value;
+  int n, rc;
+  cli_arg_t *args = cli_args("bench render", argc - 1, argv + 1, specs, 4, help, &n, &rc);
+  if (!args)
+    return rc;
+  for (int k = 0; k < n && rc == CLI_OK; k++) {
+    const char *v = args[k].value; /* points into argv, not into args */
     char tail, err[1024];
     int id = args[k].spec ? args[k].spec->id : 0;
     if (id == 0) {
       fprintf(stderr, "pencil bench render: unexpected argument '%s' (see --help)\n", v);
-      return CLI_USAGE;
+      rc = CLI_USAGE;
     } else if (id == 1 && !cli_parse_long("--runs", v, 1, MAX_RUNS, &runs)) {
-      return CLI_USAGE;
+      rc = CLI_USAGE;
     } else if (id == 2 && (sscanf(v, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 ||
                            w > 4096 || h > 4096)) {
       fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n", v);
-      return CLI_USAGE;
+      rc = CLI_USAGE;
     } else if (id == 3 && !cli_parse_spp("bench", "--spp", v, &spp)) {
-      return CLI_USAGE;
+      rc = CLI_USAGE;
     } else if (id == 4) {
       json = v;
-      if (io_output_check(json, err, sizeof err) != 0) /* before minutes of rendering */
-        return fprintf(stderr, "pencil bench render: %s\n", err), CLI_FAIL;
+      if (io_output_check(json, err, sizeof err) != 0) { /* before minutes of rendering */
+        fprintf(stderr, "pencil bench render: %s\n", err);
+        rc = CLI_FAIL;
+      }
     }
   }
+  free(args);
+  if (rc != CLI_OK)
+    return rc;
   return run((int)runs, w, h, (int)lrint(sqrt((double)spp)), json);
 }

@@ -144,17 +144,16 @@ static int apply(args_t *a, const cli_arg_t *g) {
 
 /* Options; argv[0] is "pencil". 1 ok, 0 usage error (message printed), -1 help printed. */
 static int parse(int argc, char **argv, args_t *a) {
-  cli_arg_t *args = malloc((size_t)argc * sizeof *args);
-  int n = args ? cli_parse("bench pencil", argc, argv, specs, (int)(sizeof specs / sizeof specs[0]),
-                           args)
-               : -1;
-  if (n == CLI_ARGS_HELP)
-    help(stdout);
-  int ok = n >= 0;
+  int n, rc;
+  cli_arg_t *args = cli_args("bench pencil", argc, argv, specs,
+                             (int)(sizeof specs / sizeof specs[0]), help, &n, &rc);
+  if (!args)
+    return rc == CLI_OK ? -1 : 0;
+  int ok = 1;
   for (int k = 0; ok && k < n; k++)
     ok = apply(a, &args[k]);
   free(args);
-  return n == CLI_ARGS_HELP ? -1 : ok;
+  return ok;
 }
 
 static int load(const args_t *a, rt_scene_t *s) {

@@ -3,6 +3,7 @@
  * {"a": .., "b": .., "c": .., "d": .., "e": .., "f": ..}; on any error nothing is printed on
  * stdout. Conventions are those of `pencil matrix` (cmd_matrix.c). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -55,33 +56,24 @@ int cmd_bounds(int argc, char **argv) {
   specs[ns++] = (cli_spec_t){"--d3m", 0, 1, 1};
   char cmd[32];
   snprintf(cmd, sizeof cmd, "bounds %s", kind);
-  cli_arg_t args[64];
-  int n = argc - 1 <= 64 ? cli_parse(cmd, argc - 1, argv + 1, specs, ns, args) : -1;
-  if (argc - 1 > 64)
-    fprintf(stderr, "pencil %s: too many arguments\n", cmd);
-  if (n == CLI_ARGS_HELP) {
-    help(stdout);
-    return CLI_OK;
-  }
-  if (n < 0)
-    return CLI_USAGE;
-  for (int k = 0; k < n; k++) {
+  int n, rc;
+  cli_arg_t *args = cli_args(cmd, argc - 1, argv + 1, specs, ns, help, &n, &rc);
+  if (!args)
+    return rc;
+  for (int k = 0; k < n && rc == CLI_OK; k++) {
     int r = cli_element_apply("bounds", &args[k], &el);
-    if (r < 0)
-      return CLI_USAGE;
-    if (r > 0)
-      continue;
-    if (!args[k].spec) {
+    if (r == 0 && !args[k].spec) {
       fprintf(stderr, "pencil bounds %s: unexpected argument '%s'\n", kind, args[k].value);
-      return CLI_USAGE;
+    } else if (r == 0 && cli_parse_double("--d3m", args[k].value, &d3m)) { /* --d3m */
+      r = d3m >= 0.0 ? 1 : 0;
+      if (!r)
+        fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
     }
-    if (!cli_parse_double("--d3m", args[k].value, &d3m))
-      return CLI_USAGE;
-    if (d3m < 0.0) {
-      fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
-      return CLI_USAGE;
-    }
+    rc = r > 0 ? CLI_OK : CLI_USAGE;
   }
+  free(args);
+  if (rc != CLI_OK)
+    return rc;
   if (!cli_element_check("bounds", &el))
     return CLI_USAGE;
   double theta = el.theta_deg, n1 = el.n1, n2 = el.n2, radius = el.radius;

@@ -248,16 +248,15 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
   const cli_spec_t *specs = sweep ? sweep_specs : figures_specs;
   int nspecs = (int)(sweep ? sizeof sweep_specs / sizeof sweep_specs[0]
                            : sizeof figures_specs / sizeof figures_specs[0]);
-  cli_arg_t *args = malloc((size_t)argc * sizeof *args);
-  int n = args ? cli_parse(cmd, argc, argv, specs, nspecs, args) : -1, given = 0;
-  if (n == CLI_ARGS_HELP)
-    (sweep ? help_sweep : help_figures)(stdout);
-  int ok = n >= 0;
+  int n, rc, given = 0;
+  cli_arg_t *args =
+      cli_args(cmd, argc, argv, specs, nspecs, sweep ? help_sweep : help_figures, &n, &rc);
+  if (!args)
+    return rc == CLI_OK ? -1 : 0;
+  int ok = 1;
   for (int k = 0; ok && k < n; k++)
     ok = apply(cmd, &args[k], o, &given);
   free(args);
-  if (n == CLI_ARGS_HELP)
-    return -1;
   if (ok && o->merge && given & ~((1 << OPT_MERGE) | (1 << OPT_OUT)))
     ok = (fprintf(stderr,
                   "pencil %s: --merge takes only --out DIR: the run's options come from "

@@ -2,6 +2,7 @@
  * Its stdout is a contract: {"T": [[...], [...], [...], [...]]}, rows and columns ordered
  * x1, x2, xi1, xi2; on any error nothing is printed on stdout. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -52,28 +53,22 @@ int cmd_matrix(int argc, char **argv) {
     specs[0] = (cli_spec_t){"--distance", 0, 1, 1};
   char cmd[32];
   snprintf(cmd, sizeof cmd, "matrix %s", kind);
-  cli_arg_t args[64];
-  int n = argc - 1 <= 64 ? cli_parse(cmd, argc - 1, argv + 1, specs, ns, args) : -1;
-  if (argc - 1 > 64)
-    fprintf(stderr, "pencil %s: too many arguments\n", cmd);
-  if (n == CLI_ARGS_HELP) {
-    help(stdout);
-    return CLI_OK;
-  }
-  if (n < 0)
-    return CLI_USAGE;
-  for (int k = 0; k < n; k++) {
+  int n, rc;
+  cli_arg_t *args = cli_args(cmd, argc - 1, argv + 1, specs, ns, help, &n, &rc);
+  if (!args)
+    return rc;
+  for (int k = 0; k < n && rc == CLI_OK; k++) {
     int r =
         is_transfer
             ? (args[k].spec ? cli_parse_double("--distance", args[k].value, &distance) ? 1 : -1 : 0)
             : cli_element_apply("matrix", &args[k], &e);
-    if (r < 0)
-      return CLI_USAGE;
-    if (r == 0) {
+    if (r == 0)
       fprintf(stderr, "pencil matrix %s: unexpected argument '%s'\n", kind, args[k].value);
-      return CLI_USAGE;
-    }
+    rc = r > 0 ? CLI_OK : CLI_USAGE;
   }
+  free(args);
+  if (rc != CLI_OK)
+    return rc;
 
   px_mat4_t t;
   if (is_transfer) {

@@ -1,4 +1,5 @@
 /* cmd_verify.c -- `pencil verify WHAT`: the verification runs of the validation suite. */
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -51,20 +52,17 @@ static int parse(int argc, char **argv, verify_args_t *a) {
   int bounds = strcmp(argv[1], "bounds") == 0;
   char cmd[32];
   snprintf(cmd, sizeof cmd, "verify %s", argv[1]);
-  cli_arg_t args[64];
-  if (argc - 1 > 64)
-    return fprintf(stderr, "pencil %s: too many arguments\n", cmd), CLI_USAGE;
-  int n = cli_parse(cmd, argc - 1, argv + 1, specs, bounds ? 5 : 3, args);
-  if (n == CLI_ARGS_HELP) {
-    help(stdout);
-    return CLI_OK;
-  }
-  if (n < 0)
-    return CLI_USAGE;
-  for (int k = 0; k < n; k++) {
-    const cli_arg_t *g = &args[k];
-    if (!g->spec)
-      return fprintf(stderr, "pencil %s: unexpected argument '%s'\n", cmd, g->value), CLI_USAGE;
+  int n, rc;
+  cli_arg_t *args = cli_args(cmd, argc - 1, argv + 1, specs, bounds ? 5 : 3, help, &n, &rc);
+  if (!args)
+    return rc;
+  for (int k = 0; k < n && rc == CLI_OK; k++) {
+    const cli_arg_t *g = &args[k]; /* values point into argv, not into args */
+    if (!g->spec) {
+      fprintf(stderr, "pencil %s: unexpected argument '%s'\n", cmd, g->value);
+      rc = CLI_USAGE;
+      continue;
+    }
     switch (g->spec->id) {
     case OPT_JSON:
       a->json = g->value;
@@ -80,10 +78,11 @@ static int parse(int argc, char **argv, verify_args_t *a) {
       break;
     default:
       if (!cli_parse_long("--threads", g->value, 1, 1024, &a->threads))
-        return CLI_USAGE;
+        rc = CLI_USAGE;
     }
   }
-  return -1;
+  free(args);
+  return rc == CLI_OK ? -1 : rc;
 }
 
 int cmd_verify(int argc, char **argv) {
