@@ -38,7 +38,7 @@ static void oblique_cylinder_has_nondiagonal_q(void **state) {
   assert_close(px_mat2_det(ifc.q), 0.0, 0, 1e-15);
 }
 
-static ex_system_t single_system(const ex_stage_t *st, double th, double n1) {
+static ex_system_t one_surface(const ex_stage_t *st, double th, double n1) {
   px_frame_t f;
   px_vec3_t s = px_vec3(sin(th), 0, cos(th));
   px_frame_from_z(s, px_vec3(0, 1, 0), &f);
@@ -48,7 +48,7 @@ static ex_system_t single_system(const ex_stage_t *st, double th, double n1) {
 static void missing_the_surface_is_reported(void **state) {
   (void)state;
   ex_stage_t st = {ex_quadric_sphere(px_vec3(5, 5, 5), 1.0), PX_EVENT_REFRACT, 1.5, 0};
-  ex_system_t sys = single_system(&st, 0.0, 1.0);
+  ex_system_t sys = one_surface(&st, 0.0, 1.0);
   ex_axial_t ax;
   assert_int_equal(ex_trace_axial(&sys, &ax), PX_EMISS);
 }
@@ -56,7 +56,7 @@ static void missing_the_surface_is_reported(void **state) {
 static void axial_ray_maps_to_zero(void **state) {
   (void)state;
   ex_stage_t st = {ex_quadric_sphere(px_vec3(0, 0, -1.0), 1.0), PX_EVENT_REFRACT, 1.0, 1};
-  ex_system_t sys = single_system(&st, 0.4, 1.5);
+  ex_system_t sys = one_surface(&st, 0.4, 1.5);
   ex_axial_t ax;
   assert_int_equal(ex_trace_axial(&sys, &ax), PX_OK);
   double z[4] = {0, 0, 0, 0}, out[4];
@@ -69,7 +69,7 @@ static void tir_of_a_paraxial_ray_is_reported(void **state) {
   (void)state;
   double crit = asin(1.0 / 1.5);
   ex_stage_t st = {ex_quadric_plane(px_vec3(0, 0, 0), px_vec3(0, 0, 1)), PX_EVENT_REFRACT, 1.0, 1};
-  ex_system_t sys = single_system(&st, crit - 1e-4, 1.5);
+  ex_system_t sys = one_surface(&st, crit - 1e-4, 1.5);
   ex_axial_t ax;
   assert_int_equal(ex_trace_axial(&sys, &ax), PX_OK);
   double psi[4] = {0, 0, 2e-3, 0}, out[4];
@@ -110,7 +110,7 @@ static void quad_jacobian_matches_matrix_on_ellipsoid(void **state) {
 static void too_many_stages_rejected(void **state) {
   (void)state;
   ex_stage_t st[EX_MAX_STAGES + 1] = {0};
-  ex_system_t sys = single_system(st, 0.0, 1.0);
+  ex_system_t sys = one_surface(st, 0.0, 1.0);
   sys.nstage = EX_MAX_STAGES + 1;
   ex_axial_t ax;
   assert_int_equal(ex_trace_axial(&sys, &ax), PX_EINVAL);

@@ -47,7 +47,7 @@ static void corrected_holds(const val_bounds_result_t *r) {
 static void sphere_refraction(void **state) {
   (void)state;
   val_bounds_result_t r;
-  val_verify_bounds_system(find("refract sphere n 1->1.5 theta 60 R -1 rotated"), 1, &r);
+  val_verify_bounds_one(find("refract sphere n 1->1.5 theta 60 R -1 rotated"), 1, &r);
   assert_int_equal(r.status, PX_OK);
   corrected_holds(&r);
   assert_close(r.ratio[0][0], 1.0, 1e-9, 0);       /* a */
@@ -69,7 +69,7 @@ static void sphere_refraction(void **state) {
 static void mirror_printed_signs(void **state) {
   (void)state;
   val_bounds_result_t r;
-  val_verify_bounds_system(find("reflect sphere theta 30 R 1"), 0, &r);
+  val_verify_bounds_one(find("reflect sphere theta 30 R 1"), 0, &r);
   assert_int_equal(r.status, PX_OK);
   corrected_holds(&r);
   assert_close(r.ratio[1][0], -1.0, 1e-9, 0); /* printed a = -true a */
@@ -82,7 +82,7 @@ static void mirror_printed_signs(void **state) {
 static void sphere_centre_third_order(void **state) {
   (void)state;
   val_bounds_result_t r;
-  val_verify_bounds_system(find("aim: pinhole -> sphere n 1.5 R 1 aim 0.00 -> plane at 3"), 0, &r);
+  val_verify_bounds_one(find("aim: pinhole -> sphere n 1.5 R 1 aim 0.00 -> plane at 3"), 0, &r);
   assert_int_equal(r.status, PX_OK);
   assert_true(r.pinhole && r.second_order_vanishes);
   assert_true(r.err_at_probe > 1e-6);
@@ -98,7 +98,7 @@ static void sphere_centre_third_order(void **state) {
 static void off_centre_onset(void **state) {
   (void)state;
   val_bounds_result_t r;
-  val_verify_bounds_system(find("aim: pinhole -> sphere n 1.5 R 1 aim 0.30 -> plane at 3"), 0, &r);
+  val_verify_bounds_one(find("aim: pinhole -> sphere n 1.5 R 1 aim 0.30 -> plane at 3"), 0, &r);
   assert_int_equal(r.status, PX_OK);
   corrected_holds(&r);
   assert_false(r.second_order_vanishes);

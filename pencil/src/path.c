@@ -259,7 +259,7 @@ void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const p
 
 /* The step from the parent's hit to node k as a one-stage system in w (the root: a transfer
  * from the eye). */
-static void step_system(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
+static void step_matrix(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
                         const pt_pencil_t *p, const pt_node_t *out, pt_path_scratch_t *w) {
   const rt_tree_node_t *nd = &tree->node[k];
   if (!parent) {
@@ -305,7 +305,7 @@ px_status_t pt_path_build(const rt_scene_t *s, const rt_tree_t *tree, int k, pt_
   const pt_node_t *parent = nd->parent >= 0 ? &nodes[nd->parent] : NULL;
   if (out->miss)
     return PX_OK;
-  step_system(s, tree, k, parent, p, out, w);
+  step_matrix(s, tree, k, parent, p, out, w);
   px_status_t st = ex_trace_axial(&w->sys, &w->ax);
   if (st != PX_OK)
     return st;

@@ -33,7 +33,7 @@ static double coef_at(const px_coeffs_t *k, int q) {
   return v[q];
 }
 
-static void aim_system(val_system_t *v, double n, double aim, int internal) {
+static void add_aimed(val_system_t *v, double n, double aim, int internal) {
   memset(v, 0, sizeof *v);
   double r = 1.0, dist = 4.0, floor_dist = 3.0;
   px_vec3_t pin = px_vec3(0, 0, -dist), dir;
@@ -75,7 +75,7 @@ val_system_t *val_bounds_sweep(int quick, size_t *count) {
       for (int a = 0; a < 8; a++) {
         if (quick && (i != 1 || (a != 0 && a != 4 && a != 6)))
           continue;
-        aim_system(&sw[n++], idx[i], aims[a], internal);
+        add_aimed(&sw[n++], idx[i], aims[a], internal);
       }
   *count = n;
   return sw;
@@ -165,8 +165,8 @@ static void pinhole_analysis(const ex_system_t *sys, const ex_axial_t *ax, px_ma
   }
 }
 
-static void fit_system(const ex_system_t *sys, const ex_axial_t *ax, const val_system_t *v,
-                       val_bounds_result_t *r) {
+static void fit_envelope_of(const ex_system_t *sys, const ex_axial_t *ax, const val_system_t *v,
+                            val_bounds_result_t *r) {
   double samples[2][VAL_NPHI];
   r->sampled_vs_tensor = 0.0;
   double zero = VAL_ZERO_TOL * r->truth.scale, tens_max[2] = {0, 0};
@@ -207,7 +207,7 @@ static void fit_system(const ex_system_t *sys, const ex_axial_t *ax, const val_s
   r->fitted = okx && okxi ? 1 : -1;
 }
 
-void val_verify_bounds_system(const val_system_t *v, int with_fit, val_bounds_result_t *r) {
+void val_verify_bounds_one(const val_system_t *v, int with_fit, val_bounds_result_t *r) {
   memset(r, 0, sizeof *r);
   for (int var = 0; var < 2; var++)
     r->onset[var] = INFINITY;
@@ -282,7 +282,7 @@ void val_verify_bounds_system(const val_system_t *v, int with_fit, val_bounds_re
   if (r->pinhole)
     pinhole_analysis(&sys, &ax, t, v, r);
   if (with_fit)
-    fit_system(&sys, &ax, v, r);
+    fit_envelope_of(&sys, &ax, v, r);
 }
 
 /* ---- statistics and output ---- */
@@ -425,7 +425,7 @@ int val_verify_bounds(const val_bounds_opts_t *o) {
 #endif
 #pragma omp parallel for schedule(dynamic, 4) num_threads(nt)
   for (size_t i = 0; i < n; i++) {
-    val_verify_bounds_system(&sw[i], !o->no_fit, &res[i]);
+    val_verify_bounds_one(&sw[i], !o->no_fit, &res[i]);
     if (o->progress) {
 #pragma omp critical(val_bounds_progress)
       {

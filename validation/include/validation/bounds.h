@@ -104,7 +104,7 @@ typedef struct {
 } val_bounds_result_t;
 
 /** Verify one system (both variants; the fit when with_fit). */
-void val_verify_bounds_system(const val_system_t *v, int with_fit, val_bounds_result_t *r);
+void val_verify_bounds_one(const val_system_t *v, int with_fit, val_bounds_result_t *r);
 
 /** The sweep of `pencil verify bounds`: val_sweep_build() plus pinhole -> glass sphere -> plane
  *  at aims 0 .. 0.9 of the radius (0 = through the centre), with and without an internal
