@@ -33,7 +33,7 @@ static void help(FILE *f) {
   fprintf(
       f, "usage: pencil bench pencil [SCENE.json] [--spp 49[,N...]] [--runs N] [--threads N]\n"
          "                           [--rho R] [--brightness-tol L] [--size WxH] [--json FILE]\n"
-         "                           [--no-measure]\n\n"
+         "                           [--no-measure] [--method NAME]\n\n"
          "The speed targets of issue 5 on SCENE.json or the built-in Fig. 8 scene (a glass sphere\n"
          "over a checkerboard, 256x256): at 49 samples per pixel, pencil time <= 1/10 of exact\n"
          "time with >= 99.8%% of the samples (the image area) within rho = 1/2, and the certified\n"
@@ -64,14 +64,17 @@ static void help(FILE *f) {
          "  --size WxH     override the image size (1 <= W, H <= 4096)\n"
          "  --json FILE    also write the results as JSON\n"
          "  --no-measure   skip the measured renders (times only; no accuracy, no verdict)\n"
+         "  --method NAME  the renderer timed and measured against exact tracing (default\n"
+         "                 pencil; it must take --rho, --brightness-tol and --certified)\n"
          "Exit codes: 0 done (whether or not the targets were met); 1 a render or the JSON file\n"
          "failed; 2 usage or scene error.\n");
 }
 
 typedef struct {
-  const char *scene; /**< scene file, NULL: the built-in Fig. 8 scene */
-  const char *json;  /**< JSON output path or NULL */
-  int spp[MAX_SPP];  /**< samples per pixel to benchmark */
+  const char *scene;           /**< scene file, NULL: the built-in Fig. 8 scene */
+  const char *json;            /**< JSON output path or NULL */
+  const rn_renderer_t *method; /**< the renderer timed against exact tracing (default pencil) */
+  int spp[MAX_SPP];            /**< samples per pixel to benchmark */
   int nspp;
   long runs, threads, width, height; /**< width = 0: the scene's size */
   double rho;
@@ -94,7 +97,17 @@ static int usage_err(const char *opt, const char *v, const char *want) {
   return 0;
 }
 
-enum { OPT_SPP = 1, OPT_RUNS, OPT_THREADS, OPT_RHO, OPT_BTOL, OPT_SIZE, OPT_JSON, OPT_NO_MEASURE };
+enum {
+  OPT_SPP = 1,
+  OPT_RUNS,
+  OPT_THREADS,
+  OPT_RHO,
+  OPT_BTOL,
+  OPT_SIZE,
+  OPT_JSON,
+  OPT_NO_MEASURE,
+  OPT_METHOD
+};
 
 static const cli_spec_t specs[] = {{"--spp", 0, 1, OPT_SPP},
                                    {"--runs", 0, 1, OPT_RUNS},
@@ -103,7 +116,8 @@ static const cli_spec_t specs[] = {{"--spp", 0, 1, OPT_SPP},
                                    {"--brightness-tol", 0, 1, OPT_BTOL},
                                    {"--size", 0, 1, OPT_SIZE},
                                    {"--json", 0, 1, OPT_JSON},
-                                   {"--no-measure", 0, 0, OPT_NO_MEASURE}};
+                                   {"--no-measure", 0, 0, OPT_NO_MEASURE},
+                                   {"--method", 0, 1, OPT_METHOD}};
 
 /* One argument; 1 ok, 0 usage error (printed). */
 static int apply(args_t *a, const cli_arg_t *g) {
@@ -135,6 +149,11 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return 1;
   case OPT_JSON:
     a->json = v;
+    return 1;
+  case OPT_METHOD:
+    a->method = rn_find(v);
+    if (!a->method || !a->method->errors)
+      return usage_err("--method", v, "a renderer that approximates exact tracing (pencil)");
     return 1;
   default:
     a->measure = 0;
@@ -184,7 +203,7 @@ static void judge(row_t *r, const args_t *a) {
 
 /* Time and measure one row; 0 ok, -1 a render failed (message printed). */
 static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r) {
-  const rn_renderer_t *p = rn_find("pencil");
+  const rn_renderer_t *p = a->method;
   pt_options_t po;
   char rho[32], btol[32], err[256];
   snprintf(rho, sizeof rho, "%.17g", a->rho);
@@ -297,15 +316,16 @@ static int write_json(const rt_scene_t *s, const args_t *a, const row_t *rows, i
   for (int k = 0; k < n; k++)
     json_array_append_new(results, json_row(&rows[k]));
   json_t *root = json_pack(
-      "{s:s, s:s, s:i, s:i, s:o, s:o, s:i, s:i, s:s, s:s, s:b, s:{s:i, s:o, s:o, s:o, s:i}, "
+      "{s:s, s:s, s:s, s:i, s:i, s:o, s:o, s:i, s:i, s:s, s:s, s:b, s:{s:i, s:o, s:o, s:o, s:i}, "
       "s:o, s:o}",
-      "benchmark", "pencil", "scene", a->scene ? a->scene : "built-in fig8", "width",
-      s->camera.width, "height", s->camera.height, "rho", io_json_number(a->rho), "brightness_tol",
-      io_json_number(a->btol), "threads", (int)a->threads, "runs", (int)a->runs, "clock",
-      "process_cpu", "statistic", "median", "measured", a->measure, "targets", "spp", TARGET_SPP,
-      "rho", io_json_number(TARGET_RHO), "ratio_max", io_json_number(TARGET_RATIO),
-      "fraction_within_default_min", io_json_number(TARGET_WITHIN), "fraction_within_certified_min",
-      1, "results", results, "targets_met", judged ? json_boolean(met) : json_null());
+      "benchmark", "pencil", "method", a->method->name, "scene",
+      a->scene ? a->scene : "built-in fig8", "width", s->camera.width, "height", s->camera.height,
+      "rho", io_json_number(a->rho), "brightness_tol", io_json_number(a->btol), "threads",
+      (int)a->threads, "runs", (int)a->runs, "clock", "process_cpu", "statistic", "median",
+      "measured", a->measure, "targets", "spp", TARGET_SPP, "rho", io_json_number(TARGET_RHO),
+      "ratio_max", io_json_number(TARGET_RATIO), "fraction_within_default_min",
+      io_json_number(TARGET_WITHIN), "fraction_within_certified_min", 1, "results", results,
+      "targets_met", judged ? json_boolean(met) : json_null());
   char err[1024];
   int rc = root ? io_json_write(a->json, root, err, sizeof err) : -1;
   if (rc != 0)
@@ -358,7 +378,8 @@ int cmd_bench_pencil(int argc, char **argv) {
               .threads = 1,
               .rho = TARGET_RHO,
               .btol = PT_BRIGHTNESS_TOL,
-              .measure = 1};
+              .measure = 1,
+              .method = rn_find("pencil")};
   int p = parse(argc, argv, &a);
   if (p <= 0)
     return p < 0 ? CLI_OK : CLI_USAGE;
