@@ -95,10 +95,10 @@ static void matrix_and_bounds_refuse_alike(void **state) {
   (void)state;
   const double theta_deg[] = {90 - 1e-4, 90 - 1.1e-6, 90 - 1e-7, 90 - 1e-9, 89.999999};
   const double pairs[][2] = {{1.4, 1.4}, {1.0, 1.5}, {1.5, 1.0}, {1.0, 1.0001}, {1.0001, 1.0}};
-  const double radii[] = {-6000.0, 1.0, 1e-300, 1e300, INFINITY};
+  const double radii[] = {-6000.0, 1.0, 1e-300, -1e-262, 1e-125, 1e300, INFINITY};
   for (size_t i = 0; i < sizeof theta_deg / sizeof theta_deg[0]; i++)
     for (size_t p = 0; p < 5; p++)
-      for (size_t q = 0; q < 5; q++) {
+      for (size_t q = 0; q < sizeof radii / sizeof radii[0]; q++) {
         px_mat4_t t;
         px_coeffs_t k;
         double th = theta_deg[i] * DEG;

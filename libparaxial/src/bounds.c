@@ -6,6 +6,8 @@
 
 #include <math.h>
 
+#include "curvature.h"
+
 /* Angles of one element in the paper's frames (section 2.2 (2), (3)): the cosines of
  * px_element_cosines(), so that the coefficients refuse exactly where the matrices do. */
 typedef px_cosines_t angles_t;
@@ -108,6 +110,22 @@ px_status_t px_error_coeffs_cs(const px_element_geom_t *geo, double cos_theta, d
     return PX_ENONFINITE;
   *out = r;
   return PX_OK;
+}
+
+px_status_t px_element_coeffs(const px_element_t *e, double d3m, px_variant_t variant,
+                              px_coeffs_t *out) {
+  if (e->kind == PX_ELEMENT_TRANSFER)
+    return PX_EINVAL;
+  const px_interface_t *f = &e->ifc;
+  double c, s, qn = px__curvature(f->q);
+  px_interface_cos_sin(f, &c, &s);
+  px_element_geom_t geo = {e->kind == PX_ELEMENT_REFLECT ? PX_EVENT_REFLECT : PX_EVENT_REFRACT,
+                           NAN, /* the angle itself: unused, the cosines are given */
+                           f->n1,
+                           f->n2,
+                           qn > 0.0 ? 1.0 / qn : INFINITY,
+                           d3m};
+  return px_error_coeffs_cs(&geo, c, s, variant, out);
 }
 
 px_status_t px_element_geom(const px_element_t *e, double d3m, px_element_geom_t *out) {
@@ -239,11 +257,8 @@ px_status_t px_pencil_constants(const px_cascade_t *c, const double *d3m, px_var
     const px_element_t *e = &c->elem[i - 1];
     if (e->kind == PX_ELEMENT_TRANSFER)
       continue;
-    px_element_geom_t geo;
     px_coeffs_t k;
-    px_status_t st = px_element_geom(e, d3m ? d3m[i - 1] : 0.0, &geo);
-    if (st == PX_OK)
-      st = px_error_coeffs(&geo, variant, &k);
+    px_status_t st = px_element_coeffs(e, d3m ? d3m[i - 1] : 0.0, variant, &k);
     double lam[4], mu[4];
     if (st == PX_OK)
       st = px_cascade_weights(c, i, lam, mu);

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "curvature.h"
 #include "fma_clones.h"
 
 /* Rays and frames are accepted when they agree to this many units of the last place of a unit
@@ -207,6 +208,14 @@ px_status_t px_interface_frames(const px_interface_t *ifc, px_event_t ev, px_fra
   return PX_OK;
 }
 
+void px_interface_cos_sin(const px_interface_t *ifc, double *c, double *s) {
+  double ci = px_vec3_dot(ifc->nu, ifc->s);
+  if (ci < C_HARD) /* near grazing the fused dot product is only good to U absolute */
+    ci = dot_compensated(ifc->nu, ifc->s);
+  *c = fmin(ci, 1.0);
+  *s = fmin(px_vec3_norm(px_vec3_cross(ifc->nu, ifc->s)), 1.0);
+}
+
 px_status_t px_element_cosines(px_event_t ev, double c, double s, double n1, double n2,
                                double curvature, px_cosines_t *out) {
   if (!index_ok(n1) || (ev == PX_EVENT_REFRACT && !index_ok(n2)) || !(c >= 0.0 && c <= 1.0) ||
@@ -312,24 +321,17 @@ static px_mat4_t matrix_from_cosines(const px_interface_t *ifc, const px_cosines
   return px_mat4_blocks(a, px_mat2_zero(), c, d);
 }
 
-static double mat2_maxabs(px_mat2_t m) {
-  return fmax(fmax(fabs(m.m[0][0]), fabs(m.m[0][1])), fmax(fabs(m.m[1][0]), fabs(m.m[1][1])));
-}
-
 px_status_t px_interface_matrix_err(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
                                     px_frame_t out, px_variant_t variant, px_mat4_t *t,
                                     double *err) {
   if (!index_ok(ifc->n1) || (ev == PX_EVENT_REFRACT && !index_ok(ifc->n2)))
     return PX_EINVAL;
-  double ci = px_vec3_dot(ifc->nu, ifc->s);
+  double ci, si;
+  px_interface_cos_sin(ifc, &ci, &si);
   if (!(ci > PX_COS_MIN))
     return PX_EGRAZING;
-  if (ci < C_HARD) /* near grazing the fused dot product is only good to U absolute */
-    ci = dot_compensated(ifc->nu, ifc->s);
-  double si = px_vec3_norm(px_vec3_cross(ifc->nu, ifc->s));
   px_cosines_t g;
-  px_status_t st = px_element_cosines(ev, fmin(ci, 1.0), fmin(si, 1.0), ifc->n1, ifc->n2,
-                                      mat2_maxabs(ifc->q), &g);
+  px_status_t st = px_element_cosines(ev, ci, si, ifc->n1, ifc->n2, px__curvature(ifc->q), &g);
   if (st != PX_OK)
     return st;
   /* the outgoing axial ray, only to check the output frame against it (to 1e-9): eta s + h nu

@@ -490,6 +490,16 @@ static void check_element(rng_t *rng, val_stab_regime_t g, int sample, val_stab_
   }
   qelem_t x;
   ref_element(&r.ifc, e.ev, r.built == 2 ? &r.in : NULL, r.built == 2 ? &r.out : NULL, &x);
+  if (r.built == 2) { /* the error coefficients exist exactly where the matrix does */
+    px_element_t el = {e.ev == PX_EVENT_REFLECT ? PX_ELEMENT_REFLECT : PX_ELEMENT_REFRACT,
+                       r.t,
+                       0.0,
+                       r.ifc,
+                       r.in,
+                       r.out};
+    px_coeffs_t k;
+    o->bounds_disagree = px_element_coeffs(&el, 0.0, PX_VARIANT_CORRECTED, &k) != r.st;
+  }
   if (r.st != PX_OK) {
     o->refusal_wrong = refusal_wrong(r.st, &x, r.kmax);
     if (sample)

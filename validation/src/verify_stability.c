@@ -18,6 +18,7 @@
 typedef struct {
   uint64_t total, checked, refused[NSTATUS];
   uint64_t invariant_fail, reference_fail, accuracy_fail, refusal_wrong, returned_tir, nonfinite;
+  uint64_t bounds_disagree;
   uint64_t sampled, sample_fail, sample_unresolved, sample_invariant_fail;
   double worst_err, worst_ratio, worst_bound, worst_sample_err;
 } counts_t;
@@ -33,6 +34,7 @@ static void add_case(counts_t *c, const val_stab_case_t *k) {
   c->accuracy_fail += (uint64_t)k->accuracy_fail;
   c->refusal_wrong += (uint64_t)k->refusal_wrong;
   c->returned_tir += (uint64_t)k->returned_tir;
+  c->bounds_disagree += (uint64_t)k->bounds_disagree;
   c->nonfinite += (uint64_t)k->nonfinite;
   c->sampled += (uint64_t)k->sampled;
   c->sample_fail += (uint64_t)k->sample_fail;
@@ -59,6 +61,7 @@ static void merge(counts_t *a, const counts_t *b) {
   a->accuracy_fail += b->accuracy_fail;
   a->refusal_wrong += b->refusal_wrong;
   a->returned_tir += b->returned_tir;
+  a->bounds_disagree += b->bounds_disagree;
   a->nonfinite += b->nonfinite;
   a->sampled += b->sampled;
   a->sample_fail += b->sample_fail;
@@ -72,12 +75,14 @@ static void merge(counts_t *a, const counts_t *b) {
 
 static uint64_t failures(const counts_t *c) {
   return c->invariant_fail + c->reference_fail + c->accuracy_fail + c->refusal_wrong +
-         c->returned_tir + c->nonfinite + c->sample_fail + c->sample_invariant_fail;
+         c->returned_tir + c->nonfinite + c->sample_fail + c->sample_invariant_fail +
+         c->bounds_disagree;
 }
 
 static int is_failure(const val_stab_case_t *k) {
   return k->invariant_fail || k->reference_fail || k->accuracy_fail || k->refusal_wrong ||
-         k->returned_tir || k->nonfinite || k->sample_fail || k->sample_invariant_fail;
+         k->returned_tir || k->nonfinite || k->sample_fail || k->sample_invariant_fail ||
+         k->bounds_disagree;
 }
 
 static const px_status_t refusal_order[] = {PX_ETIR,       PX_EGRAZING, PX_EILLCOND,
@@ -119,7 +124,8 @@ static void report(FILE *f, const counts_t *reg, const counts_t *all, double sec
   }
   fprintf(f,
           "\nfailures: %llu (invariants %llu, beyond own bound %llu, beyond %.0e %llu, wrong "
-          "refusals %llu, matrices at TIR %llu, silent NaN/Inf %llu, sample %llu)\n"
+          "refusals %llu, matrices at TIR %llu, silent NaN/Inf %llu, sample %llu, matrix and "
+          "coefficients refusing differently %llu)\n"
           "worst error / own bound %.3g; largest element bound returned %.3g; sampled: %llu, "
           "%llu unresolved by the reference (its step sizes disagree), worst error %.3g;\n"
           "invariants on the exact Jacobian: %llu failures\n"
@@ -129,9 +135,10 @@ static void report(FILE *f, const counts_t *reg, const counts_t *all, double sec
           (unsigned long long)all->reference_fail, PX_ACCURACY,
           (unsigned long long)all->accuracy_fail, (unsigned long long)all->refusal_wrong,
           (unsigned long long)all->returned_tir, (unsigned long long)all->nonfinite,
-          (unsigned long long)all->sample_fail, all->worst_ratio, all->worst_bound,
-          (unsigned long long)all->sampled, (unsigned long long)all->sample_unresolved,
-          all->worst_sample_err, (unsigned long long)all->sample_invariant_fail, secs);
+          (unsigned long long)all->sample_fail, (unsigned long long)all->bounds_disagree,
+          all->worst_ratio, all->worst_bound, (unsigned long long)all->sampled,
+          (unsigned long long)all->sample_unresolved, all->worst_sample_err,
+          (unsigned long long)all->sample_invariant_fail, secs);
 }
 
 static json_t *counts_json(const counts_t *c) {
@@ -149,6 +156,8 @@ static json_t *counts_json(const counts_t *c) {
   json_object_set_new(o, "wrong_refusals", json_integer((json_int_t)c->refusal_wrong));
   json_object_set_new(o, "matrices_at_tir", json_integer((json_int_t)c->returned_tir));
   json_object_set_new(o, "silent_nonfinite", json_integer((json_int_t)c->nonfinite));
+  json_object_set_new(o, "matrix_coefficients_disagree",
+                      json_integer((json_int_t)c->bounds_disagree));
   json_object_set_new(o, "sampled", json_integer((json_int_t)c->sampled));
   json_object_set_new(o, "sampled_failures", json_integer((json_int_t)c->sample_fail));
   json_object_set_new(o, "sampled_unresolved", json_integer((json_int_t)c->sample_unresolved));
@@ -216,7 +225,9 @@ int val_verify_stability(const val_stability_opts_t *o) {
               listed[i].reference_fail ? " [beyond bound]" : "",
               listed[i].refusal_wrong ? " [wrong refusal]" : "",
               listed[i].returned_tir ? " [matrix at TIR]" : "",
-              listed[i].nonfinite ? " [NaN/Inf]" : "",
+              listed[i].nonfinite         ? " [NaN/Inf]"
+              : listed[i].bounds_disagree ? " [coefficients refuse differently]"
+                                          : "",
               listed[i].sample_fail || listed[i].sample_invariant_fail ? " [sample]" : "");
   }
   int io_err = 0;

@@ -67,6 +67,14 @@ px_status_t px_error_coeffs_cs(const px_element_geom_t *g, double cos_theta, dou
  *  geometry: PX_EINVAL. */
 px_status_t px_element_geom(const px_element_t *e, double d3m, px_element_geom_t *out);
 
+/** The coefficients of a cascade element (px_error_coeffs_cs() with the geometry of
+ *  px_element_geom()), its cosines taken from the interface's vectors by
+ *  px_interface_cos_sin() as px_interface_matrix() takes them, not through an angle (which
+ *  near grazing costs 1e-16 / cos theta relative): so an element has coefficients exactly
+ *  where it has a matrix. Transfers: PX_EINVAL. */
+px_status_t px_element_coeffs(const px_element_t *e, double d3m, px_variant_t variant,
+                              px_coeffs_t *out);
+
 /** Largest |c_ijk| of a symmetric third-derivative tensor given as (c111, c112, c122, c222):
  *  d_3m of A-1 (indices over the two tangent coordinates). */
 double px_d3m(const double cubic[4]);

@@ -102,6 +102,12 @@ typedef struct {
 px_status_t px_element_cosines(px_event_t ev, double c, double s, double n1, double n2,
                                double curvature, px_cosines_t *out);
 
+/** cos theta = nu . s and sin theta = |nu x s| of an interface, from its vectors (the dot
+ *  product compensated near grazing, where the plain one is only good to 1e-16 absolute),
+ *  at most 1: the inputs of px_element_cosines() for px_interface_matrix() and
+ *  px_element_coeffs() alike. */
+void px_interface_cos_sin(const px_interface_t *ifc, double *c, double *s);
+
 /** cos and sin of an angle given in degrees, each to a few ulps relative even near 90 deg
  *  (from the exact complement 90 - deg there), where cos(deg * pi / 180) loses the digits
  *  the rounding of the radian value takes (1e-16 absolute, 6e-9 relative at 1e-6 deg from

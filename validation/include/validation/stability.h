@@ -42,6 +42,7 @@ typedef struct {
                                   cos^2 theta' > 1e-12, grazing where both cosines > 2e-10, overflow
                                   below PX_CURVATURE_MAX / 10) */
   int returned_tir;          /**< a matrix where the exact ray is totally reflected */
+  int bounds_disagree;       /**< px_element_coeffs() returned another status than the matrix */
   double err_bound;          /**< the bound the library stated (cascades: propagated) */
   double err;                /**< the scaled relative error against the __float128 reference */
   int sampled;               /**< also compared with the exact-tracing Jacobian */
