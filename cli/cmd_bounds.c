@@ -35,7 +35,8 @@ static void help(FILE *f) {
       "                  tracing) or printed (A-1 verbatim, R read as the smallest radius of\n"
       "                  curvature; may be negative for mirrors; see docs/errata.md)\n\n"
       "Exit codes: 0 coefficients printed; 1 no system matrix exists (total internal\n"
-      "reflection, grazing incidence or exit; reason on stderr); 2 usage error.\n");
+      "reflection, grazing incidence or exit, ill-conditioned, overflow: exactly where\n"
+      "`pencil matrix` prints none; reason on stderr); 2 usage error.\n");
 }
 
 int cmd_bounds(int argc, char **argv) {
@@ -85,7 +86,9 @@ int cmd_bounds(int argc, char **argv) {
                          fabs(radius),
                          d3m};
   px_coeffs_t k;
-  px_status_t st = px_error_coeffs(&g, variant, &k);
+  double c, s; /* as `pencil matrix`: the same cosines, so both refuse alike */
+  px_cos_sin_deg(theta, &c, &s);
+  px_status_t st = px_error_coeffs_cs(&g, c, s, variant, &k);
   if (st != PX_OK) {
     fprintf(stderr,
             "pencil bounds %s: no error coefficients at theta = %g deg, n1 = %g, n2 = %g: %s\n",

@@ -11,7 +11,8 @@
 static void help(FILE *f) {
   fprintf(f,
           "usage: pencil matrix refract --theta-deg T --n1 N1 --n2 N2 [--radius R] [--variant V]\n"
-          "       pencil matrix reflect --theta-deg T [--radius R] [--variant V]\n"
+          "                            [--error-bound]\n"
+          "       pencil matrix reflect --theta-deg T [--radius R] [--variant V] [--error-bound]\n"
           "       pencil matrix transfer --distance D\n\n"
           "Prints the 4x4 system matrix as JSON {\"T\": [[...], ...]}; rows and columns are\n"
           "ordered x1, x2, xi1, xi2 (position, then direction; Eq. 1 and Eq. 2).\n\n"
@@ -29,9 +30,15 @@ static void help(FILE *f) {
           "                  Without --radius the surface is a plane.\n"
           "  --distance D    transfer length along the axial ray\n"
           "  --variant V     corrected (default: confirmed by exact tracing) or printed\n"
-          "                  (Eq. 2 verbatim from the paper; see docs/errata.md)\n\n"
-          "Exit codes: 0 matrix printed; 1 no matrix exists (total internal reflection,\n"
-          "grazing incidence or exit; reason on stderr); 2 usage error.\n");
+          "                  (Eq. 2 verbatim from the paper; see docs/errata.md)\n"
+          "  --error-bound   also print \"error_bound\": the bound on the matrix's scaled\n"
+          "                  relative error (<= 1e-8; docs/verification.md, \"Stability\")\n\n"
+          "Every matrix printed is within 1e-8 of the exact one (relative to its largest entry,\n"
+          "C scaled by |R|); where double precision cannot promise that (within ~1e-5 deg of\n"
+          "the critical angle, a radius below 1e-120) none is printed.\n\n"
+          "Exit codes: 0 matrix printed; 1 no matrix exists or it cannot be given to that\n"
+          "accuracy (total internal reflection, grazing incidence or exit, ill-conditioned,\n"
+          "overflow; reason on stderr); 2 usage error.\n");
 }
 
 int cmd_matrix(int argc, char **argv) {
@@ -47,10 +54,13 @@ int cmd_matrix(int argc, char **argv) {
     return CLI_USAGE;
   }
   double distance = NAN;
-  cli_spec_t specs[6];
-  int ns = is_transfer ? 1 : cli_element_specs(&e, specs);
+  enum { OPT_ERROR_BOUND = 1 };
+  cli_spec_t specs[7];
+  int ns = is_transfer ? 1 : cli_element_specs(&e, specs), error_bound = 0;
   if (is_transfer)
     specs[0] = (cli_spec_t){"--distance", 0, 1, 1};
+  else
+    specs[ns++] = (cli_spec_t){"--error-bound", 0, 0, OPT_ERROR_BOUND};
   char cmd[32];
   snprintf(cmd, sizeof cmd, "matrix %s", kind);
   int n, rc;
@@ -58,6 +68,10 @@ int cmd_matrix(int argc, char **argv) {
   if (!args)
     return rc;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
+    if (!is_transfer && args[k].spec && args[k].spec->id == OPT_ERROR_BOUND) {
+      error_bound = 1;
+      continue;
+    }
     int r =
         is_transfer
             ? (args[k].spec ? cli_parse_double("--distance", args[k].value, &distance) ? 1 : -1 : 0)
@@ -71,6 +85,7 @@ int cmd_matrix(int argc, char **argv) {
     return rc;
 
   px_mat4_t t;
+  double bound = 0.0; /* a transfer is exact: its entries are the inputs */
   if (is_transfer) {
     if (isnan(distance)) {
       fprintf(stderr, "pencil matrix transfer: --distance is required\n");
@@ -81,8 +96,9 @@ int cmd_matrix(int argc, char **argv) {
     if (!cli_element_check("matrix", &e))
       return CLI_USAGE;
     px_event_t ev = e.reflect ? PX_EVENT_REFLECT : PX_EVENT_REFRACT;
-    px_status_t st =
-        px_element_matrix(ev, e.theta_deg * M_PI / 180.0, e.n1, e.n2, e.radius, e.variant, &t);
+    double c, s; /* from degrees without rounding the radian value (accurate near grazing) */
+    px_cos_sin_deg(e.theta_deg, &c, &s);
+    px_status_t st = px_element_matrix_cs(ev, c, s, e.n1, e.n2, e.radius, e.variant, &t, &bound);
     if (st != PX_OK) {
       fprintf(stderr,
               "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n", kind,
@@ -90,6 +106,17 @@ int cmd_matrix(int argc, char **argv) {
       return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
     }
   }
-  cli_print_matrix_json(stdout, "T", t.m);
+  if (!error_bound) {
+    cli_print_matrix_json(stdout, "T", t.m);
+    return CLI_OK;
+  }
+  printf("{\"T\": ["); /* the format of cli_print_matrix_json, then the bound */
+  for (int i = 0; i < 4; i++) {
+    printf("%s[", i ? ", " : "");
+    for (int j = 0; j < 4; j++)
+      printf("%s%.17g", j ? ", " : "", t.m[i][j] == 0.0 ? 0.0 : t.m[i][j]);
+    printf("]");
+  }
+  printf("], \"error_bound\": %.3g}\n", bound);
   return CLI_OK;
 }

@@ -67,6 +67,24 @@ $pencil bounds refract --theta-deg 10 --n1 1 --n2 1.5 --variant exact >/dev/null
 check "unknown variant is a usage error" "[ $rc -eq 2 ]"
 $pencil bounds transfer --distance 1 >/dev/null 2>&1; rc=$?
 check "transfer is not an element with coefficients here" "[ $rc -eq 2 ]"
+# `pencil matrix` and `pencil bounds` refuse at the same places, for the same reason
+# (px_element_cosines; docs/verification.md, "Stability").
+for th in 89.9999989 89.9999999 89.99999999999 89.999999 41.810314895778596; do
+  for pair in "1.4 1.4" "1 1.5" "1.5 1" "1 1.0001"; do
+    set -- $pair
+    for r in 1 -6000 1e-300; do
+      $pencil matrix refract --theta-deg $th --n1 $1 --n2 $2 --radius $r >/dev/null 2>"$err.m"; rm_=$?
+      $pencil bounds refract --theta-deg $th --n1 $1 --n2 $2 --radius $r >/dev/null 2>"$err.b"; rb=$?
+      check "matrix and bounds agree at $th deg, n $1 -> $2, R $r" \
+        "[ $rm_ -eq $rb ] && [ \"\$(sed 's/.*: //' $err.m)\" = \"\$(sed 's/.*: //' $err.b)\" ]"
+    done
+  done
+done
+rm -f "$err.m" "$err.b"
+out=$($pencil bounds refract --theta-deg 89.9999989 --n1 1.4 --n2 1.4 --radius 1)
+check "n1 = n2 near grazing: every coefficient is 0 (was a = 3.7e14)" \
+  "echo '$out' | $py -c 'import json,sys; k=json.load(sys.stdin); assert all(v == 0 for v in k.values())'"
+
 $pencil bounds --help | grep -q usage; rc=$?
 check "pencil bounds --help prints usage" "[ $rc -eq 0 ]"
 $pencil bounds refract --help | grep -q usage; rc=$?

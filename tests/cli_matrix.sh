@@ -45,6 +45,58 @@ check "misplaced option is a usage error" "[ $rc -eq 2 ]"
 out=$($pencil matrix refract --theta-deg 30 --n1 1 --n2 1.5 --radius 2 --variant printed)
 check "printed variant has B = identity" \
   "echo '$out' | $py -c 'import json,sys; t=json.load(sys.stdin)[\"T\"]; assert t[0][2]==1 and t[1][3]==1'"
+# Numerics that refuse instead of lying (docs/verification.md, "Stability"): a matrix printed is
+# within 1e-8 of the exact one (mpmath, 60 digits, from the decimal angle), else exit 1.
+exact_check() { # theta_deg n1 n2 R: exit 1, or every scaled entry within 1e-8 of mpmath's
+  local out rc
+  out=$($pencil matrix refract --theta-deg "$1" --n1 "$2" --n2 "$3" --radius "$4" 2>/dev/null); rc=$?
+  [ $rc -eq 1 ] && [ -z "$out" ] && return 0
+  [ $rc -eq 0 ] || return 1
+  echo "$out" | $py -c "
+import json, sys, mpmath as m
+m.mp.dps = 60
+t = json.load(sys.stdin)['T']; th = m.radians(m.mpf(float('$1'))); n1, n2, R = m.mpf('$2'), m.mpf('$3'), m.mpf('$4')
+c = m.cos(th); eta = n1 / n2; cp = m.sqrt(1 - eta**2 * m.sin(th)**2); h = cp - eta * c
+ex = [[cp / c, 0, 0, 0], [0, 1, 0, 0], [-h / (R * c * cp), 0, eta * c / cp, 0], [0, -h / R, 0, eta]]
+sc = lambda i, j: abs(R) if (i >= 2 and j < 2) else (1 / abs(R) if (i < 2 and j >= 2) else 1)
+big = max(abs(ex[i][j] * sc(i, j)) for i in range(4) for j in range(4))
+err = max(abs((m.mpf(t[i][j]) - ex[i][j]) * sc(i, j)) for i in range(4) for j in range(4)) / big
+sys.exit(0 if err <= m.mpf('1e-8') else print('error', m.nstr(err, 3)) or 1)"
+}
+for d in 0.01 0.0001 0.000001; do
+  th=$($py -c "print(repr(90 - $d))")
+  check "n1 = n2, $d deg from grazing: exact (identity) or refused" "exact_check $th 1.4 1.4 -6000"
+done
+check "theta 89.999999, n1 = n2 = 1.4, R -6000: T00 = 1, not 0.854" \
+  "exact_check 89.999999 1.4 1.4 -6000"
+for d in 1e-4 1e-8 1e-12; do
+  th=$($py -c "import math; print(repr(math.degrees(math.asin(1/1.5)) - $d))")
+  check "$d deg below the critical angle: within 1e-8 or refused" "exact_check $th 1.5 1 -2"
+done
+# --error-bound: the bound is printed, <= 1e-8, and the true error (mpmath) is within it
+for args in "30 1 1.5 2" "$($py -c "import math; print(repr(math.degrees(math.asin(1/1.5)) - 1e-5))") 1.5 1 -2" \
+            "89.9999 1 1.0001 3"; do
+  set -- $args
+  out=$($pencil matrix refract --theta-deg $1 --n1 $2 --n2 $3 --radius $4 --error-bound)
+  check "--error-bound at $1 deg, n $2 -> $3: true error <= bound <= 1e-8" "echo '$out' | $py -c \"
+import json, sys, mpmath as m
+m.mp.dps = 60
+d = json.load(sys.stdin); t, b = d['T'], d['error_bound']; th = m.radians(m.mpf(float('$1'))); n1, n2, R = m.mpf('$2'), m.mpf('$3'), m.mpf('$4')
+c = m.cos(th); eta = n1 / n2; cp = m.sqrt(1 - eta**2 * m.sin(th)**2); h = cp - eta * c
+ex = [[cp / c, 0, 0, 0], [0, 1, 0, 0], [-h / (R * c * cp), 0, eta * c / cp, 0], [0, -h / R, 0, eta]]
+sc = lambda i, j: abs(R) if (i >= 2 and j < 2) else (1 / abs(R) if (i < 2 and j >= 2) else 1)
+big = max(abs(ex[i][j] * sc(i, j)) for i in range(4) for j in range(4))
+err = max(abs((m.mpf(t[i][j]) - ex[i][j]) * sc(i, j)) for i in range(4) for j in range(4)) / big
+assert 0 < b <= 1e-8 and err <= b, (err, b)\""
+done
+th=$($py -c "import math; print(repr(math.degrees(math.asin(1/1.5)) - 1e-12))")
+$pencil matrix refract --theta-deg $th --n1 1.5 --n2 1 >/dev/null 2>/tmp/pencil_err.$$; rc=$?
+check "1e-12 deg below the critical angle is refused as ill-conditioned" \
+  "[ $rc -eq 1 ] && grep -q 'ill-conditioned' /tmp/pencil_err.$$"
+out=$($pencil matrix refract --theta-deg 30 --n1 1 --n2 1.5 --radius 1e-300 2>/tmp/pencil_err.$$); rc=$?
+check "radius 1e-300 is refused as overflow (as by pencil bounds)" \
+  "[ $rc -eq 1 ] && [ -z '$out' ] && grep -q 'overflow' /tmp/pencil_err.$$"
+
 for c in "" "matrix" "verify"; do
   $pencil $c --help >/tmp/pencil_help.$$ 2>&1; rc=$?
   check "pencil $c --help exits 0 and prints usage" "[ $rc -eq 0 ] && grep -q usage /tmp/pencil_help.$$"

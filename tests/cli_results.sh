@@ -22,6 +22,16 @@ cat >"$dir/out/verify-bounds.json" <<'JSON'
  "fit": {"systems": 1999, "worst_attained_deviation": 2.75e-5, "tolerance": 0.02},
  "onset": {"pinhole_systems": 208, "found_corrected": 135, "smallest_corrected": 0.00033}}
 JSON
+cat >"$dir/out/verify-stability.json" <<'JSON'
+{"samples": 1000, "seed": 7, "threads": 2, "seconds": 12.0, "accuracy": 1e-8, "failures": 0,
+ "all": {"total": 1000, "checked": 600, "worst_error": 1.5e-9, "sampled": 3,
+         "refused": {"tir": 300, "grazing": 50, "illcond": 40, "overflow": 10},
+         "invariant_failures": 0, "beyond_own_bound": 0, "wrong_refusals": 0,
+         "matrices_at_tir": 0, "silent_nonfinite": 0, "sampled_failures": 0,
+         "worst_error_over_bound": 0.25, "largest_bound": 9.9e-9, "sampled_unresolved": 1},
+ "regimes": {"grazing": {"total": 100, "checked": 90, "refused": {"grazing": 10},
+                         "worst_error": 1e-15, "sampled": 1}}}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -61,6 +71,9 @@ check "targets, default and certified" \
   "grep -q '| default | 0.179 | 99.9900% | 100 | 0.597 | no |' '$page' && grep -q '| certified | 0.207 | 100.0000% | 0 | 0.392 | no |' '$page'"
 check "no-accuracy ratio" "grep -q 'is 0.124 (certified 0.131)' '$page'"
 check "rho sweep row" "grep -q '| 0.05 | printed | 1.099 | 96.8000% | 0.070 | 1.900 |' '$page'"
+check "stability: the counts per regime" \
+  "grep -q '| grazing | 100 | 90 | - | 10 | - | - | 1.00e-15 | 1 |' '$page' && grep -q '| all | 1000 | 600 | 300 | 50 | 40 | 10 | 1.50e-09 | 3 |' '$page'"
+check "stability: failures and silent NaN/Inf" "grep -q 'silent NaN/Inf 0, sample 0' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
 
 rm "$dir/out/verify-bounds.json"

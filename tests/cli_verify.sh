@@ -19,3 +19,25 @@ if $pencil verify matrices --json /nonexistent/dir/v.json --quick >/dev/null 2>"
   echo "FAIL: unwritable JSON path must fail"; exit 1
 fi
 grep -q "/nonexistent/dir/v.json" "$dir/err" || { echo "FAIL: error must name the file"; exit 1; }
+
+# `pencil verify stability --quick`: counts in a table and in JSON (with provenance), no failure,
+# the counts independent of the thread count, every regime drawn and each refusal reason met.
+$pencil verify stability --quick --threads 2 --json "$dir/s.json" >"$dir/s.txt" || { cat "$dir/s.txt"; exit 1; }
+$pencil verify stability --quick --threads 1 --json "$dir/s1.json" >/dev/null || exit 1
+grep -q "silent NaN/Inf 0" "$dir/s.txt" || { echo "FAIL: stability table"; cat "$dir/s.txt"; exit 1; }
+/usr/bin/python3 - "$dir" <<'PY' || exit 1
+import json, sys
+d = sys.argv[1]
+s, s1 = json.load(open(f"{d}/s.json")), json.load(open(f"{d}/s1.json"))
+a = s["all"]
+assert s["failures"] == 0 and "provenance" in s, s
+assert a["total"] == s["samples"] == 20000 and a["silent_nonfinite"] == 0, a
+assert a["checked"] + sum(a["refused"].values()) == a["total"], a
+assert all(a["refused"][k] > 0 for k in ("tir", "grazing", "illcond", "overflow")), a
+assert a["largest_bound"] <= s["accuracy"] and a["sampled"] > 0, a
+assert len(s["regimes"]) == 10 and all(r["total"] == 2000 for r in s["regimes"].values())
+assert s["all"] == s1["all"], "counts depend on the thread count"
+print("cli_verify: stability passed,", a["checked"], "checked,", a["refused"], "refused")
+PY
+$pencil verify stability --samples 0 >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || { echo "FAIL: --samples 0 must be a usage error"; exit 1; }

@@ -6,39 +6,19 @@
 
 #include <math.h>
 
-/* Angles of one element in the paper's frames (section 2.2 (2), (3)). */
-typedef struct {
-  double c, s;   /* cos, sin of the incidence angle theta (c > 0, s >= 0) */
-  double cp, sp; /* cos, sin of theta'; a reflection has theta' = pi - theta: cp = -c */
-  double eta;    /* n / n' (1 for a reflection) */
-  double h;      /* h = cos theta' - (n/n') cos theta of Eq. (2) */
-} angles_t;
+#include "curvature.h"
 
-static px_status_t element_angles(px_event_t ev, double theta, double n1, double n2, angles_t *a) {
-  if (!isfinite(theta) || theta < 0.0 || theta > M_PI / 2 || !(n1 > 0.0) || !isfinite(n1))
-    return PX_EINVAL;
-  if (ev == PX_EVENT_REFRACT && (!(n2 > 0.0) || !isfinite(n2)))
-    return PX_EINVAL;
-  a->c = cos(theta);
-  a->s = sin(theta);
-  if (!(a->c > PX_COS_MIN))
-    return PX_EGRAZING;
-  if (ev == PX_EVENT_REFLECT) {
-    a->eta = 1.0;
-    a->sp = a->s;
-    a->cp = -a->c;
-  } else {
-    a->eta = n1 / n2;
-    a->sp = a->eta * a->s;
-    double k = (1.0 - a->sp) * (1.0 + a->sp); /* cos^2 theta', without cancellation */
-    if (k < 0.0)
-      return PX_ETIR;
-    a->cp = sqrt(k);
-    if (!(a->cp > PX_COS_MIN))
-      return PX_EGRAZING;
-  }
-  a->h = a->cp - a->eta * a->c;
-  return PX_OK;
+/* Angles of one element in the paper's frames (section 2.2 (2), (3)): the cosines of
+ * px_element_cosines(), so that the coefficients refuse exactly where the matrices do. */
+typedef px_cosines_t angles_t;
+
+static px_status_t element_angles(px_event_t ev, double c, double s, double n1, double n2,
+                                  double curvature, angles_t *a) {
+  return px_element_cosines(ev, c, s, n1, n2, curvature, a);
+}
+
+static px_status_t theta_ok(double theta) {
+  return isfinite(theta) && theta >= 0.0 && theta <= M_PI / 2 ? PX_OK : PX_EINVAL;
 }
 
 /* A-1 verbatim. R is read as the smallest radius of curvature (1/R = 0 for a plane): a and e
@@ -72,7 +52,10 @@ static void coeffs_corrected(const angles_t *g, double k, double d3m, px_coeffs_
    *  - by components: Delta x1 = u^T M u with M = (al + be/2) Q + (be/2) diag(q11, -q22), so
    *    |Delta x1| <= (|al + be/2| + |be|/2) k |u|^2, and |Delta x2| <= |s' h| k |u1| |u|. For a
    *    mirror al + be/2 = 0: the two terms of the triangle form cancel (3x tighter at most). */
-  double al = (s * g->cp - c * sp) / (2.0 * c), be = sp * h / g->cp;
+  /* sin(theta - theta') = s cp - c sp = s h (sp = eta s, or theta' = pi - theta), the product
+   * form where the difference cancels (h factored, e.g. n1 ~ n2) */
+  double sin_d = fabs(h) < 0.0625 * cp ? s * h : s * g->cp - c * sp;
+  double al = sin_d / (2.0 * c), be = sp * h / g->cp;
   double tri = fabs(al) + fabs(be);
   double comp = hypot(fabs(al + 0.5 * be) + 0.5 * fabs(be), sp * h);
   r->a = k / (c * c) * fmin(tri, comp);
@@ -103,13 +86,21 @@ static int coeffs_finite(const px_coeffs_t *k) {
 }
 
 px_status_t px_error_coeffs(const px_element_geom_t *geo, px_variant_t variant, px_coeffs_t *out) {
+  if (theta_ok(geo->theta) != PX_OK)
+    return PX_EINVAL;
+  return px_error_coeffs_cs(geo, cos(geo->theta), sin(geo->theta), variant, out);
+}
+
+px_status_t px_error_coeffs_cs(const px_element_geom_t *geo, double cos_theta, double sin_theta,
+                               px_variant_t variant, px_coeffs_t *out) {
   if (isnan(geo->radius) || !(geo->radius > 0.0) || !(geo->d3m >= 0.0) || !isfinite(geo->d3m))
     return PX_EINVAL;
+  double k = isinf(geo->radius) ? 0.0 : 1.0 / geo->radius;
   angles_t g;
-  px_status_t st = element_angles(geo->event, geo->theta, geo->n1, geo->n2, &g);
+  px_status_t st = element_angles(geo->event, cos_theta, sin_theta, geo->n1,
+                                  geo->event == PX_EVENT_REFLECT ? geo->n1 : geo->n2, k, &g);
   if (st != PX_OK)
     return st;
-  double k = isinf(geo->radius) ? 0.0 : 1.0 / geo->radius;
   px_coeffs_t r;
   if (variant == PX_VARIANT_PRINTED)
     coeffs_printed(&g, k, geo->d3m, &r);
@@ -119,6 +110,22 @@ px_status_t px_error_coeffs(const px_element_geom_t *geo, px_variant_t variant, 
     return PX_ENONFINITE;
   *out = r;
   return PX_OK;
+}
+
+px_status_t px_element_coeffs(const px_element_t *e, double d3m, px_variant_t variant,
+                              px_coeffs_t *out) {
+  if (e->kind == PX_ELEMENT_TRANSFER)
+    return PX_EINVAL;
+  const px_interface_t *f = &e->ifc;
+  double c, s, qn = px__curvature(f->q);
+  px_interface_cos_sin(f, &c, &s);
+  px_element_geom_t geo = {e->kind == PX_ELEMENT_REFLECT ? PX_EVENT_REFLECT : PX_EVENT_REFRACT,
+                           NAN, /* the angle itself: unused, the cosines are given */
+                           f->n1,
+                           f->n2,
+                           qn > 0.0 ? 1.0 / qn : INFINITY,
+                           d3m};
+  return px_error_coeffs_cs(&geo, c, s, variant, out);
 }
 
 px_status_t px_element_geom(const px_element_t *e, double d3m, px_element_geom_t *out) {
@@ -161,7 +168,9 @@ px_status_t px_element_second_order(const px_element_t *e, const double cubic[4]
   double ci = px_vec3_dot(f->nu, f->s);
   double si = px_vec3_norm(px_vec3_cross(f->nu, f->s));
   angles_t g;
-  px_status_t st = element_angles(ev, atan2(si, ci), f->n1, f->n2, &g);
+  double th = atan2(si, ci);
+  px_status_t st =
+      element_angles(ev, cos(th), sin(th), f->n1, ev == PX_EVENT_REFLECT ? f->n1 : f->n2, 0.0, &g);
   if (st != PX_OK)
     return st;
   px_vec3_t so;
@@ -248,11 +257,8 @@ px_status_t px_pencil_constants(const px_cascade_t *c, const double *d3m, px_var
     const px_element_t *e = &c->elem[i - 1];
     if (e->kind == PX_ELEMENT_TRANSFER)
       continue;
-    px_element_geom_t geo;
     px_coeffs_t k;
-    px_status_t st = px_element_geom(e, d3m ? d3m[i - 1] : 0.0, &geo);
-    if (st == PX_OK)
-      st = px_error_coeffs(&geo, variant, &k);
+    px_status_t st = px_element_coeffs(e, d3m ? d3m[i - 1] : 0.0, variant, &k);
     double lam[4], mu[4];
     if (st == PX_OK)
       st = px_cascade_weights(c, i, lam, mu);

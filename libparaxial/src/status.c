@@ -21,6 +21,8 @@ const char *px_strerror(px_status_t status) {
     return "result is not finite (overflow)";
   case PX_ENOCONVERGE:
     return "iteration did not converge";
+  case PX_EILLCOND:
+    return "too ill-conditioned: double precision cannot give the result to the stated accuracy";
   }
   return "unknown status";
 }

@@ -4,9 +4,11 @@
  * Eq. (2) verbatim (docs/errata.md). */
 #include "paraxial/system.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
+#include "curvature.h"
 #include "fma_clones.h"
 
 /* Rays and frames are accepted when they agree to this many units of the last place of a unit
@@ -15,6 +17,26 @@
 #define DIRECTION_MATCH 1e-9
 /* Below this sin(theta) the plane of incidence is taken as undefined (normal incidence). */
 #define SIN_NORMAL 1e-12
+
+/* Numerical limits (docs/conventions.md). U is the unit roundoff. cos and sin of the incidence
+ * from unit vectors (normalised, a dot product, a cross product) or from an angle carry a
+ * relative error of a few U; EPS_IN bounds it. cos^2 theta' = (1 - eta s)(1 + eta s) loses
+ * eta s / (1 - eta s) units of U: at most 16 while eta s < ES_HARD, and the form is kept in
+ * this ordinary regime (and for c >= C_HARD, near the critical angle, where any form cancels
+ * alike and the error bound says how much) so that the renderers' rays stay what they were;
+ * near grazing with eta ~ 1 (eta s > ES_HARD, c < C_HARD: s no longer carries c) the form
+ * (1 - eta^2) + (eta c)^2 has no cancellation. h = cp - eta c is factored as
+ * (1 - eta^2) / (cp + eta c) when it loses more than 4 bits (|h| < |cp| H_HARD). The matrix
+ * takes its cosines from the frames (Theta = frame . tangent basis) only when both are >=
+ * C_FRAMES, where that costs at most 2 U / C_FRAMES; otherwise from the rotations of the frames
+ * about the rays and the cosines here. */
+#define U (DBL_EPSILON / 2)
+#define EPS_IN (4 * U)
+#define ES_HARD (15.0 / 16.0)
+#define K_HARD (1.0 - ES_HARD * ES_HARD)
+#define C_HARD 0.25
+#define H_HARD (1.0 / 16.0)
+#define C_FRAMES (1.0 / 16.0)
 
 px_status_t px_variant_parse(const char *name, px_variant_t *out) {
   if (name && strcmp(name, "corrected") == 0) {
@@ -99,6 +121,50 @@ px_status_t px_interface_canonical(double theta, double radius, double n1, doubl
                            out);
 }
 
+/* a . b with the rounding error of each product and sum compensated (Ogita, Rump and Oishi's
+ * Dot2): accurate to a few U relative even where the terms cancel (near grazing, nu . s small).
+ * Used only outside the ordinary regime. */
+static double dot_compensated(px_vec3_t a, px_vec3_t b) {
+  const double x[3] = {a.x, a.y, a.z}, y[3] = {b.x, b.y, b.z};
+  double p = x[0] * y[0], err = fma(x[0], y[0], -p);
+  for (int i = 1; i < 3; i++) {
+    double q = x[i] * y[i], eq = fma(x[i], y[i], -q);
+    double sum = p + q, z = sum - p;
+    err += ((p - (sum - z)) + (q - z)) + eq;
+    p = sum;
+  }
+  return p + err;
+}
+
+/* 1 - (n1/n2)^2 to a few U: n2 - n1 is exact when the indices are within a factor 2. */
+static double one_minus_eta2(double n1, double n2) {
+  return (n2 - n1) * (n2 + n1) / (n2 * n2);
+}
+
+/* Outside the ordinary regime of k = cos^2 theta' = (1 - eta s)(1 + eta s) (see ES_HARD):
+ * k < 1 - ES_HARD^2 is eta s > ES_HARD, tested on k so that the ordinary path pays one
+ * comparison. */
+static int snell_hard(double k, double c) {
+  return k < K_HARD && c < C_HARD;
+}
+
+/* px_interface_outgoing() for a refraction near grazing with eta ~ 1 (snell_hard): cos theta
+ * by a compensated dot product, cos^2 theta' = (1 - eta^2) + (eta c)^2, h factored (exactly 0
+ * when n1 = n2, so that s' = s). Kept out of line: the ordinary path stays as it was. */
+static px_status_t __attribute__((noinline))
+outgoing_hard(const px_interface_t *ifc, double eta, px_vec3_t *s_out, double *cos_out) {
+  double ci = dot_compensated(ifc->nu, ifc->s), ec = eta * ci;
+  double one_m = one_minus_eta2(ifc->n1, ifc->n2), k = one_m + ec * ec;
+  if (k < 0.0)
+    return PX_ETIR;
+  double co = sqrt(k);
+  px_vec3_t d = px_v3_add(px_v3_scale(ifc->s, eta), px_v3_scale(ifc->nu, one_m / (co + ec)));
+  if (px_v3_normalize(d, s_out) != PX_OK)
+    return PX_ENONFINITE;
+  *cos_out = co;
+  return PX_OK;
+}
+
 PX_FMA_CLONES /* per ray in the renderers: see fma_clones.h */
     px_status_t
     px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_vec3_t *s_out,
@@ -112,7 +178,9 @@ PX_FMA_CLONES /* per ray in the renderers: see fma_clones.h */
   } else {
     double eta = ifc->n1 / ifc->n2;
     double sin_i = px_v3_norm_fma(px_v3_cross(ifc->nu, ifc->s));
-    double k = (1.0 - eta * sin_i) * (1.0 + eta * sin_i); /* cos^2(theta'), no cancellation */
+    double k = (1.0 - eta * sin_i) * (1.0 + eta * sin_i); /* cos^2(theta'), ordinary regime */
+    if (k < K_HARD && snell_hard(k, ci)) /* a tail call: the ordinary path spills nothing */
+      return outgoing_hard(ifc, eta, s_out, cos_out);
     if (k < 0.0)
       return PX_ETIR;
     co = sqrt(k);
@@ -140,6 +208,81 @@ px_status_t px_interface_frames(const px_interface_t *ifc, px_event_t ev, px_fra
   return PX_OK;
 }
 
+void px_interface_cos_sin(const px_interface_t *ifc, double *c, double *s) {
+  double ci = px_vec3_dot(ifc->nu, ifc->s);
+  if (ci < C_HARD) /* near grazing the fused dot product is only good to U absolute */
+    ci = dot_compensated(ifc->nu, ifc->s);
+  *c = fmin(ci, 1.0);
+  *s = fmin(px_vec3_norm(px_vec3_cross(ifc->nu, ifc->s)), 1.0);
+}
+
+px_status_t px_element_cosines(px_event_t ev, double c, double s, double n1, double n2,
+                               double curvature, px_cosines_t *out) {
+  if (!index_ok(n1) || (ev == PX_EVENT_REFRACT && !index_ok(n2)) || !(c >= 0.0 && c <= 1.0) ||
+      !(s >= 0.0 && s <= 1.0) || !(curvature >= 0.0))
+    return PX_EINVAL;
+  if (!(c > PX_COS_MIN))
+    return PX_EGRAZING;
+  px_cosines_t g;
+  g.c = c;
+  g.s = s;
+  double eps_c = EPS_IN, eps_cp, eps_h;
+  if (ev == PX_EVENT_REFLECT) { /* theta' = pi - theta: exact */
+    g.eta = 1.0;
+    g.cp = -c;
+    g.sp = s;
+    g.h = -2.0 * c;
+    eps_cp = eps_h = eps_c;
+  } else {
+    double eta = n1 / n2, es = eta * s, k, eps_k, one_m = one_minus_eta2(n1, n2);
+    k = (1.0 - es) * (1.0 + es);
+    if (!snell_hard(k, c)) { /* (1 - eta s)(1 + eta s): loses eta s / (1 - eta s) U */
+      eps_k = 2.0 * es * es * (EPS_IN + 2 * U) / fabs(k) + 3 * U;
+    } else { /* (1 - eta^2) + (eta c)^2: cancels only beyond the critical angle's edge */
+      double ec = eta * c;
+      k = one_m + ec * ec;
+      eps_k = (fabs(one_m) * 4 * U + ec * ec * (2.0 * eps_c + 5 * U)) / fabs(k) + U;
+    }
+    if (k < 0.0)
+      return PX_ETIR;
+    g.eta = eta;
+    g.sp = es;
+    g.cp = sqrt(k);
+    eps_cp = 0.5 * eps_k + U;
+    if (!(g.cp > PX_COS_MIN))
+      return PX_EGRAZING;
+    double h = g.cp - eta * c;
+    if (fabs(h) < H_HARD * g.cp) { /* cancels: (cp^2 - eta^2 c^2) / (cp + eta c) */
+      h = one_m / (g.cp + eta * c);
+      eps_h = fmax(eps_cp, eps_c + 2 * U) + 7 * U;
+    } else {
+      eps_h = (g.cp * eps_cp + eta * c * (eps_c + 2 * U)) / fabs(h) + U;
+    }
+    g.h = h;
+  }
+  if (curvature > PX_CURVATURE_MAX)
+    return PX_ENONFINITE;
+  /* entries are c'/c, eta c/c', h q/(c c'), h q, rotated by the frames: their relative errors
+   * add; the factor 2 covers the second-order terms and the rotations' few U */
+  g.err = 2.0 * (eps_c + eps_cp + eps_h) + 32 * U;
+  if (!(g.err <= PX_ACCURACY))
+    return PX_EILLCOND;
+  *out = g;
+  return PX_OK;
+}
+
+void px_cos_sin_deg(double deg, double *c, double *s) {
+  if (deg <= 45.0) {
+    double r = deg * (M_PI / 180.0);
+    *c = cos(r);
+    *s = sin(r);
+  } else { /* 90 - deg is exact (Sterbenz) and small angles keep their relative accuracy */
+    double r = (90.0 - deg) * (M_PI / 180.0);
+    *c = sin(r);
+    *s = cos(r);
+  }
+}
+
 px_mat4_t px_transfer_matrix(double z0) {
   px_mat4_t t = px_mat4_identity(); /* Eq. (1) */
   t.m[0][2] = z0;
@@ -151,59 +294,120 @@ static int same_direction(px_vec3_t a, px_vec3_t b) {
   return px_vec3_norm(px_vec3_sub(a, b)) <= DIRECTION_MATCH;
 }
 
-px_status_t px_interface_matrix(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
-                                px_frame_t out, px_variant_t variant, px_mat4_t *t) {
+/* The rotation of frame f about its ray z from the paper's frame (p1 = u2 x z, u2):
+ * P = [[x1 . p1, x1 . u2], [x2 . p1, x2 . u2]], orthogonal, so that Theta = P diag(cos, 1)
+ * with the cosine taken from px_element_cosines() rather than from x1 . u1, which near grazing
+ * is a small difference of O(1) products. */
+static px_mat2_t frame_rotation(px_frame_t f, px_vec3_t u2) {
+  px_vec3_t p1 = px_vec3_cross(u2, f.z);
+  return px_mat2(px_vec3_dot(f.x1, p1), px_vec3_dot(f.x1, u2), px_vec3_dot(f.x2, p1),
+                 px_vec3_dot(f.x2, u2));
+}
+
+/* Corrected Eq. (2) from the rotations and the cosines: with Theta = P diag(c, 1) and
+ * Theta' = P' diag(c', 1),
+ *   A = P' diag(c'/c, 1) P^t,  C = -h P' diag(1/c', 1) Q diag(1/c, 1) P^t,
+ *   D = eta P' diag(c/c', 1) P^t. */
+static px_mat4_t matrix_from_cosines(const px_interface_t *ifc, const px_cosines_t *g,
+                                     px_frame_t in, px_frame_t out) {
+  px_mat2_t p = frame_rotation(in, ifc->u2), pp = frame_rotation(out, ifc->u2);
+  px_mat2_t pt = px_mat2_transpose(p);
+  px_mat2_t q = ifc->q;
+  px_mat2_t cq = px_mat2(-g->h * q.m[0][0] / (g->cp * g->c), -g->h * q.m[0][1] / g->cp,
+                         -g->h * q.m[1][0] / g->c, -g->h * q.m[1][1]);
+  px_mat2_t a = px_mat2_mul(px_mat2_mul(pp, px_mat2_diag(g->cp / g->c, 1.0)), pt);
+  px_mat2_t c = px_mat2_mul(px_mat2_mul(pp, cq), pt);
+  px_mat2_t d = px_mat2_mul(px_mat2_mul(pp, px_mat2_diag(g->eta * g->c / g->cp, g->eta)), pt);
+  return px_mat4_blocks(a, px_mat2_zero(), c, d);
+}
+
+px_status_t px_interface_matrix_err(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
+                                    px_frame_t out, px_variant_t variant, px_mat4_t *t,
+                                    double *err) {
   if (!index_ok(ifc->n1) || (ev == PX_EVENT_REFRACT && !index_ok(ifc->n2)))
     return PX_EINVAL;
-  double ci = px_vec3_dot(ifc->nu, ifc->s);
+  double ci, si;
+  px_interface_cos_sin(ifc, &ci, &si);
   if (!(ci > PX_COS_MIN))
     return PX_EGRAZING;
-  px_vec3_t so;
-  double co;
-  px_status_t st = px_interface_outgoing(ifc, ev, &so, &co);
+  px_cosines_t g;
+  px_status_t st = px_element_cosines(ev, ci, si, ifc->n1, ifc->n2, px__curvature(ifc->q), &g);
   if (st != PX_OK)
     return st;
-  if (!(fabs(co) > PX_COS_MIN))
-    return PX_EGRAZING;
+  /* the outgoing axial ray, only to check the output frame against it (to 1e-9): eta s + h nu
+   * (s - 2 c nu for a mirror) as in px_interface_outgoing(), which agrees to rounding */
+  px_vec3_t so;
+  double co = g.cp;
+  if (px_vec3_normalize(px_vec3_add(px_vec3_scale(ifc->s, g.eta), px_vec3_scale(ifc->nu, g.h)),
+                        &so) != PX_OK)
+    return PX_ENONFINITE;
   if (!same_direction(in.z, ifc->s) || !same_direction(out.z, so) || px_frame_defect(in) > 1e-9 ||
       px_frame_defect(out) > 1e-9)
     return PX_EINVAL;
 
-  px_mat2_t th = px_frame_theta(in, ifc->u1, ifc->u2);   /* Theta,  det = cos(theta)  */
-  px_mat2_t thp = px_frame_theta(out, ifc->u1, ifc->u2); /* Theta', det = cos(theta') */
-  px_mat2_t th_inv, thp_inv;
-  if (px_mat2_inverse(th, &th_inv) != PX_OK || px_mat2_inverse(thp, &thp_inv) != PX_OK)
-    return PX_ESINGULAR;
-  double eta = ev == PX_EVENT_REFLECT ? 1.0 : ifc->n1 / ifc->n2;
-  double h = co - eta * ci; /* h of Eq. (2); -2 cos(theta) for a reflection */
-
-  px_mat2_t a = px_mat2_mul(thp, th_inv), b, c, d;
-  if (variant == PX_VARIANT_PRINTED) { /* Eq. (2) verbatim */
-    b = px_mat2_identity();
-    c = px_mat2_scale(px_mat2_mul(px_mat2_mul(thp_inv, ifc->q), th_inv), h);
-    d = px_mat2_scale(px_mat2_mul(thp_inv, px_mat2_transpose(th)), eta);
-  } else { /* corrected: docs/errata.md E1-E3 */
-    px_mat2_t thp_invt = px_mat2_transpose(thp_inv);
-    b = px_mat2_zero();
-    c = px_mat2_scale(px_mat2_mul(px_mat2_mul(thp_invt, ifc->q), th_inv), -h);
-    d = px_mat2_scale(px_mat2_mul(thp_invt, px_mat2_transpose(th)), eta);
+  px_mat4_t r;
+  double e = g.err;
+  double h = g.h, eta = g.eta; /* h of Eq. (2); -2 cos(theta) for a reflection */
+  int from_frames = variant == PX_VARIANT_PRINTED ||
+                    (ci >= C_FRAMES && fabs(co) >= C_FRAMES && fabs(h) >= H_HARD * fabs(co));
+  if (!from_frames) {
+    r = matrix_from_cosines(ifc, &g, in, out);
+  } else { /* the ordinary regime: Theta and Theta' from the frames, 2 U / C_FRAMES at most */
+    e += 8 * U / fmin(ci, fabs(co));
+    px_mat2_t th = px_frame_theta(in, ifc->u1, ifc->u2);   /* Theta,  det = cos(theta)  */
+    px_mat2_t thp = px_frame_theta(out, ifc->u1, ifc->u2); /* Theta', det = cos(theta') */
+    px_mat2_t th_inv, thp_inv;
+    if (px_mat2_inverse(th, &th_inv) != PX_OK || px_mat2_inverse(thp, &thp_inv) != PX_OK)
+      return PX_ESINGULAR;
+    px_mat2_t a = px_mat2_mul(thp, th_inv), b, c, d;
+    if (variant == PX_VARIANT_PRINTED) { /* Eq. (2) verbatim */
+      b = px_mat2_identity();
+      c = px_mat2_scale(px_mat2_mul(px_mat2_mul(thp_inv, ifc->q), th_inv), h);
+      d = px_mat2_scale(px_mat2_mul(thp_inv, px_mat2_transpose(th)), eta);
+    } else { /* corrected: docs/errata.md E1-E3 */
+      px_mat2_t thp_invt = px_mat2_transpose(thp_inv);
+      b = px_mat2_zero();
+      c = px_mat2_scale(px_mat2_mul(px_mat2_mul(thp_invt, ifc->q), th_inv), -h);
+      d = px_mat2_scale(px_mat2_mul(thp_invt, px_mat2_transpose(th)), eta);
+    }
+    r = px_mat4_blocks(a, b, c, d);
   }
-  px_mat4_t r = px_mat4_blocks(a, b, c, d);
+  if (!(e <= PX_ACCURACY))
+    return PX_EILLCOND;
   if (!px_mat4_isfinite(r))
     return PX_ENONFINITE;
   *t = r;
+  if (err)
+    *err = e;
   return PX_OK;
+}
+
+px_status_t px_interface_matrix(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
+                                px_frame_t out, px_variant_t variant, px_mat4_t *t) {
+  return px_interface_matrix_err(ifc, ev, in, out, variant, t, NULL);
+}
+
+px_status_t px_element_matrix_cs(px_event_t ev, double c, double s, double n1, double n2,
+                                 double radius, px_variant_t variant, px_mat4_t *t, double *err) {
+  if (!(c >= 0.0 && c <= 1.0) || !(s >= 0.0 && s <= 1.0) || isnan(radius) || radius == 0.0)
+    return PX_EINVAL;
+  if (ev == PX_EVENT_REFLECT)
+    n2 = n1;
+  double k = isinf(radius) ? 0.0 : 1.0 / radius;
+  px_interface_t ifc;
+  px_frame_t in, out;
+  px_status_t st = px_interface_make(px_vec3(s, 0.0, c), px_vec3(0, 0, 1), px_vec3(0, 1, 0),
+                                     px_mat2_diag(k, k), NULL, n1, n2, &ifc);
+  if (st == PX_OK)
+    st = px_interface_frames(&ifc, ev, &in, &out);
+  if (st == PX_OK)
+    st = px_interface_matrix_err(&ifc, ev, in, out, variant, t, err);
+  return st;
 }
 
 px_status_t px_element_matrix(px_event_t ev, double theta, double n1, double n2, double radius,
                               px_variant_t variant, px_mat4_t *t) {
-  px_interface_t ifc;
-  px_frame_t in, out;
-  px_status_t st =
-      px_interface_canonical(theta, radius, n1, ev == PX_EVENT_REFLECT ? n1 : n2, &ifc);
-  if (st == PX_OK)
-    st = px_interface_frames(&ifc, ev, &in, &out);
-  if (st == PX_OK)
-    st = px_interface_matrix(&ifc, ev, in, out, variant, t);
-  return st;
+  if (!isfinite(theta) || theta < 0.0 || theta > M_PI / 2)
+    return PX_EINVAL;
+  return px_element_matrix_cs(ev, cos(theta), sin(theta), n1, n2, radius, variant, t, NULL);
 }

@@ -65,11 +65,8 @@ px_status_t pt__bound_step(const pt_node_t *parent, px_mat4_t sm, pt_bound_t b, 
     /* the parent's surface: the step is [transfer eps], interface, transfer t */
     int ie = k->nstep == 3 ? 1 : 0;
     const px_element_t *e = &k->step[ie];
-    px_element_geom_t geo;
     px_coeffs_t c;
-    px_status_t st = px_element_geom(e, 0.0, &geo);
-    if (st == PX_OK)
-      st = px_error_coeffs(&geo, v, &c);
+    px_status_t st = px_element_coeffs(e, 0.0, v, &c);
     if (st != PX_OK)
       return st;
     pt_term_t *t = &k->term[k->nterm++];

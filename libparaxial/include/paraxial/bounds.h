@@ -50,14 +50,30 @@ typedef struct {
 
 /** Element error coefficients a-f of Eq. (A-1) for a refraction or reflection.
  *  Errors: PX_EINVAL (theta outside [0, pi/2), index <= 0, radius <= 0 or NaN, d3m < 0 or not
- *  finite), PX_ETIR, PX_EGRAZING (cos theta or |cos theta'| <= PX_COS_MIN), PX_ENONFINITE.
+ *  finite), PX_ETIR, PX_EGRAZING (cos theta or |cos theta'| <= PX_COS_MIN), PX_ENONFINITE
+ *  (1/radius > PX_CURVATURE_MAX, or overflow), PX_EILLCOND (px_element_cosines()).
  *  On error *out is untouched. */
 px_status_t px_error_coeffs(const px_element_geom_t *g, px_variant_t variant, px_coeffs_t *out);
+
+/** px_error_coeffs() for the incidence given by its cosine and sine (g->theta is ignored; e.g.
+ *  from px_cos_sin_deg() for an angle in degrees). The cosines are px_element_cosines()'s, so
+ *  the coefficients exist exactly where px_element_matrix_cs() gives a matrix: the same
+ *  PX_EGRAZING, PX_ETIR, PX_ENONFINITE (1/R > PX_CURVATURE_MAX) and PX_EILLCOND. */
+px_status_t px_error_coeffs_cs(const px_element_geom_t *g, double cos_theta, double sin_theta,
+                               px_variant_t variant, px_coeffs_t *out);
 
 /** The geometry of a cascade element for px_error_coeffs(): theta from nu . s, the radius
  *  1 / |Q|_2 (|Q|_2 = the largest |principal curvature|), and the given d3m. Transfers have no
  *  geometry: PX_EINVAL. */
 px_status_t px_element_geom(const px_element_t *e, double d3m, px_element_geom_t *out);
+
+/** The coefficients of a cascade element (px_error_coeffs_cs() with the geometry of
+ *  px_element_geom()), its cosines taken from the interface's vectors by
+ *  px_interface_cos_sin() as px_interface_matrix() takes them, not through an angle (which
+ *  near grazing costs 1e-16 / cos theta relative): so an element has coefficients exactly
+ *  where it has a matrix. Transfers: PX_EINVAL. */
+px_status_t px_element_coeffs(const px_element_t *e, double d3m, px_variant_t variant,
+                              px_coeffs_t *out);
 
 /** Largest |c_ijk| of a symmetric third-derivative tensor given as (c111, c112, c122, c222):
  *  d_3m of A-1 (indices over the two tangent coordinates). */

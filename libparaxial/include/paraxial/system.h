@@ -77,6 +77,43 @@ px_status_t px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_v
 px_status_t px_interface_frames(const px_interface_t *ifc, px_event_t ev, px_frame_t *in,
                                 px_frame_t *out);
 
+/** The cosines of one refraction or reflection (section 2.2) computed without avoidable
+ *  cancellation, with a bound on how well double precision knows them. Shared by the system
+ *  matrices and the error coefficients, so that both refuse at the same places. */
+typedef struct {
+  double c, s;   /**< cos, sin of the incidence angle theta (c > 0) */
+  double cp, sp; /**< cos, sin of theta'; cp < 0 after a reflection (theta' = pi - theta) */
+  double eta;    /**< n1 / n2 (1 for a reflection) */
+  double h;      /**< h = cp - eta c of Eq. (2): (1 - eta^2) / (cp + eta c) where the
+                      difference cancels, exactly 0 when n1 = n2 */
+  double err;    /**< first-order bound on the relative error of the element's matrix
+                      entries (products and quotients of c, cp, h) caused by rounding of
+                      the inputs (c and s to a few ulps) and of this computation */
+} px_cosines_t;
+
+/** Cosines of the element for the incidence given by c = cos theta and s = sin theta (each
+ *  within a few ulps, e.g. from unit vectors or px_cos_sin_deg()), indices n1, n2 (n2 ignored
+ *  for a reflection) and the largest curvature |1/R| of the surface (0 for a plane).
+ *  cos^2 theta' is (1 - eta s)(1 + eta s) in the ordinary regime and (1 - eta^2) + (eta c)^2
+ *  near grazing with eta ~ 1, where the first form cancels (docs/conventions.md).
+ *  Errors, in this order: PX_EINVAL (index <= 0, c or s outside [0, 1], curvature < 0 or
+ *  NaN), PX_EGRAZING (c or |cp| <= PX_COS_MIN), PX_ETIR, PX_ENONFINITE (curvature >
+ *  PX_CURVATURE_MAX), PX_EILLCOND (err > PX_ACCURACY). On error *out is untouched. */
+px_status_t px_element_cosines(px_event_t ev, double c, double s, double n1, double n2,
+                               double curvature, px_cosines_t *out);
+
+/** cos theta = nu . s and sin theta = |nu x s| of an interface, from its vectors (the dot
+ *  product compensated near grazing, where the plain one is only good to 1e-16 absolute),
+ *  at most 1: the inputs of px_element_cosines() for px_interface_matrix() and
+ *  px_element_coeffs() alike. */
+void px_interface_cos_sin(const px_interface_t *ifc, double *c, double *s);
+
+/** cos and sin of an angle given in degrees, each to a few ulps relative even near 90 deg
+ *  (from the exact complement 90 - deg there), where cos(deg * pi / 180) loses the digits
+ *  the rounding of the radian value takes (1e-16 absolute, 6e-9 relative at 1e-6 deg from
+ *  grazing). deg in [0, 90]. */
+void px_cos_sin_deg(double deg, double *c, double *s);
+
 /** Eq. (1): transfer by distance z0 along the axial ray: [[1, z0], [0, 1]]. */
 px_mat4_t px_transfer_matrix(double z0);
 
@@ -86,14 +123,30 @@ px_mat4_t px_transfer_matrix(double z0);
  *      A = Theta' Theta^-1            B = 0
  *      C = -h Theta'^-t Q Theta^-1    D = (n1/n2) Theta'^-t Theta^t
  *  Returns PX_ETIR, PX_EGRAZING (|cos| <= PX_COS_MIN), PX_EINVAL (frames not matching the
- *  rays, bad indices), PX_ENONFINITE; on error *t is untouched. */
+ *  rays, bad indices), PX_ENONFINITE (a curvature above PX_CURVATURE_MAX, or overflow),
+ *  PX_EILLCOND (the matrix cannot be given to PX_ACCURACY: px_element_cosines()); on error
+ *  *t is untouched. Near grazing or with n1 ~ n2 the matrix is built from the rotations of
+ *  the frames about the rays and the cosines of px_element_cosines() (docs/conventions.md). */
 px_status_t px_interface_matrix(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
                                 px_frame_t out, px_variant_t variant, px_mat4_t *t);
+
+/** px_interface_matrix() that also writes, when `err` is not NULL, the bound on the scaled
+ *  relative error of the matrix (PX_ACCURACY in status.h defines the measure); the bound is
+ *  <= PX_ACCURACY whenever a matrix is returned. */
+px_status_t px_interface_matrix_err(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
+                                    px_frame_t out, px_variant_t variant, px_mat4_t *t,
+                                    double *err);
 
 /** Convenience for the calculator: the matrix in the paper's frames for a sphere of radius R
  *  (0 or +-Inf = plane) at incidence theta (radians). ev selects refraction or reflection. */
 px_status_t px_element_matrix(px_event_t ev, double theta, double n1, double n2, double radius,
                               px_variant_t variant, px_mat4_t *t);
+
+/** px_element_matrix() for the incidence given by its cosine and sine (c, s >= 0, c^2 + s^2 = 1
+ *  to rounding; px_cos_sin_deg() for an angle in degrees), writing the error bound to `err`
+ *  (may be NULL) as px_interface_matrix_err() does. */
+px_status_t px_element_matrix_cs(px_event_t ev, double c, double s, double n1, double n2,
+                                 double radius, px_variant_t variant, px_mat4_t *t, double *err);
 
 #ifdef __cplusplus
 }
