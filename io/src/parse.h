@@ -13,7 +13,10 @@
 
 typedef struct {
   const char *file; /**< path as given, for messages */
-  char *err;        /**< message buffer (caller-owned) */
+  const char *text; /**< the file's bytes when loaded from memory (len bytes), else NULL: errors
+                         then read the file again to find their line */
+  size_t len;
+  char *err; /**< message buffer (caller-owned) */
   size_t cap;
   int failed; /**< 1 after the first error; later errors are not reported */
   io_json_step_t step[IO_PATH_MAX];
