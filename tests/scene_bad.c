@@ -1,9 +1,11 @@
 /* scene_bad.c -- one file of the broken-scene corpus (tests/scenes_bad/): loading it must fail
  * without crashing, with a message "FILE:LINE:..." containing the text that DIR/expect.txt
  * lists for FILE (a line "FILE | LINE | TEXT"). A file without an entry fails the test, so the
- * corpus and its expectations stay in step.
+ * corpus and its expectations stay in step. Loading the same bytes from memory
+ * (io_scene_load_buffer, what the fuzzer calls) must fail with the same message.
  * usage: scene_bad DIR FILE   (one ctest entry per .json file, tests/CMakeLists.txt) */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "io/scene_json.h"
@@ -27,6 +29,42 @@ static int expectation(const char *dir, const char *file, int *line, char *text,
   }
   fclose(f);
   return found;
+}
+
+/* The file's bytes (malloc'ed, *len of them), or NULL. */
+static char *slurp(const char *path, size_t *len) {
+  FILE *f = fopen(path, "rb");
+  char *buf = NULL;
+  long n = -1;
+  if (f && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
+      (buf = malloc((size_t)n + 1)) != NULL && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+    free(buf);
+    buf = NULL;
+  }
+  if (f)
+    fclose(f);
+  *len = buf ? (size_t)n : 0;
+  return buf;
+}
+
+/* Loading path's bytes from memory under the same name gives the message `want`. */
+static int same_from_memory(const char *path, const char *want) {
+  size_t len;
+  char *data = slurp(path, &len), err[2048];
+  if (!data) {
+    fprintf(stderr, "FAIL: cannot read %s\n", path);
+    return 0;
+  }
+  rt_scene_t s;
+  rt_scene_init(&s);
+  int rc = io_scene_load_buffer(path, data, len, &s, err, sizeof err);
+  free(data);
+  rt_scene_free(&s);
+  if (rc == 0 || strcmp(err, want) != 0) {
+    fprintf(stderr, "FAIL: from memory: %s\n", rc == 0 ? "loaded without an error" : err);
+    return 0;
+  }
+  return 1;
 }
 
 int main(int argc, char **argv) {
@@ -57,5 +95,6 @@ int main(int argc, char **argv) {
     fprintf(stderr, "FAIL: the scene was not left empty\n");
     ok = 0;
   }
+  ok = same_from_memory(path, err) && ok;
   return ok ? 0 : 1;
 }

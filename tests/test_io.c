@@ -127,18 +127,38 @@ static void png_preview_is_srgb(void **state) {
   assert_string_equal(p2, "b.png");
 }
 
+/* The scene files load, from their path and from memory alike (io_scene_load_buffer: the same
+ * objects, primitives, vertices, materials, lights and settings). */
 static void scene_files_load(void **state) {
   (void)state;
   const char *names[] = {"fig8", "fig11", "balls", "mesh1000"};
   for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
     char path[1024], err[1024];
     snprintf(path, sizeof path, "%s/scenes/%s.json", PENCIL_SOURCE_DIR, names[k]);
-    rt_scene_t s;
+    rt_scene_t s, m;
     rt_scene_init(&s);
+    rt_scene_init(&m);
     if (io_scene_load(path, &s, err, sizeof err) != 0)
       fail_msg("%s", err);
     assert_non_null(s.bvh);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char data[1 << 20];
+    size_t len = fread(data, 1, sizeof data, f);
+    fclose(f);
+    assert_true(len > 0 && len < sizeof data);
+    if (io_scene_load_buffer(path, data, len, &m, err, sizeof err) != 0)
+      fail_msg("%s", err);
+    assert_int_equal(m.nobject, s.nobject);
+    assert_int_equal(m.nprim, s.nprim);
+    assert_int_equal(m.nvertex, s.nvertex);
+    assert_int_equal(m.nmaterial, s.nmaterial);
+    assert_int_equal(m.nlight, s.nlight);
+    assert_memory_equal(&m.camera, &s.camera, sizeof s.camera);
+    assert_int_equal(m.max_depth, s.max_depth);
+    assert_int_equal(m.spp, s.spp);
     rt_scene_free(&s);
+    rt_scene_free(&m);
   }
 }
 

@@ -159,7 +159,7 @@ rt_status_t rt_scene_add_plane(rt_scene_t *s, px_vec3_t p, px_vec3_t n, px_vec3_
                                int material, int material2, double check, int *object) {
   px_vec3_t nu;
   if (!vec_finite(p) || px_vec3_normalize(n, &nu) != PX_OK || !vec_finite(u_hint) ||
-      !(check > 0.0) || !isfinite(check) || material2 >= s->nmaterial)
+      !(check > 0.0) || !isfinite(1.0 / check) || !isfinite(check) || material2 >= s->nmaterial)
     return RT_EINVAL;
   px_frame_t f; /* z = normal, x2 = u hint projected into the plane */
   if (px_frame_from_z(nu, u_hint, &f) != PX_OK)

@@ -62,11 +62,12 @@ int io_fail(io_parse_t *P, const char *fmt, ...) {
   if (P->failed)
     return 0;
   P->failed = 1;
-  size_t len = 0;
-  char *text = slurp(P->file, &len);
+  size_t len = P->len;
+  char *copy = P->text ? NULL : slurp(P->file, &len);
+  const char *text = P->text ? P->text : copy;
   int depth = P->depth < IO_PATH_MAX ? P->depth : IO_PATH_MAX;
   int line = text ? io_json_locate(text, len, P->step, depth) : 1;
-  free(text);
+  free(copy);
   char where[256], what[512];
   format_path(P, where, sizeof where);
   va_list ap;

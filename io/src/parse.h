@@ -13,7 +13,10 @@
 
 typedef struct {
   const char *file; /**< path as given, for messages */
-  char *err;        /**< message buffer (caller-owned) */
+  const char *text; /**< the file's bytes when loaded from memory (len bytes), else NULL: errors
+                         then read the file again to find their line */
+  size_t len;
+  char *err; /**< message buffer (caller-owned) */
   size_t cap;
   int failed; /**< 1 after the first error; later errors are not reported */
   io_json_step_t step[IO_PATH_MAX];
@@ -48,6 +51,9 @@ int io_get_string(io_parse_t *P, json_t *o, const char *key, int required, const
  *  scene, and far enough below the double range that differences, cross products and squared
  *  lengths of such vectors stay finite. */
 #define IO_MAX_COORD 1e12
+/** Smallest checker square (scene units): the reciprocal, by which square indices are found,
+ *  stays finite, and the squares stay above the resolution of the coordinates in a scene. */
+#define IO_MIN_CHECK 1e-12
 /** Largest colour component, light intensity, ambient or background: sums over many lights and
  *  reflections stay far inside float32 (3.4e38), so that an image never holds an infinity. */
 #define IO_MAX_RADIANCE 1e6

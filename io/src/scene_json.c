@@ -150,26 +150,46 @@ static int parse_root(io_parse_t *P, json_t *root) {
          io_parse_objects(P, objs);
 }
 
-int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
-  json_error_t je;
-  rt_scene_free(s);
-  json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
-  if (!root) {
-    if (je.line > 0)
-      snprintf(err, cap, "%s:%d:%d: invalid JSON: %s", path, je.line, je.column, je.text);
-    else
-      snprintf(err, cap, "%s: %s", path, je.text);
-    return -1;
-  }
-  io_parse_t P = {path, err, cap, 0, {{0}}, 0, s};
+/* A JSON syntax error as "NAME:LINE:COLUMN: invalid JSON: ..." (or "NAME: ..." without a line,
+ * e.g. a file that cannot be opened); returns -1. */
+static int json_syntax_error(const char *name, const json_error_t *je, char *err, size_t cap) {
+  if (je->line > 0)
+    snprintf(err, cap, "%s:%d:%d: invalid JSON: %s", name, je->line, je->column, je->text);
+  else
+    snprintf(err, cap, "%s: %s", name, je->text);
+  return -1;
+}
+
+/* Parse the document `root` (released here) into s and prepare it; text[len] is the source when
+ * it is in memory (NULL: errors read `name` again to find their line). */
+static int load_root(const char *name, const char *text, size_t len, json_t *root, rt_scene_t *s,
+                     char *err, size_t cap) {
+  io_parse_t P = {.file = name, .text = text, .len = len, .err = err, .cap = cap, .scene = s};
   int ok = parse_root(&P, root);
   json_decref(root);
   rt_status_t st = ok ? rt_scene_prepare(s) : RT_OK;
   if (ok && st != RT_OK) {
-    snprintf(err, cap, "%s: the scene cannot be prepared: %s", path, rt_strerror(st));
+    snprintf(err, cap, "%s: the scene cannot be prepared: %s", name, rt_strerror(st));
     ok = 0;
   }
   if (!ok)
     rt_scene_free(s);
   return ok ? 0 : -1;
+}
+
+int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
+  json_error_t je;
+  rt_scene_free(s);
+  json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
+  return root ? load_root(path, NULL, 0, root, s, err, cap)
+              : json_syntax_error(path, &je, err, cap);
+}
+
+int io_scene_load_buffer(const char *name, const char *data, size_t len, rt_scene_t *s, char *err,
+                         size_t cap) {
+  json_error_t je;
+  rt_scene_free(s);
+  json_t *root = json_loadb(data, len, JSON_REJECT_DUPLICATES, &je);
+  return root ? load_root(name, data, len, root, s, err, cap)
+              : json_syntax_error(name, &je, err, cap);
 }

@@ -39,7 +39,7 @@ static int parse_plane(io_parse_t *P, json_t *o, int mat, int *obj) {
   if (chk) {
     io_push_key(P, "checker");
     int ok = io_check_keys(P, chk, ckeys) &&
-             io_get_number(P, chk, "size", 1, 1.0, 0.0, 1e12, 1, &size) &&
+             io_get_number(P, chk, "size", 1, 1.0, IO_MIN_CHECK, 1e12, 0, &size) &&
              io_get_material(P, chk, "material", 1, &mat2) && io_get_vec3(P, chk, "u", 0, u, &u);
     io_pop(P);
     if (!ok)

@@ -105,13 +105,20 @@ static rt_rgb_t exact_child(pt_eval_t *E, int k, const rt_child_t *c, int depth)
   return l;
 }
 
-/* Checker square of a hit on a textured plane. */
+/* A checker square index floor(x) as an int32, or PT_SQUARE_FAR when it has none (beyond int32,
+ * or NaN: hits far out on the plane, squares below the coordinates' resolution). */
+static int32_t square_index(double x) {
+  double f = floor(x);
+  return fabs(f) < 0x1p31 ? (int32_t)f : PT_SQUARE_FAR;
+}
+
+/* Checker square of a hit on a textured plane (the squares of rt__scene_checker_at()). */
 static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, int32_t *su, int32_t *sv) {
   const rt_plane_t *pl = &s->prim[prim].plane;
   double u, v;
   rt_plane_coords(pl, p, &u, &v);
-  *su = (int32_t)floor(u * pl->inv_check); /* as rt__scene_checker_at() */
-  *sv = (int32_t)floor(v * pl->inv_check);
+  *su = square_index(u * pl->inv_check);
+  *sv = square_index(v * pl->inv_check);
 }
 
 static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, rt_ray_t *ray,
@@ -385,7 +392,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
       /* with the direct term of the other square's material too, for interpolation across
        * squares (one shadow query for both) */
       const rt_object_t *o = &C->s->object[n->object];
-      int par = abs(g->su + g->sv) % 2;
+      int par = sf.texel; /* the square's parity as the core shades it */
       rt_rgb_t both[2];
       rt_shade_direct2(C->s, C->plan, &sf, &C->s->material[par ? o->material : o->material2], &ray,
                        &tr, both);

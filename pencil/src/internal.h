@@ -11,6 +11,10 @@
 #include "pencil/path.h"
 #include "pencil/pencil.h"
 
+/** pt_geom_t.su, sv of a checker square whose index is beyond int32 or not a number: never the
+ *  same square as another hit's. */
+#define PT_SQUARE_FAR INT32_MIN
+
 /** Where one node of one sample met its surface, as computed by the pencil, and what it
  *  contributes to the sample's radiance. */
 typedef struct {
@@ -20,7 +24,8 @@ typedef struct {
   rt_rgb_t l;     /**< W_k * direct_k (W_k * background for a miss); shading only */
   rt_rgb_t lt[2]; /**< textured nodes at lattice points: W_k * direct_k with the material of
                        the even (0) and the odd (1) checker squares */
-  int32_t su, sv; /**< checker square of the hit (textured nodes), else 0 */
+  int32_t su, sv; /**< checker square of the hit (textured nodes), else 0; PT_SQUARE_FAR
+                       where the index does not fit */
   uint32_t lit;  /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
   uint32_t dark; /**< ... and was fully blocked */
   uint8_t ok;    /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */

@@ -181,7 +181,8 @@ static int one_square(const planning_t *P, int k) {
   if (n->textured)
     for (int i = 1; i < 4; i++) {
       const pt_geom_t *a = &corner_of(P->lc, i)->g[k], *b = &corner_of(P->lc, 0)->g[k];
-      squares = squares && a->su == b->su && a->sv == b->sv;
+      squares = squares && a->su == b->su && a->sv == b->sv && a->su != PT_SQUARE_FAR &&
+                a->sv != PT_SQUARE_FAR;
     }
   return squares;
 }

@@ -14,8 +14,7 @@ namespace {
 
 class CallbackCost : public ceres::CostFunction {
 public:
-  CallbackCost(int np, int nres, val_ceres_cost_t cost, void *user)
-      : np_(np), nres_(nres), cost_(cost), user_(user) {
+  CallbackCost(int np, int nres, val_ceres_cost_t cost, void *user) : cost_(cost), user_(user) {
     set_num_residuals(nres);
     mutable_parameter_block_sizes()->push_back(np);
   }
@@ -26,8 +25,7 @@ public:
     return cost_(user_, parameters[0], residuals, jac) != 0;
   }
 
-private:
-  int np_, nres_;
+private: // the sizes live in the base class (num_residuals(), parameter_block_sizes())
   val_ceres_cost_t cost_;
   void *user_;
 };

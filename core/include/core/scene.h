@@ -65,7 +65,8 @@ typedef struct {
   px_vec3_t n;      /**< unit normal */
   px_vec3_t u;      /**< unit texture axis in the plane */
   px_vec3_t v;      /**< second texture axis, v = n x u */
-  double check;     /**< checker square size, > 0 (also when the plane is not checkered) */
+  double check;     /**< checker square size, > 0 with a finite 1 / check (also when the plane is
+                         not checkered) */
   double inv_check; /**< 1 / check: square indices are floor(u * inv_check), a multiplication,
                          because a division per lookup showed in the exact renderer's profile
                          (docs/tuning.md) */

@@ -16,4 +16,11 @@
  *  or -1 with the message in err[cap] and s left empty. Duplicate keys are errors. */
 int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap);
 
+/** io_scene_load() of a scene held in memory: the len bytes at data (not NUL-terminated; a NUL
+ *  byte is an error, as in a file), named `name` in messages ("NAME:LINE: ..."). The caller
+ *  keeps data; nothing refers to it after the call. For scenes that are not files, and for the
+ *  fuzzer (fuzz/scene_fuzz.c). */
+int io_scene_load_buffer(const char *name, const char *data, size_t len, rt_scene_t *s, char *err,
+                         size_t cap);
+
 #endif
