@@ -17,6 +17,7 @@
 
 #include "exact/trace.h"
 #include "validation/stability.h"
+#include "validation/verify.h"
 
 #define U (DBL_EPSILON / 2)
 
@@ -267,17 +268,6 @@ static void ref_element(const px_interface_t *f, px_event_t ev, const px_frame_t
 
 /* ---- checks on a double matrix ---- */
 
-static px_mat4_t scaled(px_mat4_t t, double L) {
-  for (int i = 0; i < 4; i++)
-    for (int j = 0; j < 4; j++) {
-      if (i < 2 && j >= 2)
-        t.m[i][j] /= L;
-      else if (i >= 2 && j < 2)
-        t.m[i][j] *= L;
-    }
-  return t;
-}
-
 static double rel_error_q(px_mat4_t t, const qmat_t *ex, double L) {
   q_t emax = 0, dmax = 0, ql = L;
   for (int i = 0; i < 4; i++)
@@ -450,7 +440,7 @@ static void sample_jacobian(const elem_cfg_t *e, const elem_run_t *r, double L,
     o->sample_unresolved = 1;
     return;
   }
-  px_mat4_t s1 = scaled(j1, L), s2 = scaled(j2, L), sl = scaled(t, L);
+  px_mat4_t s1 = val_mat4_scaled(j1, L), s2 = val_mat4_scaled(j2, L), sl = val_mat4_scaled(t, L);
   double nrm = px_mat4_maxabs(s1), ref_err = 0, dev = 0;
   for (int i = 0; i < 4; i++)
     for (int k = 0; k < 4; k++) {
@@ -518,7 +508,7 @@ static void check_element(rng_t *rng, val_stab_regime_t g, int sample, val_stab_
   o->reference_fail = !(o->err <= r.err);
   o->accuracy_fail = !(o->err <= PX_ACCURACY);
   double eta = e.ev == PX_EVENT_REFLECT ? 1.0 : e.n1 / e.n2;
-  o->invariant_fail = !invariants_hold(scaled(r.t, L), eta, r.err);
+  o->invariant_fail = !invariants_hold(val_mat4_scaled(r.t, L), eta, r.err);
   if (sample)
     sample_jacobian(&e, &r, L, o);
 }
@@ -575,10 +565,10 @@ static void check_cascade(rng_t *rng, val_stab_case_t *o) {
   for (int i = 0; i < 5; i++) {
     if (i)
       t = px_mat4_mul(f[i], t);
-    prod *= 4.0 * px_mat4_maxabs(scaled(f[i], L));
+    prod *= 4.0 * px_mat4_maxabs(val_mat4_scaled(f[i], L));
     esum += ei[i] + 8 * U;
   }
-  double bound = esum * prod / 4.0 / px_mat4_maxabs(scaled(t, L));
+  double bound = esum * prod / 4.0 / px_mat4_maxabs(val_mat4_scaled(t, L));
   o->err_bound = bound;
   if (!mat_finite(t) || !isfinite(bound)) {
     o->nonfinite = 1;
@@ -603,7 +593,7 @@ static void check_cascade(rng_t *rng, val_stab_case_t *o) {
   o->accuracy_fail = 0; /* a product has the propagated bound, not PX_ACCURACY */
   double eta1 = e1.ev == PX_EVENT_REFLECT ? 1.0 : e1.n1 / e1.n2;
   double eta2 = e2.ev == PX_EVENT_REFLECT ? 1.0 : e2.n1 / e2.n2;
-  o->invariant_fail = !invariants_hold(scaled(t, L), eta1 * eta2, bound);
+  o->invariant_fail = !invariants_hold(val_mat4_scaled(t, L), eta1 * eta2, bound);
 }
 
 void val_stability_case(uint64_t seed, uint64_t index, int sample, val_stab_case_t *out) {

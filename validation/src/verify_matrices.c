@@ -14,7 +14,7 @@
 #include "io/output.h"
 #include "validation/verify.h"
 
-static px_mat4_t scaled(px_mat4_t t, double L) {
+px_mat4_t val_mat4_scaled(px_mat4_t t, double L) {
   for (int i = 0; i < 4; i++)
     for (int j = 0; j < 4; j++) {
       if (i < 2 && j >= 2)
@@ -62,13 +62,13 @@ void val_verify_matrix(const val_system_t *v, val_matrix_result_t *r) {
   r->status = st;
   if (st != PX_OK)
     return;
-  px_mat4_t js = scaled(jac, v->length);
+  px_mat4_t js = val_mat4_scaled(jac, v->length);
   r->jac_norm = px_mat4_maxabs(js);
-  block_errors(scaled(px_cascade_product(&c), v->length), js, r->jac_norm, r->block_err,
+  block_errors(val_mat4_scaled(px_cascade_product(&c), v->length), js, r->jac_norm, r->block_err,
                &r->rel_err);
   if (ex_axial_cascade(&sys, &ax, PX_VARIANT_PRINTED, buf, 2 * EX_MAX_STAGES + 2, &cp) == PX_OK)
-    block_errors(scaled(px_cascade_product(&cp), v->length), js, r->jac_norm, r->printed_block,
-                 &r->printed_err);
+    block_errors(val_mat4_scaled(px_cascade_product(&cp), v->length), js, r->jac_norm,
+                 r->printed_block, &r->printed_err);
   r->pass = r->rel_err <= VAL_MATRIX_TOL;
 }
 

@@ -35,4 +35,9 @@ typedef struct {
  *  (message on stderr, naming the file). */
 int val_verify_matrices(const val_matrices_opts_t *opts);
 
+/** t with the position-direction blocks scaled by the system's length L (B / L, C * L), so that
+ *  the four 2x2 blocks are dimensionless and comparable: the scale in which matrix errors are
+ *  "scaled relative" (docs/verification.md). */
+px_mat4_t val_mat4_scaled(px_mat4_t t, double L);
+
 #endif
