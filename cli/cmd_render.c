@@ -70,8 +70,8 @@ static void help(FILE *f, const rn_renderer_t *r) {
           "                        print the Fig. 10 error statistics (points on surfaces with a\n"
           "                        diffuse term: Fig. 8's board)\n"
           "  --explain             print the effects plan (which effects run and why)\n"
-          "  --max-memory SIZE     refuse a render whose image needs more than SIZE (512M, 8G;\n"
-          "                        default: the memory available now)\n");
+          "  --max-memory SIZE     refuse a render whose image and working buffers need more\n"
+          "                        than SIZE (512M, 8G; default: the memory available now)\n");
   if (r && r->noptions > 0) {
     fprintf(f, "\n%s\n\noptions of --method %s:\n", r->description, r->name);
     rn_print_options(f, r, 2);
@@ -249,27 +249,37 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
 }
 
 /* 1 when the render fits in the memory allowed; else a message and 0. */
-static int memory_fits(const args_t *a, const rt_scene_t *s, int spp) {
-  size_t need = rn_memory_estimate(a->r, s->camera.width, s->camera.height, spp, 0);
+static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *plan,
+                       const rn_common_t *c) {
+  size_t need = rn_memory_estimate(a->r, plan, c, a->opt, s->camera.width, s->camera.height, 0);
   size_t have = a->max_memory ? a->max_memory : io_memory_available();
   if (have == 0 || need <= have)
     return 1;
+  int nt = rt_thread_count(c->threads);
   char n[32], h[32];
   io_format_size(need, n, sizeof n);
   io_format_size(have, h, sizeof h);
   fprintf(stderr,
-          "pencil render: a %dx%d image needs at least %s (%d float channels and the preview), "
-          "more than the %s %s; use a smaller --size, or --max-memory to allow more\n",
-          s->camera.width, s->camera.height, n, RT_CH_COUNT + a->r->nchannels, h,
-          a->max_memory ? "--max-memory allows" : "available");
+          "pencil render: a %dx%d image by --method %s on %d thread%s allocates %s (%d float "
+          "channels, the preview and each thread's buffers), more than the %s %s; use a smaller "
+          "--size or fewer --threads, or --max-memory to allow more\n",
+          s->camera.width, s->camera.height, a->r->name, nt, nt == 1 ? "" : "s", n,
+          RT_CH_COUNT + a->r->nchannels, h, a->max_memory ? "--max-memory allows" : "available");
   return 0;
 }
 
 static int render(const args_t *a, rt_scene_t *s) {
   int spp = a->spp > 0 ? (int)a->spp : s->spp;
-  if (a->out && !memory_fits(a, s, spp))
-    return CLI_USAGE;
   rt_plan_t plan = rt_plan_make(s, spp);
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.spp_side = (int)lrint(sqrt(spp));
+  c.threads = (int)a->threads;
+  c.aux = !a->no_aux;
+  c.measure = a->measure;
+  c.progress = isatty(2) ? cli_progress : NULL;
+  c.progress_ctx = (void *)"rendering";
+  if (a->out && !memory_fits(a, s, &plan, &c))
+    return CLI_USAGE;
   if (a->explain)
     explain(stdout, &plan, a->scene ? a->scene : "the built-in Fig. 8 scene");
   if (!a->out)
@@ -290,13 +300,6 @@ static int render(const args_t *a, rt_scene_t *s) {
     return CLI_FAIL;
   }
   out.stats = stats;
-  rn_common_t c = RN_COMMON_DEFAULT;
-  c.spp_side = (int)lrint(sqrt(spp));
-  c.threads = (int)a->threads;
-  c.aux = !a->no_aux;
-  c.measure = a->measure;
-  c.progress = isatty(2) ? cli_progress : NULL;
-  c.progress_ctx = (void *)"rendering";
   double t0 = val_wall_seconds();
   rt_status_t rs = a->r->render(s, &plan, &c, a->opt, &out);
   double dt = val_wall_seconds() - t0;

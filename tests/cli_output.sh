@@ -51,9 +51,26 @@ $pencil render $small -o "$tmp/fifo.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "-o naming a FIFO is refused and the FIFO stays" "[ $rc -eq 1 ] && [ -p '$tmp/fifo.exr' ]"
 check "no temporary files are left behind" "[ -z \"\$(ls -A '$tmp' | grep '^\\.')\" ]"
 
-$pencil render --size 64x64 --max-memory 100K -o "$tmp/mem.exr" >/dev/null 2>"$tmp/err"; rc=$?
+$pencil render --size 64x64 --threads 1 --max-memory 100K -o "$tmp/mem.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "a render above --max-memory is refused before it starts, saying how much it needs" \
-  "[ $rc -eq 2 ] && grep -q 'needs at least 188.0 KB' '$tmp/err' && [ ! -e '$tmp/mem.exr' ]"
+  "[ $rc -eq 2 ] && grep -q 'on 1 thread allocates 207.8 KB' '$tmp/err' && [ ! -e '$tmp/mem.exr' ]"
+# the pencil's working buffers count too, per thread, and stay bounded at depth 32 (a 2x2 image
+# of a glass ball between mirrors: before the bound they were 2.5 GB a thread)
+cat > "$tmp/deep.json" <<'EOF'
+{"camera": {"eye": [0, 0, -3.5], "look_at": [0, 0, 0], "fov": 60, "width": 2, "height": 2},
+ "settings": {"max_depth": 32},
+ "materials": {"mirror": {"kd": 0.2, "kr": 0.7},
+               "glass": {"ka": 0, "kd": 0, "kr": 0.15, "kt": 0.75, "ior": 1.5}},
+ "lights": [{"type": "point", "position": [0.5, 3, -1]}],
+ "objects": [{"type": "plane", "point": [0, -4, 0], "normal": [0, 1, 0], "material": "mirror"},
+             {"type": "plane", "point": [0, 4, 0], "normal": [0, -1, 0], "material": "mirror"},
+             {"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "glass"}]}
+EOF
+$pencil render "$tmp/deep.json" --method pencil --threads 3 --max-memory 100M -o "$tmp/deep.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "the pencil's buffers are counted per thread and bounded at depth 32" \
+  "[ $rc -eq 2 ] && grep -q 'on 3 threads allocates 1[0-9][0-9]\\.[0-9] MB' '$tmp/err'"
+$pencil render "$tmp/deep.json" --method pencil --threads 1 --max-memory 100M -o "$tmp/deep.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "... and one thread's fit in 100 MB" "[ $rc -eq 0 ] && [ -s '$tmp/deep.exr' ]"
 $pencil render --size 64x64 --max-memory 8Q -o "$tmp/mem.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "--max-memory 8Q is refused" "[ $rc -eq 2 ] && grep -q 'such as 512M' '$tmp/err'"
 

@@ -12,9 +12,24 @@
 #define PT_MEMO_POINTS 2048
 #define PT_MEMO_BYTES ((size_t)8 << 20)
 
-int pt__trees_alloc(pt_trees_t *t, int cap) {
-  t->axial = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
-  t->probe = rt_tree_make(malloc((size_t)cap * sizeof(rt_tree_node_t)), cap);
+/* Every buffer of a context comes through these, which count the bytes asked for on this thread
+ * (pt__ctx_alloc() keeps the count in pt_ctx_t.bytes, so that tests hold pt_thread_bytes() to
+ * it). */
+static _Thread_local size_t taken;
+
+static void *take(size_t bytes) {
+  taken += bytes;
+  return malloc(bytes);
+}
+
+static void *take0(size_t n, size_t size) {
+  taken += n * size;
+  return calloc(n, size);
+}
+
+int pt__trees_alloc(pt_trees_t *t, int cap, int probe_cap) {
+  t->axial = rt_tree_make(take((size_t)cap * sizeof(rt_tree_node_t)), cap);
+  t->probe = rt_tree_make(take((size_t)probe_cap * sizeof(rt_tree_node_t)), probe_cap);
   return t->axial.node && t->probe.node;
 }
 
@@ -25,11 +40,11 @@ void pt__trees_free(pt_trees_t *t) {
 }
 
 int pt__subtrees_alloc(pt_subtrees_t *t, int cap) {
-  t->tree = rt_tree_make(malloc((size_t)PT_SUB_TREES * (size_t)cap * sizeof(rt_tree_node_t)),
+  t->tree = rt_tree_make(take((size_t)PT_SUB_TREES * (size_t)cap * sizeof(rt_tree_node_t)),
                          PT_SUB_TREES * cap);
-  t->root = malloc((size_t)cap * sizeof *t->root);
-  t->from = malloc((size_t)cap * sizeof *t->from);
-  t->exact_node = malloc((size_t)cap * sizeof *t->exact_node);
+  t->root = take((size_t)cap * sizeof *t->root);
+  t->from = take((size_t)cap * sizeof *t->from);
+  t->exact_node = take((size_t)cap * sizeof *t->exact_node);
   t->n = 0;
   return t->tree.node && t->root && t->from && t->exact_node;
 }
@@ -44,11 +59,11 @@ void pt__subtrees_free(pt_subtrees_t *t) {
 
 int pt__corners_alloc(pt_corners_t *c, int cap, int n) {
   size_t side = (size_t)n + 1, corners = side * side;
-  c->tree = calloc(corners, sizeof *c->tree);
-  c->nodes = malloc(corners * (size_t)cap * sizeof *c->nodes);
-  c->map = malloc(4 * (size_t)cap * sizeof *c->map);
-  c->agree = malloc((size_t)cap);
-  c->light = malloc((size_t)cap * sizeof *c->light);
+  c->tree = take0(corners, sizeof *c->tree);
+  c->nodes = take(corners * (size_t)cap * sizeof *c->nodes);
+  c->map = take(4 * (size_t)cap * sizeof *c->map);
+  c->agree = take((size_t)cap);
+  c->light = take((size_t)cap * sizeof *c->light);
   if (!c->tree || !c->nodes || !c->map || !c->agree || !c->light)
     return 0;
   for (size_t i = 0; i < corners; i++)
@@ -66,7 +81,7 @@ void pt__corners_free(pt_corners_t *c) {
 }
 
 int pt__paths_alloc(pt_paths_t *p, int cap) {
-  p->node = malloc((size_t)cap * sizeof *p->node);
+  p->node = take((size_t)cap * sizeof *p->node);
   p->n = 0;
   return p->node != NULL;
 }
@@ -79,15 +94,15 @@ void pt__paths_free(pt_paths_t *p) {
 
 /* The lattice cell plan's per-node buffers (the flags zeroed). */
 static int plan_alloc(pt_lattice_plan_t *p, int cap) {
-  p->shaded = malloc((size_t)cap * sizeof *p->shaded);
-  p->shaded_direct = malloc((size_t)cap);
-  p->shaded_exact = malloc((size_t)cap);
-  p->leaves = malloc((size_t)cap * sizeof *p->leaves);
-  p->linear = malloc((size_t)cap * sizeof *p->linear);
-  p->exact_subtree = calloc((size_t)cap, 1);
-  p->traced = calloc((size_t)cap, 1);
-  p->biquadratic = calloc((size_t)cap, 1);
-  p->faint = calloc((size_t)cap, 1);
+  p->shaded = take((size_t)cap * sizeof *p->shaded);
+  p->shaded_direct = take((size_t)cap);
+  p->shaded_exact = take((size_t)cap);
+  p->leaves = take((size_t)cap * sizeof *p->leaves);
+  p->linear = take((size_t)cap * sizeof *p->linear);
+  p->exact_subtree = take0((size_t)cap, 1);
+  p->traced = take0((size_t)cap, 1);
+  p->biquadratic = take0((size_t)cap, 1);
+  p->faint = take0((size_t)cap, 1);
   return p->shaded && p->shaded_direct && p->shaded_exact && p->leaves && p->linear &&
          p->exact_subtree && p->traced && p->biquadratic && p->faint;
 }
@@ -115,12 +130,12 @@ static int memo_alloc(pt_lattice_memo_t *M, int cap) {
   while (nslot < 2 * mcap)
     nslot *= 2;
   *M = (pt_lattice_memo_t){.entries = entries, .maxpts = (int)mcap, .nslot = (int)nslot};
-  M->g = malloc(entries * sizeof(pt_geom_t));
-  M->xy = malloc(2 * mcap * sizeof *M->xy);
-  M->xi2 = malloc(mcap * sizeof *M->xi2);
-  M->ok = malloc(mcap);
-  M->slot = malloc(nslot * sizeof *M->slot);
-  M->gen = calloc(nslot, sizeof *M->gen);
+  M->g = take(entries * sizeof(pt_geom_t));
+  M->xy = take(2 * mcap * sizeof *M->xy);
+  M->xi2 = take(mcap * sizeof *M->xi2);
+  M->ok = take(mcap);
+  M->slot = take(nslot * sizeof *M->slot);
+  M->gen = take0(nslot, sizeof *M->gen);
   return M->g && M->xy && M->xi2 && M->ok && M->slot && M->gen;
 }
 
@@ -135,9 +150,9 @@ static void memo_free(pt_lattice_memo_t *M) {
 }
 
 int pt__lattice_alloc(pt_lattice_t *l, int cap, int n) {
-  l->root = malloc(9 * (size_t)cap * sizeof *l->root);
-  l->refine = malloc((size_t)PT_LATTICE_LEVELS * 5 * (size_t)cap * sizeof *l->refine);
-  l->pixels = malloc((size_t)n * (size_t)n * sizeof *l->pixels);
+  l->root = take(9 * (size_t)cap * sizeof *l->root);
+  l->refine = take((size_t)PT_LATTICE_LEVELS * 5 * (size_t)cap * sizeof *l->refine);
+  l->pixels = take((size_t)n * (size_t)n * sizeof *l->pixels);
   int plan = plan_alloc(&l->plan, cap), memo = memo_alloc(&l->memo, cap);
   return l->root && l->refine && l->pixels && plan && memo;
 }
@@ -152,8 +167,8 @@ void pt__lattice_free(pt_lattice_t *l) {
 }
 
 int pt__sample_alloc(pt_sample_t *x, int cap) {
-  x->geom = calloc((size_t)cap, sizeof *x->geom);
-  x->exact = calloc((size_t)cap, sizeof *x->exact);
+  x->geom = take0((size_t)cap, sizeof *x->geom);
+  x->exact = take0((size_t)cap, sizeof *x->exact);
   x->stamp = 0;
   return x->geom && x->exact;
 }
@@ -164,14 +179,17 @@ void pt__sample_free(pt_sample_t *x) {
   memset(x, 0, sizeof *x);
 }
 
-int pt__ctx_alloc(pt_ctx_t *C, int cap, int n) {
+int pt__ctx_alloc(pt_ctx_t *C, int tree_nodes, int n) {
+  int cap = tree_nodes < PT_MAX_TREE_NODES ? tree_nodes : PT_MAX_TREE_NODES;
+  size_t before = taken;
   C->cap = cap;
-  int ok = pt__trees_alloc(&C->trees, cap);
+  int ok = pt__trees_alloc(&C->trees, cap, tree_nodes);
   ok &= pt__subtrees_alloc(&C->sub, cap);
   ok &= pt__corners_alloc(&C->corners, cap, n);
   ok &= pt__paths_alloc(&C->paths, cap);
   ok &= pt__lattice_alloc(&C->lattice, cap, n);
   ok &= pt__sample_alloc(&C->sample, cap);
+  C->bytes = taken - before;
   return ok;
 }
 
@@ -182,4 +200,34 @@ void pt__ctx_free(pt_ctx_t *C) {
   pt__paths_free(&C->paths);
   pt__lattice_free(&C->lattice);
   pt__sample_free(&C->sample);
+}
+
+/* Every byte the allocs above take for one thread, term by term in their order (the test
+ * test_pencil.c:thread_bytes_match_allocation holds the two in step). */
+size_t pt_thread_bytes(int tree_nodes, int domain) {
+  if (tree_nodes < 1 || domain < 1)
+    return 0;
+  pt_ctx_t *C = NULL; /* for sizeof of the parts' members only: never dereferenced */
+  size_t cap = (size_t)(tree_nodes < PT_MAX_TREE_NODES ? tree_nodes : PT_MAX_TREE_NODES);
+  size_t full = (size_t)tree_nodes, side = (size_t)domain + 1, corners = side * side;
+  size_t node = sizeof(rt_tree_node_t), geom = sizeof(pt_geom_t);
+  size_t b = (cap + full) * node; /* trees */
+  b += PT_SUB_TREES * cap * node +
+       cap * (sizeof *C->sub.root + sizeof *C->sub.from + sizeof *C->sub.exact_node); /* subtrees */
+  b += corners * (sizeof *C->corners.tree + cap * sizeof *C->corners.nodes) +
+       cap * (4 * sizeof *C->corners.map + 1 + sizeof *C->corners.light); /* corners */
+  b += cap * sizeof *C->paths.node;                                       /* paths */
+  const pt_lattice_t *L = &C->lattice;
+  b += (9 + (size_t)PT_LATTICE_LEVELS * 5) * cap * geom +
+       (size_t)domain * (size_t)domain * sizeof *L->pixels; /* lattice grids, pixels */
+  b += cap * (sizeof *L->plan.shaded + 2 + sizeof *L->plan.leaves + sizeof *L->plan.linear + 4);
+  size_t entries = PT_MEMO_BYTES / geom, nslot = 1;
+  if (entries < cap)
+    entries = cap;
+  while (nslot < 2 * (size_t)PT_MEMO_POINTS)
+    nslot *= 2;
+  b += entries * geom + PT_MEMO_POINTS * (2 * sizeof *L->memo.xy + sizeof *L->memo.xi2 + 1) +
+       nslot * (sizeof *L->memo.slot + sizeof *L->memo.gen);     /* memo */
+  b += cap * (sizeof *C->sample.geom + sizeof *C->sample.exact); /* sample */
+  return b;
 }

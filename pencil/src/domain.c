@@ -7,6 +7,8 @@
  *         or interpolate them (4.1 (2)) from matrix-traced pixel corners when e_int allows;
  *      b) the allowed pencil is narrower than a pixel: trace the domain exactly;
  *      c) otherwise divide the domain so that each part's spread is within the limit; repeat 2-4.
+ * A domain whose axial or corner tree has more than PT_MAX_TREE_NODES nodes is traced exactly as a
+ * whole (a deep tree: every sample would cost what the exact renderer pays, plus the matrices).
  * In certified mode step 4a also needs every path's exact error on the domain boundary (ex_map at
  * the corners and edge midpoints) to be within tau. */
 #include <math.h>
@@ -28,12 +30,15 @@ static int interpolating(const pt_ctx_t *C) {
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
   pt_ctree_t *ct = &C->corners.tree[(y - C->corners.y0) * side + (x - C->corners.x0)];
-  if (ct->n < 0) {
+  if (ct->n < 0) { /* traced no further than the paths may hold (the tree alone is wanted) */
     rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
-    C->ex.tree = &C->trees.probe;
+    rt_tree_t t = rt_tree_make(C->trees.probe.node, C->cap);
+    C->ex.tree = &t;
+    C->ex.halt = 1;
     xr_exact_primary(&C->ex, &r);
     C->ex.tree = NULL;
-    pt_ctree_from(ct, &C->trees.probe);
+    C->ex.halt = 0;
+    pt_ctree_from(ct, &t);
     C->st.exact_traces++;
   }
   return ct;
@@ -269,17 +274,34 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
 void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   pt_stats_t *st = &C->st;
   st->domains++;
+  int spp = C->opt->spp_side * C->opt->spp_side;
+  if ((x1 - x0) * (y1 - y0) * spp < PT_MIN_DOMAIN_SAMPLES) { /* the axial ray would cost more
+                                                               than the pencil can save */
+    st->domains_small++;
+    pt__exact_domain(C, x0, y0, x1, y1);
+    return;
+  }
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
   C->ex.tree = &C->trees.axial;
+  C->ex.halt = 1; /* its radiance is not used: a tree too deep for the paths need not be finished */
   xr_exact_primary(&C->ex, &axial);
   C->ex.tree = NULL;
+  C->ex.halt = 0;
   st->exact_traces++;
   /* step 3: smoothness, node by node; the primary ray must meet the same surface everywhere */
   const int xs[4] = {x0, x1, x1, x0}, ys[4] = {y0, y0, y1, y1};
   const pt_ctree_t *ct[4];
-  for (int i = 0; i < 4; i++)
+  int deep = C->trees.axial.overflow;
+  for (int i = 0; i < 4 && !deep; i++) {
     ct[i] = corner(C, xs[i], ys[i]);
+    deep = !ct[i]->valid; /* a corner tree is invalid only when it has more than cap nodes */
+  }
+  if (deep) { /* more nodes than the paths may have: no pencil, and no subdivision either */
+    st->domains_deep++;
+    pt__exact_domain(C, x0, y0, x1, y1);
+    return;
+  }
   pt_tree_agree(&C->trees.axial, ct, 4, C->corners.map, C->corners.agree, C->corners.light);
   int edge = C->trees.axial.n == 0 || !C->corners.agree[0] ||
              px_frame_from_z(axial.d, C->view->down, &C->paths.frame) != PX_OK;

@@ -99,8 +99,21 @@ typedef struct {
 /** The exact trees one thread traces into (xr_exact_t.tree points at one while it traces). */
 typedef struct {
   rt_tree_t axial; /**< the current domain's axial ray's tree (step 2) */
-  rt_tree_t probe; /**< single rays': corners, auxiliary channels, the measure's exact tree */
+  rt_tree_t probe; /**< single rays': corners, auxiliary channels, the measure's exact tree;
+                        the plan's whole tree (plan->tree_nodes), as the exact renderer records,
+                        so that auxiliary channels and the measure see every node */
 } pt_trees_t;
+
+/** Ray-tree nodes a domain's paths may have (a full binary tree of depth 9). A domain whose
+ *  axial or corner tree has more is traced exactly (pt_stats_t.domains_deep): its per-node
+ *  buffers (system matrices, lattice records: about 20 kB a node) stay bounded, and a tree that
+ *  large has too many edges for pencils to save work (docs/pencil.md, "Deep trees"). */
+#define PT_MAX_TREE_NODES 1023
+
+/** Samples a domain needs for its axial ray (and its corners) to be worth tracing: a smaller one
+ *  (a pixel or two at 1 spp, made by subdivision at an edge) is traced exactly at once, as the
+ *  exact renderer would, instead of paying an axial ray besides its samples. */
+#define PT_MIN_DOMAIN_SAMPLES 4
 
 /** The measure's record of the subtrees that one sample's evaluation traced exactly, each under a
  *  root node standing for the pencil node it hangs from (pt__measure compares their points with
@@ -156,7 +169,9 @@ typedef struct {
   int weights_vary;          /**< the weights W_k vary with the hits (a Fresnel split): a
                                   lattice cell's nodes shaded per sample count the error of
                                   their interpolated W_k (interp_error.c) */
-  int cap;                   /**< ray-tree capacity (plan->tree_nodes): nodes of every part */
+  int cap;                   /**< ray-tree capacity of the domain's parts: plan->tree_nodes,
+                                  at most PT_MAX_TREE_NODES */
+  size_t bytes;              /**< bytes of the buffers below (pt__ctx_alloc) */
   xr_exact_t ex;             /**< the exact tracer (axial, corner, fallback and edge rays) */
   pt_trees_t trees;          /**< its exact trees */
   pt_subtrees_t sub;         /**< measure: one sample's subtrees traced exactly */
@@ -170,7 +185,7 @@ typedef struct {
 /* context.c: each part's buffers for trees of `cap` nodes and domains of n x n pixels; an
  * alloc returns 0 when some allocation failed (its free then frees what was allocated), and a
  * free leaves the part empty. */
-int pt__trees_alloc(pt_trees_t *t, int cap);
+int pt__trees_alloc(pt_trees_t *t, int cap, int probe_cap);
 void pt__trees_free(pt_trees_t *t);
 int pt__subtrees_alloc(pt_subtrees_t *t, int cap);
 void pt__subtrees_free(pt_subtrees_t *t);
@@ -183,7 +198,7 @@ void pt__lattice_free(pt_lattice_t *l);
 int pt__sample_alloc(pt_sample_t *x, int cap);
 void pt__sample_free(pt_sample_t *x);
 /** Every part of C (its inputs set); 0 on failure, after which pt__ctx_free() frees. */
-int pt__ctx_alloc(pt_ctx_t *C, int cap, int n);
+int pt__ctx_alloc(pt_ctx_t *C, int tree_nodes, int n);
 void pt__ctx_free(pt_ctx_t *C);
 
 enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };

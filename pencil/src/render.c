@@ -44,6 +44,8 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->domains_guard += b->domains_guard;
   a->domains_accepted += b->domains_accepted;
   a->domains_split += b->domains_split;
+  a->domains_deep += b->domains_deep;
+  a->domains_small += b->domains_small;
   a->paths_exact += b->paths_exact;
   a->paths_guard += b->paths_guard;
   a->lights_guard += b->lights_guard;

@@ -78,10 +78,20 @@ void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
     for (int i = x0; i < x1; i++) {
       rt_rgb_t sum = rt_rgb(0, 0, 0);
       uint64_t rays0 = pt__rays_now(C);
+      int have_centre = 0;
       for (int b = 0; b < s; b++)
         for (int a = 0; a < s; a++) {
           rt_ray_t r = rt_view_ray(C->view, i + (a + 0.5) / s, j + (b + 0.5) / s, C->s->ior);
+          /* odd s: the centre sample's tree gives the auxiliary channels, as the exact renderer
+           * records them, instead of a second trace of the same ray */
+          int centre = C->opt->aux && (s & 1) && a == s / 2 && b == s / 2;
+          C->ex.tree = centre ? &C->trees.probe : NULL;
           sum = rt_rgb_add(sum, xr_exact_primary(&C->ex, &r));
+          C->ex.tree = NULL;
+          if (centre) {
+            rt_image_set_aux(C->img, C->s, pt__pixel_index(C, i, j), &C->trees.probe);
+            have_centre = 1;
+          }
           if (C->opt->measure) {
             const double zero[3] = {0.0, 0.0, 0.0};
             pt__account(C, zero, 0, pt__error_slot(C, i, j, a, b));
@@ -89,7 +99,7 @@ void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
         }
       C->st.samples[PT_METHOD_EXACT] += (uint64_t)(s * s);
       pt__write_pixel(C, i, j, sum, PT_METHOD_EXACT, NAN, pt__rays_now(C) - rays0);
-      if (C->opt->aux)
+      if (C->opt->aux && !have_centre)
         pt__aux_exact(C, i, j);
     }
 }

@@ -24,6 +24,12 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   return xr_render(s, plan, &o, out->image, out->stats);
 }
 
+/* xr_render()'s tree buffer, which it allocates when it records trees (auxiliary channels). */
+static size_t thread_bytes(const rt_plan_t *plan, const rn_common_t *c, const void *options) {
+  (void)options;
+  return c->aux ? (size_t)plan->tree_nodes * sizeof(rt_tree_node_t) : 0;
+}
+
 static int describe(const void *options, rn_attr_t *attrs) {
   (void)options;
   (void)attrs;
@@ -63,4 +69,5 @@ const rn_renderer_t rn_exact_entry = {
     .report = report,
     .errors = NULL,
     .rho = NULL,
+    .thread_bytes = thread_bytes,
 };

@@ -75,12 +75,14 @@ static void report(FILE *f, const rn_report_t *r) {
           "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
           "%.1f%% interpolated, %.1f%% exact; %llu domains (%llu accepted, %llu partly exact, %llu "
           "edge, "
-          "%llu split), %llu paths exact, %llu guarded (and %llu shadows); %llu exact rays -> %s\n",
+          "%llu split, %llu deep, %llu small), %llu paths exact, %llu guarded (and %llu shadows); "
+          "%llu exact rays -> %s\n",
           s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, pt_bound_name(o->bound),
           o->certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
           100.0 * st->samples[0] / n, (unsigned long long)st->domains,
           (unsigned long long)st->domains_accepted, (unsigned long long)st->domains_partial,
           (unsigned long long)st->domains_edge, (unsigned long long)st->domains_split,
+          (unsigned long long)st->domains_deep, (unsigned long long)st->domains_small,
           (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
           (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays),
           r->out);
@@ -125,6 +127,11 @@ static void errors(const void *stats, rn_errors_t *e) {
   e->samples_interpolated = st->samples[PT_METHOD_INTERP];
 }
 
+static size_t thread_bytes(const rt_plan_t *plan, const rn_common_t *c, const void *options) {
+  (void)c;
+  return pt_thread_bytes(plan->tree_nodes, ((const pt_options_t *)options)->domain);
+}
+
 static double rho(const void *options) {
   return ((const pt_options_t *)options)->rho;
 }
@@ -155,4 +162,5 @@ const rn_renderer_t rn_pencil_entry = {
     .report = report,
     .errors = errors,
     .rho = rho,
+    .thread_bytes = thread_bytes,
 };

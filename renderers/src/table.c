@@ -188,12 +188,15 @@ int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel) {
   return 0;
 }
 
-size_t rn_memory_estimate(const rn_renderer_t *r, int width, int height, int spp,
-                          int with_sample_errors) {
-  double px = (double)width * (double)height;
+size_t rn_memory_estimate(const rn_renderer_t *r, const rt_plan_t *plan, const rn_common_t *common,
+                          const void *options, int width, int height, int with_sample_errors) {
+  double px = (double)width * (double)height, spp = (double)common->spp_side * common->spp_side;
   double bytes = px * (4.0 * (RT_CH_COUNT + r->nchannels) + 3.0); /* float planes, preview */
   if (with_sample_errors)
     bytes += px * 4.0 * spp;
+  if (r->thread_bytes)
+    bytes +=
+        (double)rt_thread_count(common->threads) * (double)r->thread_bytes(plan, common, options);
   return bytes >= (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
 }
 

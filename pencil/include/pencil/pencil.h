@@ -18,6 +18,7 @@
 #ifndef PENCIL_PENCIL_H
 #define PENCIL_PENCIL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "render/render.h"
@@ -95,6 +96,11 @@ typedef struct {
   uint64_t domains_accepted; /**< ... traced with matrices (step 4a, possibly with some paths
                                 traced exactly: 4b per path) */
   uint64_t domains_split;    /**< ... subdivided for the spread limit (step 4c) */
+  uint64_t domains_deep;     /**< ... traced exactly as a whole because the axial or a corner
+                                  ray tree has more nodes than a domain's paths may have
+                                  (deep reflections: see docs/pencil.md, "Deep trees") */
+  uint64_t domains_small;    /**< ... traced exactly because they have fewer samples than an
+                                  axial ray and its corners could save (1 spp, at edges) */
   uint64_t paths_exact;      /**< paths of accepted or split cells over their spread limit or
                                   failing the certified check (traced exactly, or split) */
   uint64_t paths_guard;      /**< paths of examined cells traced exactly per sample because a
@@ -151,5 +157,12 @@ typedef struct {
  *  needs opt->measure. RT_EINVAL for a bad option or image, RT_ENOTREADY, RT_ENOMEM. */
 rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_options_t *opt,
                       rt_image_t *img, pt_extra_t *extra, float *sample_error, pt_stats_t *stats);
+
+/** Bytes of the working buffers pt_render() allocates per thread before it starts, for a plan
+ *  of `tree_nodes` ray-tree nodes (rt_plan_t.tree_nodes) and domains of `domain` pixels
+ *  (pt_options_t.domain); 0 for values out of range. Bounded whatever the depth: a domain's
+ *  paths hold at most 1023 nodes (deeper trees are traced exactly), and only the single rays'
+ *  tree buffer, as in the exact renderer, grows with tree_nodes. */
+size_t pt_thread_bytes(int tree_nodes, int domain);
 
 #endif

@@ -30,7 +30,7 @@ rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
 }
 
 xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
-  return (xr_exact_t){s, plan, tree, -1, {0, 0, 0, 0}};
+  return (xr_exact_t){s, plan, tree, -1, {0, 0, 0, 0}, 0};
 }
 
 /* Append a node for `ray` (parent = the node being shaded); -1 when the buffer is full or the
@@ -79,6 +79,8 @@ static rt_rgb_t trace_ray(xr_exact_t *ex, const rt_ray_t *ray, int depth, const 
   else
     ex->stats.reflect++;
   int node = ex->tree ? record(ex, ray, depth, from) : -1;
+  if (ex->halt && ex->tree && ex->tree->overflow)
+    return rt_rgb(0, 0, 0);
   rt_hit_t hit;
   if (!rt_intersect(ex->scene, ray, &hit)) {
     if (node >= 0)

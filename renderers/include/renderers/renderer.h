@@ -146,6 +146,9 @@ typedef struct {
   /** The options' tolerance ratio rho (Eq. 3) against which errors are counted; NULL when the
    *  renderer has none. */
   double (*rho)(const void *options);
+  /** Bytes of the working buffers the renderer allocates for each thread before it starts
+   *  (ray trees, per-domain state), for plan, common and its options; NULL when it has none. */
+  size_t (*thread_bytes)(const rt_plan_t *plan, const rn_common_t *common, const void *options);
 } rn_renderer_t;
 
 /** The table, in the order `pencil render --help` lists it; rn_count() entries. */
@@ -182,12 +185,13 @@ int rn_parse_double(const char *text, double *out);
  *  file unannounced. */
 int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel);
 
-/** Bytes a render of width x height pixels by r needs at least, before it starts: the image
+/** Bytes a render of width x height pixels by r needs, allocated before it starts: the image
  *  and its auxiliary channels, r's extra channels, the per-sample errors of a measured render
- *  (when with_sample_errors), and the 8-bit preview. Renderer-internal buffers that grow with
- *  the scene (ray trees, the pencil's domain state) come on top. Saturates at SIZE_MAX. */
-size_t rn_memory_estimate(const rn_renderer_t *r, int width, int height, int spp,
-                          int with_sample_errors);
+ *  (when with_sample_errors), the 8-bit preview, and r's working buffers for each of the
+ *  threads common->threads resolves to (rn_renderer_t.thread_bytes). The scene itself and
+ *  its BVH, already loaded, are not counted. Saturates at SIZE_MAX. */
+size_t rn_memory_estimate(const rn_renderer_t *r, const rt_plan_t *plan, const rn_common_t *common,
+                          const void *options, int width, int height, int with_sample_errors);
 
 /** Copy the entry's defaults into options (options_size bytes). */
 void rn_defaults(const rn_renderer_t *r, void *options);
