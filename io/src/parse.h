@@ -57,6 +57,12 @@ int io_get_string(io_parse_t *P, json_t *o, const char *key, int required, const
 /** Largest colour component, light intensity, ambient or background: sums over many lights and
  *  reflections stay far inside float32 (3.4e38), so that an image never holds an infinity. */
 #define IO_MAX_RADIANCE 1e6
+/** Most primitives (spheres, planes, polygons, faces) a scene may have: 2^24, a BVH of them in a
+ *  few GB. A larger scene is refused at the object that would pass the limit, before it is
+ *  built, rather than exhausting memory part-way. */
+#ifndef IO_MAX_PRIMITIVES /* tests/test_scene_limits.c builds the loader with a small one */
+#define IO_MAX_PRIMITIVES (1 << 24)
+#endif
 
 /** [x, y, z], each component from -IO_MAX_COORD to IO_MAX_COORD. */
 int io_get_vec3(io_parse_t *P, json_t *o, const char *key, int required, px_vec3_t def,

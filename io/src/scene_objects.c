@@ -124,6 +124,11 @@ static int parse_polyhedron(io_parse_t *P, json_t *o, int mat, int *obj) {
   int *idx = NULL, *len = NULL, nv = 0, nf = 0;
   int ok = io_check_keys(P, o, keys) && get_points(P, o, "vertices", 4, &v, &nv) &&
            get_faces(P, o, nv, &idx, &len, &nf);
+  if (ok && nf > IO_MAX_PRIMITIVES - P->scene->nprim) {
+    io_push_key(P, "faces");
+    ok = io_fail(P, "%d faces would give the scene more than %d primitives", nf, IO_MAX_PRIMITIVES);
+    io_pop(P);
+  }
   char why[200];
   if (ok &&
       rt_scene_add_polyhedron(P->scene, v, nv, idx, len, nf, mat, obj, why, sizeof why) != RT_OK) {
@@ -148,6 +153,9 @@ static int parse_faceted(io_parse_t *P, json_t *o, int mat, int *obj) {
       !io_get_int(P, o, "stacks", 1, 0, 2, 512, &st) ||
       !io_get_int(P, o, "slices", 1, 0, 3, 512, &sl))
     return 0;
+  if (st * sl > IO_MAX_PRIMITIVES - P->scene->nprim)
+    return io_fail(P, "%d x %d facets would give the scene more than %d primitives", st, sl,
+                   IO_MAX_PRIMITIVES);
   return rt_scene_add_faceted_sphere(P->scene, c, r, st, sl, mat, obj) == RT_OK ||
          io_fail(P, "cannot build the faceted sphere");
 }
@@ -168,6 +176,9 @@ static int parse_object(io_parse_t *P, json_t *o) {
   int mat, obj = -1;
   if (!json_is_object(o))
     return io_fail(P, "expected an object {\"type\": \"sphere\", ...}");
+  if (P->scene->nprim >= IO_MAX_PRIMITIVES)
+    return io_fail(P, "the scene has %d primitives already, the most it may have",
+                   IO_MAX_PRIMITIVES);
   if (!io_get_string(P, o, "type", 1, &type) || !io_get_string(P, o, "name", 0, &name) ||
       !io_get_material(P, o, "material", 1, &mat))
     return 0;

@@ -207,7 +207,7 @@ void pt__ctx_free(pt_ctx_t *C) {
 size_t pt_thread_bytes(int tree_nodes, int domain) {
   if (tree_nodes < 1 || domain < 1)
     return 0;
-  pt_ctx_t *C = NULL; /* for sizeof of the parts' members only: never dereferenced */
+  pt_ctx_t *C = NULL; /* only in sizeof, which does not evaluate it */
   size_t cap = (size_t)(tree_nodes < PT_MAX_TREE_NODES ? tree_nodes : PT_MAX_TREE_NODES);
   size_t full = (size_t)tree_nodes, side = (size_t)domain + 1, corners = side * side;
   size_t node = sizeof(rt_tree_node_t), geom = sizeof(pt_geom_t);
@@ -217,17 +217,18 @@ size_t pt_thread_bytes(int tree_nodes, int domain) {
   b += corners * (sizeof *C->corners.tree + cap * sizeof *C->corners.nodes) +
        cap * (4 * sizeof *C->corners.map + 1 + sizeof *C->corners.light); /* corners */
   b += cap * sizeof *C->paths.node;                                       /* paths */
-  const pt_lattice_t *L = &C->lattice;
   b += (9 + (size_t)PT_LATTICE_LEVELS * 5) * cap * geom +
-       (size_t)domain * (size_t)domain * sizeof *L->pixels; /* lattice grids, pixels */
-  b += cap * (sizeof *L->plan.shaded + 2 + sizeof *L->plan.leaves + sizeof *L->plan.linear + 4);
+       (size_t)domain * (size_t)domain * sizeof *C->lattice.pixels; /* lattice grids, pixels */
+  b += cap * (sizeof *C->lattice.plan.shaded + 2 + sizeof *C->lattice.plan.leaves +
+              sizeof *C->lattice.plan.linear + 4);
   size_t entries = PT_MEMO_BYTES / geom, nslot = 1;
   if (entries < cap)
     entries = cap;
   while (nslot < 2 * (size_t)PT_MEMO_POINTS)
     nslot *= 2;
-  b += entries * geom + PT_MEMO_POINTS * (2 * sizeof *L->memo.xy + sizeof *L->memo.xi2 + 1) +
-       nslot * (sizeof *L->memo.slot + sizeof *L->memo.gen);     /* memo */
-  b += cap * (sizeof *C->sample.geom + sizeof *C->sample.exact); /* sample */
+  b += entries * geom +
+       PT_MEMO_POINTS * (2 * sizeof *C->lattice.memo.xy + sizeof *C->lattice.memo.xi2 + 1) +
+       nslot * (sizeof *C->lattice.memo.slot + sizeof *C->lattice.memo.gen); /* memo */
+  b += cap * (sizeof *C->sample.geom + sizeof *C->sample.exact);             /* sample */
   return b;
 }
