@@ -32,6 +32,17 @@ cat >"$dir/out/verify-stability.json" <<'JSON'
  "regimes": {"grazing": {"total": 100, "checked": 90, "refused": {"grazing": 10},
                          "worst_error": 1e-15, "sampled": 1}}}
 JSON
+cat >"$dir/out/verify-illuminance.json" <<'JSON'
+{"cases": 900, "failures": 0, "tolerance": 1e-9, "condition_away": 1e3,
+ "point": {"cases": 300, "failures": 0, "compared": 290, "refused_caustic": 10,
+           "worst_formula_error": 7e-11, "worst_relative_error_away": 4.2e-10,
+           "worst_error_over_condition_bound_near": 0.5, "largest_condition_answered": 6300},
+ "all": {"cases": 900, "failures": 0, "compared": 850, "refused_caustic": 50,
+         "worst_formula_error": 2e-10, "worst_relative_error_away": 4.2e-10,
+         "worst_error_over_condition_bound_near": 3.25, "largest_condition_answered": 2.2e7},
+ "pool": {"h_air": 2, "h_water": 1, "n_water": 1.333, "cone_deg": 40,
+          "flux_ratio_eq8": 0.9999999999999, "flux_ratio_printed_eq1": 0.750188}}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -74,6 +85,8 @@ check "rho sweep row" "grep -q '| 0.05 | printed | 1.099 | 96.8000% | 0.070 | 1.
 check "stability: the counts per regime" \
   "grep -q '| grazing | 100 | 90 | - | 10 | - | - | 1.00e-15 | 1 |' '$page' && grep -q '| all | 1000 | 600 | 300 | 50 | 40 | 10 | 1.50e-09 | 3 |' '$page'"
 check "stability: failures and silent NaN/Inf" "grep -q 'silent NaN/Inf 0, sample 0' '$page'"
+check "illuminance: a group's row" "grep -q '| point, sweep | 300 | 0 | 290 | 10 | 7.00e-11 | 4.20e-10 | 0.50 | 6.3e+03 |' '$page'"
+check "illuminance: the pool's energy check" "grep -q '1.000000000000 by Eq. (8), 0.750188 by the printed' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
 
 rm "$dir/out/verify-bounds.json"

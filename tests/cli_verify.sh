@@ -39,5 +39,21 @@ assert len(s["regimes"]) == 10 and all(r["total"] == 2000 for r in s["regimes"].
 assert s["all"] == s1["all"], "counts depend on the thread count"
 print("cli_verify: stability passed,", a["checked"], "checked,", a["refused"], "refused")
 PY
+# `pencil verify illuminance --quick`: the summary and the rows, no failure, provenance; the
+# pool's energy check in the JSON.
+$pencil verify illuminance --quick --json "$dir/i.json" --csv "$dir/i.csv" >"$dir/i.txt" || { cat "$dir/i.txt"; exit 1; }
+/usr/bin/python3 - "$dir" <<'PY' || exit 1
+import csv, json, sys
+d = sys.argv[1]
+s = json.load(open(f"{d}/i.json"))
+assert s["failures"] == 0 and "provenance" in s, s
+assert s["worst_relative_error_away"] <= s["tolerance"] == 1e-9, s
+rows = list(csv.DictReader(open(f"{d}/i.csv")))
+assert len(rows) == s["cases"] > 200 and all(r["pass"] == "1" for r in rows)
+assert {r["source"] for r in rows} == {"point", "parallel"}
+assert any(r["status"] == "PX_ECAUSTIC" for r in rows), "no receiver came near enough a caustic"
+assert abs(s["pool"]["flux_ratio_eq8"] - 1) < 1e-10 and abs(s["pool"]["flux_ratio_printed_eq1"] - 0.75) < 1e-3
+print("cli_verify: illuminance passed,", s["cases"], "cases")
+PY
 $pencil verify stability --samples 0 >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || { echo "FAIL: --samples 0 must be a usage error"; exit 1; }

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "cmocka_main.h"
+#include "validation/illuminance.h"
 #include "validation/verify.h"
 
 static void quick_sweep_passes(void **state) {
@@ -63,9 +64,25 @@ static void printed_form_fails_where_documented(void **state) {
   free(sw);
 }
 
+/* Eqs. (8)-(9) against the exact flux Jacobian on the quick sweep (both sources, receivers at 0
+ * to 89.9 degrees, receivers nearing caustics): no failure. The energy check of the 1989
+ * Eq. (1): Eq. (8) puts on a pool's floor the flux the light sends into the cone; the printed
+ * index factor loses n1/n2 of it. */
+static void illuminance_quick_sweep_passes(void **state) {
+  (void)state;
+  val_illum_opts_t o = {1, NULL, NULL, NULL};
+  assert_int_equal(val_verify_illuminance(&o), 0);
+  double c = val_pool_flux_ratio(2.0, 1.0, 1.333, 40.0, PX_VARIANT_CORRECTED);
+  double p = val_pool_flux_ratio(2.0, 1.0, 1.333, 40.0, PX_VARIANT_PRINTED);
+  print_message("pool flux ratio: Eq. (8) %.15f, printed Eq. (1) %.15f\n", c, p);
+  assert_close(c, 1.0, 1e-10, 0.0);
+  assert_close(p, 1.0 / 1.333, 1e-9, 0.0);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(quick_sweep_passes),
+      cmocka_unit_test(illuminance_quick_sweep_passes),
       cmocka_unit_test(full_sweep_has_over_2000_systems),
       cmocka_unit_test(printed_form_fails_where_documented),
   };

@@ -61,6 +61,18 @@ static px_mat4_t range_product(const px_cascade_t *c, size_t lo, size_t hi) {
 px_mat4_t px_cascade_product(const px_cascade_t *c) {
   return range_product(c, 1, c->n);
 }
+px_mat4_t px_cascade_product_abs(const px_cascade_t *c) {
+  px_mat4_t r = px_mat4_identity();
+  for (size_t i = 0; i < c->n; i++) {
+    px_mat4_t a = c->elem[i].t;
+    for (int j = 0; j < 4; j++)
+      for (int k = 0; k < 4; k++)
+        a.m[j][k] = fabs(a.m[j][k]);
+    r = px_mat4_mul(a, r);
+  }
+  return r;
+}
+
 px_mat4_t px_cascade_after(const px_cascade_t *c, size_t i) {
   return range_product(c, i + 1, c->n);
 }

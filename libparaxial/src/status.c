@@ -23,6 +23,15 @@ const char *px_strerror(px_status_t status) {
     return "iteration did not converge";
   case PX_EILLCOND:
     return "too ill-conditioned: double precision cannot give the result to the stated accuracy";
+  case PX_ECAUSTIC:
+    return "at or too near a caustic: the pencil's cross-section vanishes";
   }
   return "unknown status";
+}
+
+const char *px_status_name(px_status_t status) {
+  static const char *const names[] = {
+      "PX_OK",        "PX_EINVAL",     "PX_ETIR",        "PX_EGRAZING", "PX_ESINGULAR", "PX_EMISS",
+      "PX_ECAPACITY", "PX_ENONFINITE", "PX_ENOCONVERGE", "PX_EILLCOND", "PX_ECAUSTIC"};
+  return (unsigned)status < sizeof names / sizeof names[0] ? names[status] : "PX_EUNKNOWN";
 }

@@ -12,7 +12,14 @@ static px_status_t ex_map_d(const ex_system_t *sys, const ex_axial_t *ax, const 
                             double out[4]);
 static px_status_t ex_jacobian_d(const ex_system_t *sys, const ex_axial_t *ax, double length,
                                  px_mat4_t *j);
+static px_status_t ex_flux_d(const ex_system_t *sys, const ex_axial_t *ax,
+                             px_vec3_t receiver_normal, int parallel, double length, double *area);
 #include "trace_impl.h"
+
+px_status_t ex_flux(const ex_system_t *sys, const ex_axial_t *ax, px_vec3_t receiver_normal,
+                    int parallel, double length, double *area) {
+  return ex_flux_d(sys, ax, receiver_normal, parallel, length, area);
+}
 
 px_status_t ex_map(const ex_system_t *sys, const ex_axial_t *ax, const double psi[4],
                    double out[4]) {

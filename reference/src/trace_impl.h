@@ -148,3 +148,66 @@ px_status_t FN(ex_jacobian)(const ex_system_t *sys, const ex_axial_t *ax, double
   *j = r;
   return PX_OK;
 }
+
+/* Where the ray psi crosses the receiver plane through O' with unit normal nrm (in output-frame
+ * coordinates x1', x2', z'), as a point in those coordinates. */
+static px_status_t FN(receiver_hit)(const ex_system_t *sys, const ex_axial_t *ax, const REAL psi[4],
+                                    const REAL nrm[3], REAL hit[3]) {
+  REAL o[4];
+  px_status_t s = FN(ex_map)(sys, ax, psi, o);
+  if (s != PX_OK)
+    return s;
+  REAL d[3] = {o[2], o[3], R_SQRT(1 - o[2] * o[2] - o[3] * o[3])};
+  REAL dn = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
+  if (!(dn > (REAL)PX_COS_MIN || dn < -(REAL)PX_COS_MIN))
+    return PX_EGRAZING;
+  REAL t = -(o[0] * nrm[0] + o[1] * nrm[1]) / dn;
+  hit[0] = o[0] + t * d[0];
+  hit[1] = o[1] + t * d[1];
+  hit[2] = t * d[2];
+  return PX_OK;
+}
+
+/* The area the pencil covers on the receiver per unit of the source's measure, |N . (h_1 x h_2)|,
+ * h_j the Richardson-extrapolated central difference of the receiver hit along the source's
+ * coordinate j (xi_j for a point source, x_j for a parallel one). */
+px_status_t FN(ex_flux)(const ex_system_t *sys, const ex_axial_t *ax, px_vec3_t receiver_normal,
+                        int parallel, double length, double *area) {
+  const px_frame_t *g = &ax->out_frame;
+  REAL nrm[3] = {(REAL)px_vec3_dot(receiver_normal, g->x1),
+                 (REAL)px_vec3_dot(receiver_normal, g->x2),
+                 (REAL)px_vec3_dot(receiver_normal, g->z)};
+  REAL nn = R_SQRT(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  if (!(nn > 0))
+    return PX_EINVAL;
+  for (int i = 0; i < 3; i++)
+    nrm[i] /= nn;
+  REAL h[2][3];
+  for (int k = 0; k < 2; k++) {
+    int col = parallel ? k : 2 + k;
+    REAL step0 = (REAL)JAC_STEP * (parallel ? (REAL)length : 1), dh[2][3];
+    for (int level = 0; level < 2; level++) {
+      REAL step = level == 0 ? step0 : step0 / 2;
+      REAL p[4] = {0, 0, 0, 0}, m[4] = {0, 0, 0, 0}, fp[3], fm[3];
+      p[col] = step;
+      m[col] = -step;
+      px_status_t s = FN(receiver_hit)(sys, ax, p, nrm, fp);
+      if (s == PX_OK)
+        s = FN(receiver_hit)(sys, ax, m, nrm, fm);
+      if (s != PX_OK)
+        return s;
+      for (int i = 0; i < 3; i++)
+        dh[level][i] = (fp[i] - fm[i]) / (2 * step);
+    }
+    for (int i = 0; i < 3; i++)
+      h[k][i] = (4 * dh[1][i] - dh[0][i]) / 3;
+  }
+  REAL cx = h[0][1] * h[1][2] - h[0][2] * h[1][1], cy = h[0][2] * h[1][0] - h[0][0] * h[1][2],
+       cz = h[0][0] * h[1][1] - h[0][1] * h[1][0];
+  REAL a = nrm[0] * cx + nrm[1] * cy + nrm[2] * cz;
+  double r = (double)(a < 0 ? -a : a);
+  if (!isfinite(r))
+    return PX_ENONFINITE;
+  *area = r;
+  return PX_OK;
+}

@@ -2,6 +2,7 @@
  * 113-bit significands leave ~1e-22 of rounding in a 1e-12 central difference. */
 #include "exact/trace.h"
 
+#include <math.h>
 #include <quadmath.h>
 
 #define REAL __float128

@@ -12,7 +12,7 @@
 #include "validation/stability.h"
 #include "validation/timing.h"
 
-#define NSTATUS (PX_EILLCOND + 1)
+#define NSTATUS (PX_ECAUSTIC + 1)
 #define MAX_LISTED 10
 
 typedef struct {

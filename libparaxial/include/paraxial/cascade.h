@@ -50,6 +50,11 @@ px_status_t px_cascade_push_interface(px_cascade_t *c, const px_interface_t *ifc
 /** T = Tn ... T1 (identity for an empty cascade). */
 px_mat4_t px_cascade_product(const px_cascade_t *c);
 
+/** |Tn| ... |T1|, the product of the elements' entrywise absolute values: it bounds the
+ *  rounding of each entry of the product (|fl(T) - T| <= gamma |Tn| ... |T1|), which is large
+ *  against |T| where terms cancel (a receiver near a caustic; px_spread_ratio()). */
+px_mat4_t px_cascade_product_abs(const px_cascade_t *c);
+
 /** T_i^a = Tn ... T(i+1) (identity for i = n) with i 1-based as in the Appendix. */
 px_mat4_t px_cascade_after(const px_cascade_t *c, size_t i);
 

@@ -6,6 +6,7 @@
 #include "paraxial/bounds.h"
 #include "paraxial/cascade.h"
 #include "paraxial/frame.h"
+#include "paraxial/illuminance.h"
 #include "paraxial/interp.h"
 #include "paraxial/linalg.h"
 #include "paraxial/status.h"

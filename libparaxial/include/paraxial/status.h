@@ -21,12 +21,17 @@ typedef enum {
   PX_ECAPACITY,   /**< a caller-owned buffer is full */
   PX_ENONFINITE,  /**< an intermediate result overflowed; nothing was written */
   PX_ENOCONVERGE, /**< an iteration did not converge */
-  PX_EILLCOND     /**< too ill-conditioned: double precision cannot give the result to
+  PX_EILLCOND,    /**< too ill-conditioned: double precision cannot give the result to
                        PX_ACCURACY (e.g. within a few 1e-5 deg of the critical angle) */
+  PX_ECAUSTIC     /**< at or too near a caustic: the pencil's cross-section vanishes (det -> 0)
+                       and its illuminance cannot be given to PX_ACCURACY */
 } px_status_t;
 
 /** Static, human-readable message for a status; never NULL, thread-safe. */
 const char *px_strerror(px_status_t status);
+
+/** The status's identifier ("PX_ECAUSTIC"), for files that scripts read; never NULL. */
+const char *px_status_name(px_status_t status);
 
 /** Smallest |cos| of an incidence or exit angle for which a system matrix is returned.
  *  Below it the matrix entries grow like 1/cos and the paraxial region is narrower than

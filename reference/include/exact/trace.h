@@ -75,7 +75,22 @@ px_status_t ex_jacobian(const ex_system_t *sys, const ex_axial_t *ax, double len
 px_status_t ex_map_jet(const ex_system_t *sys, const ex_axial_t *ax, const double psi0[4],
                        double out[4], double jac[4][4], double hess[4][4][4]);
 
+/** The exact flux Jacobian of a light pencil (illuminance, 1987 Eqs. 8-9): the area that the
+ *  rays of a source at the system's input cover on a receiver plane through O' (the end of the
+ *  axial ray) with normal receiver_normal (world coordinates, either sign), per unit solid angle
+ *  of a point source at O (parallel = 0: rays psi = (0, 0, xi)) or per unit area across a
+ *  parallel beam along z (parallel = 1: psi = (x, 0)). With energy conserved, the illuminance
+ *  is E = t_r I / area. Richardson-extrapolated central differences of the receiver hits of
+ *  exactly traced rays; `length` scales the position steps. PX_EGRAZING when a ray skims the
+ *  receiver, and ex_map()'s statuses. */
+px_status_t ex_flux(const ex_system_t *sys, const ex_axial_t *ax, px_vec3_t receiver_normal,
+                    int parallel, double length, double *area);
+
 #ifdef __SIZEOF_FLOAT128__
+/** ex_flux() from __float128 differences (relative accuracy far below 1e-12 away from
+ *  caustics, docs/verification.md). */
+px_status_t ex_flux_q(const ex_system_t *sys, const ex_axial_t *ax, px_vec3_t receiver_normal,
+                      int parallel, double length, double *area);
 /** Exact map in __float128. */
 px_status_t ex_map_q(const ex_system_t *sys, const ex_axial_t *ax, const __float128 psi[4],
                      __float128 out[4]);
