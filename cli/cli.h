@@ -77,6 +77,8 @@ int cmd_bench(int argc, char **argv);
 /** `pencil bench pencil` (cmd_bench_pencil.c); argv[0] is "pencil". */
 int cmd_bench_pencil(int argc, char **argv);
 int cmd_bounds(int argc, char **argv);
+/** `pencil illuminance` (cmd_illuminance.c). */
+int cmd_illuminance(int argc, char **argv);
 /** `pencil figures` and `pencil sweep` (cmd_figures.c). */
 int cmd_figures(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);

@@ -19,6 +19,8 @@ static const command_t commands[] = {
     {"bench", cmd_bench,
      "benchmarks: 'bench render' rays per second, 'bench pencil' the 49-spp targets"},
     {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)"},
+    {"illuminance", cmd_illuminance,
+     "illuminance map of a receiver: grid-pencil tracing or photon counting (1989 section 2)"},
     {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep"},
     {"sweep", cmd_sweep, "time ratio and errors of the pencil renderer against rho"},
 };

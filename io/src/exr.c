@@ -37,14 +37,15 @@ static int fail(char *err, size_t cap, const char *path, const exr_err_t *e, exr
 
 /* The channels of one file: the image's and the extra ones. */
 typedef struct {
-  const rt_image_t *img;
+  const rt_image_t *img; /**< NULL: the extra channels only */
   const io_exr_channel_t *extra;
   int nextra;
+  int width, height;
 } chans_t;
 
 /* Channel called `name`, or NULL. */
 static const float *channel_named(const chans_t *c, const char *name) {
-  for (int k = 0; k < RT_CH_COUNT; k++)
+  for (int k = 0; k < RT_CH_COUNT && c->img; k++)
     if (strcmp(rt_channel_name((rt_channel_t)k), name) == 0)
       return c->img->ch[k];
   for (int k = 0; k < c->nextra; k++)
@@ -64,9 +65,8 @@ static exr_result_t define_part(exr_context_t ctx, const chans_t *c, const io_at
                             {"pencil:date", p->date}};
   exr_result_t rv = exr_add_part(ctx, "render", EXR_STORAGE_SCANLINE, &part);
   if (rv == EXR_ERR_SUCCESS)
-    rv = exr_initialize_required_attr_simple(ctx, part, c->img->width, c->img->height,
-                                             EXR_COMPRESSION_ZIP);
-  for (int k = 0; k < RT_CH_COUNT && rv == EXR_ERR_SUCCESS; k++)
+    rv = exr_initialize_required_attr_simple(ctx, part, c->width, c->height, EXR_COMPRESSION_ZIP);
+  for (int k = 0; k < RT_CH_COUNT && c->img && rv == EXR_ERR_SUCCESS; k++)
     rv = exr_add_channel(ctx, part, rt_channel_name((rt_channel_t)k), EXR_PIXEL_FLOAT,
                          EXR_PERCEPTUALLY_LINEAR, 1, 1);
   for (int k = 0; k < c->nextra && rv == EXR_ERR_SUCCESS; k++)
@@ -81,11 +81,11 @@ static exr_result_t define_part(exr_context_t ctx, const chans_t *c, const io_at
 
 static exr_result_t write_chunks(exr_context_t ctx, const chans_t *c) {
   int32_t lines;
-  int width = c->img->width;
+  int width = c->width;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
   exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
   int started = 0;
-  for (int y = 0; y < c->img->height && rv == EXR_ERR_SUCCESS; y += lines) {
+  for (int y = 0; y < c->height && rv == EXR_ERR_SUCCESS; y += lines) {
     exr_chunk_info_t ci;
     rv = exr_write_scanline_chunk_info(ctx, 0, y, &ci);
     if (rv == EXR_ERR_SUCCESS && started)
@@ -115,10 +115,30 @@ static exr_result_t write_chunks(exr_context_t ctx, const chans_t *c) {
 }
 
 /* Write the file `file` directly (the caller made it a temporary file); errors name `path`. */
+static int write_file(const char *file, const char *path, const chans_t c, const io_attr_t *attrs,
+                      int nattrs, char *err, size_t cap);
+
 int io_exr_write_file(const char *file, const char *path, const rt_image_t *img,
                       const io_exr_channel_t *extra, int nextra, const io_attr_t *attrs, int nattrs,
                       char *err, size_t cap) {
-  chans_t c = {img, extra, nextra};
+  return write_file(file, path, (chans_t){img, extra, nextra, img->width, img->height}, attrs,
+                    nattrs, err, cap);
+}
+
+int io_exr_write_channels_file(const char *file, const char *path, int width, int height,
+                               const io_exr_channel_t *ch, int n, const io_attr_t *attrs,
+                               int nattrs, char *err, size_t cap) {
+  if (width < 1 || height < 1 || n < 1) {
+    snprintf(err, cap, "%s: an image needs a size and a channel", path);
+    return -1;
+  }
+  return write_file(file, path, (chans_t){NULL, ch, n, width, height}, attrs, nattrs, err, cap);
+}
+
+static int write_file(const char *file, const char *path, const chans_t c, const io_attr_t *attrs,
+                      int nattrs, char *err, size_t cap) {
+  const int nextra = c.nextra;
+  const io_exr_channel_t *extra = c.extra;
   for (int k = 0; k < nextra; k++)
     if (!extra[k].data || !extra[k].name || channel_named(&c, extra[k].name) != extra[k].data) {
       snprintf(err, cap, "%s: extra channel %d is missing or duplicates a name", path, k);

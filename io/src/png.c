@@ -8,6 +8,7 @@
 #include <strings.h>
 
 #include "image_io_impl.h"
+#include "io/json.h"
 #include "io/output.h"
 #include "post/display.h"
 
@@ -89,5 +90,41 @@ int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_ch
   ok = ok && io_atomic_commit(&ae, err, cap) == 0 && io_atomic_commit(&ap, err, cap) == 0;
   io_atomic_abort(&ae); /* no-ops after a commit */
   io_atomic_abort(&ap);
+  return ok ? 0 : -1;
+}
+
+int io_map_write(const char *exr_path, int width, int height, const io_exr_channel_t *ch, int n,
+                 const rt_image_t *preview, const io_attr_t *attrs, int nattrs,
+                 const char *json_path, struct json_t *summary, char *err, size_t cap) {
+  char png[4096];
+  io_atomic_t ae, ap, aj;
+  if (io_render_check(exr_path, err, cap) != 0 || !io_png_path_for(exr_path, png, sizeof png) ||
+      io_output_check(json_path, err, cap) != 0)
+    return -1;
+  if (json_is_object(summary) && !json_object_get(summary, "provenance"))
+    json_object_set_new(summary, "provenance", io_json_provenance());
+  if (io_atomic_begin(&ae, exr_path, err, cap) != 0)
+    return -1;
+  if (io_atomic_begin(&ap, png, err, cap) != 0) {
+    io_atomic_abort(&ae);
+    return -1;
+  }
+  if (io_atomic_open(&aj, json_path, err, cap) != 0) {
+    io_atomic_abort(&ae);
+    io_atomic_abort(&ap);
+    return -1;
+  }
+  int ok = io_exr_write_channels_file(ae.tmp, exr_path, width, height, ch, n, attrs, nattrs, err,
+                                      cap) == 0 &&
+           (!preview || io_png_write_file(ap.tmp, png, preview, err, cap) == 0);
+  if (ok && (json_dumpf(summary, aj.f, JSON_INDENT(2)) != 0 || fputc('\n', aj.f) == EOF)) {
+    snprintf(err, cap, "%s: error writing JSON", json_path);
+    ok = 0;
+  }
+  ok = ok && io_atomic_commit(&ae, err, cap) == 0 &&
+       (!preview || io_atomic_commit(&ap, err, cap) == 0) && io_atomic_commit(&aj, err, cap) == 0;
+  io_atomic_abort(&ae); /* no-ops after a commit */
+  io_atomic_abort(&ap);
+  io_atomic_abort(&aj);
   return ok ? 0 : -1;
 }

@@ -13,6 +13,8 @@
 
 #include "core/image.h"
 
+struct json_t; /* jansson's json_t */
+
 /** A named float32 channel of width x height values (caller-owned) beside an image's own. */
 typedef struct {
   const char *name;
@@ -59,5 +61,14 @@ int io_render_check(const char *exr_path, char *err, size_t cap);
  *  failure leaves the old files as they were. */
 int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_channel_t *extra,
                     int nextra, const io_attr_t *attrs, int nattrs, char *err, size_t cap);
+
+/** A map's outputs (illuminance maps): the float32 channels ch[0 .. n-1] of width x height
+ *  values and nothing else to exr_path, with the attributes and provenance of io_exr_write();
+ *  the PNG preview of `preview` (R, G, B; may be NULL for none) beside it; and the JSON summary
+ *  `summary` (a "provenance" object is added) to json_path. All are written to temporary files
+ *  and renamed only when every one succeeded. */
+int io_map_write(const char *exr_path, int width, int height, const io_exr_channel_t *ch, int n,
+                 const rt_image_t *preview, const io_attr_t *attrs, int nattrs,
+                 const char *json_path, struct json_t *summary, char *err, size_t cap);
 
 #endif

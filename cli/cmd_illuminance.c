@@ -1,0 +1,374 @@
+/* cmd_illuminance.c -- `pencil illuminance`: the illuminance map of a receiver (light/), as
+ * OpenEXR (one float channel E), a PNG preview and a JSON summary. The options, the EXR channel
+ * and the JSON keys are a contract (issue 21): scripts read them. */
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "io/image_io.h"
+#include "io/json.h"
+#include "io/output.h"
+#include "light/illuminance.h"
+
+static void help(FILE *f) {
+  fprintf(
+      f,
+      "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
+      "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
+      "                          [--rays N] [--light K] [--max-split S] [--threads N]\n\n"
+      "The illuminance E that the scene's point and parallel lights deliver to the plane object\n"
+      "NAME, directly and through chains of specular reflections and refractions up to the\n"
+      "scene's max_depth (weighted by kr, kt, transmittance and Fresnel as in rendering; opaque\n"
+      "objects block), in the scene's units: a parallel light of intensity I gives I cos(alpha)\n"
+      "on an unobstructed receiver, a point light I cos(alpha) / r^2 (mean of R, G and B). Cell\n"
+      "(i, j) of a W x H grid covers [U0 + i dU, U0 + (i+1) dU] x [V0 + j dV, V0 + (j+1) dV] of\n"
+      "the plane's texture coordinates (origin its point, u its u axis, v = normal x u:\n"
+      "docs/scene-format.md). Writes MAP.exr (one float channel E; image row y is j = y: the\n"
+      "first row holds V0, as the header's pencil:rows says), MAP.png (E / the largest E, grey)\n"
+      "and MAP.json (extent, grid, method, lights, rays, flux, CPU time, provenance).\n\n"
+      "options:\n"
+      "  --receiver NAME   the receiver: a plane object with that \"name\" (required)\n"
+      "  -o, --output MAP.exr\n"
+      "  --grid WxH        cells of the map (default 256x256; 1 .. 16384 each)\n"
+      "  --extent U0,U1,V0,V1\n"
+      "                    the map's rectangle (default: a square around the projection of\n"
+      "                    the scene's bounded objects, twice their larger extent)\n"
+      "  --method M        grid-pencil (default): the 1989 paper's grid-pencil tracing, pencils\n"
+      "                    between neighbouring rays spread over their triangles on the\n"
+      "                    receiver and divided at edges; photons: backward ray tracing, each\n"
+      "                    ray's flux counted in the cell it lands in; polygons: pencil tracing\n"
+      "                    of polyhedra (not implemented yet: refused)\n"
+      "  --rays N          source rays per grid face of each light, a square grid of\n"
+      "                    round(sqrt(N)) a side (default: 129 x 129 for grid-pencil, 128 x 128\n"
+      "                    pencils; 1024 x 1024 for photons)\n"
+      "  --light K         trace light K only (0-based; default: all)\n"
+      "  --max-split S     grid-pencil: divisions of a pencil at an edge (default 4, at most 12)\n"
+      "  --threads N       OpenMP threads (default: all cores)\n\n"
+      "A light's grid covers the directions (or, for a parallel light, the beam) towards the\n"
+      "map's rectangle and every object that reflects or transmits (docs/illuminance.md).\n"
+      "Exit codes: 0 map written; 1 computing or writing failed; 2 usage or scene error (then\n"
+      "nothing is written).\n");
+}
+
+enum {
+  OPT_OUT = 1,
+  OPT_RECEIVER,
+  OPT_GRID,
+  OPT_EXTENT,
+  OPT_METHOD,
+  OPT_RAYS,
+  OPT_LIGHT,
+  OPT_SPLIT,
+  OPT_THREADS
+};
+
+typedef struct {
+  const char *scene, *out, *receiver, *method;
+  long gw, gh, rays, light, split, threads;
+  int have_extent;
+  double ext[4];
+} args_t;
+
+static int parse_extent(const char *v, double ext[4]) {
+  char *end = NULL;
+  const char *p = v;
+  for (int k = 0; k < 4; k++) {
+    char buf[64];
+    size_t n = strcspn(p, ",");
+    if (n == 0 || n >= sizeof buf || (k < 3 && p[n] != ',') || (k == 3 && p[n] != '\0'))
+      goto bad;
+    memcpy(buf, p, n);
+    buf[n] = '\0';
+    ext[k] = strtod(buf, &end);
+    if (*end != '\0' || !isfinite(ext[k]) || fabs(ext[k]) > 1e12)
+      goto bad;
+    p += n + (k < 3);
+  }
+  if (!(ext[1] > ext[0]) || !(ext[3] > ext[2])) {
+    fprintf(stderr,
+            "pencil illuminance: --extent: the rectangle has zero area (need U0 < U1 and V0 < "
+            "V1), got '%s'\n",
+            v);
+    return 0;
+  }
+  return 1;
+bad:
+  fprintf(stderr,
+          "pencil illuminance: --extent: expected U0,U1,V0,V1 (four numbers within 1e12), got "
+          "'%s'\n",
+          v);
+  return 0;
+}
+
+static int parse_grid(const char *v, long *w, long *h) {
+  char tail;
+  if (sscanf(v, "%ldx%ld%c", w, h, &tail) != 2 || *w < 1 || *h < 1 || *w > LT_MAX_GRID ||
+      *h > LT_MAX_GRID) {
+    fprintf(stderr, "pencil illuminance: --grid: expected WxH with 1 <= W, H <= %d, got '%s'\n",
+            LT_MAX_GRID, v);
+    return 0;
+  }
+  return 1;
+}
+
+static int parse(int argc, char **argv, args_t *a) {
+  static const cli_spec_t specs[] = {
+      {"--output", 'o', 1, OPT_OUT},   {"--receiver", 0, 1, OPT_RECEIVER},
+      {"--grid", 0, 1, OPT_GRID},      {"--extent", 0, 1, OPT_EXTENT},
+      {"--method", 0, 1, OPT_METHOD},  {"--rays", 0, 1, OPT_RAYS},
+      {"--light", 0, 1, OPT_LIGHT},    {"--max-split", 0, 1, OPT_SPLIT},
+      {"--threads", 0, 1, OPT_THREADS}};
+  int n, rc;
+  cli_arg_t *args = cli_args("illuminance", argc, argv, specs,
+                             (int)(sizeof specs / sizeof specs[0]), help, &n, &rc);
+  if (!args)
+    return rc;
+  for (int k = 0; k < n && rc == CLI_OK; k++) {
+    const cli_arg_t *g = &args[k];
+    if (!g->spec) {
+      if (a->scene) {
+        fprintf(stderr, "pencil illuminance: unexpected argument '%s' (one scene only)\n",
+                g->value);
+        rc = CLI_USAGE;
+      }
+      a->scene = g->value;
+      continue;
+    }
+    switch (g->spec->id) {
+    case OPT_OUT:
+      a->out = g->value;
+      break;
+    case OPT_RECEIVER:
+      a->receiver = g->value;
+      break;
+    case OPT_GRID:
+      rc = parse_grid(g->value, &a->gw, &a->gh) ? CLI_OK : CLI_USAGE;
+      break;
+    case OPT_EXTENT:
+      a->have_extent = 1;
+      rc = parse_extent(g->value, a->ext) ? CLI_OK : CLI_USAGE;
+      break;
+    case OPT_METHOD:
+      a->method = g->value;
+      break;
+    case OPT_RAYS:
+      rc = cli_parse_long("--rays", g->value, 4, (long)LT_MAX_GRID * LT_MAX_GRID, &a->rays)
+               ? CLI_OK
+               : CLI_USAGE;
+      break;
+    case OPT_LIGHT:
+      rc = cli_parse_long("--light", g->value, 0, 1 << 20, &a->light) ? CLI_OK : CLI_USAGE;
+      break;
+    case OPT_SPLIT:
+      rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
+      break;
+    default:
+      rc = cli_parse_long("--threads", g->value, 1, 1024, &a->threads) ? CLI_OK : CLI_USAGE;
+    }
+  }
+  free(args);
+  if (rc != CLI_OK)
+    return rc;
+  const char *missing = !a->scene      ? "a scene file SCENE.json"
+                        : !a->receiver ? "--receiver NAME"
+                        : !a->out      ? "-o MAP.exr"
+                                       : NULL;
+  if (missing) {
+    fprintf(stderr, "pencil illuminance: missing %s (see --help)\n", missing);
+    return CLI_USAGE;
+  }
+  return -1;
+}
+
+/* The grey preview: E over the largest E. */
+static int preview_of(const lt_map_t *m, const float *e, rt_image_t *img) {
+  if (rt_image_alloc(img, m->width, m->height) != RT_OK)
+    return 0;
+  float top = 0.0f;
+  size_t n = (size_t)m->width * (size_t)m->height;
+  for (size_t k = 0; k < n; k++)
+    top = fmaxf(top, e[k]);
+  for (int y = 0; y < m->height; y++)
+    for (int x = 0; x < m->width; x++) { /* PNG rows from the top: the largest v first */
+      size_t src = (size_t)(m->height - 1 - y) * m->width + x, dst = (size_t)y * m->width + x;
+      float g = top > 0 ? e[src] / top : 0.0f;
+      img->ch[RT_CH_R][dst] = img->ch[RT_CH_G][dst] = img->ch[RT_CH_B][dst] = g;
+    }
+  return 1;
+}
+
+int cmd_illuminance(int argc, char **argv) {
+  args_t a = {NULL, NULL, NULL, "grid-pencil", 256, 256, 0, -1, 4, 0, 0, {0, 0, 0, 0}};
+  int rc = parse(argc, argv, &a);
+  if (rc >= 0)
+    return rc;
+  if (strcmp(a.method, "polygons") == 0) {
+    fprintf(stderr, "pencil illuminance: --method polygons (pencil tracing of polyhedra, 1987 "
+                    "section 4.2) is not implemented yet; use grid-pencil or photons\n");
+    return CLI_USAGE;
+  }
+  int method = lt_method_parse(a.method);
+  if (method < 0) {
+    fprintf(stderr,
+            "pencil illuminance: --method: expected grid-pencil, photons or polygons, got '%s'\n",
+            a.method);
+    return CLI_USAGE;
+  }
+  char err[1024], json_path[4096];
+  size_t len = strlen(a.out);
+  if (len < 5 || strcmp(a.out + len - 4, ".exr") != 0 || len + 2 > sizeof json_path) {
+    fprintf(stderr, "pencil illuminance: -o: expected a file name ending in .exr, got '%s'\n",
+            a.out);
+    return CLI_USAGE;
+  }
+  memcpy(json_path, a.out, len - 4);
+  strcpy(json_path + len - 4, ".json");
+  if (io_render_check(a.out, err, sizeof err) != 0 || io_output_check(json_path, err, sizeof err)) {
+    fprintf(stderr, "pencil illuminance: %s\n", err);
+    return CLI_USAGE;
+  }
+  rt_scene_t s;
+  if (!cli_load_scene("illuminance", a.scene, 0, 0, &s))
+    return CLI_USAGE;
+  int recv = -1;
+  for (int o = 0; o < s.nobject; o++)
+    if (strcmp(s.object[o].name, a.receiver) == 0)
+      recv = o;
+  rc = CLI_USAGE;
+  if (recv < 0) {
+    fprintf(stderr, "pencil illuminance: --receiver: %s has no object named '%s'\n", a.scene,
+            a.receiver);
+    goto done;
+  }
+  if (s.prim[s.object[recv].first_prim].kind != RT_PRIM_PLANE) {
+    fprintf(stderr,
+            "pencil illuminance: --receiver: '%s' is not a plane (maps are made on planes so "
+            "far)\n",
+            a.receiver);
+    goto done;
+  }
+  if (s.nlight == 0 || a.light >= s.nlight) {
+    fprintf(stderr, "pencil illuminance: --light: %s has %d light%s, no light %ld\n", a.scene,
+            s.nlight, s.nlight == 1 ? "" : "s", a.light < 0 ? 0 : a.light);
+    goto done;
+  }
+  if (!a.have_extent && !lt_default_extent(&s, recv, a.ext)) {
+    fprintf(stderr,
+            "pencil illuminance: --extent: %s has no bounded object to place a default "
+            "map around; give the rectangle\n",
+            a.scene);
+    goto done;
+  }
+  long side = a.rays > 0 ? lrint(sqrt((double)a.rays)) : method == LT_METHOD_PHOTONS ? 1024 : 129;
+  double cells = (double)a.gw * (double)a.gh;
+  size_t need = (size_t)(cells * (24.0 * (rt_thread_count((int)a.threads) + 1) + 4 + 3 * 11 * 4));
+  size_t have = io_memory_available();
+  if (have && need > have) {
+    char n1[32], h1[32];
+    io_format_size(need, n1, sizeof n1);
+    io_format_size(have, h1, sizeof h1);
+    fprintf(stderr, "pencil illuminance: --grid %ldx%ld needs %s, more than the %s available\n",
+            a.gw, a.gh, n1, h1);
+    goto done;
+  }
+  lt_map_t m;
+  if (lt_map_alloc(&m, (int)a.gw, (int)a.gh, a.ext[0], a.ext[1], a.ext[2], a.ext[3]) != RT_OK) {
+    fprintf(stderr, "pencil illuminance: cannot allocate a %ldx%ld map\n", a.gw, a.gh);
+    rc = CLI_FAIL;
+    goto done;
+  }
+  lt_options_t o = LT_OPTIONS_DEFAULT;
+  o.method = (lt_method_t)method;
+  o.light = (int)a.light;
+  o.side = (int)(side < 2 ? 2 : side);
+  o.max_split = (int)a.split;
+  o.threads = (int)a.threads;
+  if (isatty(2)) {
+    o.progress = cli_progress;
+    o.progress_ctx = (void *)"illuminance";
+  }
+  lt_stats_t st;
+  rt_status_t r = lt_illuminance(&s, recv, &o, &m, &st);
+  if (r != RT_OK) {
+    fprintf(stderr, "pencil illuminance: %s\n", rt_strerror(r));
+    rc = CLI_FAIL;
+    lt_map_free(&m);
+    goto done;
+  }
+  if (st.arrivals == 0) {
+    fprintf(stderr,
+            "pencil illuminance: no light reaches the receiver '%s' (every path from %s is "
+            "blocked or misses it); nothing was written\n",
+            a.receiver, a.light < 0 ? "every light" : "the light");
+    lt_map_free(&m);
+    goto done;
+  }
+  size_t n = (size_t)m.width * (size_t)m.height;
+  float *e = malloc(n * sizeof *e);
+  rt_image_t prev;
+  int ok = e != NULL;
+  for (size_t k = 0; ok && k < n; k++) {
+    double v = (m.e[3 * k] + m.e[3 * k + 1] + m.e[3 * k + 2]) / 3.0;
+    ok = isfinite(v) && fabs(v) < 3e38;
+    e[k] = (float)v;
+  }
+  if (!ok) {
+    fprintf(stderr, "pencil illuminance: %s\n",
+            e ? "the map holds a value beyond float range; nothing was written" : "out of memory");
+    free(e);
+    lt_map_free(&m);
+    rc = CLI_FAIL;
+    goto done;
+  }
+  ok = preview_of(&m, e, &prev);
+  char ext[160];
+  snprintf(ext, sizeof ext, "%.17g,%.17g,%.17g,%.17g", m.u0, m.u1, m.v0, m.v1);
+  io_exr_channel_t ch = {"E", e};
+  io_attr_t attrs[] = {
+      {"pencil:receiver", a.receiver},
+      {"pencil:method", lt_method_name(o.method)},
+      {"pencil:extent", ext},
+      {"pencil:rows", "row y holds cells j = y: the first row is V0, the last V1"}};
+  json_t *lights = json_array();
+  for (int l = 0; l < s.nlight; l++)
+    if (a.light < 0 || l == a.light)
+      json_array_append_new(lights, json_integer(l));
+  json_t *root = json_pack(
+      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:{s:I, s:I, s:I, s:I, s:I, "
+      "s:I, s:I}, s:{s:f, s:f, s:f}, s:f, s:s}",
+      "scene", a.scene, "receiver", a.receiver, "method", lt_method_name(o.method), "extent", m.u0,
+      m.u1, m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)",
+      "lights", lights, "rays_per_side", o.side, "max_split", o.max_split, "counts", "rays",
+      (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals", (json_int_t)st.arrivals,
+      "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided, "photons",
+      (json_int_t)st.photons, "lost", (json_int_t)st.lost, "flux", "emitted_by_grid",
+      st.flux_emitted, "on_map", st.flux_map, "on_receiver_outside", st.flux_outside, "seconds",
+      st.seconds, "units",
+      "E in the scene's units (mean of R, G, B): intensity over length squared");
+  if (!ok || !root ||
+      io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,
+                   sizeof err) != 0) {
+    fprintf(stderr, "pencil illuminance: %s\n", ok && root ? err : "out of memory");
+    rc = CLI_FAIL;
+  } else {
+    printf("illuminance of '%s' by %s: %dx%d cells over u [%g, %g] v [%g, %g]; %llu rays, %llu "
+           "arrivals (%llu pencils, %llu divisions, %llu photons), flux on the map %.6g of %.6g "
+           "the grid covers, in %.3f s -> %s\n",
+           a.receiver, lt_method_name(o.method), m.width, m.height, m.u0, m.u1, m.v0, m.v1,
+           (unsigned long long)st.rays, (unsigned long long)st.arrivals,
+           (unsigned long long)st.pencils, (unsigned long long)st.divided,
+           (unsigned long long)st.photons, st.flux_map, st.flux_emitted, st.seconds, a.out);
+    rc = CLI_OK;
+  }
+  if (ok)
+    rt_image_free(&prev);
+  json_decref(root);
+  free(e);
+  lt_map_free(&m);
+done:
+  rt_scene_free(&s);
+  return rc;
+}

@@ -1,0 +1,98 @@
+/* illuminance.h -- illuminance maps: the light that point and parallel sources deliver to a
+ * receiver surface directly and through chains of specular reflections and refractions (1989
+ * paper, section 2.2; 1987 paper, section 4.2), by one of the methods of the 1989 paper's
+ * Table 1:
+ *  - photons: backward ray tracing (Arvo 1986; 1989 Eqs. 3-4): rays leave the source on a grid,
+ *    each carrying the flux of its share of the source, and the flux arriving in each cell of
+ *    the map is counted;
+ *  - grid-pencil tracing (1989 section 2.2.3): the same grid, every two neighbouring rays and a
+ *    diagonal one the edges of a pencil whose triangle on the receiver carries the pencil's flux
+ *    (Eq. 7: E = t_r I delta omega0 / delta S); triangles whose edge rays do not follow the same
+ *    path are divided, down to a limit below which their rays count as photons.
+ * The receiver is a plane object; a cell (i, j) of a W x H map covers [u0 + i du, u0 + (i+1) du]
+ * x [v0 + j dv, v0 + (j+1) dv] in the plane's texture coordinates (origin its point, u its u
+ * axis, v = normal x u: docs/scene-format.md). E is flux per unit area in the scene's units (a
+ * parallel light of intensity I gives I cos(alpha) on an unobstructed receiver, a point light
+ * I cos(alpha) / r^2), counted on either side of the receiver, in R, G and B.
+ *
+ * Prefix lt_. Above core/ (scene, BVH, shading's reflected and refracted rays): the light is
+ * carried by the same rt_shade_children() as the renderers' rays, so kr, kt, transmittance
+ * colours, Fresnel and total internal reflection are the renderers'. */
+#ifndef LIGHT_ILLUMINANCE_H
+#define LIGHT_ILLUMINANCE_H
+
+#include <stdint.h>
+
+#include "core/scene.h"
+
+typedef enum {
+  LT_METHOD_GRID_PENCIL = 0, /**< grid-pencil tracing (default) */
+  LT_METHOD_PHOTONS = 1      /**< backward ray tracing: photon counting */
+} lt_method_t;
+
+/** "grid-pencil" / "photons"; -1 for another name. */
+int lt_method_parse(const char *name);
+const char *lt_method_name(lt_method_t m);
+
+/** The map: W x H cells over [u0, u1] x [v0, v1] of the receiver's texture coordinates; e holds
+ *  3 W H values, R, G, B of cell (i, j) at 3 (j W + i). */
+typedef struct {
+  int width, height;
+  double u0, u1, v0, v1;
+  double *e;
+} lt_map_t;
+
+/** Allocate a zeroed map; RT_EINVAL for a size outside 1..LT_MAX_GRID or an empty extent,
+ *  RT_ENOMEM. */
+rt_status_t lt_map_alloc(lt_map_t *m, int width, int height, double u0, double u1, double v0,
+                         double v1);
+void lt_map_free(lt_map_t *m);
+
+/** Largest side of a map and of the source's ray grid. */
+#define LT_MAX_GRID 16384
+
+typedef struct {
+  lt_method_t method;
+  int light;     /**< index of the one light to trace, or -1 for all */
+  int side;      /**< rays per side of the source's grid (side x side per grid face), >= 2 */
+  int max_split; /**< grid-pencil: times a pencil may be divided at an edge (each a 2 x 2 split) */
+  int threads;   /**< OpenMP threads; 0 = the default */
+  void (*progress)(void *ctx, int done, int total);
+  void *progress_ctx;
+} lt_options_t;
+
+#define LT_OPTIONS_DEFAULT                                                                         \
+  { LT_METHOD_GRID_PENCIL, -1, 129, 4, 0, NULL, NULL }
+
+typedef struct {
+  uint64_t rays;        /**< source rays traced (grid points and division points) */
+  uint64_t segments;    /**< ray segments traced (every reflection and refraction) */
+  uint64_t arrivals;    /**< ray paths that reached the receiver (an arrival of each pass) */
+  uint64_t pencils;     /**< receiver triangles deposited as pencils (grid-pencil) */
+  uint64_t folded;      /**< ... of which turned over (past a caustic): deposited, not dropped */
+  uint64_t divided;     /**< pencil divisions (grid-pencil) */
+  uint64_t nonlinear;   /**< ... of which for a receiver triangle not linear enough */
+  uint64_t photons;     /**< arrivals deposited as photons (photons; grid-pencil at the limit) */
+  uint64_t lost;        /**< ends of rays' trees dropped because a tree had too many */
+  double flux_emitted;  /**< flux the traced grid covers (mean of R, G, B; scene units) */
+  double flux_map;      /**< flux deposited inside the map */
+  double flux_outside;  /**< flux that reached the receiver outside the map */
+  double flux_escaped;  /**< flux that left the scene */
+  double flux_absorbed; /**< flux that surfaces kept (the receiver's included) or the depth
+                             limit stopped; escaped + absorbed = emitted, less what `lost` lost */
+  double seconds;       /**< wall-clock time */
+} lt_stats_t;
+
+/** The illuminance map of the plane object `receiver` of the prepared scene s into m (zeroed
+ *  first). RT_EINVAL for a receiver that is not a plane object, a light index out of range, or
+ *  options out of range; RT_ENOTREADY for an unprepared scene; RT_ENOMEM. */
+rt_status_t lt_illuminance(const rt_scene_t *s, int receiver, const lt_options_t *o, lt_map_t *m,
+                           lt_stats_t *st);
+
+/** The default extent of a plane receiver's map: a square in (u, v) around the projection of the
+ *  scene's bounded objects (their bounding box) onto the plane, twice its larger side, so that
+ *  their shadows and caustics under lights not too low fall inside. 0 when the scene has no
+ *  bounded object other than the receiver (the caller must give an extent). */
+int lt_default_extent(const rt_scene_t *s, int receiver, double ext[4]);
+
+#endif

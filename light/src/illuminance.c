@@ -1,0 +1,371 @@
+/* illuminance.c -- the two methods over a light's grid faces (source.c), in parallel over rows of
+ * the grid, each thread depositing into its own copy of the map's fluxes, summed at the end. */
+#include "light/illuminance.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "core/image.h"
+#include "core/intersect.h"
+#include "internal.h"
+
+static double wall_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int lt_method_parse(const char *name) {
+  if (strcmp(name, "grid-pencil") == 0)
+    return LT_METHOD_GRID_PENCIL;
+  if (strcmp(name, "photons") == 0)
+    return LT_METHOD_PHOTONS;
+  return -1;
+}
+
+const char *lt_method_name(lt_method_t m) {
+  return m == LT_METHOD_PHOTONS ? "photons" : "grid-pencil";
+}
+
+rt_status_t lt_map_alloc(lt_map_t *m, int width, int height, double u0, double u1, double v0,
+                         double v1) {
+  memset(m, 0, sizeof *m);
+  if (width < 1 || height < 1 || width > LT_MAX_GRID || height > LT_MAX_GRID || !(u1 > u0) ||
+      !(v1 > v0) || !isfinite(u1 - u0) || !isfinite(v1 - v0))
+    return RT_EINVAL;
+  m->e = calloc(3 * (size_t)width * (size_t)height, sizeof *m->e);
+  if (!m->e)
+    return RT_ENOMEM;
+  *m = (lt_map_t){width, height, u0, u1, v0, v1, m->e};
+  return RT_OK;
+}
+
+void lt_map_free(lt_map_t *m) {
+  free(m->e);
+  m->e = NULL;
+}
+
+int lt_default_extent(const rt_scene_t *s, int receiver, double ext[4]) {
+  const rt_plane_t *pl = &s->prim[s->object[receiver].first_prim].plane;
+  double u0 = INFINITY, u1 = -INFINITY, v0 = INFINITY, v1 = -INFINITY;
+  for (int p = 0; p < s->nprim; p++) {
+    px_vec3_t lo, hi;
+    if (s->prim[p].object == receiver || !rt_prim_bounds(s, p, &lo, &hi))
+      continue;
+    for (int k = 0; k < 8; k++) {
+      px_vec3_t c = px_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+      px_vec3_t r = px_v3_sub(c, pl->p);
+      double u = px_v3_dot(r, pl->u), v = px_v3_dot(r, pl->v);
+      u0 = fmin(u0, u);
+      u1 = fmax(u1, u);
+      v0 = fmin(v0, v);
+      v1 = fmax(v1, v);
+    }
+  }
+  if (!(u1 >= u0))
+    return 0;
+  double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1), h = fmax(u1 - u0, v1 - v0);
+  if (!(h > 0))
+    h = 1.0;
+  ext[0] = cu - h;
+  ext[1] = cu + h;
+  ext[2] = cv - h;
+  ext[3] = cv + h;
+  return 1;
+}
+
+/* The rays of one thread and where their flux goes. */
+typedef struct {
+  lt_ctx_t C;
+  lt_accum_t A;
+  int max_split;
+} worker_t;
+
+static rt_rgb_t flux_of(const lt_face_t *f, double measure, rt_rgb_t w) {
+  return rt_rgb_scale(rt_rgb_mul(f->power, w), measure);
+}
+
+/* The flux phi of end a at a point: a receiver end deposited as a photon (counted as one when
+ * `photon`), an escape or an absorption entered in the ledger. */
+static void settle(worker_t *W, const lt_arrival_t *a, rt_rgb_t phi, int photon) {
+  double mean = (phi.r + phi.g + phi.b) / 3.0;
+  if (a->kind == LT_END_ESCAPED) {
+    W->C.st.flux_escaped += mean;
+  } else if (a->kind == LT_END_ABSORBED) {
+    W->C.st.flux_absorbed += mean;
+  } else {
+    lt__deposit_point(&W->A, a->u, a->v, phi);
+    W->C.st.photons += (uint64_t)photon;
+  }
+}
+
+/* ---- photons ------------------------------------------------------------------------------ */
+
+/* Row j of a side x side grid of rays through the centres of the grid's cells, each carrying the
+ * flux of its cell (two triangles' measure). */
+static void photon_row(worker_t *W, const lt_face_t *f, int side, int j) {
+  lt_arrivals_t arr;
+  double h = 1.0 / side;
+  for (int i = 0; i < side; i++) {
+    double a0 = i * h, b0 = j * h, a1 = a0 + h, b1 = b0 + h;
+    double p00[2] = {a0, b0}, p10[2] = {a1, b0}, p11[2] = {a1, b1}, p01[2] = {a0, b1};
+    double meas = lt__face_measure(f, p00, p10, p11) + lt__face_measure(f, p00, p11, p01);
+    rt_ray_t r = lt__face_ray(W->C.s, f, a0 + 0.5 * h, b0 + 0.5 * h);
+    lt__trace(&W->C, &r, &arr);
+    for (int k = 0; k < arr.n; k++)
+      settle(W, &arr.a[k], flux_of(f, meas, arr.a[k].w), 1);
+  }
+}
+
+/* ---- grid-pencil tracing ----------------------------------------------------------------- */
+
+static const lt_arrival_t *find(const lt_arrivals_t *x, uint64_t sig) {
+  for (int k = 0; k < x->n; k++)
+    if (x->a[k].sig == sig)
+      return &x->a[k];
+  return NULL;
+}
+
+/* Receiver triangles larger than this many cells across are checked for linearity. */
+#define LT_BIG_CELLS 2.0
+/* ... and their edges' midpoint rays must land within this many cells of the edges' midpoints. */
+#define LT_LINEAR_CELLS 0.25
+
+/* 1 when some path the three rays share to the receiver spans more than LT_BIG_CELLS cells
+ * and comes near the map. */
+static int big(const worker_t *W, const lt_arrivals_t *x[3]) {
+  const lt_map_t *m = W->A.m;
+  double su = m->width / (m->u1 - m->u0), sv = m->height / (m->v1 - m->v0);
+  for (int k = 0; k < x[0]->n; k++) {
+    const lt_arrival_t *a = &x[0]->a[k], *b, *c;
+    if (a->kind != LT_END_RECEIVER || !(b = find(x[1], a->sig)) || !(c = find(x[2], a->sig)))
+      continue;
+    double u0 = fmin(a->u, fmin(b->u, c->u)), u1 = fmax(a->u, fmax(b->u, c->u));
+    double v0 = fmin(a->v, fmin(b->v, c->v)), v1 = fmax(a->v, fmax(b->v, c->v));
+    if (u1 < m->u0 || u0 > m->u1 || v1 < m->v0 || v0 > m->v1) /* off the map: its flux is */
+      continue;                                               /* outside wherever it goes */
+    if ((u1 - u0) * su > LT_BIG_CELLS || (v1 - v0) * sv > LT_BIG_CELLS)
+      return 1;
+  }
+  return 0;
+}
+
+/* 1 when, for every receiver path the corners share, each edge's midpoint ray follows it too and
+ * lands within LT_LINEAR_CELLS cells of the midpoint of the corners' landings (the pencil's map
+ * to the receiver is linear enough to spread its flux evenly). */
+static int linear(const worker_t *W, const lt_arrivals_t *x[3], const lt_arrivals_t xm[3]) {
+  const lt_map_t *m = W->A.m;
+  double su = m->width / (m->u1 - m->u0), sv = m->height / (m->v1 - m->v0);
+  for (int k = 0; k < x[0]->n; k++) {
+    const lt_arrival_t *c[3] = {&x[0]->a[k], NULL, NULL};
+    if (c[0]->kind != LT_END_RECEIVER || !(c[1] = find(x[1], c[0]->sig)) ||
+        !(c[2] = find(x[2], c[0]->sig)))
+      continue;
+    for (int e = 0; e < 3; e++) { /* midpoint e lies between corners e and e + 1 */
+      const lt_arrival_t *mid = find(&xm[e], c[0]->sig);
+      if (!mid)
+        return 0;
+      double du = (mid->u - 0.5 * (c[e]->u + c[(e + 1) % 3]->u)) * su;
+      double dv = (mid->v - 0.5 * (c[e]->v + c[(e + 1) % 3]->v)) * sv;
+      if (fabs(du) > LT_LINEAR_CELLS || fabs(dv) > LT_LINEAR_CELLS)
+        return 0;
+    }
+  }
+  return 1;
+}
+
+/* The pencil of the triangle of grid parameters p[3] whose rays' ends are x[3]: a receiver
+ * triangle for every path the three rays share, its flux spread evenly over it. The pencil is
+ * divided into four (its edges' midpoint rays traced), up to `split` times, where the three rays
+ * do not all share their paths (an edge of an object or a shadow inside the pencil), or where a
+ * receiver triangle larger than LT_BIG_CELLS cells is not linear enough (its midpoint rays land
+ * off its edges' midpoints: near a rim, a fold). Past the limit, the unshared ends count as
+ * photons of a third of the pencil each. */
+static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arrivals_t *x[3],
+                   int split) {
+  int shared = 1;
+  for (int v = 0; v < 3 && shared; v++)
+    for (int k = 0; k < x[v]->n && shared; k++)
+      shared = find(x[(v + 1) % 3], x[v]->a[k].sig) && find(x[(v + 2) % 3], x[v]->a[k].sig);
+  double m[3][2];
+  lt_arrivals_t xm[3]; /* 7.7 kB a level, at most 12 levels deep */
+  int traced = 0;
+  if (split > 0 && (!shared || big(W, x))) {
+    for (int e = 0; e < 3; e++) {
+      m[e][0] = 0.5 * (p[e][0] + p[(e + 1) % 3][0]);
+      m[e][1] = 0.5 * (p[e][1] + p[(e + 1) % 3][1]);
+      rt_ray_t r = lt__face_ray(W->C.s, f, m[e][0], m[e][1]);
+      lt__trace(&W->C, &r, &xm[e]);
+    }
+    traced = 1;
+    if (shared && !linear(W, x, xm)) {
+      shared = 0;
+      W->C.st.nonlinear++;
+    }
+  }
+  if (!shared && traced) {
+    W->C.st.divided++;
+    /* corners p0, p1, p2 and midpoints m0 (p0 p1), m1 (p1 p2), m2 (p2 p0) */
+    double t[4][3][2] = {{{p[0][0], p[0][1]}, {m[0][0], m[0][1]}, {m[2][0], m[2][1]}},
+                         {{m[0][0], m[0][1]}, {p[1][0], p[1][1]}, {m[1][0], m[1][1]}},
+                         {{m[2][0], m[2][1]}, {m[1][0], m[1][1]}, {p[2][0], p[2][1]}},
+                         {{m[0][0], m[0][1]}, {m[1][0], m[1][1]}, {m[2][0], m[2][1]}}};
+    const lt_arrivals_t *tx[4][3] = {{x[0], &xm[0], &xm[2]},
+                                     {&xm[0], x[1], &xm[1]},
+                                     {&xm[2], &xm[1], x[2]},
+                                     {&xm[0], &xm[1], &xm[2]}};
+    for (int k = 0; k < 4; k++)
+      pencil(W, f, t[k], tx[k], split - 1);
+    return;
+  }
+  double meas = lt__face_measure(f, p[0], p[1], p[2]);
+  for (int v = 0; v < 3; v++)
+    for (int k = 0; k < x[v]->n; k++) {
+      const lt_arrival_t *a = &x[v]->a[k];
+      const lt_arrival_t *b = find(x[(v + 1) % 3], a->sig), *c = find(x[(v + 2) % 3], a->sig);
+      if (b && c) {
+        if (v > 0) /* a shared path is settled once, from vertex 0 */
+          continue;
+        rt_rgb_t w = rt_rgb_scale(rt_rgb_add(a->w, rt_rgb_add(b->w, c->w)), 1.0 / 3.0);
+        if (a->kind != LT_END_RECEIVER) {
+          settle(W, a, flux_of(f, meas, w), 0);
+          continue;
+        }
+        double uv[3][2] = {{a->u, a->v}, {b->u, b->v}, {c->u, c->v}};
+        lt__deposit_triangle(&W->A, uv, flux_of(f, meas, w));
+        W->C.st.pencils++;
+      } else {
+        settle(W, a, flux_of(f, meas / 3.0, a->w), 1);
+      }
+    }
+}
+
+/* The pencils of row j of the grid (vertex rows j and j + 1, traced already). */
+static void pencil_row(worker_t *W, const lt_face_t *f, int side, int j, const lt_arrivals_t *r0,
+                       const lt_arrivals_t *r1) {
+  double h = 1.0 / (side - 1);
+  for (int i = 0; i + 1 < side; i++) {
+    double a0 = i * h, a1 = (i + 1) * h, b0 = j * h, b1 = (j + 1) * h;
+    double t1[3][2] = {{a0, b0}, {a1, b0}, {a1, b1}}, t2[3][2] = {{a0, b0}, {a1, b1}, {a0, b1}};
+    const lt_arrivals_t *x1[3] = {&r0[i], &r0[i + 1], &r1[i + 1]};
+    const lt_arrivals_t *x2[3] = {&r0[i], &r1[i + 1], &r1[i]};
+    pencil(W, f, t1, x1, W->max_split);
+    pencil(W, f, t2, x2, W->max_split);
+  }
+}
+
+static void stats_add(lt_stats_t *a, const lt_stats_t *b) {
+  a->rays += b->rays;
+  a->segments += b->segments;
+  a->arrivals += b->arrivals;
+  a->pencils += b->pencils;
+  a->divided += b->divided;
+  a->nonlinear += b->nonlinear;
+  a->photons += b->photons;
+  a->lost += b->lost;
+  a->flux_map += b->flux_map;
+  a->flux_outside += b->flux_outside;
+  a->flux_escaped += b->flux_escaped;
+  a->flux_absorbed += b->flux_absorbed;
+}
+
+rt_status_t lt_illuminance(const rt_scene_t *s, int receiver, const lt_options_t *o, lt_map_t *m,
+                           lt_stats_t *st) {
+  if (!s->bvh)
+    return RT_ENOTREADY;
+  if (receiver < 0 || receiver >= s->nobject || s->object[receiver].nprim != 1 ||
+      s->prim[s->object[receiver].first_prim].kind != RT_PRIM_PLANE || o->light < -1 ||
+      o->light >= s->nlight || o->side < 2 || o->side > LT_MAX_GRID || o->max_split < 0 ||
+      o->max_split > 12 || o->threads < 0 || !m->e)
+    return RT_EINVAL;
+  int nt = rt_thread_count(o->threads);
+  size_t cells = 3 * (size_t)m->width * (size_t)m->height;
+  worker_t *W = calloc((size_t)nt, sizeof *W);
+  if (!W)
+    return RT_ENOMEM;
+  rt_status_t status = RT_OK;
+  for (int t = 0; t < nt && status == RT_OK; t++) {
+    W[t].C = (lt_ctx_t){
+        s, rt_plan_make(s, 1), receiver, &s->prim[s->object[receiver].first_prim].plane, {0}};
+    W[t].A = (lt_accum_t){m, calloc(cells, sizeof(double)), &W[t].C.st};
+    W[t].max_split = o->max_split;
+    if (!W[t].A.flux)
+      status = RT_ENOMEM;
+  }
+  lt_stats_t total;
+  memset(&total, 0, sizeof total);
+  double t0 = wall_seconds();
+  int side = o->side;
+  lt_arrivals_t *grid = NULL;
+  if (status == RT_OK && o->method == LT_METHOD_GRID_PENCIL) {
+    grid = malloc((size_t)side * (size_t)side * sizeof *grid);
+    if (!grid)
+      status = RT_ENOMEM;
+  }
+  int l0 = o->light < 0 ? 0 : o->light, l1 = o->light < 0 ? s->nlight : o->light + 1;
+  for (int l = l0; l < l1 && status == RT_OK; l++) {
+    lt_face_t faces[6];
+    int nf = lt__faces(s, receiver, m, l, faces);
+    for (int fi = 0; fi < nf; fi++) {
+      const lt_face_t *f = &faces[fi];
+      /* the flux the grid covers: the face's whole measure */
+      double c0[2] = {0, 0}, c1[2] = {1, 0}, c2[2] = {1, 1}, c3[2] = {0, 1};
+      double meas = lt__face_measure(f, c0, c1, c2) + lt__face_measure(f, c0, c2, c3);
+      total.flux_emitted += meas * (f->power.r + f->power.g + f->power.b) / 3.0;
+      int rows = o->method == LT_METHOD_PHOTONS ? side : side - 1;
+      if (o->method == LT_METHOD_GRID_PENCIL) {
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+        for (int j = 0; j < side; j++) {
+          int me = 0;
+#ifdef _OPENMP
+          me = omp_get_thread_num();
+#endif
+          for (int i = 0; i < side; i++) {
+            rt_ray_t r = lt__face_ray(s, f, (double)i / (side - 1), (double)j / (side - 1));
+            lt__trace(&W[me].C, &r, &grid[(size_t)j * side + i]);
+          }
+        }
+      }
+      int done = 0;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+      for (int j = 0; j < rows; j++) {
+        int me = 0;
+#ifdef _OPENMP
+        me = omp_get_thread_num();
+#endif
+        if (o->method == LT_METHOD_PHOTONS)
+          photon_row(&W[me], f, side, j);
+        else
+          pencil_row(&W[me], f, side, j, grid + (size_t)j * side, grid + (size_t)(j + 1) * side);
+        if (o->progress) {
+#pragma omp critical(lt_progress)
+          o->progress(o->progress_ctx, ++done, rows);
+        }
+      }
+    }
+  }
+  free(grid);
+  if (status == RT_OK) {
+    double cell = (m->u1 - m->u0) / m->width * (m->v1 - m->v0) / m->height;
+    memset(m->e, 0, cells * sizeof *m->e);
+    for (int t = 0; t < nt; t++) {
+      for (size_t k = 0; k < cells; k++)
+        m->e[k] += W[t].A.flux[k];
+      stats_add(&total, &W[t].C.st);
+    }
+    for (size_t k = 0; k < cells; k++)
+      m->e[k] /= cell;
+  }
+  for (int t = 0; t < nt; t++)
+    free(W[t].A.flux);
+  free(W);
+  total.seconds = wall_seconds() - t0;
+  if (st)
+    *st = total;
+  return status;
+}

@@ -1,0 +1,86 @@
+/* internal.h -- the light library's shared parts: the light's grid faces (source.c), the
+ * transport of one light ray to the receiver (transport.c), and the deposits into the map
+ * (deposit.c). */
+#ifndef LIGHT_INTERNAL_H
+#define LIGHT_INTERNAL_H
+
+#include "core/plan.h"
+#include "core/shade.h"
+#include "light/illuminance.h"
+
+/** Most receiver arrivals one source ray's tree may have; more are dropped and counted. */
+#define LT_MAX_ARRIVALS 64
+
+/** What an end of a light ray's tree is. */
+enum { LT_END_RECEIVER = 0, LT_END_ESCAPED = 1, LT_END_ABSORBED = 2 };
+
+/** One end of a light ray's tree: a path that reached the receiver (a path may go on after it,
+ *  when the receiver reflects or transmits), one that left the scene, or the flux a surface kept
+ *  (what its reflected and refracted children do not carry on, or all of it at the depth
+ *  limit). Every unit of flux a ray carries ends in exactly one escape or absorption, so the
+ *  two methods can keep a ledger of the flux. */
+typedef struct {
+  uint64_t sig; /**< the path: a hash of the (object, primitive, kind) of every segment and the
+                     end's kind */
+  int kind;     /**< LT_END_* */
+  double u, v;  /**< receiver ends: where the path met the receiver, in its texture coordinates */
+  rt_rgb_t w;   /**< the flux it carries per unit of the source's flux: the product of the
+                     weights (kr, kt T, Fresnel) along the path, times what the surface kept for an
+                     absorption */
+} lt_arrival_t;
+
+typedef struct {
+  int n;
+  lt_arrival_t a[LT_MAX_ARRIVALS];
+} lt_arrivals_t;
+
+/** One grid face of a light: a point light's square of directions through z + a x + b y
+ *  (a, b in [-h, h]), or a parallel light's square of origins c + a x + b y (a in [-hx, hx], b in
+ *  [-hy, hy]) behind the scene, travelling along z. */
+typedef struct {
+  int parallel;
+  px_vec3_t origin; /**< point: the light; parallel: the grid's centre */
+  px_vec3_t x, y, z;
+  double hx, hy;  /**< half sides (tangents for a point light) */
+  rt_rgb_t power; /**< the light's intensity I */
+} lt_face_t;
+
+/** Faces of light l that cover every ray that can reach the receiver's map (at most 6); 0 when
+ *  none can. */
+int lt__faces(const rt_scene_t *s, int receiver, const lt_map_t *m, int l, lt_face_t out[6]);
+
+/** The ray of grid parameters (a, b) in [0, 1]^2 of face f. */
+rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b);
+
+/** The source measure (solid angle, or area across the beam) of the triangle of face parameters
+ *  p0, p1, p2 (each [a, b]). */
+double lt__face_measure(const lt_face_t *f, const double p0[2], const double p1[2],
+                        const double p2[2]);
+
+/** The transport context of one thread. */
+typedef struct {
+  const rt_scene_t *s;
+  rt_plan_t plan;
+  int receiver;
+  const rt_plane_t *plane;
+  lt_stats_t st;
+} lt_ctx_t;
+
+/** Trace a light ray and collect its tree's arrivals on the receiver (out->n set). */
+void lt__trace(lt_ctx_t *C, const rt_ray_t *ray, lt_arrivals_t *out);
+
+/** A thread's accumulation: flux per cell (R, G, B). */
+typedef struct {
+  const lt_map_t *m;
+  double *flux; /**< 3 W H */
+  lt_stats_t *st;
+} lt_accum_t;
+
+/** Deposit flux `phi` at (u, v) (a photon). */
+void lt__deposit_point(lt_accum_t *A, double u, double v, rt_rgb_t phi);
+
+/** Deposit flux `phi` spread evenly over the receiver triangle (u, v)[3] (exact coverage of the
+ *  cells); a triangle of zero area deposits at its centroid. */
+void lt__deposit_triangle(lt_accum_t *A, const double uv[3][2], rt_rgb_t phi);
+
+#endif

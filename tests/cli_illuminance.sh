@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# `pencil illuminance`: the contract scripts read (options, the EXR's one channel E and its row
+# order, MAP.json's keys, MAP.png), and the refusals of bad input: each exits 2, names the option
+# or the name at fault, and writes nothing.
+set -u
+pencil=$(realpath "$1")
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail=0
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+cat >"$dir/ball.json" <<'JSON'
+{"camera": {"eye": [0, 3, -6], "look_at": [0, 0, 0]},
+ "settings": {"max_depth": 6},
+ "materials": {"white": {"kd": 0.8}, "glass": {"kd": 0, "ka": 0, "kr": 0, "kt": 1, "ior": 1.5}},
+ "lights": [{"type": "parallel", "direction": [0, -1, 0], "intensity": 1}],
+ "objects": [{"type": "plane", "name": "floor", "point": [0, 0, 0], "normal": [0, 1, 0],
+              "material": "white"},
+             {"type": "sphere", "name": "ball", "center": [0, 1.5, 0], "radius": 1,
+              "material": "glass"}]}
+JSON
+$pencil illuminance "$dir/ball.json" --receiver floor -o "$dir/m.exr" --grid 40x30 \
+  --extent -2,2,-1,2 --rays 1700 >"$dir/out" 2>"$dir/err"; rc=$?
+check "a map is written: exit 0, EXR, PNG and JSON" \
+  "[ $rc -eq 0 ] && [ -s '$dir/m.exr' ] && [ -s '$dir/m.png' ] && [ -s '$dir/m.json' ]"
+check "the EXR has one float channel E, 40 x 30, and says its row order" \
+  "oiiotool --info -v '$dir/m.exr' 2>/dev/null | grep -q '40 x   30, 1 channel, float' && oiiotool --info -v '$dir/m.exr' | grep -q 'channel list: E\$' && oiiotool --info -v '$dir/m.exr' | grep -q 'pencil:rows'"
+/usr/bin/python3 - "$dir" <<'PY' || fail=1
+import json, sys
+d = sys.argv[1]
+j = json.load(open(f"{d}/m.json"))
+for k in ("extent", "grid", "method", "lights", "rays_per_side", "counts", "flux", "seconds",
+          "provenance", "receiver"):
+    assert k in j, k
+assert j["extent"] == [-2, 2, -1, 2] and j["grid"] == [40, 30] and j["method"] == "grid-pencil"
+assert j["lights"] == [0] and j["rays_per_side"] == 41 and j["counts"]["rays"] >= 41 * 41
+assert 0 < j["flux"]["on_map"] <= j["flux"]["emitted_by_grid"]
+print("ok: MAP.json has the documented keys")
+PY
+# the row order: the ball's focus is at (u, v) = (0, 0), in cell row j = 7 of 30 for v in [-1, 2]
+/usr/bin/python3 - "$dir" <<'PY' || fail=1
+import sys, OpenImageIO as oiio
+d = sys.argv[1]
+i = oiio.ImageInput.open(f"{d}/m.exr"); a = i.read_image(format="float")[:, :, 0]; i.close()
+row, col = divmod(int(a.argmax()), a.shape[1])
+assert (row, col) in ((9, 19), (9, 20), (10, 19), (10, 20)), (row, col)
+print("ok: EXR row y holds v cells j = y (the focus at v = 0 is in row 10 of 30)")
+PY
+$pencil illuminance "$dir/ball.json" --receiver floor -o "$dir/p.exr" --grid 8x8 --extent -2,2,-2,2 \
+  --method photons --rays 10000 >/dev/null 2>&1
+check "photons write a map too" "grep -q '\"method\": \"photons\"' '$dir/p.json'"
+
+refused() { # name, expected message, args...
+  local name=$1 msg=$2; shift 2
+  rm -f "$dir/bad.exr" "$dir/bad.png" "$dir/bad.json"
+  $pencil illuminance "$@" -o "$dir/bad.exr" >/dev/null 2>"$dir/err"; local rc=$?
+  check "$name: exit 2, says '$msg', writes nothing" \
+    "[ $rc -eq 2 ] && grep -q -- \"$msg\" '$dir/err' && [ ! -e '$dir/bad.exr' ] && [ ! -e '$dir/bad.json' ] && [ ! -e '$dir/bad.png' ]"
+}
+refused "unknown receiver" "no object named 'wall'" "$dir/ball.json" --receiver wall
+refused "a receiver that is not a plane" "'ball' is not a plane" "$dir/ball.json" --receiver ball
+refused "zero-area extent" "--extent: the rectangle has zero area" "$dir/ball.json" --receiver floor --extent 0,0,0,1
+refused "malformed extent" "--extent: expected U0,U1,V0,V1" "$dir/ball.json" --receiver floor --extent 0,1,2
+refused "grid of 0 cells" "--grid: expected WxH" "$dir/ball.json" --receiver floor --grid 0x10
+refused "grid of 10^6 x 10^6 cells" "--grid: expected WxH" "$dir/ball.json" --receiver floor --grid 1000000x1000000
+refused "light out of range" "--light: .* has 1 light, no light 3" "$dir/ball.json" --receiver floor --light 3
+refused "unknown method" "--method: expected grid-pencil, photons or polygons" "$dir/ball.json" --receiver floor --method rays
+refused "polygons not there yet" "--method polygons .* not implemented yet" "$dir/ball.json" --receiver floor --method polygons
+refused "missing receiver" "missing --receiver NAME" "$dir/ball.json"
+# a receiver no light can reach: the floor under an opaque slab
+cat >"$dir/dark.json" <<'JSON'
+{"camera": {"eye": [0, 3, -6], "look_at": [0, 0, 0]},
+ "materials": {"white": {"kd": 0.8}},
+ "lights": [{"type": "point", "position": [0, 5, 0]}],
+ "objects": [{"type": "plane", "name": "floor", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "white"},
+             {"type": "plane", "name": "slab", "point": [0, 1, 0], "normal": [0, 1, 0], "material": "white"}]}
+JSON
+refused "a receiver no light reaches" "no light reaches the receiver 'floor'" "$dir/dark.json" --receiver floor --extent -1,1,-1,1
+$pencil illuminance --help | grep -q "usage: pencil illuminance" || { echo "FAIL: --help"; fail=1; }
+[ $fail -eq 0 ] && echo "cli_illuminance: all passed"
+exit $fail

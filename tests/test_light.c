@@ -1,0 +1,189 @@
+/* test_light.c -- illuminance maps (light/): grid-pencil tracing and photon counting against
+ * the inverse square law on a bare floor, a parallel light's I cos(alpha), the conservation of
+ * flux through a glass ball, and the refusals of bad arguments. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cmocka_main.h"
+#include "io/scene_json.h"
+#include "light/illuminance.h"
+
+static void load(const char *json, rt_scene_t *s) {
+  char err[512];
+  rt_scene_init(s);
+  if (io_scene_load_buffer("test.json", json, strlen(json), s, err, sizeof err) != 0)
+    fail_msg("%s", err);
+}
+
+static const char bare[] =
+    "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+    " \"materials\": {\"white\": {\"kd\": 0.8}},"
+    " \"lights\": [{\"type\": \"point\", \"position\": [0.3, 2, -0.2], \"intensity\": 1}],"
+    " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
+    " \"normal\": [0, 1, 0], \"material\": \"white\"}]}";
+
+/* The inverse square law's cell average, I h / r^3 over cell (i, j) by 16 x 16 midpoints; the
+ * plane's u is x and v = n x u = -z. */
+static double point_cell(const lt_map_t *m, int i, int j, double lx, double ly, double lz) {
+  double du = (m->u1 - m->u0) / m->width, dv = (m->v1 - m->v0) / m->height, sum = 0.0;
+  for (int a = 0; a < 16; a++)
+    for (int b = 0; b < 16; b++) {
+      double u = m->u0 + (i + (a + 0.5) / 16) * du, v = m->v0 + (j + (b + 0.5) / 16) * dv;
+      double dx = u - lx, dz = -v - lz, r2 = dx * dx + ly * ly + dz * dz;
+      sum += ly / (r2 * sqrt(r2));
+    }
+  return sum / 256.0;
+}
+
+static double cell_e(const lt_map_t *m, int i, int j) {
+  const double *c = m->e + 3 * ((size_t)j * m->width + i);
+  return (c[0] + c[1] + c[2]) / 3.0;
+}
+
+/* Grid-pencil tracing follows the inverse square law within 0.5% in every cell (its pencils are
+ * flat triangles, so the error is second order in their size); photons with 40 times the rays
+ * are far noisier. Both put the same flux on the map. */
+static void bare_floor_inverse_square(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load(bare, &s);
+  lt_map_t g, p;
+  assert_int_equal(lt_map_alloc(&g, 32, 32, -2, 2, -2, 2), RT_OK);
+  assert_int_equal(lt_map_alloc(&p, 32, 32, -2, 2, -2, 2), RT_OK);
+  lt_options_t o = LT_OPTIONS_DEFAULT;
+  lt_stats_t sg, sp;
+  assert_int_equal(lt_illuminance(&s, 0, &o, &g, &sg), RT_OK);
+  o.method = LT_METHOD_PHOTONS;
+  o.side = 800;
+  assert_int_equal(lt_illuminance(&s, 0, &o, &p, &sp), RT_OK);
+  double worst_g = 0.0, worst_p = 0.0;
+  for (int j = 0; j < 32; j++)
+    for (int i = 0; i < 32; i++) {
+      double x = point_cell(&g, i, j, 0.3, 2.0, -0.2);
+      worst_g = fmax(worst_g, fabs(cell_e(&g, i, j) - x) / x);
+      worst_p = fmax(worst_p, fabs(cell_e(&p, i, j) - x) / x);
+    }
+  print_message("bare floor: grid-pencil worst %.3e (%llu rays), photons worst %.3e (%llu rays); "
+                "flux %.6f, %.6f\n",
+                worst_g, (unsigned long long)sg.rays, worst_p, (unsigned long long)sp.rays,
+                sg.flux_map, sp.flux_map);
+  assert_true(worst_g < 5e-3);
+  assert_true(worst_p > worst_g);
+  assert_close(sg.flux_map, sp.flux_map, 2e-3, 0.0);
+  lt_map_free(&g);
+  lt_map_free(&p);
+  rt_scene_free(&s);
+}
+
+/* A parallel light at 30 degrees from the normal gives I cos(30) everywhere. */
+static void parallel_light_cosine(void **state) {
+  (void)state;
+  rt_scene_t s;
+  char json[1024];
+  snprintf(json, sizeof json,
+           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+           " \"materials\": {\"white\": {\"kd\": 0.8}},"
+           " \"lights\": [{\"type\": \"parallel\", \"direction\": [0.5, %.17g, 0], "
+           "\"intensity\": 2}],"
+           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
+           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
+           -sqrt(0.75));
+  load(json, &s);
+  lt_map_t m;
+  assert_int_equal(lt_map_alloc(&m, 16, 16, -1, 1, -1, 1), RT_OK);
+  lt_options_t o = LT_OPTIONS_DEFAULT;
+  o.side = 33;
+  assert_int_equal(lt_illuminance(&s, 0, &o, &m, NULL), RT_OK);
+  for (int j = 0; j < 16; j++)
+    for (int i = 0; i < 16; i++)
+      assert_close(cell_e(&m, i, j), 2.0 * sqrt(0.75), 1e-9, 0.0);
+  lt_map_free(&m);
+  rt_scene_free(&s);
+}
+
+/* A glass ball (kt 1, no reflection) in a vertical beam: every ray reaches the floor but those
+ * the ball turns horizontal or upwards near its rim (0.06% of the flux), so the flux on the
+ * floor, on the map or beside it, is what the floor absorbs, and with what escapes it is the
+ * flux the grid covers. The ball focuses the beam (its focal length nR / 2(n - 1) from its
+ * centre puts the focus on the floor). */
+static void ball_conserves_flux(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load("{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+       " \"settings\": {\"max_depth\": 6},"
+       " \"materials\": {\"white\": {\"kd\": 0.8},"
+       "  \"glass\": {\"kd\": 0, \"ka\": 0, \"kr\": 0, \"kt\": 1, \"ior\": 1.5}},"
+       " \"lights\": [{\"type\": \"parallel\", \"direction\": [0, -1, 0], \"intensity\": 1}],"
+       " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
+       " \"normal\": [0, 1, 0], \"material\": \"white\"},"
+       " {\"type\": \"sphere\", \"center\": [0, 1.5, 0], \"radius\": 1, \"material\": \"glass\"}]}",
+       &s);
+  for (int method = 0; method < 2; method++) {
+    lt_map_t m;
+    assert_int_equal(lt_map_alloc(&m, 64, 64, -2, 2, -2, 2), RT_OK);
+    lt_options_t o = LT_OPTIONS_DEFAULT;
+    o.method = (lt_method_t)method;
+    o.side = method ? 400 : 65;
+    lt_stats_t st;
+    assert_int_equal(lt_illuminance(&s, 0, &o, &m, &st), RT_OK);
+    double peak = 0.0;
+    for (int j = 0; j < 64; j++)
+      for (int i = 0; i < 64; i++)
+        peak = fmax(peak, cell_e(&m, i, j));
+    print_message("%s: flux on the map %.12f + beside %.3e + escaped %.3e of %.12f; absorbed "
+                  "%.12f; peak E %.1f\n",
+                  lt_method_name(o.method), st.flux_map, st.flux_outside, st.flux_escaped,
+                  st.flux_emitted, st.flux_absorbed, peak);
+    /* the ledger: every unit of flux escapes or is absorbed (the floor keeps all it gets), to the
+     * rounding of sums of one term a ray or more, in an order that depends on the threads'
+     * schedule: n u for n terms */
+    double tol = 2.0 * (double)st.rays * DBL_EPSILON;
+    assert_close(st.flux_escaped + st.flux_absorbed, st.flux_emitted, tol, 0.0);
+    assert_close(st.flux_map + st.flux_outside, st.flux_absorbed, tol, 0.0);
+    assert_true(st.flux_escaped > 0 && st.flux_escaped < 1e-3 * st.flux_emitted);
+    assert_true(peak > 50.0); /* the focus */
+    assert_int_equal(st.lost, 0);
+    lt_map_free(&m);
+  }
+  rt_scene_free(&s);
+}
+
+static void bad_arguments_refused(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load(bare, &s);
+  lt_map_t m;
+  lt_options_t o = LT_OPTIONS_DEFAULT;
+  assert_int_equal(lt_map_alloc(&m, 0, 4, 0, 1, 0, 1), RT_EINVAL);
+  assert_int_equal(lt_map_alloc(&m, 4, 4, 0, 0, 0, 1), RT_EINVAL);
+  assert_int_equal(lt_map_alloc(&m, LT_MAX_GRID + 1, 4, 0, 1, 0, 1), RT_EINVAL);
+  assert_int_equal(lt_map_alloc(&m, 4, 4, 0, 1, 0, 1), RT_OK);
+  rt_scene_t empty; /* not prepared (the loader prepares what it loads) */
+  rt_scene_init(&empty);
+  assert_int_equal(lt_illuminance(&empty, 0, &o, &m, NULL), RT_ENOTREADY);
+  rt_scene_free(&empty);
+  assert_int_equal(lt_illuminance(&s, 1, &o, &m, NULL), RT_EINVAL); /* no such object */
+  o.light = 1;
+  assert_int_equal(lt_illuminance(&s, 0, &o, &m, NULL), RT_EINVAL);
+  o = (lt_options_t)LT_OPTIONS_DEFAULT;
+  o.side = 1;
+  assert_int_equal(lt_illuminance(&s, 0, &o, &m, NULL), RT_EINVAL);
+  assert_int_equal(lt_method_parse("polygons"), -1);
+  assert_int_equal(lt_method_parse("photons"), LT_METHOD_PHOTONS);
+  lt_map_free(&m);
+  rt_scene_free(&s);
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(bare_floor_inverse_square),
+      cmocka_unit_test(parallel_light_cosine),
+      cmocka_unit_test(ball_conserves_flux),
+      cmocka_unit_test(bad_arguments_refused),
+  };
+  if (argc > 1)
+    cmocka_set_test_filter(argv[1]);
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
