@@ -19,23 +19,29 @@ static void help(FILE *f) {
       "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
       "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
       "                          [--rays N] [--light K] [--max-split S] [--threads N]\n\n"
-      "The illuminance E that the scene's point and parallel lights deliver to the plane object\n"
-      "NAME, directly and through chains of specular reflections and refractions up to the\n"
+      "The illuminance E that the scene's point and parallel lights deliver to the object NAME\n"
+      "(a plane or a polygon), directly and through chains of specular reflections and\n"
+      "refractions up to the\n"
       "scene's max_depth (weighted by kr, kt, transmittance and Fresnel as in rendering; opaque\n"
       "objects block), in the scene's units: a parallel light of intensity I gives I cos(alpha)\n"
       "on an unobstructed receiver, a point light I cos(alpha) / r^2 (mean of R, G and B). Cell\n"
       "(i, j) of a W x H grid covers [U0 + i dU, U0 + (i+1) dU] x [V0 + j dV, V0 + (j+1) dV] of\n"
-      "the plane's texture coordinates (origin its point, u its u axis, v = normal x u:\n"
-      "docs/scene-format.md). Writes MAP.exr (one float channel E; image row y is j = y: the\n"
+      "the receiver's coordinates: a plane's texture coordinates (origin its point, u its u\n"
+      "axis, v = normal x u: docs/scene-format.md); a polygon's origin is its first vertex and\n"
+      "u runs along its first edge. Writes MAP.exr (one float channel E; image row y is j = y: "
+      "the\n"
       "first row holds V0, as the header's pencil:rows says), MAP.png (E / the largest E, grey)\n"
       "and MAP.json (extent, grid, method, lights, rays, flux, CPU time, provenance).\n\n"
       "options:\n"
-      "  --receiver NAME   the receiver: a plane object with that \"name\" (required)\n"
+      "  --receiver NAME   the receiver: the plane or polygon object with that \"name\"\n"
+      "                    (required); given again, objects in the same plane join it (the\n"
+      "                    first sets the coordinates)\n"
       "  -o, --output MAP.exr\n"
       "  --grid WxH        cells of the map (default 256x256; 1 .. 16384 each)\n"
       "  --extent U0,U1,V0,V1\n"
-      "                    the map's rectangle (default: a square around the projection of\n"
-      "                    the scene's bounded objects, twice their larger extent)\n"
+      "                    the map's rectangle (default: the polygons' bounds; with a plane, a\n"
+      "                    square around the projection of the scene's bounded objects, twice\n"
+      "                    their larger extent)\n"
       "  --method M        grid-pencil (default): the 1989 paper's grid-pencil tracing, pencils\n"
       "                    between neighbouring rays spread over their triangles on the\n"
       "                    receiver and divided at edges; photons: backward ray tracing, each\n"
@@ -66,7 +72,9 @@ enum {
 };
 
 typedef struct {
-  const char *scene, *out, *receiver, *method;
+  const char *scene, *out, *method;
+  const char *receiver[LT_MAX_RECEIVERS]; /**< the names given, in order */
+  int nreceiver;
   long gw, gh, rays, light, split, threads;
   int have_extent;
   double ext[4];
@@ -142,7 +150,12 @@ static int parse(int argc, char **argv, args_t *a) {
       a->out = g->value;
       break;
     case OPT_RECEIVER:
-      a->receiver = g->value;
+      if (a->nreceiver == LT_MAX_RECEIVERS) {
+        fprintf(stderr, "pencil illuminance: --receiver: at most %d objects\n", LT_MAX_RECEIVERS);
+        rc = CLI_USAGE;
+      } else {
+        a->receiver[a->nreceiver++] = g->value;
+      }
       break;
     case OPT_GRID:
       rc = parse_grid(g->value, &a->gw, &a->gh) ? CLI_OK : CLI_USAGE;
@@ -172,10 +185,10 @@ static int parse(int argc, char **argv, args_t *a) {
   free(args);
   if (rc != CLI_OK)
     return rc;
-  const char *missing = !a->scene      ? "a scene file SCENE.json"
-                        : !a->receiver ? "--receiver NAME"
-                        : !a->out      ? "-o MAP.exr"
-                                       : NULL;
+  const char *missing = !a->scene       ? "a scene file SCENE.json"
+                        : !a->nreceiver ? "--receiver NAME"
+                        : !a->out       ? "-o MAP.exr"
+                                        : NULL;
   if (missing) {
     fprintf(stderr, "pencil illuminance: missing %s (see --help)\n", missing);
     return CLI_USAGE;
@@ -201,7 +214,7 @@ static int preview_of(const lt_map_t *m, const float *e, rt_image_t *img) {
 }
 
 int cmd_illuminance(int argc, char **argv) {
-  args_t a = {NULL, NULL, NULL, "grid-pencil", 256, 256, 0, -1, 4, 0, 0, {0, 0, 0, 0}};
+  args_t a = {NULL, NULL, "grid-pencil", {NULL}, 0, 256, 256, 0, -1, 4, 0, 0, {0, 0, 0, 0}};
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
@@ -233,21 +246,22 @@ int cmd_illuminance(int argc, char **argv) {
   rt_scene_t s;
   if (!cli_load_scene("illuminance", a.scene, 0, 0, &s))
     return CLI_USAGE;
-  int recv = -1;
-  for (int o = 0; o < s.nobject; o++)
-    if (strcmp(s.object[o].name, a.receiver) == 0)
-      recv = o;
+  int objs[LT_MAX_RECEIVERS];
+  lt_receiver_t rcv;
   rc = CLI_USAGE;
-  if (recv < 0) {
-    fprintf(stderr, "pencil illuminance: --receiver: %s has no object named '%s'\n", a.scene,
-            a.receiver);
-    goto done;
+  for (int k = 0; k < a.nreceiver; k++) {
+    objs[k] = -1;
+    for (int o = 0; o < s.nobject && objs[k] < 0; o++)
+      if (strcmp(s.object[o].name, a.receiver[k]) == 0)
+        objs[k] = o;
+    if (objs[k] < 0) {
+      fprintf(stderr, "pencil illuminance: --receiver: %s has no object named '%s'\n", a.scene,
+              a.receiver[k]);
+      goto done;
+    }
   }
-  if (s.prim[s.object[recv].first_prim].kind != RT_PRIM_PLANE) {
-    fprintf(stderr,
-            "pencil illuminance: --receiver: '%s' is not a plane (maps are made on planes so "
-            "far)\n",
-            a.receiver);
+  if (lt_receiver_make(&s, objs, a.nreceiver, &rcv, err, sizeof err) != RT_OK) {
+    fprintf(stderr, "pencil illuminance: --receiver: %s\n", err);
     goto done;
   }
   if (s.nlight == 0 || a.light >= s.nlight) {
@@ -255,7 +269,7 @@ int cmd_illuminance(int argc, char **argv) {
             s.nlight, s.nlight == 1 ? "" : "s", a.light < 0 ? 0 : a.light);
     goto done;
   }
-  if (!a.have_extent && !lt_default_extent(&s, recv, a.ext)) {
+  if (!a.have_extent && !lt_default_extent(&s, &rcv, a.ext)) {
     fprintf(stderr,
             "pencil illuminance: --extent: %s has no bounded object to place a default "
             "map around; give the rectangle\n",
@@ -291,7 +305,7 @@ int cmd_illuminance(int argc, char **argv) {
     o.progress_ctx = (void *)"illuminance";
   }
   lt_stats_t st;
-  rt_status_t r = lt_illuminance(&s, recv, &o, &m, &st);
+  rt_status_t r = lt_illuminance(&s, &rcv, &o, &m, &st);
   if (r != RT_OK) {
     fprintf(stderr, "pencil illuminance: %s\n", rt_strerror(r));
     rc = CLI_FAIL;
@@ -302,7 +316,7 @@ int cmd_illuminance(int argc, char **argv) {
     fprintf(stderr,
             "pencil illuminance: no light reaches the receiver '%s' (every path from %s is "
             "blocked or misses it); nothing was written\n",
-            a.receiver, a.light < 0 ? "every light" : "the light");
+            a.receiver[0], a.light < 0 ? "every light" : "the light");
     lt_map_free(&m);
     goto done;
   }
@@ -327,8 +341,12 @@ int cmd_illuminance(int argc, char **argv) {
   char ext[160];
   snprintf(ext, sizeof ext, "%.17g,%.17g,%.17g,%.17g", m.u0, m.u1, m.v0, m.v1);
   io_exr_channel_t ch = {"E", e};
+  char names[1024] = "";
+  for (int k = 0; k < a.nreceiver; k++)
+    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? "," : "",
+             a.receiver[k]);
   io_attr_t attrs[] = {
-      {"pencil:receiver", a.receiver},
+      {"pencil:receiver", names},
       {"pencil:method", lt_method_name(o.method)},
       {"pencil:extent", ext},
       {"pencil:rows", "row y holds cells j = y: the first row is V0, the last V1"}};
@@ -339,9 +357,9 @@ int cmd_illuminance(int argc, char **argv) {
   json_t *root = json_pack(
       "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:{s:I, s:I, s:I, s:I, s:I, "
       "s:I, s:I}, s:{s:f, s:f, s:f}, s:f, s:s}",
-      "scene", a.scene, "receiver", a.receiver, "method", lt_method_name(o.method), "extent", m.u0,
-      m.u1, m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)",
-      "lights", lights, "rays_per_side", o.side, "max_split", o.max_split, "counts", "rays",
+      "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
+      m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
+      lights, "rays_per_side", o.side, "max_split", o.max_split, "counts", "rays",
       (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals", (json_int_t)st.arrivals,
       "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided, "photons",
       (json_int_t)st.photons, "lost", (json_int_t)st.lost, "flux", "emitted_by_grid",
@@ -357,7 +375,7 @@ int cmd_illuminance(int argc, char **argv) {
     printf("illuminance of '%s' by %s: %dx%d cells over u [%g, %g] v [%g, %g]; %llu rays, %llu "
            "arrivals (%llu pencils, %llu divisions, %llu photons), flux on the map %.6g of %.6g "
            "the grid covers, in %.3f s -> %s\n",
-           a.receiver, lt_method_name(o.method), m.width, m.height, m.u0, m.u1, m.v0, m.v1,
+           names, lt_method_name(o.method), m.width, m.height, m.u0, m.u1, m.v0, m.v1,
            (unsigned long long)st.rays, (unsigned long long)st.arrivals,
            (unsigned long long)st.pencils, (unsigned long long)st.divided,
            (unsigned long long)st.photons, st.flux_map, st.flux_emitted, st.seconds, a.out);

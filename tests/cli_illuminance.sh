@@ -8,6 +8,14 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail=0
 check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+cat >"$dir/both.json" <<'JSON'
+{"camera": {"eye": [0, 3, -6], "look_at": [0, 0, 0]},
+ "materials": {"white": {"kd": 0.8}},
+ "lights": [{"type": "point", "position": [0, 5, 0]}],
+ "objects": [{"type": "polygon", "name": "rectangle red", "material": "white",
+              "vertices": [[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]},
+             {"type": "plane", "name": "floor", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "white"}]}
+JSON
 cat >"$dir/ball.json" <<'JSON'
 {"camera": {"eye": [0, 3, -6], "look_at": [0, 0, 0]},
  "settings": {"max_depth": 6},
@@ -56,6 +64,14 @@ refused() { # name, expected message, args...
   check "$name: exit 2, says '$msg', writes nothing" \
     "[ $rc -eq 2 ] && grep -q -- \"$msg\" '$dir/err' && [ ! -e '$dir/bad.exr' ] && [ ! -e '$dir/bad.json' ] && [ ! -e '$dir/bad.png' ]"
 }
+# polygons in one plane join one receiver: the three rectangles of Fig. 11, coordinates from the
+# first one's first vertex and edge, default extent their bounds
+$pencil illuminance "$(dirname "$0")/../scenes/fig11.json" --receiver "rectangle red" \
+  --receiver "rectangle green" --receiver "rectangle blue" -o "$dir/f.exr" --grid 24x20 \
+  --rays 900 >/dev/null 2>"$dir/err"; rc=$?
+check "polygon receivers in one plane join (Fig. 11's rectangle)" \
+  "[ $rc -eq 0 ] && grep -q '\"receiver\": \"rectangle red,rectangle green,rectangle blue\"' '$dir/f.json' && grep -q '\"on_map\"' '$dir/f.json'"
+refused "receivers not in one plane" "'rectangle red' and 'floor' are not in one plane" "$dir/both.json" --receiver "rectangle red" --receiver floor
 refused "unknown receiver" "no object named 'wall'" "$dir/ball.json" --receiver wall
 refused "a receiver that is not a plane" "'ball' is not a plane" "$dir/ball.json" --receiver ball
 refused "zero-area extent" "--extent: the rectangle has zero area" "$dir/ball.json" --receiver floor --extent 0,0,0,1

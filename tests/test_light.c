@@ -37,6 +37,16 @@ static double point_cell(const lt_map_t *m, int i, int j, double lx, double ly, 
   return sum / 256.0;
 }
 
+/* The receiver of object 0 (the floor in every scene here). */
+static lt_receiver_t receiver0(const rt_scene_t *s) {
+  lt_receiver_t r;
+  char why[200];
+  const int obj = 0;
+  if (lt_receiver_make(s, &obj, 1, &r, why, sizeof why) != RT_OK)
+    fail_msg("%s", why);
+  return r;
+}
+
 static double cell_e(const lt_map_t *m, int i, int j) {
   const double *c = m->e + 3 * ((size_t)j * m->width + i);
   return (c[0] + c[1] + c[2]) / 3.0;
@@ -49,15 +59,16 @@ static void bare_floor_inverse_square(void **state) {
   (void)state;
   rt_scene_t s;
   load(bare, &s);
+  lt_receiver_t floor_rc = receiver0(&s);
   lt_map_t g, p;
   assert_int_equal(lt_map_alloc(&g, 32, 32, -2, 2, -2, 2), RT_OK);
   assert_int_equal(lt_map_alloc(&p, 32, 32, -2, 2, -2, 2), RT_OK);
   lt_options_t o = LT_OPTIONS_DEFAULT;
   lt_stats_t sg, sp;
-  assert_int_equal(lt_illuminance(&s, 0, &o, &g, &sg), RT_OK);
+  assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &g, &sg), RT_OK);
   o.method = LT_METHOD_PHOTONS;
   o.side = 800;
-  assert_int_equal(lt_illuminance(&s, 0, &o, &p, &sp), RT_OK);
+  assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &p, &sp), RT_OK);
   double worst_g = 0.0, worst_p = 0.0;
   for (int j = 0; j < 32; j++)
     for (int i = 0; i < 32; i++) {
@@ -91,11 +102,12 @@ static void parallel_light_cosine(void **state) {
            " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
            -sqrt(0.75));
   load(json, &s);
+  lt_receiver_t floor_rc = receiver0(&s);
   lt_map_t m;
   assert_int_equal(lt_map_alloc(&m, 16, 16, -1, 1, -1, 1), RT_OK);
   lt_options_t o = LT_OPTIONS_DEFAULT;
   o.side = 33;
-  assert_int_equal(lt_illuminance(&s, 0, &o, &m, NULL), RT_OK);
+  assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &m, NULL), RT_OK);
   for (int j = 0; j < 16; j++)
     for (int i = 0; i < 16; i++)
       assert_close(cell_e(&m, i, j), 2.0 * sqrt(0.75), 1e-9, 0.0);
@@ -120,6 +132,7 @@ static void ball_conserves_flux(void **state) {
        " \"normal\": [0, 1, 0], \"material\": \"white\"},"
        " {\"type\": \"sphere\", \"center\": [0, 1.5, 0], \"radius\": 1, \"material\": \"glass\"}]}",
        &s);
+  lt_receiver_t floor_rc = receiver0(&s);
   for (int method = 0; method < 2; method++) {
     lt_map_t m;
     assert_int_equal(lt_map_alloc(&m, 64, 64, -2, 2, -2, 2), RT_OK);
@@ -127,7 +140,7 @@ static void ball_conserves_flux(void **state) {
     o.method = (lt_method_t)method;
     o.side = method ? 400 : 65;
     lt_stats_t st;
-    assert_int_equal(lt_illuminance(&s, 0, &o, &m, &st), RT_OK);
+    assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &m, &st), RT_OK);
     double peak = 0.0;
     for (int j = 0; j < 64; j++)
       for (int i = 0; i < 64; i++)
@@ -154,6 +167,7 @@ static void bad_arguments_refused(void **state) {
   (void)state;
   rt_scene_t s;
   load(bare, &s);
+  lt_receiver_t floor_rc = receiver0(&s);
   lt_map_t m;
   lt_options_t o = LT_OPTIONS_DEFAULT;
   assert_int_equal(lt_map_alloc(&m, 0, 4, 0, 1, 0, 1), RT_EINVAL);
@@ -162,14 +176,18 @@ static void bad_arguments_refused(void **state) {
   assert_int_equal(lt_map_alloc(&m, 4, 4, 0, 1, 0, 1), RT_OK);
   rt_scene_t empty; /* not prepared (the loader prepares what it loads) */
   rt_scene_init(&empty);
-  assert_int_equal(lt_illuminance(&empty, 0, &o, &m, NULL), RT_ENOTREADY);
+  assert_int_equal(lt_illuminance(&empty, &floor_rc, &o, &m, NULL), RT_ENOTREADY);
   rt_scene_free(&empty);
-  assert_int_equal(lt_illuminance(&s, 1, &o, &m, NULL), RT_EINVAL); /* no such object */
+  char why[200];
+  const int sphere_obj[2] = {0, 1};
+  lt_receiver_t none;
+  assert_int_equal(lt_receiver_make(&s, sphere_obj + 1, 1, &none, why, sizeof why), RT_EINVAL);
+  assert_int_equal(lt_receiver_make(&s, sphere_obj, 0, &none, why, sizeof why), RT_EINVAL);
   o.light = 1;
-  assert_int_equal(lt_illuminance(&s, 0, &o, &m, NULL), RT_EINVAL);
+  assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &m, NULL), RT_EINVAL);
   o = (lt_options_t)LT_OPTIONS_DEFAULT;
   o.side = 1;
-  assert_int_equal(lt_illuminance(&s, 0, &o, &m, NULL), RT_EINVAL);
+  assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &m, NULL), RT_EINVAL);
   assert_int_equal(lt_method_parse("polygons"), -1);
   assert_int_equal(lt_method_parse("photons"), LT_METHOD_PHOTONS);
   lt_map_free(&m);

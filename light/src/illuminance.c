@@ -3,6 +3,7 @@
 #include "light/illuminance.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -50,26 +51,112 @@ void lt_map_free(lt_map_t *m) {
   m->e = NULL;
 }
 
-int lt_default_extent(const rt_scene_t *s, int receiver, double ext[4]) {
-  const rt_plane_t *pl = &s->prim[s->object[receiver].first_prim].plane;
-  double u0 = INFINITY, u1 = -INFINITY, v0 = INFINITY, v1 = -INFINITY;
+/* 1 when object o is a plane or a polygon; its plane's point and normal in *p, *n. */
+static int planar(const rt_scene_t *s, int o, px_vec3_t *p, px_vec3_t *n) {
+  const rt_object_t *ob = &s->object[o];
+  if (ob->nprim != 1)
+    return 0;
+  const rt_prim_t *pr = &s->prim[ob->first_prim];
+  if (pr->kind == RT_PRIM_PLANE) {
+    *p = pr->plane.p;
+    *n = pr->plane.n;
+    return 1;
+  }
+  if (pr->kind == RT_PRIM_POLYGON) {
+    *p = s->vertex[pr->polygon.first];
+    *n = pr->polygon.n;
+    return 1;
+  }
+  return 0;
+}
+
+rt_status_t lt_receiver_make(const rt_scene_t *s, const int *obj, int n, lt_receiver_t *r,
+                             char *why, size_t cap) {
+  memset(r, 0, sizeof *r);
+  if (n < 1 || n > LT_MAX_RECEIVERS) {
+    snprintf(why, cap, "a receiver joins 1 to %d objects, not %d", LT_MAX_RECEIVERS, n);
+    return RT_EINVAL;
+  }
+  px_vec3_t p0 = px_v3(0, 0, 0), n0 = px_v3(0, 0, 1);
+  for (int k = 0; k < n; k++) {
+    px_vec3_t p, nn;
+    if (obj[k] < 0 || obj[k] >= s->nobject || !planar(s, obj[k], &p, &nn)) {
+      snprintf(why, cap, "'%s' is not a plane or a polygon (maps are made on flat receivers)",
+               obj[k] >= 0 && obj[k] < s->nobject ? s->object[obj[k]].name : "?");
+      return RT_EINVAL;
+    }
+    if (k == 0) {
+      p0 = p;
+      n0 = nn;
+    } else {
+      double scale = 1.0 + px_v3_norm(p0) + px_v3_norm(p);
+      if (fabs(fabs(px_v3_dot(nn, n0)) - 1.0) > 1e-12 ||
+          fabs(px_v3_dot(px_v3_sub(p, p0), n0)) > 1e-9 * scale) {
+        snprintf(why, cap, "'%s' and '%s' are not in one plane", s->object[obj[0]].name,
+                 s->object[obj[k]].name);
+        return RT_EINVAL;
+      }
+    }
+    r->object[r->n++] = obj[k];
+  }
+  const rt_prim_t *pr = &s->prim[s->object[obj[0]].first_prim];
+  r->p = p0;
+  r->normal = n0;
+  if (pr->kind == RT_PRIM_PLANE) {
+    r->u = pr->plane.u;
+    r->v = pr->plane.v;
+  } else {
+    px_vec3_t e = px_v3_sub(s->vertex[pr->polygon.first + 1], s->vertex[pr->polygon.first]);
+    e = px_v3_sub(e, px_v3_scale(n0, px_v3_dot(e, n0)));
+    r->u = px_v3_unit(e);
+    r->v = px_v3_cross(n0, r->u);
+  }
+  return RT_OK;
+}
+
+static void widen(double b[4], double u, double v) {
+  b[0] = fmin(b[0], u);
+  b[1] = fmax(b[1], u);
+  b[2] = fmin(b[2], v);
+  b[3] = fmax(b[3], v);
+}
+
+int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]) {
+  double b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+  int plane = 0;
+  for (int k = 0; k < r->n; k++) {
+    const rt_prim_t *pr = &s->prim[s->object[r->object[k]].first_prim];
+    if (pr->kind != RT_PRIM_POLYGON) {
+      plane = 1;
+      continue;
+    }
+    for (int i = 0; i < pr->polygon.count; i++) {
+      px_vec3_t d = px_v3_sub(s->vertex[pr->polygon.first + i], r->p);
+      widen(b, px_v3_dot(d, r->u), px_v3_dot(d, r->v));
+    }
+  }
+  if (!plane) {
+    memcpy(ext, b, sizeof b);
+    return b[1] > b[0] && b[3] > b[2];
+  }
+  b[0] = b[2] = INFINITY;
+  b[1] = b[3] = -INFINITY;
   for (int p = 0; p < s->nprim; p++) {
     px_vec3_t lo, hi;
-    if (s->prim[p].object == receiver || !rt_prim_bounds(s, p, &lo, &hi))
+    int own = 0;
+    for (int k = 0; k < r->n; k++)
+      own |= s->prim[p].object == r->object[k];
+    if (own || !rt_prim_bounds(s, p, &lo, &hi))
       continue;
     for (int k = 0; k < 8; k++) {
       px_vec3_t c = px_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-      px_vec3_t r = px_v3_sub(c, pl->p);
-      double u = px_v3_dot(r, pl->u), v = px_v3_dot(r, pl->v);
-      u0 = fmin(u0, u);
-      u1 = fmax(u1, u);
-      v0 = fmin(v0, v);
-      v1 = fmax(v1, v);
+      px_vec3_t d = px_v3_sub(c, r->p);
+      widen(b, px_v3_dot(d, r->u), px_v3_dot(d, r->v));
     }
   }
-  if (!(u1 >= u0))
+  if (!(b[1] >= b[0]))
     return 0;
-  double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1), h = fmax(u1 - u0, v1 - v0);
+  double cu = 0.5 * (b[0] + b[1]), cv = 0.5 * (b[2] + b[3]), h = fmax(b[1] - b[0], b[3] - b[2]);
   if (!(h > 0))
     h = 1.0;
   ext[0] = cu - h;
@@ -274,14 +361,13 @@ static void stats_add(lt_stats_t *a, const lt_stats_t *b) {
   a->flux_absorbed += b->flux_absorbed;
 }
 
-rt_status_t lt_illuminance(const rt_scene_t *s, int receiver, const lt_options_t *o, lt_map_t *m,
-                           lt_stats_t *st) {
+rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const lt_options_t *o,
+                           lt_map_t *m, lt_stats_t *st) {
   if (!s->bvh)
     return RT_ENOTREADY;
-  if (receiver < 0 || receiver >= s->nobject || s->object[receiver].nprim != 1 ||
-      s->prim[s->object[receiver].first_prim].kind != RT_PRIM_PLANE || o->light < -1 ||
-      o->light >= s->nlight || o->side < 2 || o->side > LT_MAX_GRID || o->max_split < 0 ||
-      o->max_split > 12 || o->threads < 0 || !m->e)
+  if (rc->n < 1 || rc->n > LT_MAX_RECEIVERS || o->light < -1 || o->light >= s->nlight ||
+      o->side < 2 || o->side > LT_MAX_GRID || o->max_split < 0 || o->max_split > 12 ||
+      o->threads < 0 || !m->e)
     return RT_EINVAL;
   int nt = rt_thread_count(o->threads);
   size_t cells = 3 * (size_t)m->width * (size_t)m->height;
@@ -290,8 +376,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, int receiver, const lt_options_t
     return RT_ENOMEM;
   rt_status_t status = RT_OK;
   for (int t = 0; t < nt && status == RT_OK; t++) {
-    W[t].C = (lt_ctx_t){
-        s, rt_plan_make(s, 1), receiver, &s->prim[s->object[receiver].first_prim].plane, {0}};
+    W[t].C = (lt_ctx_t){s, rt_plan_make(s, 1), rc, {0}};
     W[t].A = (lt_accum_t){m, calloc(cells, sizeof(double)), &W[t].C.st};
     W[t].max_split = o->max_split;
     if (!W[t].A.flux)
@@ -310,7 +395,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, int receiver, const lt_options_t
   int l0 = o->light < 0 ? 0 : o->light, l1 = o->light < 0 ? s->nlight : o->light + 1;
   for (int l = l0; l < l1 && status == RT_OK; l++) {
     lt_face_t faces[6];
-    int nf = lt__faces(s, receiver, m, l, faces);
+    int nf = lt__faces(s, rc, m, l, faces);
     for (int fi = 0; fi < nf; fi++) {
       const lt_face_t *f = &faces[fi];
       /* the flux the grid covers: the face's whole measure */

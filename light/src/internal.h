@@ -47,7 +47,8 @@ typedef struct {
 
 /** Faces of light l that cover every ray that can reach the receiver's map (at most 6); 0 when
  *  none can. */
-int lt__faces(const rt_scene_t *s, int receiver, const lt_map_t *m, int l, lt_face_t out[6]);
+int lt__faces(const rt_scene_t *s, const lt_receiver_t *r, const lt_map_t *m, int l,
+              lt_face_t out[6]);
 
 /** The ray of grid parameters (a, b) in [0, 1]^2 of face f. */
 rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b);
@@ -61,8 +62,7 @@ double lt__face_measure(const lt_face_t *f, const double p0[2], const double p1[
 typedef struct {
   const rt_scene_t *s;
   rt_plan_t plan;
-  int receiver;
-  const rt_plane_t *plane;
+  const lt_receiver_t *r;
   lt_stats_t st;
 } lt_ctx_t;
 

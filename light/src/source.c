@@ -20,21 +20,23 @@ static void grow(px_vec3_t *lo, px_vec3_t *hi, px_vec3_t p) {
 
 /* The box of the targets: the map's rectangle and every bounded object that reflects or
  * transmits; *unbounded set when such an object has no bounds (a plane). */
-static void targets(const rt_scene_t *s, int receiver, const lt_map_t *m, px_vec3_t *lo,
+static void targets(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, px_vec3_t *lo,
                     px_vec3_t *hi, int *unbounded) {
-  const rt_plane_t *pl = &s->prim[s->object[receiver].first_prim].plane;
   *lo = px_v3(INFINITY, INFINITY, INFINITY);
   *hi = px_v3(-INFINITY, -INFINITY, -INFINITY);
   *unbounded = 0;
   for (int k = 0; k < 4; k++) {
     double u = k & 1 ? m->u1 : m->u0, v = k & 2 ? m->v1 : m->v0;
-    grow(lo, hi, px_v3_add(pl->p, px_v3_add(px_v3_scale(pl->u, u), px_v3_scale(pl->v, v))));
+    grow(lo, hi, px_v3_add(rc->p, px_v3_add(px_v3_scale(rc->u, u), px_v3_scale(rc->v, v))));
   }
   for (int o = 0; o < s->nobject; o++) {
     const rt_object_t *ob = &s->object[o];
     const rt_material_t *m1 = &s->material[ob->material];
     const rt_material_t *m2 = ob->material2 >= 0 ? &s->material[ob->material2] : m1;
-    if (o == receiver || (m1->kr <= 0 && m1->kt <= 0 && m2->kr <= 0 && m2->kt <= 0))
+    int own = 0;
+    for (int k = 0; k < rc->n; k++)
+      own |= rc->object[k] == o;
+    if (own || (m1->kr <= 0 && m1->kt <= 0 && m2->kr <= 0 && m2->kt <= 0))
       continue;
     for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
       px_vec3_t a, b;
@@ -55,11 +57,12 @@ static void frame_of(px_vec3_t d, px_vec3_t *x, px_vec3_t *y) {
   *y = px_v3_cross(d, *x);
 }
 
-int lt__faces(const rt_scene_t *s, int receiver, const lt_map_t *m, int l, lt_face_t out[6]) {
+int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, int l,
+              lt_face_t out[6]) {
   const rt_light_t *L = &s->light[l];
   px_vec3_t lo, hi;
   int unbounded;
-  targets(s, receiver, m, &lo, &hi, &unbounded);
+  targets(s, rc, m, &lo, &hi, &unbounded);
   px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
   if (L->kind == RT_LIGHT_PARALLEL) {
     lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v, 0, 0, L->intensity};

@@ -31,10 +31,12 @@ static void trace(lt_ctx_t *C, const rt_ray_t *ray, rt_rgb_t w, int depth, uint6
     return;
   }
   sig = mix(mix(sig, (uint64_t)(uint32_t)hit.object), (uint64_t)(uint32_t)hit.prim);
-  if (hit.object == C->receiver) {
-    px_vec3_t r = px_v3_sub(hit.p, C->plane->p);
-    end(C, out, sig, LT_END_RECEIVER, px_v3_dot(r, C->plane->u), px_v3_dot(r, C->plane->v), w);
-  }
+  for (int k = 0; k < C->r->n; k++)
+    if (hit.object == C->r->object[k]) {
+      px_vec3_t d = px_v3_sub(hit.p, C->r->p);
+      end(C, out, sig, LT_END_RECEIVER, px_v3_dot(d, C->r->u), px_v3_dot(d, C->r->v), w);
+      break;
+    }
   rt_surface_t sf;
   rt_shade_surface(C->s, &hit, ray, &sf);
   rt_child_t ch[2];

@@ -9,11 +9,11 @@
  *    diagonal one the edges of a pencil whose triangle on the receiver carries the pencil's flux
  *    (Eq. 7: E = t_r I delta omega0 / delta S); triangles whose edge rays do not follow the same
  *    path are divided, down to a limit below which their rays count as photons.
- * The receiver is a plane object; a cell (i, j) of a W x H map covers [u0 + i du, u0 + (i+1) du]
- * x [v0 + j dv, v0 + (j+1) dv] in the plane's texture coordinates (origin its point, u its u
- * axis, v = normal x u: docs/scene-format.md). E is flux per unit area in the scene's units (a
- * parallel light of intensity I gives I cos(alpha) on an unobstructed receiver, a point light
- * I cos(alpha) / r^2), counted on either side of the receiver, in R, G and B.
+ * The receiver is a plane object or polygons in one plane; a cell (i, j) of a W x H map covers [u0
+ * + i du, u0 + (i+1) du] x [v0 + j dv, v0 + (j+1) dv] in the receiver's coordinates
+ * (lt_receiver_t). E is flux per unit area in the scene's units (a parallel light of intensity I
+ * gives I cos(alpha) on an unobstructed receiver, a point light I cos(alpha) / r^2), counted on
+ * either side of the receiver, in R, G and B.
  *
  * Prefix lt_. Above core/ (scene, BVH, shading's reflected and refracted rays): the light is
  * carried by the same rt_shade_children() as the renderers' rays, so kr, kt, transmittance
@@ -51,6 +51,24 @@ void lt_map_free(lt_map_t *m);
 /** Largest side of a map and of the source's ray grid. */
 #define LT_MAX_GRID 16384
 
+/** Most objects one receiver may join. */
+#define LT_MAX_RECEIVERS 16
+
+/** A receiver: objects in one plane, and the plane's coordinates. A plane object lends its
+ *  texture axes (origin its point, u its u axis, v = normal x u); otherwise the first polygon
+ *  does: origin its first vertex, u along its first edge, v = normal x u. */
+typedef struct {
+  int object[LT_MAX_RECEIVERS]; /**< object indices */
+  int n;
+  px_vec3_t p, normal, u, v; /**< origin, unit normal, unit axes */
+} lt_receiver_t;
+
+/** The receiver of objects obj[0 .. n-1] (planes and polygons, all in one plane within 1e-9 of
+ *  the scene's size). RT_EINVAL with the reason in why[cap] for another kind of object (a
+ *  sphere, a polyhedron), objects not in one plane, n outside 1..LT_MAX_RECEIVERS. */
+rt_status_t lt_receiver_make(const rt_scene_t *s, const int *obj, int n, lt_receiver_t *r,
+                             char *why, size_t cap);
+
 typedef struct {
   lt_method_t method;
   int light;     /**< index of the one light to trace, or -1 for all */
@@ -83,16 +101,17 @@ typedef struct {
   double seconds;       /**< wall-clock time */
 } lt_stats_t;
 
-/** The illuminance map of the plane object `receiver` of the prepared scene s into m (zeroed
- *  first). RT_EINVAL for a receiver that is not a plane object, a light index out of range, or
- *  options out of range; RT_ENOTREADY for an unprepared scene; RT_ENOMEM. */
-rt_status_t lt_illuminance(const rt_scene_t *s, int receiver, const lt_options_t *o, lt_map_t *m,
-                           lt_stats_t *st);
+/** The illuminance map of receiver r of the prepared scene s into m (zeroed first). RT_EINVAL
+ *  for an empty receiver, a light index out of range, or options out of range; RT_ENOTREADY for
+ *  an unprepared scene; RT_ENOMEM. */
+rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *r, const lt_options_t *o,
+                           lt_map_t *m, lt_stats_t *st);
 
-/** The default extent of a plane receiver's map: a square in (u, v) around the projection of the
- *  scene's bounded objects (their bounding box) onto the plane, twice its larger side, so that
- *  their shadows and caustics under lights not too low fall inside. 0 when the scene has no
- *  bounded object other than the receiver (the caller must give an extent). */
-int lt_default_extent(const rt_scene_t *s, int receiver, double ext[4]);
+/** The default extent of a receiver's map: the bounds of its polygons in (u, v) when it has only
+ *  polygons; with a plane, a square around the projection of the scene's other bounded objects
+ *  (their bounding box) onto the plane, twice its larger side, so that their shadows and
+ *  caustics under lights not too low fall inside. 0 when there is neither (the caller must give
+ *  an extent). */
+int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]);
 
 #endif
