@@ -18,7 +18,8 @@ static void help(FILE *f) {
       f,
       "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
       "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
-      "                          [--rays N] [--light K] [--max-split S] [--threads N]\n\n"
+      "                          [--rays N] [--light K] [--max-split S] [--linear-tol C]\n"
+      "                          [--threads N]\n\n"
       "The illuminance E that the scene's point and parallel lights deliver to the object NAME\n"
       "(a plane or a polygon), directly and through chains of specular reflections and\n"
       "refractions up to the\n"
@@ -51,7 +52,10 @@ static void help(FILE *f) {
       "                    round(sqrt(N)) a side (default: 129 x 129 for grid-pencil, 128 x 128\n"
       "                    pencils; 1024 x 1024 for photons)\n"
       "  --light K         trace light K only (0-based; default: all)\n"
-      "  --max-split S     grid-pencil: divisions of a pencil at an edge (default 4, at most 12)\n"
+      "  --max-split S     grid-pencil: divisions of a pencil (default 4, at most 12)\n"
+      "  --linear-tol C    grid-pencil: a pencil landing on the map is divided when an edge's\n"
+      "                    midpoint ray lands more than C cells off the midpoint of its corners'\n"
+      "                    landings (default 0.05; 0: no test, the 1989 paper's plain method)\n"
       "  --threads N       OpenMP threads (default: all cores)\n\n"
       "A light's grid covers the directions (or, for a parallel light, the beam) towards the\n"
       "map's rectangle and every object that reflects or transmits (docs/illuminance.md).\n"
@@ -68,7 +72,8 @@ enum {
   OPT_RAYS,
   OPT_LIGHT,
   OPT_SPLIT,
-  OPT_THREADS
+  OPT_THREADS,
+  OPT_LINEAR
 };
 
 typedef struct {
@@ -76,6 +81,7 @@ typedef struct {
   const char *receiver[LT_MAX_RECEIVERS]; /**< the names given, in order */
   int nreceiver;
   long gw, gh, rays, light, split, threads;
+  double linear_tol;
   int have_extent;
   double ext[4];
 } args_t;
@@ -124,11 +130,11 @@ static int parse_grid(const char *v, long *w, long *h) {
 
 static int parse(int argc, char **argv, args_t *a) {
   static const cli_spec_t specs[] = {
-      {"--output", 'o', 1, OPT_OUT},   {"--receiver", 0, 1, OPT_RECEIVER},
-      {"--grid", 0, 1, OPT_GRID},      {"--extent", 0, 1, OPT_EXTENT},
-      {"--method", 0, 1, OPT_METHOD},  {"--rays", 0, 1, OPT_RAYS},
-      {"--light", 0, 1, OPT_LIGHT},    {"--max-split", 0, 1, OPT_SPLIT},
-      {"--threads", 0, 1, OPT_THREADS}};
+      {"--output", 'o', 1, OPT_OUT},      {"--receiver", 0, 1, OPT_RECEIVER},
+      {"--grid", 0, 1, OPT_GRID},         {"--extent", 0, 1, OPT_EXTENT},
+      {"--method", 0, 1, OPT_METHOD},     {"--rays", 0, 1, OPT_RAYS},
+      {"--light", 0, 1, OPT_LIGHT},       {"--max-split", 0, 1, OPT_SPLIT},
+      {"--linear-tol", 0, 1, OPT_LINEAR}, {"--threads", 0, 1, OPT_THREADS}};
   int n, rc;
   cli_arg_t *args = cli_args("illuminance", argc, argv, specs,
                              (int)(sizeof specs / sizeof specs[0]), help, &n, &rc);
@@ -178,6 +184,17 @@ static int parse(int argc, char **argv, args_t *a) {
     case OPT_SPLIT:
       rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
       break;
+    case OPT_LINEAR:
+      if (!cli_parse_double("--linear-tol", g->value, &a->linear_tol) || a->linear_tol < 0 ||
+          a->linear_tol > 1e6) {
+        if (a->linear_tol < 0 || a->linear_tol > 1e6)
+          fprintf(stderr,
+                  "pencil illuminance: --linear-tol: expected a number of cells from 0 "
+                  "to 1e6, got '%s'\n",
+                  g->value);
+        rc = CLI_USAGE;
+      }
+      break;
     default:
       rc = cli_parse_long("--threads", g->value, 1, 1024, &a->threads) ? CLI_OK : CLI_USAGE;
     }
@@ -214,7 +231,7 @@ static int preview_of(const lt_map_t *m, const float *e, rt_image_t *img) {
 }
 
 int cmd_illuminance(int argc, char **argv) {
-  args_t a = {NULL, NULL, "grid-pencil", {NULL}, 0, 256, 256, 0, -1, 4, 0, 0, {0, 0, 0, 0}};
+  args_t a = {NULL, NULL, "grid-pencil", {NULL}, 0, 256, 256, 0, -1, 4, 0, 0.05, 0, {0, 0, 0, 0}};
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
@@ -299,6 +316,7 @@ int cmd_illuminance(int argc, char **argv) {
   o.light = (int)a.light;
   o.side = (int)(side < 2 ? 2 : side);
   o.max_split = (int)a.split;
+  o.linear_tol = a.linear_tol;
   o.threads = (int)a.threads;
   if (isatty(2)) {
     o.progress = cli_progress;
@@ -355,16 +373,17 @@ int cmd_illuminance(int argc, char **argv) {
     if (a.light < 0 || l == a.light)
       json_array_append_new(lights, json_integer(l));
   json_t *root = json_pack(
-      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:{s:I, s:I, s:I, s:I, s:I, "
-      "s:I, s:I}, s:{s:f, s:f, s:f}, s:f, s:s}",
+      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:f, s:{s:I, s:I, s:I, s:I, "
+      "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:s}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
-      lights, "rays_per_side", o.side, "max_split", o.max_split, "counts", "rays",
-      (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals", (json_int_t)st.arrivals,
-      "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided, "photons",
-      (json_int_t)st.photons, "lost", (json_int_t)st.lost, "flux", "emitted_by_grid",
-      st.flux_emitted, "on_map", st.flux_map, "on_receiver_outside", st.flux_outside, "seconds",
-      st.seconds, "units",
+      lights, "rays_per_side", o.side, "max_split", o.max_split, "linear_tol", o.linear_tol,
+      "counts", "rays", (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals",
+      (json_int_t)st.arrivals, "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided,
+      "nonlinear", (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost",
+      (json_int_t)st.lost, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
+      "on_receiver_outside", st.flux_outside, "escaped", st.flux_escaped, "absorbed",
+      st.flux_absorbed, "seconds", st.seconds, "units",
       "E in the scene's units (mean of R, G, B): intensity over length squared");
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "cmocka_main.h"
+#include "validation/illum_bench.h"
 #include "validation/illuminance.h"
 #include "validation/verify.h"
 
@@ -79,10 +80,43 @@ static void illuminance_quick_sweep_passes(void **state) {
   assert_close(p, 1.0 / 1.333, 1e-9, 0.0);
 }
 
+/* The exact reference of the illuminance benchmark (val_ring_map) on cases it must get exactly:
+ * a ball of index 1 bends nothing, so a point light 8 above the floor gives the inverse square
+ * law H / d^3 and a parallel light gives 1 everywhere. The cells' smoothness follows. */
+static void ring_map_reference_without_refraction(void **state) {
+  (void)state;
+  for (int point = 0; point < 2; point++) {
+    lt_map_t m;
+    unsigned char smooth[16 * 16];
+    assert_int_equal(lt_map_alloc(&m, 16, 16, -2, 2, -2, 2), RT_OK);
+    val_ring_map(1.0, 1.0, 2.5, point ? 8.0 : 0.0, 200000, &m, smooth);
+    double worst = 0.0;
+    int nsmooth = 0;
+    for (int j = 0; j < 16; j++)
+      for (int i = 0; i < 16; i++) {
+        double x = 0.0; /* the cell average by 20 x 20 midpoints */
+        for (int a = 0; a < 20; a++)
+          for (int b = 0; b < 20; b++) {
+            double u = -2 + (i + (a + 0.5) / 20) * 0.25, v = -2 + (j + (b + 0.5) / 20) * 0.25;
+            double d2 = u * u + v * v + 64.0;
+            x += (point ? 8.0 / (d2 * sqrt(d2)) : 1.0) / 400.0;
+          }
+        worst = fmax(worst, fabs(m.e[3 * (j * 16 + i)] - x) / x);
+        nsmooth += smooth[j * 16 + i];
+      }
+    print_message("ring map, %s light, no refraction: worst %.3e, %d of 256 cells smooth\n",
+                  point ? "point" : "parallel", worst, nsmooth);
+    assert_true(worst < 2e-5);
+    assert_int_equal(nsmooth, 256);
+    lt_map_free(&m);
+  }
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(quick_sweep_passes),
       cmocka_unit_test(illuminance_quick_sweep_passes),
+      cmocka_unit_test(ring_map_reference_without_refraction),
       cmocka_unit_test(full_sweep_has_over_2000_systems),
       cmocka_unit_test(printed_form_fails_where_documented),
   };

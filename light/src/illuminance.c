@@ -171,6 +171,7 @@ typedef struct {
   lt_ctx_t C;
   lt_accum_t A;
   int max_split;
+  double linear_tol;
 } worker_t;
 
 static rt_rgb_t flux_of(const lt_face_t *f, double measure, rt_rgb_t w) {
@@ -218,34 +219,27 @@ static const lt_arrival_t *find(const lt_arrivals_t *x, uint64_t sig) {
   return NULL;
 }
 
-/* Receiver triangles larger than this many cells across are checked for linearity. */
-#define LT_BIG_CELLS 2.0
-/* ... and their edges' midpoint rays must land within this many cells of the edges' midpoints. */
-#define LT_LINEAR_CELLS 0.25
-
-/* 1 when some path the three rays share to the receiver spans more than LT_BIG_CELLS cells
- * and comes near the map. */
-static int big(const worker_t *W, const lt_arrivals_t *x[3]) {
+/* 1 when some path the three rays share to the receiver lands near the map (its triangle's
+ * bounds meet the map's rectangle): only those pencils' linearity matters. */
+static int on_map(const worker_t *W, const lt_arrivals_t *x[3]) {
   const lt_map_t *m = W->A.m;
-  double su = m->width / (m->u1 - m->u0), sv = m->height / (m->v1 - m->v0);
   for (int k = 0; k < x[0]->n; k++) {
     const lt_arrival_t *a = &x[0]->a[k], *b, *c;
     if (a->kind != LT_END_RECEIVER || !(b = find(x[1], a->sig)) || !(c = find(x[2], a->sig)))
       continue;
     double u0 = fmin(a->u, fmin(b->u, c->u)), u1 = fmax(a->u, fmax(b->u, c->u));
     double v0 = fmin(a->v, fmin(b->v, c->v)), v1 = fmax(a->v, fmax(b->v, c->v));
-    if (u1 < m->u0 || u0 > m->u1 || v1 < m->v0 || v0 > m->v1) /* off the map: its flux is */
-      continue;                                               /* outside wherever it goes */
-    if ((u1 - u0) * su > LT_BIG_CELLS || (v1 - v0) * sv > LT_BIG_CELLS)
+    if (!(u1 < m->u0 || u0 > m->u1 || v1 < m->v0 || v0 > m->v1))
       return 1;
   }
   return 0;
 }
 
 /* 1 when, for every receiver path the corners share, each edge's midpoint ray follows it too and
- * lands within LT_LINEAR_CELLS cells of the midpoint of the corners' landings (the pencil's map
- * to the receiver is linear enough to spread its flux evenly). */
-static int linear(const worker_t *W, const lt_arrivals_t *x[3], const lt_arrivals_t xm[3]) {
+ * lands within `tol` cells of the midpoint of the corners' landings (the pencil's map to the
+ * receiver is linear enough to spread its flux evenly). */
+static int linear(const worker_t *W, const lt_arrivals_t *x[3], const lt_arrivals_t xm[3],
+                  double tol) {
   const lt_map_t *m = W->A.m;
   double su = m->width / (m->u1 - m->u0), sv = m->height / (m->v1 - m->v0);
   for (int k = 0; k < x[0]->n; k++) {
@@ -259,7 +253,7 @@ static int linear(const worker_t *W, const lt_arrivals_t *x[3], const lt_arrival
         return 0;
       double du = (mid->u - 0.5 * (c[e]->u + c[(e + 1) % 3]->u)) * su;
       double dv = (mid->v - 0.5 * (c[e]->v + c[(e + 1) % 3]->v)) * sv;
-      if (fabs(du) > LT_LINEAR_CELLS || fabs(dv) > LT_LINEAR_CELLS)
+      if (fabs(du) > tol || fabs(dv) > tol)
         return 0;
     }
   }
@@ -269,10 +263,10 @@ static int linear(const worker_t *W, const lt_arrivals_t *x[3], const lt_arrival
 /* The pencil of the triangle of grid parameters p[3] whose rays' ends are x[3]: a receiver
  * triangle for every path the three rays share, its flux spread evenly over it. The pencil is
  * divided into four (its edges' midpoint rays traced), up to `split` times, where the three rays
- * do not all share their paths (an edge of an object or a shadow inside the pencil), or where a
- * receiver triangle larger than LT_BIG_CELLS cells is not linear enough (its midpoint rays land
- * off its edges' midpoints: near a rim, a fold). Past the limit, the unshared ends count as
- * photons of a third of the pencil each. */
+ * do not all follow the same paths (an edge of an object or a shadow inside the pencil), and,
+ * with a linearity tolerance, where a receiver triangle near the map is not linear enough (a
+ * midpoint ray lands off its edge's midpoint by more than the tolerance: near a rim, a fold, a
+ * caustic). Past the limit, the unshared ends count as photons of a third of the pencil each. */
 static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arrivals_t *x[3],
                    int split) {
   int shared = 1;
@@ -282,7 +276,7 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
   double m[3][2];
   lt_arrivals_t xm[3]; /* 7.7 kB a level, at most 12 levels deep */
   int traced = 0;
-  if (split > 0 && (!shared || big(W, x))) {
+  if (split > 0 && (!shared || (W->linear_tol > 0 && on_map(W, x)))) {
     for (int e = 0; e < 3; e++) {
       m[e][0] = 0.5 * (p[e][0] + p[(e + 1) % 3][0]);
       m[e][1] = 0.5 * (p[e][1] + p[(e + 1) % 3][1]);
@@ -290,7 +284,7 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
       lt__trace(&W->C, &r, &xm[e]);
     }
     traced = 1;
-    if (shared && !linear(W, x, xm)) {
+    if (shared && !linear(W, x, xm, W->linear_tol)) {
       shared = 0;
       W->C.st.nonlinear++;
     }
@@ -379,6 +373,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     W[t].C = (lt_ctx_t){s, rt_plan_make(s, 1), rc, {0}};
     W[t].A = (lt_accum_t){m, calloc(cells, sizeof(double)), &W[t].C.st};
     W[t].max_split = o->max_split;
+    W[t].linear_tol = o->linear_tol;
     if (!W[t].A.flux)
       status = RT_ENOMEM;
   }
