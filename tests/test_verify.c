@@ -78,6 +78,15 @@ static void illuminance_quick_sweep_passes(void **state) {
   print_message("pool flux ratio: Eq. (8) %.15f, printed Eq. (1) %.15f\n", c, p);
   assert_close(c, 1.0, 1e-10, 0.0);
   assert_close(p, 1.0 / 1.333, 1e-9, 0.0);
+  /* counted by the light library on the pool's floor under the light: Eq. (8) holds to the
+   * cell's own averaging (0.1%), the printed factor is a quarter off */
+  double k[4];
+  assert_true(val_pool_counted(2.0, 1.0, 1.333, 0.2, k));
+  print_message("counted: grid-pencil %.5f, photons %.5f; Eq. (8) %.5f, printed %.5f\n", k[0], k[1],
+                k[2], k[3]);
+  assert_close(k[0], k[2], 5e-3, 0.0);
+  assert_close(k[1], k[2], 3e-2, 0.0);
+  assert_true(fabs(k[3] - k[0]) > 0.2 * k[0]);
 }
 
 /* The exact reference of the illuminance benchmark (val_ring_map) on cases it must get exactly:

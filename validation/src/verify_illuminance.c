@@ -14,6 +14,8 @@
 
 #include "io/json.h"
 #include "io/output.h"
+#include "io/scene_json.h"
+#include "light/illuminance.h"
 #include "validation/illuminance.h"
 #include "validation/verify.h"
 
@@ -161,6 +163,49 @@ double val_pool_flux_ratio(double h1, double h2, double n2, double theta0_deg, p
   }
   double flux = sum * th0 / (3 * N);
   return flux / (2 * M_PI * (1 - cos(th0)));
+}
+
+int val_pool_counted(double h1, double h2, double n2, double cell, double out[4]) {
+  /* the water's surface a square of side 2 (a polygon, so that the light's grid covers only
+   * it), the floor under it; kt 1 at the surface, no reflection */
+  char json[2048], err[512];
+  snprintf(json, sizeof json,
+           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+           " \"settings\": {\"max_depth\": 4},"
+           " \"materials\": {\"floor\": {\"kd\": 0.8},"
+           "  \"water\": {\"ka\": 0, \"kd\": 0, \"kr\": 0, \"kt\": 1, \"ior\": %.17g}},"
+           " \"lights\": [{\"type\": \"point\", \"position\": [0, %.17g, 0]}],"
+           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
+           "  \"normal\": [0, 1, 0], \"material\": \"floor\"},"
+           "  {\"type\": \"polygon\", \"name\": \"surface\", \"material\": \"water\","
+           "   \"vertices\": [[-1, %.17g, -1], [-1, %.17g, 1], [1, %.17g, 1], [1, %.17g, -1]]}]}",
+           n2, h1 + h2, h2, h2, h2, h2);
+  rt_scene_t s;
+  rt_scene_init(&s);
+  if (io_scene_load_buffer("pool", json, strlen(json), &s, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil verify illuminance: %s\n", err);
+    return 0;
+  }
+  const int floor_obj = 0;
+  lt_receiver_t rc;
+  lt_map_t m;
+  int ok = lt_receiver_make(&s, &floor_obj, 1, &rc, err, sizeof err) == RT_OK &&
+           lt_map_alloc(&m, 1, 1, -cell / 2, cell / 2, -cell / 2, cell / 2) == RT_OK;
+  for (int method = 0; method < 2 && ok; method++) {
+    lt_options_t o = LT_OPTIONS_DEFAULT;
+    o.method = (lt_method_t)method;
+    o.side = method == LT_METHOD_PHOTONS ? 1500 : 129;
+    ok = lt_illuminance(&s, &rc, &o, &m, NULL) == RT_OK;
+    out[method] = m.e[0];
+  }
+  if (ok)
+    lt_map_free(&m);
+  rt_scene_free(&s);
+  /* Eq. (8) on the axis: B = (h1 + h2 / n2) I for a flat surface at normal incidence */
+  double b = h1 + h2 / n2;
+  out[2] = 1.0 / (b * b);
+  out[3] = out[2] / n2;
+  return ok;
 }
 
 /* Counters of a group of cases. */
@@ -329,6 +374,11 @@ int val_verify_illuminance(const val_illum_opts_t *o) {
   /* the pool: a light 2 above water (n 1.333), the floor 1 below the surface, cone of 40 deg */
   double pool_c = val_pool_flux_ratio(2.0, 1.0, 1.333, 40.0, PX_VARIANT_CORRECTED);
   double pool_p = val_pool_flux_ratio(2.0, 1.0, 1.333, 40.0, PX_VARIANT_PRINTED);
+  double counted[4] = {NAN, NAN, NAN, NAN}; /* grid-pencil, photons, Eq. (8), printed Eq. (1) */
+  if (!val_pool_counted(2.0, 1.0, 1.333, 0.2, counted)) {
+    free(sw);
+    return -1;
+  }
   if (o->report) {
     fprintf(o->report,
             "pencil verify illuminance: Eqs. (8)-(9) (dOmega/dS = cos(alpha)/|det B|, dS0/dS = "
@@ -351,6 +401,10 @@ int val_verify_illuminance(const val_illum_opts_t *o) {
             "%.3g\npool (light 2 above water of index 1.333, floor 1 below, 40 deg cone): flux on "
             "the floor / flux emitted = %.12f (Eq. 8), %.6f (printed Eq. 1)\n",
             VAL_ILLUM_TOL, all.printed_off, all.worst_printed, pool_c, pool_p);
+    fprintf(o->report,
+            "counted flux under the light (pencil illuminance, the pool's floor, a 0.2 x 0.2 cell "
+            "on the axis): grid-pencil %.5f, photons %.5f; Eq. (8) %.5f, printed Eq. (1) %.5f\n",
+            counted[0], counted[1], counted[2], counted[3]);
   }
   if (o->json) {
     json_t *root = json_pack(
@@ -361,6 +415,10 @@ int val_verify_illuminance(const val_illum_opts_t *o) {
         "near_caustic_point", stats_json(&near[0]), "near_caustic_parallel", stats_json(&near[1]),
         "all", stats_json(&all), "pool", "h_air", 2.0, "h_water", 1.0, "n_water", 1.333, "cone_deg",
         40.0, "flux_ratio_eq8", pool_c, "flux_ratio_printed_eq1", pool_p);
+    json_object_set_new(json_object_get(root, "pool"), "counted_axis",
+                        json_pack("{s:f, s:f, s:f, s:f, s:f}", "cell", 0.2, "grid_pencil",
+                                  counted[0], "photons", counted[1], "eq8", counted[2],
+                                  "printed_eq1", counted[3]));
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil verify illuminance: %s\n", err);
       io_err = 1;

@@ -56,6 +56,12 @@ void val_verify_illum_case(const val_system_t *v, px_source_t src, double tail, 
  *  by the flux the source sends into that cone (1 when energy is conserved). */
 double val_pool_flux_ratio(double h1, double h2, double n2, double theta0_deg, px_variant_t v);
 
+/** The pool again, counted: a point light h1 above a square of water (index n2, side 2, kt 1) whose
+ *  floor is h2 below the surface, the floor's illuminance in a cell x cell square on the axis by
+ *  `pencil illuminance`'s grid-pencils (out[0]) and photons (out[1]), beside Eq. (8) (out[2]) and
+ *  the printed Eq. (1) (out[3]) for the axial ray. 0 on a failure (message on stderr). */
+int val_pool_counted(double h1, double h2, double n2, double cell, double out[4]);
+
 /** Run the sweep; 0 when every case passes, 1 when some fail, -1 on an I/O error. */
 int val_verify_illuminance(const val_illum_opts_t *opts);
 
