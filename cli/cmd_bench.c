@@ -12,6 +12,7 @@
 #include "core/builtin.h"
 #include "io/json.h"
 #include "io/output.h"
+#include "light/illuminance.h"
 #include "render/render.h"
 #include "renderers/renderer.h"
 #include "validation/illum_bench.h"
@@ -141,7 +142,8 @@ static int run(int runs, long w, long h, int side, const char *json) {
 
 static void help_illum(FILE *f) {
   fprintf(f,
-          "usage: pencil bench illuminance [--json FILE] [--threads N] [--quick]\n\n"
+          "usage: pencil bench illuminance [--json FILE] [--threads N] [--quick]\n"
+          "                                [--max-split S] [--linear-tol C] [--uniform-tol R]\n\n"
           "Illuminance maps (pencil illuminance) against exact references: a glass ball over a\n"
           "floor lit along its axis by a parallel and by a point light, whose exact map is a\n"
           "one-dimensional integral over meridional rays. Reports, per method, the rays, the\n"
@@ -153,18 +155,22 @@ static void help_illum(FILE *f) {
           "  --json FILE   also write the results as JSON\n"
           "  --threads N   OpenMP threads (default: all cores)\n"
           "  --quick       small maps and grids (tests)\n"
+          "  --max-split S, --linear-tol C, --uniform-tol R\n"
+          "                the grid-pencil runs' settings (pencil illuminance; defaults its own)\n"
           "Exit codes: 0 targets met; 1 not met; 2 usage or I/O error.\n");
 }
 
 static int bench_illuminance(int argc, char **argv) {
-  static const cli_spec_t specs[] = {
-      {"--json", 0, 1, 1}, {"--threads", 0, 1, 2}, {"--quick", 0, 0, 3}};
+  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},       {"--threads", 0, 1, 2},
+                                     {"--quick", 0, 0, 3},      {"--max-split", 0, 1, 4},
+                                     {"--linear-tol", 0, 1, 5}, {"--uniform-tol", 0, 1, 6}};
   int n, rc;
-  cli_arg_t *args = cli_args("bench illuminance", argc, argv, specs, 3, help_illum, &n, &rc);
+  cli_arg_t *args = cli_args("bench illuminance", argc, argv, specs, 6, help_illum, &n, &rc);
   if (!args)
     return rc;
-  val_illum_bench_opts_t o = {0, 0, NULL, stdout};
-  long threads = 0;
+  lt_options_t d = LT_OPTIONS_DEFAULT;
+  val_illum_bench_opts_t o = {0, 0, d.max_split, d.linear_tol, d.uniform_tol, NULL, stdout};
+  long threads = 0, split = d.max_split;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
     if (!g->spec) {
@@ -174,6 +180,16 @@ static int bench_illuminance(int argc, char **argv) {
       o.json = g->value;
     } else if (g->spec->id == 2) {
       rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
+    } else if (g->spec->id == 4) {
+      rc = cli_parse_long("--max-split", g->value, 0, 12, &split) ? CLI_OK : CLI_USAGE;
+    } else if (g->spec->id == 5 || g->spec->id == 6) {
+      double *t = g->spec->id == 5 ? &o.linear_tol : &o.uniform_tol;
+      if (!cli_parse_double(g->spec->name, g->value, t) || *t < 0) {
+        if (*t < 0)
+          fprintf(stderr, "pencil bench illuminance: %s: expected a number >= 0, got '%s'\n",
+                  g->spec->name, g->value);
+        rc = CLI_USAGE;
+      }
     } else {
       o.quick = 1;
     }
@@ -182,6 +198,7 @@ static int bench_illuminance(int argc, char **argv) {
   if (rc != CLI_OK)
     return rc;
   o.threads = (int)threads;
+  o.max_split = (int)split;
   int r = val_bench_illuminance(&o);
   return r < 0 ? CLI_USAGE : r ? CLI_FAIL : CLI_OK;
 }

@@ -19,7 +19,7 @@ static void help(FILE *f) {
       "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
       "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
       "                          [--rays N] [--light K] [--max-split S] [--linear-tol C]\n"
-      "                          [--threads N]\n\n"
+      "                          [--uniform-tol R] [--threads N]\n\n"
       "The illuminance E that the scene's point and parallel lights deliver to the object NAME\n"
       "(a plane or a polygon), directly and through chains of specular reflections and\n"
       "refractions up to the\n"
@@ -56,6 +56,9 @@ static void help(FILE *f) {
       "  --linear-tol C    grid-pencil: a pencil landing on the map is divided when an edge's\n"
       "                    midpoint ray lands more than C cells off the midpoint of its corners'\n"
       "                    landings (default 0.05; 0: no test, the 1989 paper's plain method)\n"
+      "  --uniform-tol R   grid-pencil: ... or when the flux density over a quarter of it (the\n"
+      "                    triangles its midpoints make) differs from the whole's by more than\n"
+      "                    the share R, or a quarter is turned over (default 0.02; 0: no test)\n"
       "  --threads N       OpenMP threads (default: all cores)\n\n"
       "A light's grid covers the directions (or, for a parallel light, the beam) towards the\n"
       "map's rectangle and every object that reflects or transmits (docs/illuminance.md).\n"
@@ -73,7 +76,8 @@ enum {
   OPT_LIGHT,
   OPT_SPLIT,
   OPT_THREADS,
-  OPT_LINEAR
+  OPT_LINEAR,
+  OPT_UNIFORM
 };
 
 typedef struct {
@@ -81,7 +85,7 @@ typedef struct {
   const char *receiver[LT_MAX_RECEIVERS]; /**< the names given, in order */
   int nreceiver;
   long gw, gh, rays, light, split, threads;
-  double linear_tol;
+  double linear_tol, uniform_tol;
   int have_extent;
   double ext[4];
 } args_t;
@@ -134,7 +138,8 @@ static int parse(int argc, char **argv, args_t *a) {
       {"--grid", 0, 1, OPT_GRID},         {"--extent", 0, 1, OPT_EXTENT},
       {"--method", 0, 1, OPT_METHOD},     {"--rays", 0, 1, OPT_RAYS},
       {"--light", 0, 1, OPT_LIGHT},       {"--max-split", 0, 1, OPT_SPLIT},
-      {"--linear-tol", 0, 1, OPT_LINEAR}, {"--threads", 0, 1, OPT_THREADS}};
+      {"--linear-tol", 0, 1, OPT_LINEAR}, {"--uniform-tol", 0, 1, OPT_UNIFORM},
+      {"--threads", 0, 1, OPT_THREADS}};
   int n, rc;
   cli_arg_t *args = cli_args("illuminance", argc, argv, specs,
                              (int)(sizeof specs / sizeof specs[0]), help, &n, &rc);
@@ -184,6 +189,17 @@ static int parse(int argc, char **argv, args_t *a) {
     case OPT_SPLIT:
       rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
       break;
+    case OPT_UNIFORM:
+      if (!cli_parse_double("--uniform-tol", g->value, &a->uniform_tol) || a->uniform_tol < 0 ||
+          a->uniform_tol > 1e6) {
+        if (a->uniform_tol < 0 || a->uniform_tol > 1e6)
+          fprintf(stderr,
+                  "pencil illuminance: --uniform-tol: expected a share from 0 to 1e6, got "
+                  "'%s'\n",
+                  g->value);
+        rc = CLI_USAGE;
+      }
+      break;
     case OPT_LINEAR:
       if (!cli_parse_double("--linear-tol", g->value, &a->linear_tol) || a->linear_tol < 0 ||
           a->linear_tol > 1e6) {
@@ -231,7 +247,8 @@ static int preview_of(const lt_map_t *m, const float *e, rt_image_t *img) {
 }
 
 int cmd_illuminance(int argc, char **argv) {
-  args_t a = {NULL, NULL, "grid-pencil", {NULL}, 0, 256, 256, 0, -1, 4, 0, 0.05, 0, {0, 0, 0, 0}};
+  args_t a = {NULL, NULL, "grid-pencil", {NULL}, 0, 256,         256, 0, -1,
+              4,    0,    0.05,          0.02,   0, {0, 0, 0, 0}};
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
@@ -317,6 +334,7 @@ int cmd_illuminance(int argc, char **argv) {
   o.side = (int)(side < 2 ? 2 : side);
   o.max_split = (int)a.split;
   o.linear_tol = a.linear_tol;
+  o.uniform_tol = a.uniform_tol;
   o.threads = (int)a.threads;
   if (isatty(2)) {
     o.progress = cli_progress;
@@ -373,17 +391,19 @@ int cmd_illuminance(int argc, char **argv) {
     if (a.light < 0 || l == a.light)
       json_array_append_new(lights, json_integer(l));
   json_t *root = json_pack(
-      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:f, s:{s:I, s:I, s:I, s:I, "
+      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
+      "s:I, "
       "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:s}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
       lights, "rays_per_side", o.side, "max_split", o.max_split, "linear_tol", o.linear_tol,
-      "counts", "rays", (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals",
-      (json_int_t)st.arrivals, "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided,
-      "nonlinear", (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost",
-      (json_int_t)st.lost, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
-      "on_receiver_outside", st.flux_outside, "escaped", st.flux_escaped, "absorbed",
-      st.flux_absorbed, "seconds", st.seconds, "units",
+      "uniform_tol", o.uniform_tol, "counts", "rays", (json_int_t)st.rays, "segments",
+      (json_int_t)st.segments, "arrivals", (json_int_t)st.arrivals, "pencils",
+      (json_int_t)st.pencils, "divided", (json_int_t)st.divided, "nonlinear",
+      (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost", (json_int_t)st.lost,
+      "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map, "on_receiver_outside",
+      st.flux_outside, "escaped", st.flux_escaped, "absorbed", st.flux_absorbed, "seconds",
+      st.seconds, "units",
       "E in the scene's units (mean of R, G, B): intensity over length squared");
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,

@@ -171,7 +171,7 @@ typedef struct {
   lt_ctx_t C;
   lt_accum_t A;
   int max_split;
-  double linear_tol;
+  double linear_tol, uniform_tol;
 } worker_t;
 
 static rt_rgb_t flux_of(const lt_face_t *f, double measure, rt_rgb_t w) {
@@ -236,24 +236,44 @@ static int on_map(const worker_t *W, const lt_arrivals_t *x[3]) {
 }
 
 /* 1 when, for every receiver path the corners share, each edge's midpoint ray follows it too and
- * lands within `tol` cells of the midpoint of the corners' landings (the pencil's map to the
- * receiver is linear enough to spread its flux evenly). */
-static int linear(const worker_t *W, const lt_arrivals_t *x[3], const lt_arrivals_t xm[3],
-                  double tol) {
+ * lands within `tol` cells of the midpoint of the corners' landings, and the pencil's flux
+ * density over the quarters the midpoints make is within W->uniform_tol of the whole's (the
+ * pencil's map to the receiver is linear enough to spread its flux evenly). */
+/* Signed area of the receiver triangle a, b, c. */
+static double signed_area(const lt_arrival_t *a, const lt_arrival_t *b, const lt_arrival_t *c) {
+  return 0.5 * ((b->u - a->u) * (c->v - a->v) - (c->u - a->u) * (b->v - a->v));
+}
+
+static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double pm[3][2],
+                  const lt_arrivals_t *x[3], const lt_arrivals_t xm[3], double tol) {
   const lt_map_t *m = W->A.m;
   double su = m->width / (m->u1 - m->u0), sv = m->height / (m->v1 - m->v0);
   for (int k = 0; k < x[0]->n; k++) {
-    const lt_arrival_t *c[3] = {&x[0]->a[k], NULL, NULL};
+    const lt_arrival_t *c[3] = {&x[0]->a[k], NULL, NULL}, *mid[3];
     if (c[0]->kind != LT_END_RECEIVER || !(c[1] = find(x[1], c[0]->sig)) ||
         !(c[2] = find(x[2], c[0]->sig)))
       continue;
     for (int e = 0; e < 3; e++) { /* midpoint e lies between corners e and e + 1 */
-      const lt_arrival_t *mid = find(&xm[e], c[0]->sig);
-      if (!mid)
+      if (!(mid[e] = find(&xm[e], c[0]->sig)))
         return 0;
-      double du = (mid->u - 0.5 * (c[e]->u + c[(e + 1) % 3]->u)) * su;
-      double dv = (mid->v - 0.5 * (c[e]->v + c[(e + 1) % 3]->v)) * sv;
+      double du = (mid[e]->u - 0.5 * (c[e]->u + c[(e + 1) % 3]->u)) * su;
+      double dv = (mid[e]->v - 0.5 * (c[e]->v + c[(e + 1) % 3]->v)) * sv;
       if (fabs(du) > tol || fabs(dv) > tol)
+        return 0;
+    }
+    /* the flux density of the four quarters against the whole's: uniform within W->uniform_tol,
+     * none turned over */
+    double a = signed_area(c[0], c[1], c[2]), meas = lt__face_measure(f, p[0], p[1], p[2]);
+    const lt_arrival_t *q[4][3] = {{c[0], mid[0], mid[2]},
+                                   {mid[0], c[1], mid[1]},
+                                   {mid[2], mid[1], c[2]},
+                                   {mid[0], mid[1], mid[2]}};
+    double *qp[4][3] = {
+        {p[0], pm[0], pm[2]}, {pm[0], p[1], pm[1]}, {pm[2], pm[1], p[2]}, {pm[0], pm[1], pm[2]}};
+    for (int t = 0; t < 4 && W->uniform_tol > 0; t++) {
+      double at = signed_area(q[t][0], q[t][1], q[t][2]);
+      double mt = lt__face_measure(f, qp[t][0], qp[t][1], qp[t][2]);
+      if (!(at * a > 0) || fabs((mt / at) / (meas / a) - 1.0) > W->uniform_tol)
         return 0;
     }
   }
@@ -284,7 +304,7 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
       lt__trace(&W->C, &r, &xm[e]);
     }
     traced = 1;
-    if (shared && !linear(W, x, xm, W->linear_tol)) {
+    if (shared && !linear(W, f, p, m, x, xm, W->linear_tol)) {
       shared = 0;
       W->C.st.nonlinear++;
     }
@@ -374,6 +394,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     W[t].A = (lt_accum_t){m, calloc(cells, sizeof(double)), &W[t].C.st};
     W[t].max_split = o->max_split;
     W[t].linear_tol = o->linear_tol;
+    W[t].uniform_tol = o->uniform_tol;
     if (!W[t].A.flux)
       status = RT_ENOMEM;
   }

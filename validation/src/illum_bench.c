@@ -103,15 +103,18 @@ static json_t *row_json(const row_t *r) {
 
 /* One map of scene s by method at `side`; the comparison with ref. */
 static int run(const rt_scene_t *s, const lt_receiver_t *rc, lt_method_t method, int side,
-               int threads, const lt_map_t *ref, const unsigned char *mask, row_t *row,
-               lt_map_t *keep) {
+               const val_illum_bench_opts_t *bo, const lt_map_t *ref, const unsigned char *mask,
+               row_t *row, lt_map_t *keep) {
   lt_map_t m;
   if (lt_map_alloc(&m, ref->width, ref->height, ref->u0, ref->u1, ref->v0, ref->v1) != RT_OK)
     return 0;
   lt_options_t o = LT_OPTIONS_DEFAULT;
   o.method = method;
   o.side = side;
-  o.threads = threads;
+  o.threads = bo->threads;
+  o.max_split = bo->max_split;
+  o.linear_tol = bo->linear_tol;
+  o.uniform_tol = bo->uniform_tol;
   lt_stats_t st;
   if (lt_illuminance(s, rc, &o, &m, &st) != RT_OK) {
     lt_map_free(&m);
@@ -206,6 +209,9 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
   ok = ok && lt_map_alloc(&gp, 256, 256, ext[0], ext[1], ext[2], ext[3]) == RT_OK;
   lo = (lt_options_t)LT_OPTIONS_DEFAULT;
   lo.threads = o->threads;
+  lo.max_split = o->max_split;
+  lo.linear_tol = o->linear_tol;
+  lo.uniform_tol = o->uniform_tol;
   ok = ok && lt_illuminance(&s, &rc, &lo, &gp, &sg) == RT_OK;
   ok = ok && lt_map_alloc(&ph, 256, 256, ext[0], ext[1], ext[2], ext[3]) == RT_OK;
   if (!ok) {
@@ -318,9 +324,9 @@ int val_bench_illuminance(const val_illum_bench_opts_t *o) {
     const char *name = point ? "ball, point" : "ball, parallel";
     row_t gp = {name, "", 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, ph = gp;
     int side = o->quick ? 65 : 129;
-    int ok = run(&s, &rc, LT_METHOD_GRID_PENCIL, side, o->threads, &ref, mask, &gp, NULL) &&
-             run(&s, &rc, LT_METHOD_PHOTONS, (int)lrint(sqrt((double)gp.rays)), o->threads, &ref,
-                 mask, &ph, NULL);
+    int ok = run(&s, &rc, LT_METHOD_GRID_PENCIL, side, o, &ref, mask, &gp, NULL) &&
+             run(&s, &rc, LT_METHOD_PHOTONS, (int)lrint(sqrt((double)gp.rays)), o, &ref, mask, &ph,
+                 NULL);
     if (ok && f) {
       print_row(f, &gp);
       print_row(f, &ph);

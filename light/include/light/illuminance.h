@@ -71,19 +71,22 @@ rt_status_t lt_receiver_make(const rt_scene_t *s, const int *obj, int n, lt_rece
 
 typedef struct {
   lt_method_t method;
-  int light;         /**< index of the one light to trace, or -1 for all */
-  int side;          /**< rays per side of the source's grid (side x side per grid face), >= 2 */
-  int max_split;     /**< grid-pencil: times a pencil may be divided (each into four) */
-  double linear_tol; /**< grid-pencil: a pencil near the map is divided when an edge's midpoint
-                          ray lands more than this many cells off the midpoint of its corners'
-                          landings (0: no test, the 1989 paper's plain grid-pencil tracing) */
-  int threads;       /**< OpenMP threads; 0 = the default */
+  int light;          /**< index of the one light to trace, or -1 for all */
+  int side;           /**< rays per side of the source's grid (side x side per grid face), >= 2 */
+  int max_split;      /**< grid-pencil: times a pencil may be divided (each into four) */
+  double linear_tol;  /**< grid-pencil: a pencil near the map is divided when an edge's midpoint
+                           ray lands more than this many cells off the midpoint of its corners'
+                           landings (0: no test, the 1989 paper's plain grid-pencil tracing) */
+  double uniform_tol; /**< ... or when the flux density of a quarter of it (the midpoints' four
+                           triangles) differs from the whole's by more than this share, or a
+                           quarter is turned over (0: no such test; needs linear_tol > 0) */
+  int threads;        /**< OpenMP threads; 0 = the default */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
 } lt_options_t;
 
 #define LT_OPTIONS_DEFAULT                                                                         \
-  { LT_METHOD_GRID_PENCIL, -1, 129, 4, 0.05, 0, NULL, NULL }
+  { LT_METHOD_GRID_PENCIL, -1, 129, 4, 0.05, 0.02, 0, NULL, NULL }
 
 typedef struct {
   uint64_t rays;        /**< source rays traced (grid points and division points) */

@@ -25,10 +25,12 @@ void val_ring_map(double r, double n, double h, double source_height, long rays,
                   unsigned char *smooth);
 
 typedef struct {
-  int quick;        /**< small maps and grids (tests) */
-  int threads;      /**< OpenMP threads, 0 = all */
-  const char *json; /**< summary path or NULL */
-  FILE *report;     /**< table (stdout) or NULL */
+  int quick;                      /**< small maps and grids (tests) */
+  int threads;                    /**< OpenMP threads, 0 = all */
+  int max_split;                  /**< grid-pencil runs: lt_options_t.max_split */
+  double linear_tol, uniform_tol; /**< ... and the two tolerances */
+  const char *json;               /**< summary path or NULL */
+  FILE *report;                   /**< table (stdout) or NULL */
 } val_illum_bench_opts_t;
 
 /** Run the benchmark; 0 when the targets are met, 1 when not, -1 on an error (message on
