@@ -52,7 +52,7 @@ static void help(FILE *f) {
       "                    round(sqrt(N)) a side (default: 129 x 129 for grid-pencil, 128 x 128\n"
       "                    pencils; 1024 x 1024 for photons)\n"
       "  --light K         trace light K only (0-based; default: all)\n"
-      "  --max-split S     grid-pencil: divisions of a pencil (default 4, at most 12)\n"
+      "  --max-split S     grid-pencil: divisions of a pencil (default 6, at most 12)\n"
       "  --linear-tol C    grid-pencil: a pencil landing on the map is divided when an edge's\n"
       "                    midpoint ray lands more than C cells off the midpoint of its corners'\n"
       "                    landings (default 0.05; 0: no test, the 1989 paper's plain method)\n"
@@ -247,8 +247,15 @@ static int preview_of(const lt_map_t *m, const float *e, rt_image_t *img) {
 }
 
 int cmd_illuminance(int argc, char **argv) {
-  args_t a = {NULL, NULL, "grid-pencil", {NULL}, 0, 256,         256, 0, -1,
-              4,    0,    0.05,          0.02,   0, {0, 0, 0, 0}};
+  args_t a;
+  memset(&a, 0, sizeof a);
+  const lt_options_t d = LT_OPTIONS_DEFAULT; /* one source of the defaults */
+  a.method = "grid-pencil";
+  a.gw = a.gh = 256;
+  a.light = -1;
+  a.split = d.max_split;
+  a.linear_tol = d.linear_tol;
+  a.uniform_tol = d.uniform_tol;
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
@@ -310,7 +317,9 @@ int cmd_illuminance(int argc, char **argv) {
             a.scene);
     goto done;
   }
-  long side = a.rays > 0 ? lrint(sqrt((double)a.rays)) : method == LT_METHOD_PHOTONS ? 1024 : 129;
+  long side = a.rays > 0                    ? lrint(sqrt((double)a.rays))
+              : method == LT_METHOD_PHOTONS ? 1024
+                                            : d.side;
   double cells = (double)a.gw * (double)a.gh;
   size_t need = (size_t)(cells * (24.0 * (rt_thread_count((int)a.threads) + 1) + 4 + 3 * 11 * 4));
   size_t have = io_memory_available();

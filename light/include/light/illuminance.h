@@ -86,7 +86,7 @@ typedef struct {
 } lt_options_t;
 
 #define LT_OPTIONS_DEFAULT                                                                         \
-  { LT_METHOD_GRID_PENCIL, -1, 129, 4, 0.05, 0.02, 0, NULL, NULL }
+  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL }
 
 typedef struct {
   uint64_t rays;        /**< source rays traced (grid points and division points) */
