@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/image_io.h"
 #include "io/json.h"
 #include "io/scene_json.h"
 #include "validation/illum_bench.h"
@@ -86,6 +87,7 @@ static cmp_t compare(const lt_map_t *a, const lt_map_t *ref, const unsigned char
 
 typedef struct {
   const char *name, *method;
+  const char *file; /**< the case's file name stem ("ball-parallel") */
   int side;
   uint64_t rays;
   double seconds, worst_smooth, rms, flux_rel;
@@ -99,6 +101,34 @@ static json_t *row_json(const row_t *r) {
                    r->seconds, "worst_relative_error_smooth", io_json_number(r->worst_smooth),
                    "rms_error", r->rms, "flux_relative_error", r->flux_rel, "smooth_cells",
                    (json_int_t)r->smooth, "cells", (json_int_t)r->cells);
+}
+
+/* Write map m as DIR/NAME.exr (channel E), .png and .json (extent, grid, method); 0 after a
+ * message on stderr. */
+static int save_map(const char *dir, const char *name, const char *method, const lt_map_t *m) {
+  if (!dir)
+    return 1;
+  char exr[4096], json[4096], err[1024], ext[160];
+  snprintf(exr, sizeof exr, "%s/%s-%s.exr", dir, name, method);
+  snprintf(json, sizeof json, "%s/%s-%s.json", dir, name, method);
+  size_t n = (size_t)m->width * m->height;
+  float *e = malloc(n * sizeof *e);
+  if (!e)
+    return 0;
+  for (size_t k = 0; k < n; k++)
+    e[k] = (float)cell(m, k);
+  snprintf(ext, sizeof ext, "%.17g,%.17g,%.17g,%.17g", m->u0, m->u1, m->v0, m->v1);
+  io_exr_channel_t ch = {"E", e};
+  io_attr_t attrs[] = {{"pencil:method", method}, {"pencil:extent", ext}};
+  json_t *root = json_pack("{s:s, s:s, s:[f, f, f, f], s:[i, i]}", "case", name, "method", method,
+                           "extent", m->u0, m->u1, m->v0, m->v1, "grid", m->width, m->height);
+  int ok = io_map_write(exr, m->width, m->height, &ch, 1, NULL, attrs, 2, json, root, err,
+                        sizeof err) == 0;
+  if (!ok)
+    fprintf(stderr, "pencil bench illuminance: %s\n", err);
+  json_decref(root);
+  free(e);
+  return ok;
 }
 
 /* One map of scene s by method at `side`; the comparison with ref. */
@@ -134,11 +164,12 @@ static int run(const rt_scene_t *s, const lt_receiver_t *rc, lt_method_t method,
   row->flux_rel = fabs(c.flux - c.ref_flux) / c.ref_flux;
   row->smooth = c.compared;
   row->cells = (size_t)m.width * m.height;
+  int saved = save_map(bo->maps, row->file, row->method, &m);
   if (keep)
     *keep = m;
   else
     lt_map_free(&m);
-  return 1;
+  return saved;
 }
 
 static void print_row(FILE *f, const row_t *r) {
@@ -317,12 +348,20 @@ int val_bench_illuminance(const val_illum_bench_opts_t *o) {
     double t0 = val_wall_seconds();
     val_ring_map(BALL_R, BALL_N, BALL_H, point ? POINT_H : 0.0, rings, &ref, mask);
     double tref = val_wall_seconds() - t0;
+    if (!save_map(o->maps, point ? "ball-point" : "ball-parallel", "exact", &ref)) {
+      free(mask);
+      lt_map_free(&ref);
+      rt_scene_free(&s);
+      json_decref(rows);
+      return -1;
+    }
     const int floor_obj = 0;
     lt_receiver_t rc;
     char why[200];
     lt_receiver_make(&s, &floor_obj, 1, &rc, why, sizeof why);
     const char *name = point ? "ball, point" : "ball, parallel";
-    row_t gp = {name, "", 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, ph = gp;
+    const char *stem = point ? "ball-point" : "ball-parallel";
+    row_t gp = {name, "", stem, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, ph = gp;
     int side = o->quick ? 65 : 129;
     int ok = run(&s, &rc, LT_METHOD_GRID_PENCIL, side, o, &ref, mask, &gp, NULL) &&
              run(&s, &rc, LT_METHOD_PHOTONS, (int)lrint(sqrt((double)gp.rays)), o, &ref, mask, &ph,

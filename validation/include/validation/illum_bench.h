@@ -30,6 +30,7 @@ typedef struct {
   int max_split;                  /**< grid-pencil runs: lt_options_t.max_split */
   double linear_tol, uniform_tol; /**< ... and the two tolerances */
   const char *json;               /**< summary path or NULL */
+  const char *maps;               /**< directory for the maps (CASE-METHOD.exr, .json), or NULL */
   FILE *report;                   /**< table (stdout) or NULL */
 } val_illum_bench_opts_t;
 
