@@ -283,16 +283,30 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
 /* The pencil of the triangle of grid parameters p[3] whose rays' ends are x[3]: a receiver
  * triangle for every path the three rays share, its flux spread evenly over it. The pencil is
  * divided into four (its edges' midpoint rays traced), up to `split` times, where the three rays
- * do not all follow the same paths (an edge of an object or a shadow inside the pencil), and,
+ * do not all follow the same paths to the receiver (an edge of an object or a shadow inside the
+ * pencil), and,
  * with a linearity tolerance, where a receiver triangle near the map is not linear enough (a
  * midpoint ray lands off its edge's midpoint by more than the tolerance: near a rim, a fold, a
  * caustic). Past the limit, the unshared ends count as photons of a third of the pencil each. */
 static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arrivals_t *x[3],
                    int split) {
-  int shared = 1;
-  for (int v = 0; v < 3 && shared; v++)
-    for (int k = 0; k < x[v]->n && shared; k++)
-      shared = find(x[(v + 1) % 3], x[v]->a[k].sig) && find(x[(v + 2) % 3], x[v]->a[k].sig);
+  /* only paths to the receiver decide: an escape or an absorption that the three rays do not
+   * share changes no cell of the map (it is settled in the ledger as photons) */
+  double apart = 0.0, all = 0.0; /* receiver flux of the unshared paths, of all (mean weight) */
+  for (int v = 0; v < 3; v++)
+    for (int k = 0; k < x[v]->n; k++) {
+      const lt_arrival_t *a = &x[v]->a[k];
+      if (a->kind != LT_END_RECEIVER)
+        continue;
+      double w = a->w.r + a->w.g + a->w.b;
+      all += w;
+      if (!find(x[(v + 1) % 3], a->sig) || !find(x[(v + 2) % 3], a->sig))
+        apart += w;
+    }
+  /* with a uniformity tolerance, paths that carry less than that share of the pencil's light to
+   * the receiver are not worth a division: their ends are settled as photons, close to where
+   * they belong (within the pencil's footprint) */
+  int shared = apart == 0.0 || (W->uniform_tol > 0 && apart <= W->uniform_tol * all);
   double m[3][2];
   lt_arrivals_t xm[3]; /* 7.7 kB a level, at most 12 levels deep */
   int traced = 0;

@@ -202,7 +202,7 @@ static double dim_rms(const lt_map_t *a, const lt_map_t *ref) {
 
 /* 1987 Fig. 11 (scenes/fig11.json): the torus's light on its three-coloured rectangle, 256 x 256
  * cells. The reference is grid-pencil tracing at 4 times the resolution (513 rays a side, a
- * tenth of the linearity tolerance); grid-pencil tracing with 128 x 128 pencils and photon
+ * tenth of the default tolerances); grid-pencil tracing with 128 x 128 pencils and photon
  * counting with 100 times its grid's rays are compared with it, and photon counting is run with
  * twice the rays until its error is as low as grid-pencil's (or 100 M rays, beyond which the
  * 1/sqrt(N) law of its noise, fitted to the last run, gives the rays and time it would need). */
@@ -234,6 +234,7 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
   lo.threads = o->threads;
   lo.side = 513;
   lo.linear_tol = 0.005;
+  lo.uniform_tol = 0.002;
   lo.max_split = 6;
   lt_stats_t sr, sg, sp;
   int ok = lt_illuminance(&s, &rc, &lo, &ref, &sr) == RT_OK;
