@@ -21,6 +21,18 @@ int cli_parse_double(const char *opt, const char *text, double *out) {
   return r == 1;
 }
 
+int cli_parse_double_in(const char *opt, const char *text, double lo, double hi, double *out) {
+  double v;
+  if (!cli_parse_double(opt, text, &v))
+    return 0;
+  if (!(v >= lo && v <= hi)) {
+    fprintf(stderr, "pencil: %s: expected a number from %g to %g, got '%s'\n", opt, lo, hi, text);
+    return 0;
+  }
+  *out = v;
+  return 1;
+}
+
 int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *out) {
   char *end = NULL;
   const char *p = text + (*text == '+' || *text == '-');

@@ -18,6 +18,8 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
 /** Parse a finite double for option `opt`; on failure print "pencil: OPT: ..." and return 0. */
 int cli_parse_double(const char *opt, const char *text, double *out);
+/** cli_parse_double() of a number in [lo, hi]; on failure print an error and return 0. */
+int cli_parse_double_in(const char *opt, const char *text, double lo, double hi, double *out);
 /** Parse an integer in [lo, hi] for option `opt`; on failure print an error and return 0. */
 int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *out);
 /** Parse a number of samples per pixel for option `opt` of command `cmd`: a square s x s with

@@ -189,12 +189,7 @@ static int bench_illuminance(int argc, char **argv) {
       rc = cli_parse_long("--max-split", g->value, 0, 12, &split) ? CLI_OK : CLI_USAGE;
     } else if (g->spec->id == 5 || g->spec->id == 6) {
       double *t = g->spec->id == 5 ? &o.linear_tol : &o.uniform_tol;
-      if (!cli_parse_double(g->spec->name, g->value, t) || *t < 0) {
-        if (*t < 0)
-          fprintf(stderr, "pencil bench illuminance: %s: expected a number >= 0, got '%s'\n",
-                  g->spec->name, g->value);
-        rc = CLI_USAGE;
-      }
+      rc = cli_parse_double_in(g->spec->name, g->value, 0, 1e6, t) ? CLI_OK : CLI_USAGE;
     } else {
       o.quick = 1;
     }

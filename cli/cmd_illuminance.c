@@ -189,27 +189,13 @@ static int parse(int argc, char **argv, args_t *a) {
     case OPT_SPLIT:
       rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
       break;
-    case OPT_UNIFORM:
-      if (!cli_parse_double("--uniform-tol", g->value, &a->uniform_tol) || a->uniform_tol < 0 ||
-          a->uniform_tol > 1e6) {
-        if (a->uniform_tol < 0 || a->uniform_tol > 1e6)
-          fprintf(stderr,
-                  "pencil illuminance: --uniform-tol: expected a share from 0 to 1e6, got "
-                  "'%s'\n",
-                  g->value);
-        rc = CLI_USAGE;
-      }
+    case OPT_UNIFORM: /* a share */
+      rc = cli_parse_double_in("--uniform-tol", g->value, 0, 1e6, &a->uniform_tol) ? CLI_OK
+                                                                                   : CLI_USAGE;
       break;
-    case OPT_LINEAR:
-      if (!cli_parse_double("--linear-tol", g->value, &a->linear_tol) || a->linear_tol < 0 ||
-          a->linear_tol > 1e6) {
-        if (a->linear_tol < 0 || a->linear_tol > 1e6)
-          fprintf(stderr,
-                  "pencil illuminance: --linear-tol: expected a number of cells from 0 "
-                  "to 1e6, got '%s'\n",
-                  g->value);
-        rc = CLI_USAGE;
-      }
+    case OPT_LINEAR: /* cells */
+      rc = cli_parse_double_in("--linear-tol", g->value, 0, 1e6, &a->linear_tol) ? CLI_OK
+                                                                                 : CLI_USAGE;
       break;
     default:
       rc = cli_parse_long("--threads", g->value, 1, 1024, &a->threads) ? CLI_OK : CLI_USAGE;
