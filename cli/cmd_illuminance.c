@@ -12,6 +12,7 @@
 #include "io/json.h"
 #include "io/output.h"
 #include "light/illuminance.h"
+#include "validation/timing.h"
 
 static void help(FILE *f) {
   fprintf(
@@ -32,7 +33,8 @@ static void help(FILE *f) {
       "u runs along its first edge. Writes MAP.exr (one float channel E; image row y is j = y: "
       "the\n"
       "first row holds V0, as the header's pencil:rows says), MAP.png (E / the largest E, grey)\n"
-      "and MAP.json (extent, grid, method, lights, rays, flux, CPU time, provenance).\n\n"
+      "and MAP.json (extent, grid, method, lights, rays, flux, wall-clock and CPU time,\n"
+      "provenance).\n\n"
       "options:\n"
       "  --receiver NAME   the receiver: the plane or polygon object with that \"name\"\n"
       "                    (required); given again, objects in the same plane join it (the\n"
@@ -336,7 +338,9 @@ int cmd_illuminance(int argc, char **argv) {
     o.progress_ctx = (void *)"illuminance";
   }
   lt_stats_t st;
+  double cpu = val_cpu_seconds();
   rt_status_t r = lt_illuminance(&s, &rcv, &o, &m, &st);
+  cpu = val_cpu_seconds() - cpu; /* of the process: every thread's */
   if (r != RT_OK) {
     fprintf(stderr, "pencil illuminance: %s\n", rt_strerror(r));
     rc = CLI_FAIL;
@@ -388,7 +392,7 @@ int cmd_illuminance(int argc, char **argv) {
   json_t *root = json_pack(
       "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
       "s:I, "
-      "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:s}",
+      "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
       lights, "rays_per_side", o.side, "max_split", o.max_split, "linear_tol", o.linear_tol,
@@ -398,7 +402,7 @@ int cmd_illuminance(int argc, char **argv) {
       (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost", (json_int_t)st.lost,
       "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map, "on_receiver_outside",
       st.flux_outside, "escaped", st.flux_escaped, "absorbed", st.flux_absorbed, "seconds",
-      st.seconds, "units",
+      st.seconds, "cpu_seconds", cpu, "units",
       "E in the scene's units (mean of R, G, B): intensity over length squared");
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,

@@ -36,7 +36,7 @@ check "the EXR has one float channel E, 40 x 30, and says its row order" \
 import json, sys
 d = sys.argv[1]
 j = json.load(open(f"{d}/m.json"))
-for k in ("extent", "grid", "method", "lights", "rays_per_side", "counts", "flux", "seconds",
+for k in ("extent", "grid", "method", "lights", "rays_per_side", "counts", "flux", "seconds", "cpu_seconds",
           "provenance", "receiver"):
     assert k in j, k
 assert j["extent"] == [-2, 2, -1, 2] and j["grid"] == [40, 30] and j["method"] == "grid-pencil"
