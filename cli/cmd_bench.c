@@ -143,6 +143,7 @@ static int run(int runs, long w, long h, int side, const char *json) {
 static void help_illum(FILE *f) {
   fprintf(f,
           "usage: pencil bench illuminance [--json FILE] [--maps DIR] [--threads N] [--quick]\n"
+          "                                [--fig11 SCENE.json]\n"
           "                                [--max-split S] [--linear-tol C] [--uniform-tol R]\n\n"
           "Illuminance maps (pencil illuminance) against exact references: a glass ball over a\n"
           "floor lit along its axis by a parallel and by a point light, whose exact map is a\n"
@@ -156,7 +157,10 @@ static void help_illum(FILE *f) {
           "  --maps DIR    also write the ball cases' maps (exact, grid-pencil, photons) there as\n"
           "                CASE-METHOD.exr/.json: notebooks/illuminance.ipynb plots them\n"
           "  --threads N   OpenMP threads (default: all cores)\n"
-          "  --quick       small maps and grids (tests)\n"
+          "  --quick       small maps and grids (tests; no Fig. 11)\n"
+          "  --fig11 SCENE.json\n"
+          "                the Fig. 11 scene (default: scenes/fig11.json of the source tree the\n"
+          "                command was built from)\n"
           "  --max-split S, --linear-tol C, --uniform-tol R\n"
           "                the grid-pencil runs' settings (pencil illuminance; defaults its own)\n"
           "Exit codes: 0 targets met; 1 not met; 2 usage or I/O error.\n");
@@ -166,13 +170,18 @@ static int bench_illuminance(int argc, char **argv) {
   static const cli_spec_t specs[] = {{"--json", 0, 1, 1},       {"--threads", 0, 1, 2},
                                      {"--quick", 0, 0, 3},      {"--max-split", 0, 1, 4},
                                      {"--linear-tol", 0, 1, 5}, {"--uniform-tol", 0, 1, 6},
-                                     {"--maps", 0, 1, 7}};
+                                     {"--maps", 0, 1, 7},       {"--fig11", 0, 1, 8}};
   int n, rc;
-  cli_arg_t *args = cli_args("bench illuminance", argc, argv, specs, 7, help_illum, &n, &rc);
+  cli_arg_t *args = cli_args("bench illuminance", argc, argv, specs, 8, help_illum, &n, &rc);
   if (!args)
     return rc;
   lt_options_t d = LT_OPTIONS_DEFAULT;
-  val_illum_bench_opts_t o = {0, 0, d.max_split, d.linear_tol, d.uniform_tol, NULL, NULL, stdout};
+  val_illum_bench_opts_t o;
+  memset(&o, 0, sizeof o);
+  o.max_split = d.max_split;
+  o.linear_tol = d.linear_tol;
+  o.uniform_tol = d.uniform_tol;
+  o.report = stdout;
   long threads = 0, split = d.max_split;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
@@ -185,6 +194,8 @@ static int bench_illuminance(int argc, char **argv) {
       rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
     } else if (g->spec->id == 7) {
       o.maps = g->value;
+    } else if (g->spec->id == 8) {
+      o.fig11 = g->value;
     } else if (g->spec->id == 4) {
       rc = cli_parse_long("--max-split", g->value, 0, 12, &split) ? CLI_OK : CLI_USAGE;
     } else if (g->spec->id == 5 || g->spec->id == 6) {

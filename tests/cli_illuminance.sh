@@ -108,5 +108,8 @@ for g, p in zip(gp, ph):
     assert p["rms_error"] > 5 * g["rms_error"], (g, p)
 print("ok: bench illuminance --quick meets the targets")
 PY
+$pencil bench illuminance --fig11 "$dir/none.json" >/dev/null 2>"$dir/err"; rc=$?
+check "bench illuminance: a missing Fig. 11 scene is refused at once, named" \
+  "[ $rc -eq 2 ] && grep -q 'cannot read the Fig. 11 scene $dir/none.json' '$dir/err'"
 [ $fail -eq 0 ] && echo "cli_illuminance: all passed"
 exit $fail

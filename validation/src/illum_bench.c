@@ -1,4 +1,5 @@
 /* illum_bench.c -- `pencil bench illuminance` (illum_bench.h). */
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
@@ -210,7 +211,8 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
   rt_scene_t s;
   char err[1024];
   rt_scene_init(&s);
-  if (io_scene_load(PENCIL_SOURCE_DIR "/scenes/fig11.json", &s, err, sizeof err) != 0) {
+  const char *path = o->fig11 ? o->fig11 : PENCIL_SOURCE_DIR "/scenes/fig11.json";
+  if (io_scene_load(path, &s, err, sizeof err) != 0) {
     fprintf(stderr, "pencil bench illuminance: %s\n", err);
     return NULL;
   }
@@ -226,7 +228,7 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
   if (lt_receiver_make(&s, obj, 3, &rc, err, sizeof err) != RT_OK ||
       !lt_default_extent(&s, &rc, ext) ||
       lt_map_alloc(&ref, 256, 256, ext[0], ext[1], ext[2], ext[3]) != RT_OK) {
-    fprintf(stderr, "pencil bench illuminance: scenes/fig11.json: %s\n", err);
+    fprintf(stderr, "pencil bench illuminance: %s: %s\n", path, err);
     rt_scene_free(&s);
     return NULL;
   }
@@ -321,6 +323,16 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
 }
 
 int val_bench_illuminance(const val_illum_bench_opts_t *o) {
+  if (!o->quick) { /* a missing Fig. 11 scene is an error before minutes of work, not after */
+    const char *path = o->fig11 ? o->fig11 : PENCIL_SOURCE_DIR "/scenes/fig11.json";
+    FILE *t = fopen(path, "r");
+    if (!t) {
+      fprintf(stderr, "pencil bench illuminance: cannot read the Fig. 11 scene %s: %s\n", path,
+              strerror(errno));
+      return -1;
+    }
+    fclose(t);
+  }
   int grid = o->quick ? 32 : 128;
   long rings = o->quick ? 100000 : 1000000;
   json_t *rows = json_array();

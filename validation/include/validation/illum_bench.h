@@ -31,6 +31,8 @@ typedef struct {
   double linear_tol, uniform_tol; /**< ... and the two tolerances */
   const char *json;               /**< summary path or NULL */
   const char *maps;               /**< directory for the maps (CASE-METHOD.exr, .json), or NULL */
+  const char *fig11;              /**< the Fig. 11 scene, or NULL for the source tree's
+                                       scenes/fig11.json */
   FILE *report;                   /**< table (stdout) or NULL */
 } val_illum_bench_opts_t;
 
