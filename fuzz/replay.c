@@ -7,23 +7,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+#include "io/output.h"
 
-/* The file's bytes (malloc'ed, at least one byte allocated), *len of them; NULL when unreadable. */
-static uint8_t *slurp(const char *path, size_t *len) {
-  FILE *f = fopen(path, "rb");
-  uint8_t *buf = NULL;
-  long n = -1;
-  if (f && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
-      (buf = malloc((size_t)n + 1)) != NULL && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-    free(buf);
-    buf = NULL;
-  }
-  if (f)
-    fclose(f);
-  *len = buf ? (size_t)n : 0;
-  return buf;
-}
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int main(int argc, char **argv) {
   if (argc < 2) {
@@ -32,7 +18,7 @@ int main(int argc, char **argv) {
   }
   for (int i = 1; i < argc; i++) {
     size_t len;
-    uint8_t *data = slurp(argv[i], &len);
+    uint8_t *data = (uint8_t *)io_read_file(argv[i], &len);
     if (!data) {
       fprintf(stderr, "scene_fuzz_replay: cannot read %s\n", argv[i]);
       return 2;

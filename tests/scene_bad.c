@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/output.h"
 #include "io/scene_json.h"
 
 /* Find FILE's expectation: *line and text[cap]; 0 when there is none. */
@@ -31,26 +32,10 @@ static int expectation(const char *dir, const char *file, int *line, char *text,
   return found;
 }
 
-/* The file's bytes (malloc'ed, *len of them), or NULL. */
-static char *slurp(const char *path, size_t *len) {
-  FILE *f = fopen(path, "rb");
-  char *buf = NULL;
-  long n = -1;
-  if (f && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
-      (buf = malloc((size_t)n + 1)) != NULL && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-    free(buf);
-    buf = NULL;
-  }
-  if (f)
-    fclose(f);
-  *len = buf ? (size_t)n : 0;
-  return buf;
-}
-
 /* Loading path's bytes from memory under the same name gives the message `want`. */
 static int same_from_memory(const char *path, const char *want) {
   size_t len;
-  char *data = slurp(path, &len), err[2048];
+  char *data = io_read_file(path, &len), err[2048];
   if (!data) {
     fprintf(stderr, "FAIL: cannot read %s\n", path);
     return 0;

@@ -286,3 +286,29 @@ void io_format_size(size_t bytes, char *buf, size_t cap) {
     v /= 1024.0, k++;
   snprintf(buf, cap, k == 0 ? "%.0f %s" : "%.1f %s", v, units[k]);
 }
+
+char *io_read_file(const char *path, size_t *len) {
+  FILE *f = fopen(path, "rb");
+  if (!f)
+    return NULL;
+  size_t cap = 1 << 16, n = 0, got;
+  char *buf = malloc(cap);
+  while (buf && (got = fread(buf + n, 1, cap - 1 - n, f)) > 0) {
+    n += got;
+    if (n + 1 < cap)
+      continue;
+    char *bigger = realloc(buf, cap *= 2);
+    if (!bigger)
+      free(buf);
+    buf = bigger;
+  }
+  if (buf && ferror(f)) {
+    free(buf);
+    buf = NULL;
+  }
+  fclose(f);
+  if (buf)
+    buf[n] = '\0';
+  *len = buf ? n : 0;
+  return buf;
+}

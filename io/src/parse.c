@@ -2,6 +2,8 @@
  * the key path, what is wrong and what was expected (docs/scene-format.md). */
 #include "parse.h"
 
+#include "io/output.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -24,27 +26,6 @@ void io_pop(io_parse_t *P) {
   P->depth--;
 }
 
-/* The whole file, for locating lines after an error; NULL when it cannot be read again. */
-static char *slurp(const char *path, size_t *len) {
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return NULL;
-  size_t cap = 1 << 16, n = 0, got;
-  char *buf = malloc(cap);
-  while (buf && (got = fread(buf + n, 1, cap - n, f)) > 0) {
-    n += got;
-    if (n < cap)
-      continue;
-    char *bigger = realloc(buf, cap *= 2);
-    if (!bigger)
-      free(buf);
-    buf = bigger;
-  }
-  fclose(f);
-  *len = n;
-  return buf;
-}
-
 /* "objects[2].radius" */
 static void format_path(const io_parse_t *P, char *out, size_t cap) {
   size_t n = 0;
@@ -63,7 +44,7 @@ int io_fail(io_parse_t *P, const char *fmt, ...) {
     return 0;
   P->failed = 1;
   size_t len = P->len;
-  char *copy = P->text ? NULL : slurp(P->file, &len);
+  char *copy = P->text ? NULL : io_read_file(P->file, &len);
   const char *text = P->text ? P->text : copy;
   int depth = P->depth < IO_PATH_MAX ? P->depth : IO_PATH_MAX;
   int line = text ? io_json_locate(text, len, P->step, depth) : 1;

@@ -64,6 +64,11 @@ size_t io_memory_available(void);
  *  *bytes; 1, or 0 when the text is not one. */
 int io_parse_size(const char *text, size_t *bytes);
 
+/** The whole of the file at path (malloc'ed; free() it), *len bytes of it followed by a NUL that
+ *  *len does not count; NULL when it cannot be opened or read, or memory runs out. Reads to the
+ *  end, so pipes and other files that cannot seek are read too. */
+char *io_read_file(const char *path, size_t *len);
+
 /** "11.8 GB" style (powers of 1024) for messages. */
 void io_format_size(size_t bytes, char *buf, size_t cap);
 
