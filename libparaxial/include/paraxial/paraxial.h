@@ -9,6 +9,7 @@
 #include "paraxial/illuminance.h"
 #include "paraxial/interp.h"
 #include "paraxial/linalg.h"
+#include "paraxial/polygon.h"
 #include "paraxial/status.h"
 #include "paraxial/system.h"
 #include "paraxial/vec3.h"
