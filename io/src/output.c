@@ -84,6 +84,14 @@ int io_output_check(const char *path, char *err, size_t cap) {
   return 0;
 }
 
+int io_output_not_input(const char *out, const char *in, char *err, size_t cap) {
+  struct stat so, si;
+  if (out && in && stat(out, &so) == 0 && stat(in, &si) == 0 && so.st_dev == si.st_dev &&
+      so.st_ino == si.st_ino)
+    return snprintf(err, cap, "%s: is the input %s; not replaced", out, in), -1;
+  return 0;
+}
+
 /* ---- temporary files and signals ----------------------------------------------------------- */
 
 enum { MAX_TEMPS = 16 };

@@ -29,6 +29,10 @@ const io_provenance_t *io_provenance(void);
  *  directory, device, FIFO or socket, and its directory exists and is writable. */
 int io_output_check(const char *path, char *err, size_t cap);
 
+/** -1 with the reason in err when `out` is the same file as the input `in` (which would be
+ *  replaced: MAP.json beside MAP.exr for a scene called MAP.json), else 0. */
+int io_output_not_input(const char *out, const char *in, char *err, size_t cap);
+
 /** A file being written: the temporary file beside the target. */
 typedef struct {
   char path[4096]; /**< the target */
