@@ -49,18 +49,24 @@ static void help(FILE *f) {
       "                    between neighbouring rays spread over their triangles on the\n"
       "                    receiver and divided at edges; photons: backward ray tracing, each\n"
       "                    ray's flux counted in the cell it lands in; polygons: pencil tracing\n"
-      "                    of polyhedra (not implemented yet: refused)\n"
+      "                    of polyhedra, beams cut at the edges of the faces they meet, each\n"
+      "                    piece on the receiver an illuminance polygon (planar faces only)\n"
       "  --rays N          source rays per grid face of each light, a square grid of\n"
       "                    round(sqrt(N)) a side (default: 129 x 129 for grid-pencil, 128 x 128\n"
-      "                    pencils; 1024 x 1024 for photons)\n"
+      "                    pencils; 1024 x 1024 for photons; not for polygons)\n"
       "  --light K         trace light K only (0-based; default: all)\n"
-      "  --max-split S     grid-pencil: divisions of a pencil (default 6, at most 12)\n"
+      "  --max-split S     grid-pencil: divisions of a pencil into four (default 6, at most\n"
+      "                    12); polygons: a beam is halved up to 2S times along its path\n"
       "  --linear-tol C    grid-pencil: a pencil landing on the map is divided when an edge's\n"
       "                    midpoint ray lands more than C cells off the midpoint of its corners'\n"
-      "                    landings (default 0.05; 0: no test, the 1989 paper's plain method)\n"
+      "                    landings (default 0.05; 0: no test, the 1989 paper's plain method);\n"
+      "                    polygons: when a vertex's exact ray lands more than C cells from\n"
+      "                    where the system matrix puts it\n"
       "  --uniform-tol R   grid-pencil: ... or when the flux density over a quarter of it (the\n"
       "                    triangles its midpoints make) differs from the whole's by more than\n"
-      "                    the share R, or a quarter is turned over (default 0.02; 0: no test)\n"
+      "                    the share R, or a quarter is turned over (default 0.02; 0: no test);\n"
+      "                    polygons: when the light its vertices' errors could send the wrong way\n"
+      "                    at a face exceeds the share R, or E is not near linear over it\n"
       "  --threads N       OpenMP threads (default: all cores)\n\n"
       "A light's grid covers the directions (or, for a parallel light, the beam) towards the\n"
       "map's rectangle and every object that reflects or transmits (docs/illuminance.md).\n"
@@ -247,16 +253,16 @@ int cmd_illuminance(int argc, char **argv) {
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
-  if (strcmp(a.method, "polygons") == 0) {
-    fprintf(stderr, "pencil illuminance: --method polygons (pencil tracing of polyhedra, 1987 "
-                    "section 4.2) is not implemented yet; use grid-pencil or photons\n");
-    return CLI_USAGE;
-  }
   int method = lt_method_parse(a.method);
   if (method < 0) {
     fprintf(stderr,
             "pencil illuminance: --method: expected grid-pencil, photons or polygons, got '%s'\n",
             a.method);
+    return CLI_USAGE;
+  }
+  if (method == LT_METHOD_POLYGONS && a.rays > 0) {
+    fprintf(stderr, "pencil illuminance: --rays: the polygons method traces the rays its beams "
+                    "need and takes no --rays\n");
     return CLI_USAGE;
   }
   char err[1024], json_path[4096];
@@ -268,7 +274,12 @@ int cmd_illuminance(int argc, char **argv) {
   }
   memcpy(json_path, a.out, len - 4);
   strcpy(json_path + len - 4, ".json");
-  if (io_render_check(a.out, err, sizeof err) != 0 || io_output_check(json_path, err, sizeof err)) {
+  char png_path[4096];
+  if (io_render_check(a.out, err, sizeof err) != 0 || io_output_check(json_path, err, sizeof err) ||
+      !io_png_path_for(a.out, png_path, sizeof png_path) ||
+      io_output_not_input(a.out, a.scene, err, sizeof err) ||
+      io_output_not_input(png_path, a.scene, err, sizeof err) ||
+      io_output_not_input(json_path, a.scene, err, sizeof err)) {
     fprintf(stderr, "pencil illuminance: %s\n", err);
     return CLI_USAGE;
   }
@@ -278,6 +289,10 @@ int cmd_illuminance(int argc, char **argv) {
   int objs[LT_MAX_RECEIVERS];
   lt_receiver_t rcv;
   rc = CLI_USAGE;
+  if (lt_method_check(&s, (lt_method_t)method, err, sizeof err) != RT_OK) {
+    fprintf(stderr, "pencil illuminance: --method %s: %s: %s\n", a.method, a.scene, err);
+    goto done;
+  }
   for (int k = 0; k < a.nreceiver; k++) {
     objs[k] = -1;
     for (int o = 0; o < s.nobject && objs[k] < 0; o++)

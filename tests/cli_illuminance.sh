@@ -80,7 +80,28 @@ refused "grid of 0 cells" "--grid: expected WxH" "$dir/ball.json" --receiver flo
 refused "grid of 10^6 x 10^6 cells" "--grid: expected WxH" "$dir/ball.json" --receiver floor --grid 1000000x1000000
 refused "light out of range" "--light: .* has 1 light, no light 3" "$dir/ball.json" --receiver floor --light 3
 refused "unknown method" "--method: expected grid-pencil, photons or polygons" "$dir/ball.json" --receiver floor --method rays
-refused "polygons not there yet" "--method polygons .* not implemented yet" "$dir/ball.json" --receiver floor --method polygons
+refused "polygons need planar faces" "--method polygons: .*object 'ball' is a sphere" "$dir/ball.json" --receiver floor --method polygons
+refused "polygons take no --rays" "--rays: the polygons method traces the rays its beams need" "$dir/ball.json" --receiver floor --method polygons --rays 100
+# illuminance polygons on Fig. 11: a map whose flux agrees with grid-pencil tracing's (the bench
+# measures both against a converged reference), its ledger closed
+$pencil illuminance "$(dirname "$0")/../scenes/fig11.json" --receiver "rectangle red" \
+  --receiver "rectangle green" --receiver "rectangle blue" -o "$dir/fp.exr" --grid 24x20 \
+  --method polygons --max-split 3 >/dev/null 2>"$dir/err"; rc=$?
+/usr/bin/python3 - "$dir" "$rc" <<'PY' || fail=1
+import json, sys
+d, rc = sys.argv[1], int(sys.argv[2])
+p, g = json.load(open(f"{d}/fp.json")), json.load(open(f"{d}/f.json"))
+assert rc == 0 and p["method"] == "polygons" and p["counts"]["pencils"] > 0, p
+assert abs(p["flux"]["on_map"] / g["flux"]["on_map"] - 1) < 0.01, (p["flux"], g["flux"])
+f = p["flux"]
+assert abs(f["escaped"] + f["absorbed"] - f["emitted_by_grid"]) < 1e-6 * f["emitted_by_grid"], f
+print("ok: polygons on Fig. 11: flux within 1% of grid-pencil's, ledger closed")
+PY
+# MAP.json beside MAP.exr must not replace the scene it was computed from
+cp "$dir/ball.json" "$dir/same.json"
+$pencil illuminance "$dir/same.json" --receiver floor -o "$dir/same.exr" >/dev/null 2>"$dir/err"; rc=$?
+check "an output that is the scene: exit 2, scene kept, nothing written" \
+  "[ $rc -eq 2 ] && grep -q 'is the input' '$dir/err' && cmp -s '$dir/ball.json' '$dir/same.json' && [ ! -e '$dir/same.exr' ] && [ ! -e '$dir/same.png' ]"
 refused "missing receiver" "missing --receiver NAME" "$dir/ball.json"
 # a receiver no light can reach: the floor under an opaque slab
 cat >"$dir/dark.json" <<'JSON'

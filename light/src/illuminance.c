@@ -11,6 +11,7 @@
 #include <omp.h>
 #endif
 
+#include "beam/beam.h"
 #include "core/image.h"
 #include "core/intersect.h"
 #include "internal.h"
@@ -26,11 +27,23 @@ int lt_method_parse(const char *name) {
     return LT_METHOD_GRID_PENCIL;
   if (strcmp(name, "photons") == 0)
     return LT_METHOD_PHOTONS;
+  if (strcmp(name, "polygons") == 0)
+    return LT_METHOD_POLYGONS;
   return -1;
 }
 
 const char *lt_method_name(lt_method_t m) {
-  return m == LT_METHOD_PHOTONS ? "photons" : "grid-pencil";
+  return m == LT_METHOD_PHOTONS ? "photons" : m == LT_METHOD_POLYGONS ? "polygons" : "grid-pencil";
+}
+
+rt_status_t lt_method_check(const rt_scene_t *s, lt_method_t m, char *why, size_t cap) {
+  if (m != LT_METHOD_POLYGONS)
+    return RT_OK;
+  bm_scene_t b;
+  rt_status_t st = bm_scene_build(s, &b, why, cap);
+  if (st == RT_OK)
+    bm_scene_free(&b);
+  return st;
 }
 
 rt_status_t lt_map_alloc(lt_map_t *m, int width, int height, double u0, double u1, double v0,
@@ -181,15 +194,7 @@ static rt_rgb_t flux_of(const lt_face_t *f, double measure, rt_rgb_t w) {
 /* The flux phi of end a at a point: a receiver end deposited as a photon (counted as one when
  * `photon`), an escape or an absorption entered in the ledger. */
 static void settle(worker_t *W, const lt_arrival_t *a, rt_rgb_t phi, int photon) {
-  double mean = (phi.r + phi.g + phi.b) / 3.0;
-  if (a->kind == LT_END_ESCAPED) {
-    W->C.st.flux_escaped += mean;
-  } else if (a->kind == LT_END_ABSORBED) {
-    W->C.st.flux_absorbed += mean;
-  } else {
-    lt__deposit_point(&W->A, a->u, a->v, phi);
-    W->C.st.photons += (uint64_t)photon;
-  }
+  lt__settle(&W->A, a, phi, photon);
 }
 
 /* ---- photons ------------------------------------------------------------------------------ */
@@ -399,9 +404,18 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     return RT_EINVAL;
   int nt = rt_thread_count(o->threads);
   size_t cells = 3 * (size_t)m->width * (size_t)m->height;
+  bm_scene_t planar = {0};
+  if (o->method == LT_METHOD_POLYGONS) {
+    char why[256];
+    rt_status_t fs = bm_scene_build(s, &planar, why, sizeof why);
+    if (fs != RT_OK)
+      return fs;
+  }
   worker_t *W = calloc((size_t)nt, sizeof *W);
-  if (!W)
+  if (!W) {
+    bm_scene_free(&planar);
     return RT_ENOMEM;
+  }
   rt_status_t status = RT_OK;
   for (int t = 0; t < nt && status == RT_OK; t++) {
     W[t].C = (lt_ctx_t){s, rt_plan_make(s, 1), rc, {0}};
@@ -432,6 +446,26 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
       double c0[2] = {0, 0}, c1[2] = {1, 0}, c2[2] = {1, 1}, c3[2] = {0, 1};
       double meas = lt__face_measure(f, c0, c1, c2) + lt__face_measure(f, c0, c2, c3);
       total.flux_emitted += meas * (f->power.r + f->power.g + f->power.b) / 3.0;
+      if (o->method == LT_METHOD_POLYGONS) {
+        const int T = LT_POLYGON_TILES;
+        int done = 0;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+        for (int t = 0; t < T * T; t++) {
+          int me = 0;
+#ifdef _OPENMP
+          me = omp_get_thread_num();
+#endif
+          int i = t % T, j = t / T;
+          double box[4] = {f->hx * (2.0 * i / T - 1), f->hx * (2.0 * (i + 1) / T - 1),
+                           f->hy * (2.0 * j / T - 1), f->hy * (2.0 * (j + 1) / T - 1)};
+          lt__polygons_tile(&W[me].C, &W[me].A, o, &planar, f, box);
+          if (o->progress) {
+#pragma omp critical(lt_progress)
+            o->progress(o->progress_ctx, ++done, T * T);
+          }
+        }
+        continue;
+      }
       int rows = o->method == LT_METHOD_PHOTONS ? side : side - 1;
       if (o->method == LT_METHOD_GRID_PENCIL) {
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
@@ -479,6 +513,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
   for (int t = 0; t < nt; t++)
     free(W[t].A.flux);
   free(W);
+  bm_scene_free(&planar);
   total.seconds = wall_seconds() - t0;
   if (st)
     *st = total;

@@ -69,6 +69,10 @@ typedef struct {
 /** Trace a light ray and collect its tree's arrivals on the receiver (out->n set). */
 void lt__trace(lt_ctx_t *C, const rt_ray_t *ray, lt_arrivals_t *out);
 
+/** lt__trace() for a ray that is already generation `depth` of its tree and carries weight w
+ *  (a beam's ray after its path; the arrivals' weights include w). */
+void lt__trace_from(lt_ctx_t *C, const rt_ray_t *ray, rt_rgb_t w, int depth, lt_arrivals_t *out);
+
 /** A thread's accumulation: flux per cell (R, G, B). */
 typedef struct {
   const lt_map_t *m;
@@ -79,8 +83,29 @@ typedef struct {
 /** Deposit flux `phi` at (u, v) (a photon). */
 void lt__deposit_point(lt_accum_t *A, double u, double v, rt_rgb_t phi);
 
+/** Deposit flux `phi` spread evenly over the convex receiver polygon uv[0 .. n-1] (a fan of
+ *  triangles, each with its share of the area). */
+void lt__deposit_polygon(lt_accum_t *A, const double (*uv)[2], int n, rt_rgb_t phi);
+
+/** Deposit the illuminance of a polygon by Gouraud interpolation (the 1989 paper's illuminance
+ *  polygons): the fan of triangles (c, uv[k], uv[k+1]) of the convex receiver polygon uv[0 ..
+ *  n-1] about c, E linear over each from ec at c and e[k] at the vertices, times colour w; each
+ *  cell takes the exact integral over its part. The flux deposited is the integral of E. */
+void lt__deposit_gouraud(lt_accum_t *A, const double (*uv)[2], const double *e, int n,
+                         const double c[2], double ec, rt_rgb_t w);
+
+/** Settle the flux phi of end a: a receiver end deposited at its point (counted as a photon when
+ *  `photon`), an escape or an absorption entered in the ledger of A->st. */
+void lt__settle(lt_accum_t *A, const lt_arrival_t *a, rt_rgb_t phi, int photon);
+
 /** Deposit flux `phi` spread evenly over the receiver triangle (u, v)[3] (exact coverage of the
  *  cells); a triangle of zero area deposits at its centroid. */
 void lt__deposit_triangle(lt_accum_t *A, const double uv[3][2], rt_rgb_t phi);
+
+/** The illuminance polygons of one tile of a grid face: the beams of parameter square
+ *  [x0, x1] x [y0, y1] (tangents for a point light, positions across a parallel beam; the face's
+ *  own units) traced through the planar faces `faces` (a bm_scene_t), deposited in A. */
+void lt__polygons_tile(lt_ctx_t *C, lt_accum_t *A, const lt_options_t *o, const void *faces,
+                       const lt_face_t *f, const double box[4]);
 
 #endif

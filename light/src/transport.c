@@ -58,3 +58,11 @@ void lt__trace(lt_ctx_t *C, const rt_ray_t *ray, lt_arrivals_t *out) {
   for (int k = 0; k < out->n; k++)
     C->st.arrivals += out->a[k].kind == LT_END_RECEIVER;
 }
+
+void lt__trace_from(lt_ctx_t *C, const rt_ray_t *ray, rt_rgb_t w, int depth, lt_arrivals_t *out) {
+  out->n = 0;
+  C->st.rays++;
+  trace(C, ray, w, depth, 0x5eed, out);
+  for (int k = 0; k < out->n; k++)
+    C->st.arrivals += out->a[k].kind == LT_END_RECEIVER;
+}

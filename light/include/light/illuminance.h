@@ -8,7 +8,10 @@
  *  - grid-pencil tracing (1989 section 2.2.3): the same grid, every two neighbouring rays and a
  *    diagonal one the edges of a pencil whose triangle on the receiver carries the pencil's flux
  *    (Eq. 7: E = t_r I delta omega0 / delta S); triangles whose edge rays do not follow the same
- *    path are divided, down to a limit below which their rays count as photons.
+ *    path are divided, down to a limit below which their rays count as photons;
+ *  - polygons: pencil tracing of polyhedra (1987 section 4.2, 1989 section 2.2.2): the light's
+ *    beams cut at the edges of the planar faces they meet (beam/beam.h) and carried through
+ *    them by system matrices; a piece on the receiver is an illuminance polygon x'_i = B xi_i.
  * The receiver is a plane object or polygons in one plane; a cell (i, j) of a W x H map covers [u0
  * + i du, u0 + (i+1) du] x [v0 + j dv, v0 + (j+1) dv] in the receiver's coordinates
  * (lt_receiver_t). E is flux per unit area in the scene's units (a parallel light of intensity I
@@ -27,12 +30,21 @@
 
 typedef enum {
   LT_METHOD_GRID_PENCIL = 0, /**< grid-pencil tracing (default) */
-  LT_METHOD_PHOTONS = 1      /**< backward ray tracing: photon counting */
+  LT_METHOD_PHOTONS = 1,     /**< backward ray tracing: photon counting */
+  LT_METHOD_POLYGONS = 2     /**< pencil tracing of polyhedra: illuminance polygons */
 } lt_method_t;
 
-/** "grid-pencil" / "photons"; -1 for another name. */
+/** "grid-pencil" / "photons" / "polygons"; -1 for another name. */
 int lt_method_parse(const char *name);
 const char *lt_method_name(lt_method_t m);
+
+/** RT_OK when method m can trace scene s; RT_EINVAL with the reason in why[cap] otherwise (the
+ *  polygons method needs planar faces: a sphere is refused by name). */
+rt_status_t lt_method_check(const rt_scene_t *s, lt_method_t m, char *why, size_t cap);
+
+/** The polygons method starts from LT_POLYGON_TILES x LT_POLYGON_TILES beams per grid face of a
+ *  light (the units of work shared among threads). */
+#define LT_POLYGON_TILES 8
 
 /** The map: W x H cells over [u0, u1] x [v0, v1] of the receiver's texture coordinates; e holds
  *  3 W H values, R, G, B of cell (i, j) at 3 (j W + i). */
@@ -72,8 +84,10 @@ rt_status_t lt_receiver_make(const rt_scene_t *s, const int *obj, int n, lt_rece
 typedef struct {
   lt_method_t method;
   int light;          /**< index of the one light to trace, or -1 for all */
-  int side;           /**< rays per side of the source's grid (side x side per grid face), >= 2 */
-  int max_split;      /**< grid-pencil: times a pencil may be divided (each into four) */
+  int side;           /**< rays per side of the source's grid (side x side per grid face), >= 2;
+                           not used by the polygons method */
+  int max_split;      /**< grid-pencil: times a pencil may be divided (each into four); polygons:
+                           a beam may be halved 2 x max_split times along its path */
   double linear_tol;  /**< grid-pencil: a pencil near the map is divided when an edge's midpoint
                            ray lands more than this many cells off the midpoint of its corners'
                            landings (0: no test, the 1989 paper's plain grid-pencil tracing) */
