@@ -1,6 +1,7 @@
 /* test_io.c -- io/: the OpenEXR writer read back through OpenEXRCore (exr_start_read), the PNG
  * preview read back through libpng, the scene files of scenes/ (fig8.json is the built-in
  * scene), and the JSON line locator behind the loader's error messages. */
+#include <jansson.h>
 #include <math.h>
 #include <openexr.h>
 #include <png.h>
@@ -82,6 +83,35 @@ static void exr_round_trip(void **state) {
   assert_non_null(strstr(err, "no channel 'nope'"));
   remove(path);
   rt_image_free(&img);
+}
+
+/* Debian 12's OpenEXRCore stores a ZIP chunk whose zlib output is exactly as long as its input
+ * as if it were uncompressed, and it reads back as garbage (upstream issue 2306). The 16 rows of
+ * 128 floats in tests/data/zip_equal_chunk.f32 are such a chunk (from an illuminance map, the
+ * first time it happened); the writer reads every file back and writes it again uncompressed
+ * when it does not read back bit for bit. */
+static void exr_zip_equal_size_chunk_reads_back(void **state) {
+  (void)state;
+  char src[600], path[512], jpath[512], err[512];
+  snprintf(src, sizeof src, "%s/tests/data/zip_equal_chunk.f32", PENCIL_SOURCE_DIR);
+  static float v[128 * 16], back[128 * 16];
+  FILE *f = fopen(src, "rb");
+  assert_non_null(f);
+  assert_int_equal(fread(v, sizeof v[0], 128 * 16, f), 128 * 16);
+  fclose(f);
+  temp_path(path, sizeof path, "zip.exr");
+  temp_path(jpath, sizeof jpath, "zip.json");
+  const io_exr_channel_t ch = {"E", v};
+  json_t *summary = json_object();
+  assert_int_equal(
+      io_map_write(path, 128, 16, &ch, 1, NULL, NULL, 0, jpath, summary, err, sizeof err), 0);
+  json_decref(summary);
+  int w = 0, h = 0;
+  assert_int_equal(io_exr_read_channel(path, "E", back, &w, &h, err, sizeof err), 0);
+  assert_int_equal(w * h, 128 * 16);
+  assert_memory_equal(back, v, sizeof v);
+  remove(path);
+  remove(jpath);
 }
 
 static void exr_unwritable_path_reports_error(void **state) {
@@ -217,6 +247,7 @@ static void missing_scene_file_named(void **state) {
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(exr_round_trip),
+      cmocka_unit_test(exr_zip_equal_size_chunk_reads_back),
       cmocka_unit_test(exr_unwritable_path_reports_error),
       cmocka_unit_test(png_preview_is_srgb),
       cmocka_unit_test(scene_files_load),

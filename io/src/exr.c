@@ -5,6 +5,7 @@
  * recomputed from the checkerboard coordinates of each pixel's centre ray). */
 #include <openexr.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "image_io_impl.h"
@@ -56,7 +57,7 @@ static const float *channel_named(const chans_t *c, const char *name) {
 
 /* Define the part: window, compression, channels, attributes and provenance. */
 static exr_result_t define_part(exr_context_t ctx, const chans_t *c, const io_attr_t *attrs,
-                                int nattrs) {
+                                int nattrs, exr_compression_t compression) {
   int part;
   const io_provenance_t *p = io_provenance();
   const io_attr_t prov[] = {{"pencil:version", p->version},
@@ -65,7 +66,7 @@ static exr_result_t define_part(exr_context_t ctx, const chans_t *c, const io_at
                             {"pencil:date", p->date}};
   exr_result_t rv = exr_add_part(ctx, "render", EXR_STORAGE_SCANLINE, &part);
   if (rv == EXR_ERR_SUCCESS)
-    rv = exr_initialize_required_attr_simple(ctx, part, c->width, c->height, EXR_COMPRESSION_ZIP);
+    rv = exr_initialize_required_attr_simple(ctx, part, c->width, c->height, compression);
   for (int k = 0; k < RT_CH_COUNT && c->img && rv == EXR_ERR_SUCCESS; k++)
     rv = exr_add_channel(ctx, part, rt_channel_name((rt_channel_t)k), EXR_PIXEL_FLOAT,
                          EXR_PERCEPTUALLY_LINEAR, 1, 1);
@@ -135,6 +136,91 @@ int io_exr_write_channels_file(const char *file, const char *path, int width, in
   return write_file(file, path, (chans_t){NULL, ch, n, width, height}, attrs, nattrs, err, cap);
 }
 
+/* Write `file` once with the given compression. */
+static int write_once(const char *file, const char *path, const chans_t *c, const io_attr_t *attrs,
+                      int nattrs, exr_compression_t compression, char *err, size_t cap) {
+  exr_err_t e = {""};
+  exr_context_initializer_t init = initializer(&e);
+  exr_context_t ctx = NULL;
+  exr_result_t rv = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
+  if (rv != EXR_ERR_SUCCESS)
+    return fail(err, cap, path, &e, rv);
+  rv = define_part(ctx, c, attrs, nattrs, compression);
+  if (rv == EXR_ERR_SUCCESS)
+    rv = exr_write_header(ctx);
+  if (rv == EXR_ERR_SUCCESS)
+    rv = write_chunks(ctx, c);
+  exr_result_t fin = exr_finish(&ctx);
+  if (rv == EXR_ERR_SUCCESS)
+    rv = fin;
+  return rv == EXR_ERR_SUCCESS ? 0 : fail(err, cap, path, &e, rv);
+}
+
+/* 0 when every channel of `file` reads back bit for bit as c holds it, 1 when one does not, -1
+ * when the file cannot be read. All channels are decoded in one pass over the chunks. */
+static int read_back_differs(const char *file, const chans_t *c) {
+  exr_err_t e = {""};
+  exr_context_initializer_t init = initializer(&e);
+  exr_context_t ctx = NULL;
+  if (exr_start_read(&ctx, file, &init) != EXR_ERR_SUCCESS)
+    return -1;
+  size_t plane = (size_t)c->width * (size_t)c->height;
+  int nch = (c->img ? RT_CH_COUNT : 0) + c->nextra;
+  float *buf = malloc(plane * (size_t)nch * sizeof *buf);
+  const char **names = malloc((size_t)nch * sizeof *names);
+  int32_t lines = 0;
+  exr_result_t rv =
+      buf && names ? exr_get_scanlines_per_chunk(ctx, 0, &lines) : EXR_ERR_OUT_OF_MEMORY;
+  for (int k = 0; k < nch && names; k++)
+    names[k] = c->img && k < RT_CH_COUNT ? rt_channel_name((rt_channel_t)k)
+                                         : c->extra[k - (c->img ? RT_CH_COUNT : 0)].name;
+  exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+  int started = 0;
+  for (int y = 0; y < c->height && rv == EXR_ERR_SUCCESS; y += lines) {
+    exr_chunk_info_t ci;
+    rv = exr_read_scanline_chunk_info(ctx, 0, y, &ci);
+    int first = !started;
+    if (rv == EXR_ERR_SUCCESS && started)
+      rv = exr_decoding_update(ctx, 0, &ci, &dec);
+    else if (rv == EXR_ERR_SUCCESS &&
+             (rv = exr_decoding_initialize(ctx, 0, &ci, &dec)) == EXR_ERR_SUCCESS)
+      started = 1;
+    if (rv != EXR_ERR_SUCCESS)
+      break;
+    for (int k = 0; k < dec.channel_count; k++) {
+      exr_coding_channel_info_t *ch = &dec.channels[k];
+      int slot = -1;
+      for (int j = 0; j < nch && slot < 0; j++)
+        if (strcmp(names[j], ch->channel_name) == 0)
+          slot = j;
+      ch->user_bytes_per_element = 4;
+      ch->user_data_type = EXR_PIXEL_FLOAT;
+      ch->user_pixel_stride = 4;
+      ch->user_line_stride = 4 * c->width;
+      ch->decode_to_ptr =
+          slot < 0 ? NULL : (uint8_t *)(buf + (size_t)slot * plane + (size_t)y * c->width);
+    }
+    if (first)
+      rv = exr_decoding_choose_default_routines(ctx, 0, &dec);
+    if (rv == EXR_ERR_SUCCESS)
+      rv = exr_decoding_run(ctx, 0, &dec);
+  }
+  if (started)
+    exr_decoding_destroy(ctx, &dec);
+  exr_finish(&ctx);
+  int result = rv == EXR_ERR_SUCCESS ? 0 : -1;
+  for (int k = 0; k < nch && result == 0; k++)
+    if (memcmp(buf + (size_t)k * plane, channel_named(c, names[k]), plane * sizeof *buf) != 0)
+      result = 1;
+  free(buf);
+  free(names);
+  return result;
+}
+
+/* Write `file` with ZIP compression and read it back: Debian 12's OpenEXRCore (3.1) stores a
+ * chunk whose zlib output is exactly as long as its input as if it were uncompressed, which
+ * reads back as garbage (upstream issue 2306, fixed in 3.4). Such a file is written again
+ * without compression, and checked again. */
 static int write_file(const char *file, const char *path, const chans_t c, const io_attr_t *attrs,
                       int nattrs, char *err, size_t cap) {
   const int nextra = c.nextra;
@@ -144,21 +230,20 @@ static int write_file(const char *file, const char *path, const chans_t c, const
       snprintf(err, cap, "%s: extra channel %d is missing or duplicates a name", path, k);
       return -1;
     }
-  exr_err_t e = {""};
-  exr_context_initializer_t init = initializer(&e);
-  exr_context_t ctx = NULL;
-  exr_result_t rv = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
-  if (rv != EXR_ERR_SUCCESS)
-    return fail(err, cap, path, &e, rv);
-  rv = define_part(ctx, &c, attrs, nattrs);
-  if (rv == EXR_ERR_SUCCESS)
-    rv = exr_write_header(ctx);
-  if (rv == EXR_ERR_SUCCESS)
-    rv = write_chunks(ctx, &c);
-  exr_result_t fin = exr_finish(&ctx);
-  if (rv == EXR_ERR_SUCCESS)
-    rv = fin;
-  return rv == EXR_ERR_SUCCESS ? 0 : fail(err, cap, path, &e, rv);
+  static const exr_compression_t tries[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_NONE};
+  for (int t = 0; t < 2; t++) {
+    if (write_once(file, path, &c, attrs, nattrs, tries[t], err, cap) != 0)
+      return -1;
+    int d = read_back_differs(file, &c);
+    if (d == 0)
+      return 0;
+    if (d < 0) {
+      snprintf(err, cap, "%s: OpenEXR: the file just written cannot be read back", path);
+      return -1;
+    }
+  }
+  snprintf(err, cap, "%s: OpenEXR: the file just written does not read back as written", path);
+  return -1;
 }
 
 int io_exr_write(const char *path, const rt_image_t *img, const io_exr_channel_t *extra, int nextra,
