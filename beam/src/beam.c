@@ -292,15 +292,39 @@ static int boxes_meet(const double a[4], const double b[4]) {
 /* Project face f; 0 when no part of it is ahead, -1 when it cannot be projected. */
 static int project_face(const bm_scene_t *b, const bm_source_t *src, const bm_model_t *m,
                         const bm_face_t *f, const px_poly2_t *region, px_poly2_t *out) {
-  if (f->count == 0) { /* a plane: every ray of the region that meets it ahead */
-    double c[2];
-    px_vec3_t x;
-    double s;
-    if (px_poly2_centroid(region, c) != PX_OK ||
-        bm_model_hit(m, src, c, f->n, f->d, &x, &s) != PX_OK)
-      return 0;
-    *out = *region;
-    return 1;
+  if (f->count == 0) {
+    /* a plane: the rays of the region that go towards it, n . dir(p) of the sign that brings the
+     * origin nearer, a half-plane of parameters since dir(p) is linear in p (z + a x + b y for an
+     * apex; the paraxial d + F H (p - pc) after faces; constant for a parallel root) */
+    px_vec3_t o = m->root ? src->o : m->o;
+    double side = px_v3_dot(f->n, o) - f->d;
+    if (side == 0.0)
+      return 0;        /* the origin lies in the plane */
+    double c0, ca, cb; /* n . dir(p) = c0 + ca p0 + cb p1 */
+    if (m->root && src->parallel) {
+      c0 = px_v3_dot(f->n, src->z);
+      ca = cb = 0.0;
+    } else if (m->root) {
+      c0 = px_v3_dot(f->n, src->z);
+      ca = px_v3_dot(f->n, src->x);
+      cb = px_v3_dot(f->n, src->y);
+    } else {
+      double k1 = px_v3_dot(f->n, m->f.x1), k2 = px_v3_dot(f->n, m->f.x2);
+      ca = k1 * m->h.m[0][0] + k2 * m->h.m[1][0];
+      cb = k1 * m->h.m[0][1] + k2 * m->h.m[1][1];
+      c0 = px_v3_dot(f->n, m->d) - ca * m->pc[0] - cb * m->pc[1];
+    }
+    /* towards the plane: side * (n . dir) < 0 */
+    if (ca == 0.0 && cb == 0.0) {
+      if (!(side * c0 < 0.0))
+        return 0;
+      *out = *region;
+      return 1;
+    }
+    double sg = side > 0 ? 1.0 : -1.0;
+    if (px_poly2_split(region, sg * ca, sg * cb, -sg * c0, out, NULL) != PX_OK)
+      return -1;
+    return out->n >= 3 ? 1 : 0;
   }
   /* clip to the half-space ahead of the origin: (v - o) . a >= eps */
   px_vec3_t o = m->root ? src->o : m->o, a = m->root ? src->z : m->d;
