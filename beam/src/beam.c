@@ -295,16 +295,31 @@ static int project_face(const bm_scene_t *b, const bm_source_t *src, const bm_mo
   if (f->count == 0) {
     /* a plane: the rays of the region that go towards it, n . dir(p) of the sign that brings the
      * origin nearer, a half-plane of parameters since dir(p) is linear in p (z + a x + b y for an
-     * apex; the paraxial d + F H (p - pc) after faces; constant for a parallel root) */
+     * apex; the paraxial d + F H (p - pc) after faces, from one origin to first order; for a
+     * parallel root the origin moves instead) */
     px_vec3_t o = m->root ? src->o : m->o;
     double side = px_v3_dot(f->n, o) - f->d;
-    if (side == 0.0)
-      return 0;        /* the origin lies in the plane */
     double c0, ca, cb; /* n . dir(p) = c0 + ca p0 + cb p1 */
     if (m->root && src->parallel) {
-      c0 = px_v3_dot(f->n, src->z);
-      ca = cb = 0.0;
-    } else if (m->root) {
+      /* each ray starts at o + a x + b y: it meets the plane ahead when its own start's side
+       * and n . z have opposite signs, again a half-plane */
+      double cz = px_v3_dot(f->n, src->z);
+      if (cz == 0.0)
+        return 0;
+      double nx = px_v3_dot(f->n, src->x) * cz, ny = px_v3_dot(f->n, src->y) * cz;
+      if (nx == 0.0 && ny == 0.0) {
+        if (!(side * cz < 0.0))
+          return 0;
+        *out = *region;
+        return 1;
+      }
+      if (px_poly2_split(region, nx, ny, -side * cz, out, NULL) != PX_OK)
+        return -1;
+      return out->n >= 3 ? 1 : 0;
+    }
+    if (side == 0.0)
+      return 0; /* the origin lies in the plane */
+    if (m->root) {
       c0 = px_v3_dot(f->n, src->z);
       ca = px_v3_dot(f->n, src->x);
       cb = px_v3_dot(f->n, src->y);

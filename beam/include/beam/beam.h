@@ -19,7 +19,7 @@
  * transfer to the point's own depth, inverted), which maps a face's vertices into the parameter
  * plane (the paper's "polygon edges mapped into xi-space by B^-1"). Before the first face the map
  * is exact: a central or parallel projection. Where the linear model is not good enough the caller
- * divides the beam: bm_vertex_error() measures it against exact tracing.
+ * divides the beam, measuring the model against exact tracing (bm_exact()).
  *
  * Prefix bm_. Above core/ (the scene) and libparaxial (matrices, polygons). */
 #ifndef BEAM_BEAM_H
@@ -116,7 +116,9 @@ px_status_t bm_exact(const bm_scene_t *b, const bm_source_t *src, const bm_path_
 px_status_t bm_project(const bm_model_t *m, const bm_source_t *src, px_vec3_t v, double p[2]);
 
 /** Where the paraxial ray of parameters p meets the plane n . x = dd (the exact ray for the
- *  root); its distance along the axial direction in *s. PX_EMISS when it does not meet it ahead. */
+ *  root); its depth in *s: along the axial direction after faces, along the source's z for the
+ *  root (comparable between faces on one ray either way). PX_EMISS when it does not meet it
+ *  ahead. */
 px_status_t bm_model_hit(const bm_model_t *m, const bm_source_t *src, const double p[2],
                          px_vec3_t n, double dd, px_vec3_t *x, double *s);
 
