@@ -405,19 +405,19 @@ int cmd_illuminance(int argc, char **argv) {
     if (a.light < 0 || l == a.light)
       json_array_append_new(lights, json_integer(l));
   json_t *root = json_pack(
-      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:i, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
+      "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:o, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
       "s:I, "
       "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
-      lights, "rays_per_side", o.side, "max_split", o.max_split, "linear_tol", o.linear_tol,
-      "uniform_tol", o.uniform_tol, "counts", "rays", (json_int_t)st.rays, "segments",
-      (json_int_t)st.segments, "arrivals", (json_int_t)st.arrivals, "pencils",
-      (json_int_t)st.pencils, "divided", (json_int_t)st.divided, "nonlinear",
-      (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost", (json_int_t)st.lost,
-      "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map, "on_receiver_outside",
-      st.flux_outside, "escaped", st.flux_escaped, "absorbed", st.flux_absorbed, "seconds",
-      st.seconds, "cpu_seconds", cpu, "units",
+      lights, "rays_per_side", o.method == LT_METHOD_POLYGONS ? json_null() : json_integer(o.side),
+      "max_split", o.max_split, "linear_tol", o.linear_tol, "uniform_tol", o.uniform_tol, "counts",
+      "rays", (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals",
+      (json_int_t)st.arrivals, "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided,
+      "nonlinear", (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost",
+      (json_int_t)st.lost, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
+      "on_receiver_outside", st.flux_outside, "escaped", st.flux_escaped, "absorbed",
+      st.flux_absorbed, "seconds", st.seconds, "cpu_seconds", cpu, "units",
       "E in the scene's units (mean of R, G, B): intensity over length squared");
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,

@@ -92,6 +92,7 @@ import json, sys
 d, rc = sys.argv[1], int(sys.argv[2])
 p, g = json.load(open(f"{d}/fp.json")), json.load(open(f"{d}/f.json"))
 assert rc == 0 and p["method"] == "polygons" and p["counts"]["pencils"] > 0, p
+assert p["rays_per_side"] is None and isinstance(g["rays_per_side"], int), p
 assert abs(p["flux"]["on_map"] / g["flux"]["on_map"] - 1) < 0.01, (p["flux"], g["flux"])
 f = p["flux"]
 assert abs(f["escaped"] + f["absorbed"] - f["emitted_by_grid"]) < 1e-6 * f["emitted_by_grid"], f
