@@ -38,6 +38,20 @@ static double point_cell(const lt_map_t *m, int i, int j, double lx, double ly, 
   return sum / 256.0;
 }
 
+/* A bare floor under a parallel light of intensity 2 at 30 degrees from the normal. */
+static void load_parallel_floor(rt_scene_t *s) {
+  char json[1024];
+  snprintf(json, sizeof json,
+           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+           " \"materials\": {\"white\": {\"kd\": 0.8}},"
+           " \"lights\": [{\"type\": \"parallel\", \"direction\": [0.5, %.17g, 0], "
+           "\"intensity\": 2}],"
+           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
+           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
+           -sqrt(0.75));
+  load(json, s);
+}
+
 /* The receiver of object 0 (the floor in every scene here). */
 static lt_receiver_t receiver0(const rt_scene_t *s) {
   lt_receiver_t r;
@@ -93,16 +107,7 @@ static void bare_floor_inverse_square(void **state) {
 static void parallel_light_cosine(void **state) {
   (void)state;
   rt_scene_t s;
-  char json[1024];
-  snprintf(json, sizeof json,
-           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
-           " \"materials\": {\"white\": {\"kd\": 0.8}},"
-           " \"lights\": [{\"type\": \"parallel\", \"direction\": [0.5, %.17g, 0], "
-           "\"intensity\": 2}],"
-           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
-           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
-           -sqrt(0.75));
-  load(json, &s);
+  load_parallel_floor(&s);
   lt_receiver_t floor_rc = receiver0(&s);
   lt_map_t m;
   assert_int_equal(lt_map_alloc(&m, 16, 16, -1, 1, -1, 1), RT_OK);
@@ -203,16 +208,7 @@ static void polygons_inverse_square_and_cosine(void **state) {
   o.uniform_tol = 0.02;
   lt_map_free(&g);
   rt_scene_free(&s);
-  char json[1024];
-  snprintf(json, sizeof json,
-           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
-           " \"materials\": {\"white\": {\"kd\": 0.8}},"
-           " \"lights\": [{\"type\": \"parallel\", \"direction\": [0.5, %.17g, 0], "
-           "\"intensity\": 2}],"
-           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
-           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
-           -sqrt(0.75));
-  load(json, &s);
+  load_parallel_floor(&s);
   floor_rc = receiver0(&s);
   assert_int_equal(lt_map_alloc(&g, 16, 16, -1, 1, -1, 1), RT_OK);
   assert_int_equal(lt_illuminance(&s, &floor_rc, &o, &g, NULL), RT_OK);

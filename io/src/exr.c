@@ -156,6 +156,9 @@ static int write_once(const char *file, const char *path, const chans_t *c, cons
   return rv == EXR_ERR_SUCCESS ? 0 : fail(err, cap, path, &e, rv);
 }
 
+static exr_result_t read_chunks(exr_context_t ctx, const char *const *names, float *const *outs,
+                                int n, int width, exr_attr_box2i_t dw, int *found);
+
 /* 0 when every channel of `file` reads back bit for bit as c holds it, 1 when one does not, -1
  * when the file cannot be read. All channels are decoded in one pass over the chunks. */
 static int read_back_differs(const char *file, const chans_t *c) {
@@ -167,53 +170,28 @@ static int read_back_differs(const char *file, const chans_t *c) {
   size_t plane = (size_t)c->width * (size_t)c->height;
   int nch = (c->img ? RT_CH_COUNT : 0) + c->nextra;
   float *buf = malloc(plane * (size_t)nch * sizeof *buf);
-  const char **names = malloc((size_t)nch * sizeof *names);
-  int32_t lines = 0;
+  const char **names = calloc((size_t)nch, sizeof *names);
+  float **outs = calloc((size_t)nch, sizeof *outs);
+  int *found = calloc((size_t)nch, sizeof *found);
+  exr_attr_box2i_t dw;
   exr_result_t rv =
-      buf && names ? exr_get_scanlines_per_chunk(ctx, 0, &lines) : EXR_ERR_OUT_OF_MEMORY;
-  for (int k = 0; k < nch && names; k++)
+      buf && names && outs && found ? exr_get_data_window(ctx, 0, &dw) : EXR_ERR_OUT_OF_MEMORY;
+  for (int k = 0; k < nch && rv == EXR_ERR_SUCCESS; k++) {
     names[k] = c->img && k < RT_CH_COUNT ? rt_channel_name((rt_channel_t)k)
                                          : c->extra[k - (c->img ? RT_CH_COUNT : 0)].name;
-  exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
-  int started = 0;
-  for (int y = 0; y < c->height && rv == EXR_ERR_SUCCESS; y += lines) {
-    exr_chunk_info_t ci;
-    rv = exr_read_scanline_chunk_info(ctx, 0, y, &ci);
-    int first = !started;
-    if (rv == EXR_ERR_SUCCESS && started)
-      rv = exr_decoding_update(ctx, 0, &ci, &dec);
-    else if (rv == EXR_ERR_SUCCESS &&
-             (rv = exr_decoding_initialize(ctx, 0, &ci, &dec)) == EXR_ERR_SUCCESS)
-      started = 1;
-    if (rv != EXR_ERR_SUCCESS)
-      break;
-    for (int k = 0; k < dec.channel_count; k++) {
-      exr_coding_channel_info_t *ch = &dec.channels[k];
-      int slot = -1;
-      for (int j = 0; j < nch && slot < 0; j++)
-        if (strcmp(names[j], ch->channel_name) == 0)
-          slot = j;
-      ch->user_bytes_per_element = 4;
-      ch->user_data_type = EXR_PIXEL_FLOAT;
-      ch->user_pixel_stride = 4;
-      ch->user_line_stride = 4 * c->width;
-      ch->decode_to_ptr =
-          slot < 0 ? NULL : (uint8_t *)(buf + (size_t)slot * plane + (size_t)y * c->width);
-    }
-    if (first)
-      rv = exr_decoding_choose_default_routines(ctx, 0, &dec);
-    if (rv == EXR_ERR_SUCCESS)
-      rv = exr_decoding_run(ctx, 0, &dec);
+    outs[k] = buf + (size_t)k * plane;
   }
-  if (started)
-    exr_decoding_destroy(ctx, &dec);
+  if (rv == EXR_ERR_SUCCESS)
+    rv = read_chunks(ctx, names, outs, nch, c->width, dw, found);
   exr_finish(&ctx);
   int result = rv == EXR_ERR_SUCCESS ? 0 : -1;
   for (int k = 0; k < nch && result == 0; k++)
-    if (memcmp(buf + (size_t)k * plane, channel_named(c, names[k]), plane * sizeof *buf) != 0)
+    if (!found[k] || memcmp(outs[k], channel_named(c, names[k]), plane * sizeof *buf) != 0)
       result = 1;
   free(buf);
   free(names);
+  free(outs);
+  free(found);
   return result;
 }
 
@@ -258,8 +236,10 @@ int io_exr_write(const char *path, const rt_image_t *img, const io_exr_channel_t
   return io_atomic_commit(&a, err, cap);
 }
 
-static exr_result_t read_chunks(exr_context_t ctx, const char *name, float *out, int width,
-                                exr_attr_box2i_t dw, int *found) {
+/* Decode every chunk once, channel names[k] into outs[k] (width x the window's height, row-major)
+ * for k < n; found[k] set to 1 for each channel the file has. */
+static exr_result_t read_chunks(exr_context_t ctx, const char *const *names, float *const *outs,
+                                int n, int width, exr_attr_box2i_t dw, int *found) {
   int32_t lines;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
   exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
@@ -275,17 +255,23 @@ static exr_result_t read_chunks(exr_context_t ctx, const char *name, float *out,
       started = 1;
     if (rv != EXR_ERR_SUCCESS)
       break;
+    int any = 0;
     for (int c = 0; c < dec.channel_count; c++) {
       exr_coding_channel_info_t *ch = &dec.channels[c];
-      int want = strcmp(ch->channel_name, name) == 0;
-      *found |= want;
+      int slot = -1;
+      for (int k = 0; k < n && slot < 0; k++)
+        if (strcmp(ch->channel_name, names[k]) == 0)
+          slot = k;
+      if (slot >= 0)
+        found[slot] = any = 1;
       ch->user_bytes_per_element = 4;
       ch->user_data_type = EXR_PIXEL_FLOAT;
       ch->user_pixel_stride = 4;
       ch->user_line_stride = 4 * width;
-      ch->decode_to_ptr = want ? (uint8_t *)(out + (size_t)(y - dw.min.y) * width) : NULL;
+      ch->decode_to_ptr =
+          slot >= 0 ? (uint8_t *)(outs[slot] + (size_t)(y - dw.min.y) * width) : NULL;
     }
-    if (!*found)
+    if (!any)
       break;
     if (first)
       rv = exr_decoding_choose_default_routines(ctx, 0, &dec);
@@ -312,7 +298,7 @@ int io_exr_read_channel(const char *path, const char *name, float *out, int *wid
     *width = dw.max.x - dw.min.x + 1;
     *height = dw.max.y - dw.min.y + 1;
     if (out)
-      rv = read_chunks(ctx, name, out, *width, dw, &found);
+      rv = read_chunks(ctx, &name, &out, 1, *width, dw, &found);
   }
   exr_finish(&ctx);
   if (rv != EXR_ERR_SUCCESS)
