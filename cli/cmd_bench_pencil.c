@@ -342,7 +342,8 @@ static int run(const args_t *a) {
   }
   /* check the JSON path first, so that an unwritable path fails before minutes of rendering */
   char err[1024];
-  if (a->json && io_output_check(a->json, err, sizeof err) != 0) {
+  if (a->json && (io_output_check(a->json, err, sizeof err) != 0 ||
+                  (a->scene && io_output_not_input(a->json, a->scene, err, sizeof err) != 0))) {
     fprintf(stderr, "pencil bench pencil: %s\n", err);
     rt_scene_free(&s);
     return CLI_FAIL;

@@ -84,5 +84,12 @@ check "bench pencil --help exits 0 with usage" "[ $rc -eq 0 ] && grep -q 'usage:
 $pencil bench --help >"$tmp/help"; rc=$?
 check "bench --help lists the pencil benchmark" "[ $rc -eq 0 ] && grep -q 'pencil ' '$tmp/help'"
 
+# --json naming the scene itself: refused before any work, the scene kept
+src=$(dirname "$0")/../scenes/fig11.json
+cp "$src" "$tmp/scene.json"
+$pencil bench pencil "$tmp/scene.json" --size 8x8 --json "$tmp/scene.json" >/dev/null 2>"$tmp/err"; rc=$?
+check "--json that is the scene: exit 1, says so, scene kept" \
+  "[ $rc -eq 1 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src' '$tmp/scene.json'"
+
 [ $fail -eq 0 ] && echo "cli_bench_pencil: all passed" || echo "cli_bench_pencil: FAILED"
 exit $fail
