@@ -234,6 +234,29 @@ static void json_locator_finds_lines(void **state) {
   assert_int_equal(io_json_locate(t, strlen(t), p1, 0), 1);
 }
 
+/* A point light's "falloff": absent or "none" is the textbook's model, "inverse-square" the
+ * physical one (the refusals are in scenes_bad/). */
+static void light_falloff_key(void **state) {
+  (void)state;
+  static const char json[] =
+      "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+      " \"lights\": [{\"type\": \"point\", \"position\": [0, 5, 0]},"
+      "  {\"type\": \"point\", \"position\": [0, 5, 0], \"falloff\": \"none\"},"
+      "  {\"type\": \"point\", \"position\": [0, 5, 0], \"falloff\": \"inverse-square\"},"
+      "  {\"type\": \"parallel\", \"direction\": [0, -1, 0]}],"
+      " \"objects\": []}";
+  rt_scene_t s;
+  char err[512];
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load_buffer("f.json", json, strlen(json), &s, err, sizeof err), 0);
+  assert_int_equal(s.nlight, 4);
+  assert_int_equal(s.light[0].falloff, RT_FALLOFF_NONE);
+  assert_int_equal(s.light[1].falloff, RT_FALLOFF_NONE);
+  assert_int_equal(s.light[2].falloff, RT_FALLOFF_INVERSE_SQUARE);
+  assert_int_equal(s.light[3].falloff, RT_FALLOFF_NONE);
+  rt_scene_free(&s);
+}
+
 static void missing_scene_file_named(void **state) {
   (void)state;
   char err[512];
@@ -248,6 +271,7 @@ int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(exr_round_trip),
       cmocka_unit_test(exr_zip_equal_size_chunk_reads_back),
+      cmocka_unit_test(light_falloff_key),
       cmocka_unit_test(exr_unwritable_path_reports_error),
       cmocka_unit_test(png_preview_is_srgb),
       cmocka_unit_test(scene_files_load),

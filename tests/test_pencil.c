@@ -323,8 +323,8 @@ static void guard_catches_small_objects(void **state) {
   assert_true(pt_guard_cone(&ahead, 1, p, 0.0, z, NAN, 1));   /* an unknown spread fires */
   /* shadow rays from within 0.1 of the origin to a light at (0, 0, 10): an occluder smaller than
    * the gap between the traced points fires, a larger one or one beside the rays does not */
-  rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 10}, {1, 1, 1}};
-  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, 0, -1}, {1, 1, 1}};
+  rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 10}, {1, 1, 1}, RT_FALLOFF_NONE};
+  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, 0, -1}, {1, 1, 1}, RT_FALLOFF_NONE};
   pt_bsphere_t tiny = {px_vec3(0.02, 0, 5), 0.01, 7}, wide = {px_vec3(0.1, 0, 5), 1.0, 7};
   pt_bsphere_t aside = {px_vec3(3, 0, 5), 0.01, 7}, past = {px_vec3(0, 0, -3), 0.01, 7};
   assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &lamp, 1));
@@ -480,6 +480,47 @@ static void pencil_image_matches_exact(void **state) {
   st = fx_pencil_stats(&s, 2, 1, &o);
   assert_int_equal(st.within, st.measured);
   assert_int_equal(st.mismatches, 0);
+  rt_scene_free(&s);
+}
+
+/* Fig. 8 lit by its light with the inverse-square fall-off (intensity 67 at unit distance: about
+ * 1 at the board, 8.2 away): the pencil image still matches the exact one as closely as without
+ * it (the same thresholds), though no node may now be interpolated as faint (pt__faint_bound has
+ * no bound for such a light), and the fall-off shows: the board's near and far ends differ from
+ * the no-fall-off image by different factors. */
+static void pencil_image_matches_exact_with_falloff(void **state) {
+  (void)state;
+  enum { W = 48, H = 48 };
+  rt_scene_t s;
+  fx_fig8(&s, W, H);
+  rt_image_t flat;
+  fx_render_exact(&s, 1, 1, &flat);
+  s.light[0].falloff = RT_FALLOFF_INVERSE_SQUARE;
+  s.light[0].intensity = rt_rgb(67, 67, 67);
+  pt_options_t o = PT_OPTIONS_DEFAULT;
+  o.rho = 0.05;
+  rt_image_t p, e;
+  pt_stats_t st;
+  fx_render_pencil(&s, 2, 1, &o, &p, NULL, &st);
+  fx_diff_t d = fx_board_difference(&s, &p, 2);
+  print_message("fall-off: %d pixels, rms %.2e, worst %.3f, %d big\n", d.n, d.rms, d.worst, d.big);
+  assert_true(d.n > W * H / 3);
+  assert_true(d.rms < 0.01);
+  assert_true(d.big <= d.n / 100);
+  assert_true(d.worst <= 0.25);
+  fx_render_exact(&s, 1, 1, &e);
+  double lo = INFINITY, hi = 0.0; /* ratio of the lit images over the board's pixels */
+  for (int k = 0; k < W * H; k++) {
+    double a = e.ch[RT_CH_R][k], b = flat.ch[RT_CH_R][k];
+    if (b > 0.2 && a > 0.0) {
+      lo = fmin(lo, a / b);
+      hi = fmax(hi, a / b);
+    }
+  }
+  assert_true(hi > 1.1 * lo);
+  rt_image_free(&p);
+  rt_image_free(&e);
+  rt_image_free(&flat);
   rt_scene_free(&s);
 }
 
@@ -918,7 +959,7 @@ static void measure_counts_diffuse_surfaces(void **state) {
                                           mg, -1, 1.0, NULL),
                        RT_OK);
     assert_int_equal(rt_scene_add_sphere(&s, px_vec3(0.0, 1.5, 0.0), 1.0, ml, &ball), RT_OK);
-    rt_light_t l = {RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1, 1, 1}};
+    rt_light_t l = {RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1, 1, 1}, RT_FALLOFF_NONE};
     rt_scene_add_light(&s, &l);
     s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.9, 0.0}, {0, 1, 0}, 40.0, 32, 32};
     assert_int_equal(rt_scene_prepare(&s), RT_OK);
@@ -1125,6 +1166,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(interpolation_error_on_board),
       cmocka_unit_test(biquadratic_cells_stay_within_rho),
       cmocka_unit_test(pencil_image_matches_exact),
+      cmocka_unit_test(pencil_image_matches_exact_with_falloff),
       cmocka_unit_test(largest_sample_grid),
       cmocka_unit_test(mirror_ball_reflections_match_exact),
       cmocka_unit_test(measure_counts_diffuse_surfaces),

@@ -216,7 +216,8 @@ static void probe_shadow(void *ctx, rt_shadow_t *q) {
   q->through = rt_rgb(0.25, 0.5, 1.0);
 }
 
-/* Ambient + diffuse with the light's transmittance, against the formula of textbook 9.1. */
+/* Ambient + diffuse with the light's transmittance, against the formula of textbook 9.1; with
+ * the inverse-square fall-off the light's term is divided by r^2. */
 static void direct_light_follows_illumination_equation(void **state) {
   (void)state;
   rt_scene_t s;
@@ -229,7 +230,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_scene_add_material(&s, &m, &mi);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
   s.ambient = rt_rgb(0.5, 0.5, 0.5);
-  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}};
+  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE};
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
@@ -251,6 +252,16 @@ static void direct_light_follows_illumination_equation(void **state) {
   c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
   assert_int_equal(probe.shadow_calls, 1);
   assert_close(c.b, 0.3 * 0.5 * 0.2 + 2 * 0.6 * 0.2 * cosl, 1e-14, 0);
+  /* the same light with the inverse-square fall-off: its term divided by r^2 = 25 */
+  s.light[0].falloff = RT_FALLOFF_INVERSE_SQUARE;
+  c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
+  assert_close(c.b, 0.3 * 0.5 * 0.2 + 2 * 0.6 * 0.2 * cosl / 25.0, 1e-14, 0);
+  rt_rgb_t two[2];
+  rt_shade_direct2(&s, &plan, &sf, sf.mat, &r, &tr, two);
+  assert_memory_equal(&two[0], &c, sizeof c); /* and the checkerboard's path agrees bit for bit */
+  /* a parallel light cannot fall off */
+  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, -1, 0}, {1, 1, 1}, RT_FALLOFF_INVERSE_SQUARE};
+  assert_int_equal(rt_scene_add_light(&s, &sun), RT_EINVAL);
   rt_scene_free(&s);
 }
 
@@ -275,9 +286,10 @@ static void two_materials_shaded_at_once_match_each_alone(void **state) {
     assert_int_equal(rt_scene_add_material(&s, &m[i], &mi[i]), RT_OK);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi[0], -1, 1, NULL);
   s.ambient = rt_rgb(0.5, 0.4, 0.3);
-  rt_light_t lights[3] = {{RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}},
-                          {RT_LIGHT_POINT, {-1, -3, 1}, {1, 1, 1}}, /* below: faced away from */
-                          {RT_LIGHT_PARALLEL, {0.3, -1, 0.2}, {0.5, 0.7, 0.9}}};
+  rt_light_t lights[3] = {
+      {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE},
+      {RT_LIGHT_POINT, {-1, -3, 1}, {1, 1, 1}, RT_FALLOFF_NONE}, /* below: faced away from */
+      {RT_LIGHT_PARALLEL, {0.3, -1, 0.2}, {0.5, 0.7, 0.9}, RT_FALLOFF_NONE}};
   for (int l = 0; l < 3; l++)
     rt_scene_add_light(&s, &lights[l]);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
@@ -326,7 +338,8 @@ static void parallel_light_and_its_shadow(void **state) {
   rt_scene_add_material(&s, &m, &mi);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
   rt_scene_add_sphere(&s, px_vec3(0, 100, 0), 1.0, mi, NULL);
-  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}}; /* normalised on adding */
+  rt_light_t l = {
+      RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}, RT_FALLOFF_NONE}; /* normalised on adding */
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);

@@ -183,6 +183,9 @@ rt_status_t rt_scene_add_light(rt_scene_t *s, const rt_light_t *l) {
     return RT_EINVAL;
   if (c.kind == RT_LIGHT_PARALLEL && px_vec3_normalize(l->v, &c.v) != PX_OK)
     return RT_EINVAL;
+  if (c.falloff != RT_FALLOFF_NONE &&
+      (c.falloff != RT_FALLOFF_INVERSE_SQUARE || c.kind != RT_LIGHT_POINT))
+    return RT_EINVAL; /* only a point light falls off */
   if (!RESERVE(s, light, nlight, 1))
     return RT_ENOMEM;
   drop_accel(s);

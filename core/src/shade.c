@@ -46,6 +46,16 @@ static px_vec3_t to_light(const rt_light_t *l, px_vec3_t p, double *dist) {
   return px_v3_scale(d, 1.0 / *dist);
 }
 
+/* The intensity light l delivers at distance dist: I_l, or I_l / dist^2 with the inverse-square
+ * fall-off (a point light only; dist > 0 wherever the light is not on the surface, which
+ * contributes nothing). Without fall-off it is I_l itself, so that such scenes shade bit for bit
+ * as before the option existed. */
+static inline rt_rgb_t intensity_at(const rt_light_t *l, double dist) {
+  if (l->falloff == RT_FALLOFF_NONE)
+    return l->intensity;
+  return rt_rgb_scale(l->intensity, 1.0 / (dist * dist));
+}
+
 /* x^n for Phong's (R.V)^n, 0 < x <= 1: by repeated squaring when n is a whole number up to 1024
  * (the usual case). Each squaring doubles the relative error it inherits and adds one rounding,
  * so x^n comes out within (n - 1) roundings, 1.2e-13 relative at n = 1024: far below the float
@@ -114,7 +124,7 @@ rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_su
     if (!(rt_rgb_max(through) > 0.0))
       continue;
     rt_rgb_t term = light_term(m, spec, sf, ray, L, ndl);
-    c = rt_rgb_add(c, rt_rgb_mul(rt_rgb_mul(through, s->light[l].intensity), term));
+    c = rt_rgb_add(c, rt_rgb_mul(rt_rgb_mul(through, intensity_at(&s->light[l], dist)), term));
   }
   return c;
 }
@@ -142,8 +152,9 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
       continue;
     for (int i = 0; i < 2; i++)
       if (lit[i])
-        out[i] = rt_rgb_add(out[i], rt_rgb_mul(rt_rgb_mul(through, s->light[l].intensity),
-                                               light_term(m[i], spec[i], sf, ray, L, ndl)));
+        out[i] =
+            rt_rgb_add(out[i], rt_rgb_mul(rt_rgb_mul(through, intensity_at(&s->light[l], dist)),
+                                          light_term(m[i], spec[i], sf, ray, L, ndl)));
   }
 }
 

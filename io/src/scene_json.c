@@ -89,9 +89,9 @@ static int parse_materials(io_parse_t *P, json_t *o) {
 }
 
 static int parse_light(io_parse_t *P, json_t *o) {
-  static const char *const keys[] = {"type", "position", "direction", "intensity", NULL};
+  static const char *const keys[] = {"type", "position", "direction", "intensity", "falloff", NULL};
   const char *type;
-  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}};
+  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}, RT_FALLOFF_NONE};
   if (!json_is_object(o))
     return io_fail(P, "expected a light object {\"type\": \"point\", ...}");
   if (!io_check_keys(P, o, keys) || !io_get_string(P, o, "type", 1, &type) ||
@@ -102,7 +102,20 @@ static int parse_light(io_parse_t *P, json_t *o) {
       return io_fail(P, "a point light has a \"position\", not a \"direction\"");
     if (!io_get_vec3(P, o, "position", 1, l.v, &l.v))
       return 0;
+    const char *falloff; /* NULL when absent: the textbook's no fall-off */
+    if (!io_get_string(P, o, "falloff", 0, &falloff))
+      return 0;
+    if (falloff && strcmp(falloff, "inverse-square") == 0) {
+      l.falloff = RT_FALLOFF_INVERSE_SQUARE;
+    } else if (falloff && strcmp(falloff, "none") != 0) {
+      io_push_key(P, "falloff");
+      io_fail(P, "unknown fall-off '%s'; expected \"none\" or \"inverse-square\"", falloff);
+      io_pop(P);
+      return 0;
+    }
   } else if (strcmp(type, "parallel") == 0) {
+    if (json_object_get(o, "falloff"))
+      return io_fail(P, "a parallel light has no \"falloff\" (it is equally bright everywhere)");
     l.kind = RT_LIGHT_PARALLEL;
     if (json_object_get(o, "position"))
       return io_fail(P, "a parallel light has a \"direction\", not a \"position\"");

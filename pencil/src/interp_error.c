@@ -102,12 +102,14 @@ double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lattice_cell_t *lc
 /* A bound on node k's brightness W_k direct_k over lattice cell lc, whatever hides the lights from
  * part of it. rt_shade_direct() adds to the ambient term ka Ia color, for each light, at most I_l
  * (kd color + ks): the cosine, the transmittance and the Phong factor are at most 1, and lights
- * have no fall-off. W_k is taken at its largest over the grid plus its interpolation error there
- * (its largest between the points). Such a node's brightness at a sample, and its bilinear
- * interpolation from the lattice cell's corners, both lie between 0 and this bound: a node faint
- * enough (a board seen after several internal reflections in the glass ball, W_k about 5e-4) may be
- * interpolated across a shadow edge, its error counted against the brightness tolerance, instead of
- * being shaded per sample with a shadow ray. */
+ * have no fall-off; a light with the inverse-square fall-off has no such bound without the
+ * surface's distance, so with one the bound is infinite and no node counts as faint. W_k is taken
+ * at its largest over the grid plus its interpolation error there (its largest between the points).
+ * Such a node's brightness at a sample, and its bilinear interpolation from the lattice cell's
+ * corners, both lie between 0 and this bound: a node faint enough (a board seen after several
+ * internal reflections in the glass ball, W_k about 5e-4) may be interpolated across a shadow edge,
+ * its error counted against the brightness tolerance, instead of being shaded per sample with a
+ * shadow ray. */
 double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
                        int k) {
   const rt_scene_t *s = C->s;
@@ -126,12 +128,14 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
   for (int m = 0; m < (n->textured ? 2 : 1); m++) {
     const rt_material_t *mt = &s->material[m ? o->material2 : o->material];
     double d = mt->ka * norm_rgb(NULL, rgb_vec(rt_rgb_mul(s->ambient, mt->color)));
-    for (int l = 0; l < s->nlight; l++)
-      d += norm_rgb(NULL, rgb_vec(s->light[l].intensity)) *
-           (mt->kd * norm_rgb(NULL, rgb_vec(mt->color)) + (spec ? mt->ks : 0.0));
+    double lit = mt->kd * norm_rgb(NULL, rgb_vec(mt->color)) + (spec ? mt->ks : 0.0);
+    for (int l = 0; l < s->nlight && lit > 0.0; l++)
+      d += s->light[l].falloff != RT_FALLOFF_NONE
+               ? INFINITY
+               : norm_rgb(NULL, rgb_vec(s->light[l].intensity)) * lit;
     dmax = px_max(dmax, d);
   }
-  return wmax * dmax;
+  return wmax > 0.0 ? wmax * dmax : 0.0;
 }
 
 /* With a Fresnel split (C->weights_vary) a node's weight W_k varies over the lattice cell, and a

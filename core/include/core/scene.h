@@ -92,12 +92,20 @@ typedef struct {
 
 typedef enum { RT_LIGHT_POINT = 0, RT_LIGHT_PARALLEL = 1 } rt_light_kind_t;
 
-/** A light. No distance fall-off (the textbook's model): a point light delivers `intensity`
- *  at any distance; a parallel light arrives everywhere from one direction. */
+/** How a point light's intensity falls off with distance in rendering. */
+typedef enum {
+  RT_FALLOFF_NONE = 0,          /**< the textbook's model: `intensity` at any distance */
+  RT_FALLOFF_INVERSE_SQUARE = 1 /**< physical: intensity / r^2, as the illuminance maps have it */
+} rt_falloff_t;
+
+/** A light. By default no distance fall-off (the textbook's model): a point light delivers
+ *  `intensity` at any distance; a parallel light arrives everywhere from one direction. A point
+ *  light may ask for the physical inverse-square fall-off instead. */
 typedef struct {
   rt_light_kind_t kind;
-  px_vec3_t v;        /**< point: position; parallel: unit direction the light travels in */
-  rt_rgb_t intensity; /**< I_l */
+  px_vec3_t v;          /**< point: position; parallel: unit direction the light travels in */
+  rt_rgb_t intensity;   /**< I_l (at unit distance with inverse-square fall-off) */
+  rt_falloff_t falloff; /**< RT_FALLOFF_NONE for a parallel light */
 } rt_light_t;
 
 /** Pinhole camera. Pixel (i, j) covers [i, i+1) x [j, j+1) in continuous pixel coordinates,
@@ -175,6 +183,8 @@ rt_status_t rt_scene_add_polygon(rt_scene_t *s, const px_vec3_t *v, int n, int m
 rt_status_t rt_scene_add_polyhedron(rt_scene_t *s, const px_vec3_t *v, int nv, const int *face_idx,
                                     const int *face_len, int nface, int material, int *object,
                                     char *why, size_t cap);
+/** Append a light (a parallel light's direction normalised). RT_EINVAL for a non-finite
+ *  position, direction or intensity, a zero direction, or a fall-off on a parallel light. */
 rt_status_t rt_scene_add_light(rt_scene_t *s, const rt_light_t *l);
 
 /** Name an object (truncated to RT_NAME_MAX - 1 characters). */
