@@ -204,6 +204,8 @@ static void fig8_file_equals_builtin(void **state) {
   assert_int_equal(rt_builtin_fig8(&b), RT_OK);
   assert_int_equal(a.spp, b.spp);
   assert_int_equal(a.max_depth, b.max_depth);
+  assert_int_equal(a.caustics, RT_CAUSTICS_OFF); /* the paper's Whitted image keeps its shadow */
+  assert_int_equal(b.caustics, RT_CAUSTICS_OFF);
   rt_image_t ia, ib;
   xr_options_t opt = XR_OPTIONS_DEFAULT;
   a.camera.width = b.camera.width = 12;

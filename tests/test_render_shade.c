@@ -450,6 +450,38 @@ static void one_child_is_the_child_of_its_kind(void **state) {
   rt_scene_free(&s);
 }
 
+/* The caustics rule: with a light, a mirror and another, diffuse object the plan names the
+ * receiver and the object the light comes through, and stays off (no renderer draws caustics
+ * yet); without a light, with nothing diffuse besides the mirror, or with the scene's "off", it
+ * says so. */
+static void plan_names_caustic_paths(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  int mirror = add_mat(&s, "mirror", 0.5, 0.0, 1.0), matte = add_mat(&s, "matte", 0, 0, 1);
+  s.material[mirror].kd = 0.0; /* a pure mirror: nothing diffuse in it */
+  int ball, floor_obj;
+  rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, mirror, &ball);
+  rt_scene_add_plane(&s, px_vec3(0, -1, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mirror, -1, 1,
+                     &floor_obj);
+  rt_scene_name_object(&s, ball, "ball");
+  rt_scene_name_object(&s, floor_obj, "floor");
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));
+  rt_light_t l = {RT_LIGHT_POINT, {0, 5, 0}, {1, 1, 1}, RT_FALLOFF_NONE};
+  assert_int_equal(rt_scene_add_light(&s, &l), RT_OK);
+  plan = rt_plan_make(&s, 1);
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));
+  s.object[floor_obj].material = matte;
+  plan = rt_plan_make(&s, 1);
+  assert_false(rt_plan_has(&plan, RT_EFFECT_CAUSTICS));
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "may reach 'floor' through 'ball'"));
+  s.caustics = RT_CAUSTICS_OFF;
+  plan = rt_plan_make(&s, 1);
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "the scene refuses them"));
+  rt_scene_free(&s);
+}
+
 /* A scene without transparent materials plans no refraction, and rendering it traces no
  * refracted ray; without mirrors either, the ray tree is one node. */
 static void plan_skips_effects_the_scene_does_not_use(void **state) {
@@ -499,6 +531,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(children_weights_fresnel_and_tir),
       cmocka_unit_test(one_child_is_the_child_of_its_kind),
       cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),
+      cmocka_unit_test(plan_names_caustic_paths),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

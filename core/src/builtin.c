@@ -34,6 +34,7 @@ static rt_status_t stage(rt_scene_t *s) {
   s->ambient = rt_rgb(1, 1, 1);
   s->background = rt_rgb(0.35, 0.55, 0.85);
   s->max_depth = 6;
+  s->caustics = RT_CAUSTICS_OFF; /* the paper's Whitted image, with the textbook's shadow */
   s->spp = 9;
   rt_material_t white = matte("white", 0.9, 0.9, 0.9), red = matte("red", 0.85, 0.12, 0.1);
   int mw, mr;

@@ -89,6 +89,58 @@ static void plan_secondary(rt_plan_t *p, const rt_scene_t *s) {
     set(p, RT_EFFECT_FRESNEL, 0, "off: no transparent material asks for it");
 }
 
+/* The object's name for a message: its own, or its index. */
+static const char *object_label(const rt_scene_t *s, int o, char *buf, size_t cap) {
+  if (s->object[o].name[0])
+    return s->object[o].name;
+  snprintf(buf, cap, "object %d", o);
+  return buf;
+}
+
+static int carries(const rt_scene_t *s, int o) { /* reflects or transmits some light */
+  const rt_object_t *ob = &s->object[o];
+  const rt_material_t *a = &s->material[ob->material];
+  const rt_material_t *b = ob->material2 >= 0 ? &s->material[ob->material2] : a;
+  return a->kr > 0.0 || a->kt > 0.0 || b->kr > 0.0 || b->kt > 0.0;
+}
+
+static int diffuse(const rt_scene_t *s, int o) {
+  const rt_object_t *ob = &s->object[o];
+  return s->material[ob->material].kd > 0.0 ||
+         (ob->material2 >= 0 && s->material[ob->material2].kd > 0.0);
+}
+
+/* Caustics: light that reaches a diffuse surface through a reflecting or transparent object (by
+ * materials: any light, any such object, any other diffuse object; geometry is the illuminance
+ * maps' business). The renderers do not shade with the maps yet (issue 25), so the plan says
+ * what it found and stays off. */
+static void plan_caustics(rt_plan_t *p, const rt_scene_t *s) {
+  if (s->caustics == RT_CAUSTICS_OFF) {
+    set(p, RT_EFFECT_CAUSTICS, 0, "off: the scene refuses them (\"caustics\": \"off\")");
+    return;
+  }
+  int via = -1, onto = -1, receivers = 0;
+  for (int o = 0; o < s->nobject && s->nlight > 0 && s->max_depth > 0; o++)
+    if (carries(s, o) && via < 0)
+      via = o;
+  for (int o = 0; o < s->nobject && via >= 0; o++)
+    if (o != via && diffuse(s, o)) {
+      receivers++;
+      if (onto < 0)
+        onto = o;
+    }
+  if (onto < 0) {
+    set(p, RT_EFFECT_CAUSTICS, 0,
+        "off: no light reaches a diffuse surface through a reflecting or transparent object");
+    return;
+  }
+  char a[32], b[32];
+  set(p, RT_EFFECT_CAUSTICS, 0,
+      "off: light may reach '%s'%s through '%s'; no renderer draws caustics yet",
+      object_label(s, onto, b, sizeof b), receivers > 1 ? " and others" : "",
+      object_label(s, via, a, sizeof a));
+}
+
 static int tree_bound(const rt_plan_t *p) {
   int both = rt_plan_has(p, RT_EFFECT_REFLECTION) && rt_plan_has(p, RT_EFFECT_REFRACTION);
   int any = rt_plan_has(p, RT_EFFECT_REFLECTION) || rt_plan_has(p, RT_EFFECT_REFRACTION);
@@ -108,7 +160,8 @@ rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
     set(&p, RT_EFFECT_SUPERSAMPLING, 1, "on: %d samples per pixel, box filter", spp);
   else
     set(&p, RT_EFFECT_SUPERSAMPLING, 0, "off: 1 sample per pixel");
-  for (int e = RT_EFFECT_CAUSTICS; e <= RT_EFFECT_STAR_FILTER; e++)
+  plan_caustics(&p, s);
+  for (int e = RT_EFFECT_DISPERSION; e <= RT_EFFECT_STAR_FILTER; e++)
     set(&p, (rt_effect_t)e, 0, "off: not implemented by this renderer yet");
   int secondary = rt_plan_has(&p, RT_EFFECT_REFLECTION) || rt_plan_has(&p, RT_EFFECT_REFRACTION);
   p.max_depth = secondary ? s->max_depth : 0;

@@ -29,7 +29,7 @@ static int parse_camera(io_parse_t *P, json_t *c) {
 
 static int parse_settings(io_parse_t *P, json_t *o) {
   static const char *const keys[] = {"ambient", "background", "max_depth", "spp",
-                                     "shadows", "ior",        NULL};
+                                     "shadows", "ior",        "caustics",  NULL};
   rt_scene_t *s = P->scene;
   io_push_key(P, "settings");
   int ok = io_check_keys(P, o, keys) && io_get_rgb(P, o, "ambient", s->ambient, &s->ambient) &&
@@ -38,6 +38,19 @@ static int parse_settings(io_parse_t *P, json_t *o) {
            io_get_int(P, o, "spp", 0, s->spp, 1, RT_MAX_SPP, &s->spp) &&
            io_get_bool(P, o, "shadows", 1, &s->shadows) &&
            io_get_number(P, o, "ior", 0, 1.0, 0.0, 100.0, 1, &s->ior);
+  const char *caustics = NULL;
+  ok = ok && io_get_string(P, o, "caustics", 0, &caustics);
+  if (ok && caustics && strcmp(caustics, "off") == 0) {
+    s->caustics = RT_CAUSTICS_OFF;
+  } else if (ok && caustics && strcmp(caustics, "auto") != 0) {
+    io_push_key(P, "caustics");
+    if (strcmp(caustics, "on") == 0)
+      ok = io_fail(P, "\"on\" is not available yet: no renderer draws caustics (issue 25); "
+                      "expected \"auto\" or \"off\"");
+    else
+      ok = io_fail(P, "expected \"auto\" or \"off\", got '%s'", caustics);
+    io_pop(P);
+  }
   int root = (int)lrint(sqrt(s->spp));
   if (ok && root * root != s->spp) {
     io_push_key(P, "spp");

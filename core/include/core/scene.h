@@ -92,6 +92,14 @@ typedef struct {
 
 typedef enum { RT_LIGHT_POINT = 0, RT_LIGHT_PARALLEL = 1 } rt_light_kind_t;
 
+/** A scene's wish for caustics: light that reaches diffuse surfaces through reflecting or
+ *  transparent objects, drawn from illuminance maps (issue 25) instead of the textbook's straight
+ *  shadow rays attenuated by kt. */
+typedef enum {
+  RT_CAUSTICS_AUTO = 0, /**< where the effects plan finds such light (the default) */
+  RT_CAUSTICS_OFF = 1 /**< never: the textbook's shadows (the paper's Fig. 8 is a Whitted image) */
+} rt_caustics_t;
+
 /** How a point light's intensity falls off with distance in rendering. */
 typedef enum {
   RT_FALLOFF_NONE = 0,          /**< the textbook's model: `intensity` at any distance */
@@ -134,6 +142,8 @@ typedef struct {
   int spp;             /**< default samples per pixel (s x s, s = 1..RT_MAX_SPP_SIDE) */
   int shadows;         /**< 0 disables shadow rays (every light always reaches every point) */
   double ior;          /**< refractive index of the space between objects */
+  int caustics;        /**< rt_caustics_t: whether the scene wants light through specular and
+                            transparent objects drawn as caustics */
 
   rt_material_t *material;
   int nmaterial, cap_material;
