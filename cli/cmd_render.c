@@ -13,6 +13,7 @@
 #include "cli.h"
 #include "io/image_io.h"
 #include "io/output.h"
+#include "light/illuminance.h"
 #include "renderers/renderer.h"
 #include "validation/timing.h"
 
@@ -26,6 +27,9 @@ enum {
   OPT_EXPLAIN,
   OPT_MEASURE,
   OPT_MAX_MEMORY,
+  OPT_CAUSTIC_METHOD,
+  OPT_CAUSTIC_RAYS,
+  OPT_CAUSTIC_CELLS,
   OPT_RENDERER
 };
 
@@ -37,7 +41,10 @@ static const cli_spec_t common[] = {{"--output", 'o', 1, OPT_OUTPUT},
                                     {"--no-aux", 0, 0, OPT_NO_AUX},
                                     {"--explain", 0, 0, OPT_EXPLAIN},
                                     {"--measure", 0, 0, OPT_MEASURE},
-                                    {"--max-memory", 0, 1, OPT_MAX_MEMORY}};
+                                    {"--max-memory", 0, 1, OPT_MAX_MEMORY},
+                                    {"--caustic-method", 0, 1, OPT_CAUSTIC_METHOD},
+                                    {"--caustic-rays", 0, 1, OPT_CAUSTIC_RAYS},
+                                    {"--caustic-cells", 0, 1, OPT_CAUSTIC_CELLS}};
 #define NCOMMON ((int)(sizeof common / sizeof common[0]))
 #define MAX_SPECS 64
 
@@ -54,24 +61,33 @@ static void help(FILE *f, const rn_renderer_t *r) {
   for (int k = 0; k < rn_count(); k++)
     fprintf(f, "  %-10s %s%s\n", rn_entry(k)->name, rn_entry(k)->summary,
             k == 0 ? " (default)" : "");
-  fprintf(f,
-          "\noptions:\n"
-          "  -o, --output OUT.exr  output image, an .exr file (required unless --explain is\n"
-          "                        given alone)\n"
-          "  --method NAME         the renderer (default exact); 'pencil render --method NAME\n"
-          "                        --help' lists its own options\n"
-          "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 256\n"
-          "                        (default: the scene's, 9 for the built-in scene)\n"
-          "  --threads N           OpenMP threads (default: all cores)\n"
-          "  --size WxH            override the scene's image size (1 <= W, H <= 16384)\n"
-          "  --no-aux              leave the auxiliary channels empty (no centre-ray trees), as\n"
-          "                        the benchmarks render\n"
-          "  --measure             methods that approximate: trace every sample exactly too and\n"
-          "                        print the Fig. 10 error statistics (points on surfaces with a\n"
-          "                        diffuse term: Fig. 8's board)\n"
-          "  --explain             print the effects plan (which effects run and why)\n"
-          "  --max-memory SIZE     refuse a render whose image and working buffers need more\n"
-          "                        than SIZE (512M, 8G; default: the memory available now)\n");
+  fprintf(
+      f,
+      "\noptions:\n"
+      "  -o, --output OUT.exr  output image, an .exr file (required unless --explain is\n"
+      "                        given alone)\n"
+      "  --method NAME         the renderer (default exact); 'pencil render --method NAME\n"
+      "                        --help' lists its own options\n"
+      "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 256\n"
+      "                        (default: the scene's, 9 for the built-in scene)\n"
+      "  --threads N           OpenMP threads (default: all cores)\n"
+      "  --size WxH            override the scene's image size (1 <= W, H <= 16384)\n"
+      "  --no-aux              leave the auxiliary channels empty (no centre-ray trees), as\n"
+      "                        the benchmarks render\n"
+      "  --measure             methods that approximate: trace every sample exactly too and\n"
+      "                        print the Fig. 10 error statistics (points on surfaces with a\n"
+      "                        diffuse term: Fig. 8's board)\n"
+      "  --explain             print the effects plan (which effects run and why)\n"
+      "  --max-memory SIZE     refuse a render whose image and working buffers need more\n"
+      "                        than SIZE (512M, 8G; default: the memory available now)\n"
+      "\ncaustics (when the effects plan has them: light through reflecting or transparent\n"
+      "objects onto diffuse planes and polygons, from illuminance maps made before tracing):\n"
+      "  --caustic-method M    photons, grid-pencil or polygons (default: photons for the\n"
+      "                        exact renderer, grid-pencil for the others)\n"
+      "  --caustic-rays N      rays per side of each light's grid, 2..16384 (default %d for\n"
+      "                        photons, %d for grid-pencil; polygons take none)\n"
+      "  --caustic-cells N     cells along the longer side of each map, 1..16384 (default %d)\n",
+      RN_CAUSTIC_PHOTON_RAYS, RN_CAUSTIC_PENCIL_RAYS, RN_CAUSTIC_CELLS);
   if (r && r->noptions > 0) {
     fprintf(f, "\n%s\n\noptions of --method %s:\n", r->description, r->name);
     rn_print_options(f, r, 2);
@@ -88,6 +104,7 @@ typedef struct {
   const char *scene, *out;
   long spp, threads, width, height;
   int explain, no_aux, measure;
+  long caustic_method, caustic_rays, caustic_cells; /**< 0: the renderer's default */
   size_t max_memory; /**< refuse a render needing more (bytes); 0: the memory available */
   const rn_renderer_t *r;
   void *opt; /**< the renderer's options (r->options_size bytes) */
@@ -167,6 +184,21 @@ static int apply(args_t *a, const cli_arg_t *g) {
                      g->value),
              0;
     return 1;
+  case OPT_CAUSTIC_METHOD: {
+    int m = lt_method_parse(g->value);
+    if (m < 0)
+      return fprintf(stderr,
+                     "pencil render: --caustic-method: expected photons, grid-pencil or polygons, "
+                     "got '%s'\n",
+                     g->value),
+             0;
+    a->caustic_method = m + 1;
+    return 1;
+  }
+  case OPT_CAUSTIC_RAYS:
+    return cli_parse_long("--caustic-rays", g->value, 2, LT_MAX_GRID, &a->caustic_rays);
+  case OPT_CAUSTIC_CELLS:
+    return cli_parse_long("--caustic-cells", g->value, 1, LT_MAX_GRID, &a->caustic_cells);
   case OPT_MEASURE:
     if (!a->r->errors)
       return fprintf(stderr,
@@ -231,7 +263,8 @@ static void explain(FILE *f, const rt_plan_t *p, const char *scene) {
 static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
   char err[1024];
   rn_attr_t ra[RN_MAX_ATTRS];
-  io_attr_t attrs[3 + RN_MAX_ATTRS];
+  io_attr_t attrs[4 + RN_MAX_ATTRS];
+  char cbuf[160];
   io_exr_channel_t ch[RN_MAX_CHANNELS];
   char sppbuf[16];
   snprintf(sppbuf, sizeof sppbuf, "%d", spp);
@@ -241,6 +274,12 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
   attrs[na++] = (io_attr_t){"pencil:spp", sppbuf};
   for (int k = 0; k < nr; k++)
     attrs[na++] = (io_attr_t){ra[k].key, ra[k].value};
+  if (o->caustics && o->caustics->maps > 0) { /* how the image's caustic light was mapped */
+    const rn_caustic_stats_t *c = o->caustics;
+    snprintf(cbuf, sizeof cbuf, "%d map(s) by %s, %d rays a side, %d cells, %.4g%% beside", c->maps,
+             c->method, c->rays, c->cells, 100.0 * c->outside);
+    attrs[na++] = (io_attr_t){"pencil:caustics", cbuf};
+  }
   for (int k = 0; k < a->r->nchannels; k++)
     ch[k] = (io_exr_channel_t){a->r->channels[k], o->channels[k]};
   if (io_render_write(a->out, o->image, ch, a->r->nchannels, attrs, na, err, sizeof err) != 0)
@@ -278,14 +317,25 @@ static int render(const args_t *a, rt_scene_t *s) {
   c.measure = a->measure;
   c.progress = isatty(2) ? cli_progress : NULL;
   c.progress_ctx = (void *)"rendering";
+  c.caustic_method = (int)a->caustic_method;
+  c.caustic_rays = (int)a->caustic_rays;
+  c.caustic_cells = (int)a->caustic_cells;
   if (a->out && !memory_fits(a, s, &plan, &c))
     return CLI_USAGE;
+  if (rt_plan_has(&plan, RT_EFFECT_CAUSTICS) && a->caustic_method) {
+    char why[256];
+    if (lt_method_check(s, (lt_method_t)(a->caustic_method - 1), why, sizeof why) != RT_OK) {
+      fprintf(stderr, "pencil render: --caustic-method: %s\n", why);
+      return CLI_USAGE;
+    }
+  }
   if (a->explain)
     explain(stdout, &plan, a->scene ? a->scene : "the built-in Fig. 8 scene");
   if (!a->out)
     return CLI_OK;
   rt_image_t img;
-  rn_output_t out = {.image = &img};
+  rn_caustic_stats_t caustics;
+  rn_output_t out = {.image = &img, .caustics = &caustics};
   void *stats = calloc(1, a->r->stats_size);
   if (!stats || rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK) {
     free(stats);
@@ -313,10 +363,21 @@ static int render(const args_t *a, rt_scene_t *s) {
   }
   ok = ok && write_outputs(a, &out, spp);
   if (rs != RT_OK)
-    fprintf(stderr, "pencil render: %s\n", rt_strerror(rs));
+    fprintf(stderr, "pencil render: %s%s%s\n", rt_strerror(rs), caustics.why[0] ? ": " : "",
+            caustics.why);
   if (ok) {
     rn_report_t rep = {s, spp, dt, a->out, &c, a->opt, stats};
     a->r->report(stdout, &rep);
+    if (caustics.maps > 0) {
+      char grid[48] = "";
+      if (caustics.rays)
+        snprintf(grid, sizeof grid, " (grids of %d x %d rays)", caustics.rays, caustics.rays);
+      printf("caustics: %d map(s) of %d cells along the longer side by %s%s, %d empty; %llu "
+             "light rays in %.3f s (part of the render time); %.3g%% of the mapped light fell "
+             "beside the maps\n",
+             caustics.maps, caustics.cells, caustics.method, grid, caustics.empty,
+             (unsigned long long)caustics.traced, caustics.seconds, 100.0 * caustics.outside);
+    }
     if (a->measure) {
       rn_errors_t e;
       a->r->errors(stats, &e);

@@ -63,6 +63,8 @@ static void render_with(const rn_renderer_t *r, const rt_scene_t *s, int spp_sid
     c.spp_side = spp_side;
     c.threads = 1; /* one fuzzer process per core; no OpenMP pool per input */
     c.measure = r->errors != NULL;
+    c.caustic_rays = 9; /* small caustic maps: the fuzzer looks for failures, not accuracy */
+    c.caustic_cells = 8;
     rt_status_t st = r->render(s, &plan, &c, options, &out);
     int x, y, ch;
     if (st != RT_OK && st != RT_ENOMEM)

@@ -33,6 +33,34 @@ $pencil render "$src/scenes/fig8.json" --explain >"$tmp/plan"; rc=$?
 check "--explain alone prints the plan without rendering" \
   "[ $rc -eq 0 ] && grep -q 'effects plan' '$tmp/plan' && ! grep -q rendered '$tmp/plan'"
 
+# caustics: the plan names the object and the receiver; the closing lines and the EXR header say
+# what the maps took; bad caustic options exit 2 naming the option, nothing written
+$pencil render "$src/scenes/fig8-caustics.json" --explain >"$tmp/plan"; rc=$?
+check "--explain: caustics on through the ball onto the board" \
+  "[ $rc -eq 0 ] && grep -q \"caustics *on: .* through 'glass ball' onto 'checkerboard'\" '$tmp/plan'"
+for m in exact pencil; do
+  $pencil render "$src/scenes/fig8-caustics.json" --method $m --size 16x16 --spp 1 \
+    --caustic-rays 65 --caustic-cells 32 -o "$tmp/cz-$m.exr" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  check "--method $m with caustics: exit 0, a caustics line" \
+    "[ $rc -eq 0 ] && grep -q '^caustics: 1 map(s) of 32 cells' '$tmp/out'"
+  check "--method $m with caustics: the EXR header records the maps" \
+    "$py -c \"import OpenImageIO as o,sys; i=o.ImageInput.open('$tmp/cz-$m.exr'); \
+sys.exit(0 if 'rays a side, 32 cells' in i.spec().get_string_attribute('pencil:caustics') else 1)\""
+done
+grep -q "by photons" <($pencil render "$src/scenes/fig8-caustics.json" --size 8x8 --spp 1 \
+  --caustic-rays 33 --caustic-cells 8 -o "$tmp/cz.exr"); rc=$?
+check "the exact renderer maps by photons by default" "[ $rc -eq 0 ]"
+for bad in "--caustic-method sunlight" "--caustic-rays 1" "--caustic-cells 0" \
+  "--caustic-method polygons"; do
+  $pencil render "$src/scenes/fig8-caustics.json" --size 8x8 $bad -o "$tmp/bad.exr" \
+    >/dev/null 2>"$tmp/err"; rc=$?
+  opt=${bad%% *}
+  check "$bad: exit 2 naming $opt, nothing written" \
+    "[ $rc -eq 2 ] && grep -q -- '$opt' '$tmp/err' && [ ! -e '$tmp/bad.exr' ]"
+done
+grep -q "sphere" "$tmp/err"; rc=$?
+check "--caustic-method polygons on a sphere says why" "[ $rc -eq 0 ]"
+
 $pencil render -o "$tmp/p.exr" --method pencil --size 20x20 --spp 1 >/dev/null 2>"$tmp/err"; rc=$?
 check "--method pencil renders (exit 0)" "[ $rc -eq 0 ] && [ -s '$tmp/p.exr' ]"
 $pencil render -o "$tmp/c.exr" --spp 5 >/dev/null 2>"$tmp/err"; rc=$?

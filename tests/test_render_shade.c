@@ -240,7 +240,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_surface_t sf;
   rt_shade_surface(&s, &h, &r, &sf);
   probe_t probe = {0};
-  rt_tracer_t tr = {probe_child, probe_shadow, &probe, NULL};
+  rt_tracer_t tr = {probe_child, probe_shadow, &probe, NULL, NULL};
   rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
   double cosl = 4.0 / 5.0; /* N.L at the origin for a light at (3, 4, 0) */
   assert_close(c.r, 0.3 * 0.5 * 0.8 + 0.25 * 2 * 0.6 * 0.8 * cosl, 1e-14, 0);
@@ -307,8 +307,8 @@ static void two_materials_shaded_at_once_match_each_alone(void **state) {
       sb = sf;
       sb.mat = mat[b];
       probe_t p1 = {0}, p2 = {0};
-      rt_tracer_t t1 = {probe_child, probe_shadow, &p1, NULL};
-      rt_tracer_t t2 = {probe_child, probe_shadow, &p2, NULL};
+      rt_tracer_t t1 = {probe_child, probe_shadow, &p1, NULL, NULL};
+      rt_tracer_t t2 = {probe_child, probe_shadow, &p2, NULL, NULL};
       rt_rgb_t alone[2] = {rt_shade_direct(&s, &plan, &sf, &r, &t1),
                            rt_shade_direct(&s, &plan, &sb, &r, &t1)};
       rt_rgb_t both[2];
@@ -474,8 +474,15 @@ static void plan_names_caustic_paths(void **state) {
   assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));
   s.object[floor_obj].material = matte;
   plan = rt_plan_make(&s, 1);
-  assert_false(rt_plan_has(&plan, RT_EFFECT_CAUSTICS));
-  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "may reach 'floor' through 'ball'"));
+  assert_false(rt_plan_has(&plan, RT_EFFECT_CAUSTICS)); /* the light has no fall-off */
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "may pass 'ball'"));
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "inverse-square"));
+  s.light[0].falloff = RT_FALLOFF_INVERSE_SQUARE;
+  plan = rt_plan_make(&s, 1);
+  assert_true(rt_plan_has(&plan, RT_EFFECT_CAUSTICS));
+  assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "through 'ball' onto 'floor'"));
+  assert_int_equal(plan.caustic.nplane, 1);
+  assert_int_equal(plan.caustic.object[0][0], floor_obj);
   s.caustics = RT_CAUSTICS_OFF;
   plan = rt_plan_make(&s, 1);
   assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "the scene refuses them"));

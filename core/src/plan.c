@@ -97,48 +97,52 @@ static const char *object_label(const rt_scene_t *s, int o, char *buf, size_t ca
   return buf;
 }
 
-static int carries(const rt_scene_t *s, int o) { /* reflects or transmits some light */
-  const rt_object_t *ob = &s->object[o];
-  const rt_material_t *a = &s->material[ob->material];
-  const rt_material_t *b = ob->material2 >= 0 ? &s->material[ob->material2] : a;
-  return a->kr > 0.0 || a->kt > 0.0 || b->kr > 0.0 || b->kt > 0.0;
-}
-
-static int diffuse(const rt_scene_t *s, int o) {
-  const rt_object_t *ob = &s->object[o];
-  return s->material[ob->material].kd > 0.0 ||
-         (ob->material2 >= 0 && s->material[ob->material2].kd > 0.0);
-}
-
 /* Caustics: light that reaches a diffuse surface through a reflecting or transparent object (by
  * materials: any light, any such object, any other diffuse object; geometry is the illuminance
- * maps' business). The renderers do not shade with the maps yet (issue 25), so the plan says
- * what it found and stays off. */
+ * maps' business), for the receivers and lights rt_caustic_plan() finds mappable. The why names
+ * a light, the object, the receivers, and what keeps the textbook's shadow. */
 static void plan_caustics(rt_plan_t *p, const rt_scene_t *s) {
+  rt_caustic_plan_t *cp = &p->caustic;
+  int nmaps = rt_caustic_plan(s, cp);
   if (s->caustics == RT_CAUSTICS_OFF) {
+    cp->nplane = 0;
+    cp->lights = 0;
     set(p, RT_EFFECT_CAUSTICS, 0, "off: the scene refuses them (\"caustics\": \"off\")");
     return;
   }
-  int via = -1, onto = -1, receivers = 0;
-  for (int o = 0; o < s->nobject && s->nlight > 0 && s->max_depth > 0; o++)
-    if (carries(s, o) && via < 0)
-      via = o;
-  for (int o = 0; o < s->nobject && via >= 0; o++)
-    if (o != via && diffuse(s, o)) {
-      receivers++;
-      if (onto < 0)
-        onto = o;
-    }
-  if (onto < 0) {
+  char a[32], b[32], c[32];
+  if (cp->via < 0 || (cp->nplane == 0 && cp->unmapped < 0)) {
     set(p, RT_EFFECT_CAUSTICS, 0,
         "off: no light reaches a diffuse surface through a reflecting or transparent object");
     return;
   }
-  char a[32], b[32];
-  set(p, RT_EFFECT_CAUSTICS, 0,
-      "off: light may reach '%s'%s through '%s'; no renderer draws caustics yet",
-      object_label(s, onto, b, sizeof b), receivers > 1 ? " and others" : "",
-      object_label(s, via, a, sizeof a));
+  if (nmaps == 0) {
+    if (cp->lights == 0)
+      set(p, RT_EFFECT_CAUSTICS, 0,
+          "off: light may pass '%s', but no light is physical (a point light needs \"falloff\": "
+          "\"inverse-square\")",
+          object_label(s, cp->via, a, sizeof a));
+    else
+      set(p, RT_EFFECT_CAUSTICS, 0,
+          "off: light may pass '%s', but '%s' cannot take a map (not a plane or polygon)",
+          object_label(s, cp->via, a, sizeof a), object_label(s, cp->unmapped, b, sizeof b));
+    cp->nplane = 0;
+    cp->lights = 0;
+    return;
+  }
+  int nl = __builtin_popcount(cp->lights), n = 0;
+  for (int g = 0; g < cp->nplane; g++)
+    n += cp->nobject[g];
+  char rest[96] = "";
+  if (cp->unmapped >= 0)
+    snprintf(rest, sizeof rest, "; '%s'%s keeps the textbook shadow",
+             object_label(s, cp->unmapped, c, sizeof c), cp->nunmapped > 1 ? " and others" : "");
+  else if (cp->unphysical >= 0)
+    snprintf(rest, sizeof rest, "; light %d (no fall-off) keeps the textbook shadow",
+             cp->unphysical);
+  set(p, RT_EFFECT_CAUSTICS, 1, "on: %d light(s) through '%s' onto '%s'%s, %d map(s)%s", nl,
+      object_label(s, cp->via, a, sizeof a), object_label(s, cp->object[0][0], b, sizeof b),
+      n > 1 ? " and others" : "", nmaps, rest);
 }
 
 static int tree_bound(const rt_plan_t *p) {

@@ -3,6 +3,7 @@
  * terms; Phong's specular term). Reflected directions come from px_interface_outgoing(), the
  * same vector law that libparaxial's system matrices and reference/'s exact tracer use. */
 #include "core/shade.h"
+#include "core/caustics.h"
 #include "core/shade_paths.h"
 
 #include <math.h>
@@ -75,7 +76,7 @@ static double phong_pow(double x, double n) {
  * made that renderer measurably slower (docs/tuning.md). */
 static inline __attribute__((always_inline)) rt_rgb_t
 shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const rt_ray_t *ray,
-       int l, px_vec3_t dir, double dist, const rt_tracer_t *tr) {
+       int l, px_vec3_t dir, double dist, int opaque, const rt_tracer_t *tr) {
   if (!rt_plan_has(plan, RT_EFFECT_SHADOWS))
     return rt_rgb(1, 1, 1);
   rt_rgb_t known;
@@ -88,7 +89,10 @@ shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const
   if (isfinite(dist))
     q.ray.tmax = px_v3_dot(px_v3_sub(s->light[l].v, o), dir);
   q.through = rt_rgb(1, 1, 1);
-  tr->shadow(tr->ctx, &q);
+  if (opaque && tr->occluded)
+    tr->occluded(tr->ctx, &q);
+  else
+    tr->shadow(tr->ctx, &q);
   return q.through;
 }
 
@@ -107,26 +111,46 @@ static inline __attribute__((always_inline)) rt_rgb_t light_term(const rt_materi
   return term;
 }
 
-rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
-                         const rt_ray_t *ray, const rt_tracer_t *tr) {
+/* The diffuse term of a caustic map's light at p: kd colour E (core/caustics.h; no specular term,
+ * the map not knowing the light's direction). */
+static rt_rgb_t caustic_term(const rt_material_t *m, const rt_caustic_map_t *cm, px_vec3_t p) {
+  return rt_rgb_mul(rt_rgb_scale(m->color, m->kd), rt_caustic_at(cm, p));
+}
+
+/* rt_shade_direct()'s sum, with the caustic maps `maps` (NULL: none). Always inlined, so that
+ * the call without maps compiles to the loop it was before maps existed (the exact renderer's
+ * hot path: a scene without caustics costs nothing more). */
+static inline __attribute__((always_inline)) rt_rgb_t
+direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const rt_ray_t *ray,
+       const rt_tracer_t *tr, const rt_caustic_maps_t *maps) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t c = rt_rgb_scale(rt_rgb_mul(s->ambient, m->color), m->ka);
   int spec = rt_plan_has(plan, RT_EFFECT_SPECULAR) && m->ks > 0.0;
   if (!(m->kd > 0.0) && !spec)
     return c;
   for (int l = 0; l < s->nlight; l++) {
+    const rt_caustic_map_t *cm = maps ? rt_caustic_map_of(maps, sf->hit.object, l) : NULL;
+    if (cm)
+      c = rt_rgb_add(c, caustic_term(m, cm, sf->hit.p));
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
     double ndl = px_v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue; /* the surface faces away from the light */
-    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, tr);
+    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, cm != NULL, tr);
     if (!(rt_rgb_max(through) > 0.0))
       continue;
     rt_rgb_t term = light_term(m, spec, sf, ray, L, ndl);
     c = rt_rgb_add(c, rt_rgb_mul(rt_rgb_mul(through, intensity_at(&s->light[l], dist)), term));
   }
   return c;
+}
+
+rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                         const rt_ray_t *ray, const rt_tracer_t *tr) {
+  if (plan->maps)
+    return direct(s, plan, sf, ray, tr, plan->maps);
+  return direct(s, plan, sf, ray, tr, NULL);
 }
 
 /* As rt_shade_direct() for sf->mat and `other`, each light's direction and shadow found once:
@@ -141,13 +165,20 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
     spec[i] = rt_plan_has(plan, RT_EFFECT_SPECULAR) && m[i]->ks > 0.0;
     lit[i] = m[i]->kd > 0.0 || spec[i];
   }
+  const rt_caustic_maps_t *maps = plan->maps;
   for (int l = 0; l < s->nlight && (lit[0] || lit[1]); l++) {
+    const rt_caustic_map_t *cm = maps ? rt_caustic_map_of(maps, sf->hit.object, l) : NULL;
+    if (cm) {
+      rt_rgb_t e = rt_caustic_at(cm, sf->hit.p);
+      for (int i = 0; i < 2; i++)
+        out[i] = rt_rgb_add(out[i], rt_rgb_mul(rt_rgb_scale(m[i]->color, m[i]->kd), e));
+    }
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
     double ndl = px_v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue;
-    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, tr);
+    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, cm != NULL, tr);
     if (!(rt_rgb_max(through) > 0.0))
       continue;
     for (int i = 0; i < 2; i++)

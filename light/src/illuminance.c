@@ -253,10 +253,19 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
                   const lt_arrivals_t *x[3], const lt_arrivals_t xm[3], double tol) {
   const lt_map_t *m = W->A.m;
   double su = m->width / (m->u1 - m->u0), sv = m->height / (m->v1 - m->v0);
+  double all = 0.0; /* the pencil's light to the receiver (corner 0's weights) */
+  for (int k = 0; k < x[0]->n; k++)
+    if (x[0]->a[k].kind == LT_END_RECEIVER)
+      all += x[0]->a[k].w.r + x[0]->a[k].w.g + x[0]->a[k].w.b;
   for (int k = 0; k < x[0]->n; k++) {
     const lt_arrival_t *c[3] = {&x[0]->a[k], NULL, NULL}, *mid[3];
     if (c[0]->kind != LT_END_RECEIVER || !(c[1] = find(x[1], c[0]->sig)) ||
         !(c[2] = find(x[2], c[0]->sig)))
+      continue;
+    /* a path that carries less than the uniformity tolerance's share of the pencil's light can
+     * misplace no more than that share however its triangle bends: not worth a division (as
+     * unshared paths in pencil()) */
+    if (W->uniform_tol > 0 && c[0]->w.r + c[0]->w.g + c[0]->w.b <= W->uniform_tol * all)
       continue;
     for (int e = 0; e < 3; e++) { /* midpoint e lies between corners e and e + 1 */
       if (!(mid[e] = find(&xm[e], c[0]->sig)))
@@ -418,7 +427,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
   }
   rt_status_t status = RT_OK;
   for (int t = 0; t < nt && status == RT_OK; t++) {
-    W[t].C = (lt_ctx_t){s, rt_plan_make(s, 1), rc, {0}};
+    W[t].C = (lt_ctx_t){s, rt_plan_make(s, 1), rc, {0}, o->indirect};
     W[t].A = (lt_accum_t){m, calloc(cells, sizeof(double)), &W[t].C.st};
     W[t].max_split = o->max_split;
     W[t].linear_tol = o->linear_tol;

@@ -64,6 +64,7 @@ typedef struct {
   rt_plan_t plan;
   const lt_receiver_t *r;
   lt_stats_t st;
+  int indirect; /**< lt_options_t.indirect: no receiver ends at depth 0 */
 } lt_ctx_t;
 
 /** Trace a light ray and collect its tree's arrivals on the receiver (out->n set). */

@@ -294,7 +294,9 @@ static void piece(pg_t *P, const px_poly2_t *r, const bm_path_t *path, const bm_
     return;
   }
   rt_rgb_t flux = rt_rgb_scale(rt_rgb_mul(P->power, w), bm_source_measure(&P->src, r));
-  if (receiver && !on_map) {
+  if (receiver && P->C->indirect && depth == 0) {
+    /* direct light on a caustic map's receiver: the renderer's shadow rays have it */
+  } else if (receiver && !on_map) {
     st->flux_outside += mean(flux); /* beside the map: where does not matter */
   } else if (receiver) {
     double uv[PX_POLY_MAX][2], cu[2];
@@ -311,8 +313,9 @@ static void piece(pg_t *P, const px_poly2_t *r, const bm_path_t *path, const bm_
     lt__deposit_gouraud(P->A, (const double(*)[2])uv, ev, r->n, cu, ec * scale,
                         rt_rgb_mul(P->power, w));
   }
-  st->pencils += (uint64_t)receiver;
-  st->arrivals += (uint64_t)receiver;
+  int counted = receiver && !(P->C->indirect && depth == 0);
+  st->pencils += (uint64_t)counted;
+  st->arrivals += (uint64_t)counted;
   rt_rgb_t kept = rt_rgb(1, 1, 1);
   for (int k = 0; k < nca; k++)
     kept = rt_rgb(kept.r - ca[k].weight.r, kept.g - ca[k].weight.g, kept.b - ca[k].weight.b);

@@ -2,7 +2,8 @@
  * refracted children as the renderers' rays (rt_shade_children: kr, kt T, Fresnel, total
  * internal reflection, the depth limit), their weights multiplied along the path; a path that
  * meets the receiver is recorded there, and goes on if the receiver itself reflects or
- * transmits. Opaque surfaces end a path. */
+ * transmits. Opaque surfaces end a path. For a caustic map (lt_ctx_t.indirect) a ray that meets
+ * the receiver first is not recorded there. */
 #include <math.h>
 
 #include "core/intersect.h"
@@ -31,7 +32,7 @@ static void trace(lt_ctx_t *C, const rt_ray_t *ray, rt_rgb_t w, int depth, uint6
     return;
   }
   sig = mix(mix(sig, (uint64_t)(uint32_t)hit.object), (uint64_t)(uint32_t)hit.prim);
-  for (int k = 0; k < C->r->n; k++)
+  for (int k = 0; k < C->r->n && !(C->indirect && depth == 0); k++)
     if (hit.object == C->r->object[k]) {
       px_vec3_t d = px_v3_sub(hit.p, C->r->p);
       end(C, out, sig, LT_END_RECEIVER, px_v3_dot(d, C->r->u), px_v3_dot(d, C->r->v), w);

@@ -46,13 +46,17 @@ static int known_cb(void *ctx, int l, rt_rgb_t *through) {
   return 1;
 }
 
-static void shadow_cb(void *ctx, rt_shadow_t *q) {
-  pt_eval_t *E = ctx;
+/* A shadow query: the textbook's transmittance, or with `opaque` a caustic receiver's occlusion. */
+static inline __attribute__((always_inline)) void shadow_query(pt_eval_t *E, rt_shadow_t *q,
+                                                               int opaque) {
   pt_node_t *n = &E->C->paths.node[E->cur];
   if (q->light < PT_MAX_LIGHTS) {
     unsigned bit = 1u << q->light;
     if (E->record_shadow && (n->light_agree & bit)) {
-      q->through = rt_transmittance(E->C->s, &q->ray);
+      if (opaque)
+        rt_shadow_occluded(E->C->s, q);
+      else
+        q->through = rt_transmittance(E->C->s, &q->ray);
       n->through[q->light] = q->through;
       n->known |= bit;
       E->C->ex.stats.shadow++;
@@ -63,13 +67,24 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
    * from, or one beyond PT_MAX_LIGHTS (those known_cb() did not answer): a shadow ray per
    * sample */
   E->C->ex.stats.shadow++;
-  q->through = rt_transmittance(E->C->s, &q->ray);
+  if (opaque)
+    rt_shadow_occluded(E->C->s, q);
+  else
+    q->through = rt_transmittance(E->C->s, &q->ray);
   if (E->lattice && E->geom && q->light < 32) { /* where the visibility changes over the domain */
     pt_geom_t *g = &E->geom[E->cur];
     rt_rgb_t t = q->through;
     g->lit |= (uint32_t)(t.r == 1.0 && t.g == 1.0 && t.b == 1.0) << q->light;
     g->dark |= (uint32_t)(t.r == 0.0 && t.g == 0.0 && t.b == 0.0) << q->light;
   }
+}
+
+static void shadow_cb(void *ctx, rt_shadow_t *q) {
+  shadow_query(ctx, q, 0);
+}
+
+static void occluded_cb(void *ctx, rt_shadow_t *q) {
+  shadow_query(ctx, q, 1);
 }
 
 /* Radiance along child ray c of pencil node k by the exact tracer (unweighted). With
@@ -387,7 +402,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   E->cur = k;
   rt_rgb_t l = rt_rgb(0, 0, 0);
   if (E->shade) {
-    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb};
+    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb};
     if (g && E->lattice && n->textured) {
       /* with the direct term of the other square's material too, for interpolation across
        * squares (one shadow query for both) */
@@ -443,7 +458,7 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
   E->cur = k;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
   if (direct) {
-    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb};
+    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb};
     sum = rt_rgb_mul(w, rt_shade_direct(E->C->s, E->C->plan, &sf, &ray, &tr));
   }
   if (exact_children)

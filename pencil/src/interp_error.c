@@ -103,7 +103,8 @@ double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lattice_cell_t *lc
  * part of it. rt_shade_direct() adds to the ambient term ka Ia color, for each light, at most I_l
  * (kd color + ks): the cosine, the transmittance and the Phong factor are at most 1, and lights
  * have no fall-off; a light with the inverse-square fall-off has no such bound without the
- * surface's distance, so with one the bound is infinite and no node counts as faint. W_k is taken
+ * surface's distance, so with one the bound is infinite and no node counts as faint; a caustic
+ * receiver adds kd colour times its maps' largest E. W_k is taken
  * at its largest over the grid plus its interpolation error there (its largest between the points).
  * Such a node's brightness at a sample, and its bilinear interpolation from the lattice cell's
  * corners, both lie between 0 and this bound: a node faint enough (a board seen after several
@@ -129,10 +130,15 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
     const rt_material_t *mt = &s->material[m ? o->material2 : o->material];
     double d = mt->ka * norm_rgb(NULL, rgb_vec(rt_rgb_mul(s->ambient, mt->color)));
     double lit = mt->kd * norm_rgb(NULL, rgb_vec(mt->color)) + (spec ? mt->ks : 0.0);
-    for (int l = 0; l < s->nlight && lit > 0.0; l++)
+    for (int l = 0; l < s->nlight && lit > 0.0; l++) {
       d += s->light[l].falloff != RT_FALLOFF_NONE
                ? INFINITY
                : norm_rgb(NULL, rgb_vec(s->light[l].intensity)) * lit;
+      const rt_caustic_map_t *cm =
+          C->plan->maps ? rt_caustic_map_of(C->plan->maps, n->object, l) : NULL;
+      if (cm) /* a caustic map's kd colour E (a parallel light's; a point light's is infinite) */
+        d += cm->emax * mt->kd * norm_rgb(NULL, rgb_vec(mt->color));
+    }
     dmax = px_max(dmax, d);
   }
   return wmax > 0.0 ? wmax * dmax : 0.0;

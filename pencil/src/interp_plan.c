@@ -187,6 +187,52 @@ static int one_square(const planning_t *P, int k) {
   return squares;
 }
 
+/* The caustic guard on node k over a lattice cell's grid R: when the node's surface is a caustic
+ * receiver (core/caustics.h), kd colour E of its maps joins its direct term, and E may have a
+ * focus or an edge between the grid's points, where the brightness test does not look. The map
+ * bounds it: over the cells the grid's points reach (one cell more on each side, bilinear
+ * interpolation's reach), E lies between the map's smallest and largest values there, and so do
+ * its interpolation from the corners and its value at a sample. When that span, weighted by the
+ * node's largest W_k and kd colour, exceeds the share of the brightness tolerance that faint nodes
+ * may take, the node's direct term is shaded per sample. */
+static int caustic_guarded(const planning_t *P, int k) {
+  const pt_ctx_t *C = P->C;
+  const rt_caustic_maps_t *maps = C->plan->maps;
+  if (!maps)
+    return 0;
+  const pt_node_t *n = &C->paths.node[k];
+  double span = 0.0;
+  for (int l = 0; l < C->s->nlight; l++) {
+    const rt_caustic_map_t *cm = rt_caustic_map_of(maps, n->object, l);
+    if (!cm || !cm->e)
+      continue;
+    double b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        px_vec3_t q = px_v3_sub(P->R[r][c].g[k].p, cm->p);
+        double u = px_v3_dot(q, cm->u), v = px_v3_dot(q, cm->v);
+        b[0] = px_min(b[0], u);
+        b[1] = px_max(b[1], u);
+        b[2] = px_min(b[2], v);
+        b[3] = px_max(b[3], v);
+      }
+    double lo, hi = rt_caustic_range(cm, b[0], b[1], b[2], b[3], &lo);
+    span += hi - lo;
+  }
+  if (!(span > 0.0))
+    return span != 0.0; /* NaN: guarded */
+  const rt_object_t *o = &C->s->object[n->object];
+  double kd = 0.0, w = 0.0;
+  for (int m = 0; m < (n->textured ? 2 : 1); m++) {
+    const rt_material_t *mt = &C->s->material[m ? o->material2 : o->material];
+    kd = px_max(kd, mt->kd * norm_rgb(NULL, rgb_vec(mt->color)));
+  }
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      w = px_max(w, norm_rgb(NULL, rgb_vec(P->R[r][c].g[k].w)));
+  return w * kd * span > PT_FAINT_SHARE * P->ltol;
+}
+
 /* Step 4b, node k's brightness: whether it is linear over the lattice cell (every light's
  * visibility agrees at the domain's centre and corners, or at least at the nine points of the grid
  * - the brightness test then checks the shading between - and the small-object guard saw no shadow
@@ -196,7 +242,7 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
   pt_ctx_t *C = P->C;
   const pt_node_t *n = &C->paths.node[k];
   int smooth = (n->light_agree == ~0u || same_visibility(P->R, k)) &&
-               !(n->light_guard && shadow_guarded(C, P->R, k));
+               !(n->light_guard && shadow_guarded(C, P->R, k)) && !caustic_guarded(P, k);
   *faint = 0;
   if (!smooth && (squares || n->child[0] < 0)) {
     double b = pt__faint_bound(C, P->lc, P->R, k);

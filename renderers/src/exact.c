@@ -21,7 +21,13 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   o.aux = c->aux;
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
-  return xr_render(s, plan, &o, out->image, out->stats);
+  rt_plan_t run;
+  rt_caustic_maps_t maps;
+  rt_status_t r = rn__caustics_make(s, plan, c, LT_METHOD_PHOTONS, &run, &maps, out->caustics);
+  if (r == RT_OK)
+    r = xr_render(s, &run, &o, out->image, out->stats);
+  rt_caustic_maps_free(&maps);
+  return r;
 }
 
 /* xr_render()'s tree buffer, which it allocates when it records trees (auxiliary channels). */

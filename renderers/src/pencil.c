@@ -52,7 +52,13 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
   pt_extra_t x = {out->channels[0], out->channels[1], out->channels[2]};
-  return pt_render(s, plan, &o, out->image, &x, out->sample_error, out->stats);
+  rt_plan_t run;
+  rt_caustic_maps_t maps;
+  rt_status_t r = rn__caustics_make(s, plan, c, LT_METHOD_GRID_PENCIL, &run, &maps, out->caustics);
+  if (r == RT_OK)
+    r = pt_render(s, &run, &o, out->image, &x, out->sample_error, out->stats);
+  rt_caustic_maps_free(&maps);
+  return r;
 }
 
 static int describe(const void *options, rn_attr_t *attrs) {

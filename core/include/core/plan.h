@@ -10,6 +10,7 @@
 #ifndef RENDER_PLAN_H
 #define RENDER_PLAN_H
 
+#include "core/caustics.h"
 #include "core/scene.h"
 
 typedef enum {
@@ -19,13 +20,14 @@ typedef enum {
   RT_EFFECT_REFRACTION,    /**< coherent refraction rays */
   RT_EFFECT_FRESNEL,       /**< Fresnel-weighted reflection/refraction split */
   RT_EFFECT_SUPERSAMPLING, /**< s x s sub-pixel grid with a box filter */
-  RT_EFFECT_CAUSTICS,      /**< illuminance through refracting pencils (paper Eq. 8); later */
+  RT_EFFECT_CAUSTICS,      /**< light through specular and transparent objects from illuminance
+                                maps (1987 Eq. 8; core/caustics.h) */
   RT_EFFECT_DISPERSION,    /**< wavelength-dependent index; later */
   RT_EFFECT_STAR_FILTER,   /**< star filter post-process; later */
   RT_EFFECT_COUNT
 } rt_effect_t;
 
-#define RT_PLAN_WHY_MAX 120
+#define RT_PLAN_WHY_MAX 200
 
 typedef struct {
   unsigned on;                                /**< bit (1u << e) set when effect e runs */
@@ -33,6 +35,11 @@ typedef struct {
   int max_depth;  /**< generations of secondary rays actually possible (0 without reflection
                        and refraction, else the scene's max_depth) */
   int tree_nodes; /**< upper bound on ray-tree nodes per sample (1 + max secondary rays) */
+  rt_caustic_plan_t caustic; /**< with RT_EFFECT_CAUSTICS: the receiver planes and lights to map */
+  /** The maps shading reads when RT_EFFECT_CAUSTICS is on: NULL from rt_plan_make(); a renderer
+   *  makes them (lt_caustic_maps()) and points its own copy of the plan at them. Shading with
+   *  the effect on and no maps is the textbook's (as with the effect off). */
+  const rt_caustic_maps_t *maps;
 } rt_plan_t;
 
 /** Decide the plan for scene `s` rendered with `spp` samples per pixel. Pure function of its

@@ -20,6 +20,7 @@
 #ifndef RENDER_SHADE_H
 #define RENDER_SHADE_H
 
+#include "core/intersect.h"
 #include "core/plan.h"
 #include "core/scene.h"
 
@@ -56,6 +57,12 @@ typedef struct {
   rt_rgb_t through; /**< transmittance the tracer found (white = unoccluded) */
 } rt_shadow_t;
 
+/** What a tracer's occluded() callback computes for q by exact tracing: white when the segment
+ *  meets nothing, black when it meets anything (opaque or not). */
+static inline void rt_shadow_occluded(const rt_scene_t *s, rt_shadow_t *q) {
+  rt_hit_t h;
+  q->through = rt_intersect(s, &q->ray, &h) ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1);
+}
 /** How a renderer finds surfaces. Both callbacks are called from the thread that shades. */
 typedef struct {
   /** Radiance arriving at the surface along child->ray (a generation-`depth` secondary ray,
@@ -71,6 +78,11 @@ typedef struct {
    *  does per domain), so that the shadow segment is not built; 0 to be asked through
    *  shadow(). */
   int (*known)(void *ctx, int light, rt_rgb_t *through);
+  /** Optional (NULL: shadow() is asked, the textbook's shadow): as shadow(), but anything the
+   *  segment meets blocks the light, q->through white or black (rt_shadow_occluded()): the
+   *  shadow ray of a caustic receiver, whose light through other objects comes from a map
+   *  (core/caustics.h). A renderer that draws caustics provides it. */
+  void (*occluded)(void *ctx, rt_shadow_t *q);
 } rt_tracer_t;
 
 /** Orient the hit for shading: facing normal, material and texel, media n1 (ray->ior) and n2. */
@@ -79,7 +91,9 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
 
 /** Ambient plus, for each light the surface faces, diffuse and specular terms weighted by the
  *  shadow transmittance (textbook's AccLightSource). Shadow rays are cast only when the plan
- *  has RT_EFFECT_SHADOWS; specular terms only with RT_EFFECT_SPECULAR. */
+ *  has RT_EFFECT_SHADOWS; specular terms only with RT_EFFECT_SPECULAR. On a caustic receiver
+ *  of a light (plan->maps, core/caustics.h) the shadow ray is opaque and kd colour E of the
+ *  light's map is added. */
 rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                          const rt_ray_t *ray, const rt_tracer_t *tr);
 

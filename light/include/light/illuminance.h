@@ -26,6 +26,7 @@
 
 #include <stdint.h>
 
+#include "core/caustics.h"
 #include "core/scene.h"
 
 typedef enum {
@@ -97,10 +98,12 @@ typedef struct {
   int threads;        /**< OpenMP threads; 0 = the default */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
+  int indirect; /**< 1: only light that met at least one other surface before the receiver (a
+                     caustic map: the renderer's shadow rays give the direct light) */
 } lt_options_t;
 
 #define LT_OPTIONS_DEFAULT                                                                         \
-  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL }
+  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL, 0 }
 
 typedef struct {
   uint64_t rays;        /**< source rays traced (grid points and division points) */
@@ -126,6 +129,37 @@ typedef struct {
  *  an unprepared scene; RT_ENOMEM. */
 rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *r, const lt_options_t *o,
                            lt_map_t *m, lt_stats_t *st);
+
+/** How lt_caustic_maps() makes a render's maps. */
+typedef struct {
+  lt_method_t method; /**< the renderer's: photons for the exact one, grid-pencil for pencils */
+  int side;           /**< rays per side of each light's grid faces (not for polygons), >= 2 */
+  int cells;          /**< cells along the longer side of each map, 1..LT_MAX_GRID */
+  int threads;        /**< OpenMP threads; 0 = the default */
+  void (*progress)(void *ctx, int done, int total); /**< after each map; may be NULL */
+  void *progress_ctx;
+} lt_caustic_options_t;
+
+/** What lt_caustic_maps() did, summed over its maps. */
+typedef struct {
+  int maps;            /**< maps made (planes times lights) */
+  int empty;           /**< ... of which no light reached */
+  int unmapped;        /**< receiver planes left out: a plane without bounded objects to map
+                            around (lt_default_extent() has none); they keep the textbook shadow */
+  lt_stats_t st;       /**< the maps' counters, summed (seconds: the whole) */
+  double flux_outside; /**< share of the light reaching receiver planes that fell beside the maps
+                            (lost to the image: a wider extent or more cells would keep it) */
+} lt_caustic_stats_t;
+
+/** The maps of plan cp (rt_plan_t.caustic) for the prepared scene s into *out (released with
+ *  rt_caustic_maps_free()): for each receiver plane its default extent (lt_default_extent()),
+ *  and for each mapped light the light that reaches the plane after at least one reflection or
+ *  refraction (lt_options_t.indirect), by o->method with the illuminance options' defaults.
+ *  RT_EINVAL with the reason in why[cap] (receiver objects not in one plane, a method that
+ *  cannot trace the scene, options out of range); RT_ENOMEM. */
+rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
+                            const lt_caustic_options_t *o, rt_caustic_maps_t *out,
+                            lt_caustic_stats_t *st, char *why, size_t cap);
 
 /** The default extent of a receiver's map: the bounds of its polygons in (u, v) when it has only
  *  polygons; with a plane, a square around the projection of the scene's other bounded objects

@@ -12,10 +12,15 @@ static rt_rgb_t child_cb(void *ctx, const rt_child_t *child, int depth) {
   return trace_ray(ctx, &child->ray, depth, child);
 }
 
-static void shadow_cb(void *ctx, rt_shadow_t *q) {
-  xr_exact_t *ex = ctx;
+/* A shadow query, textbook (transmittance) or opaque (a caustic receiver's), recorded in the tree.
+ */
+static inline __attribute__((always_inline)) void shadow_query(xr_exact_t *ex, rt_shadow_t *q,
+                                                               int opaque) {
   ex->stats.shadow++;
-  q->through = rt_transmittance(ex->scene, &q->ray);
+  if (opaque)
+    rt_shadow_occluded(ex->scene, q);
+  else
+    q->through = rt_transmittance(ex->scene, &q->ray);
   if (ex->tree && ex->node >= 0 && q->light < 32) {
     rt_tree_node_t *nd = &ex->tree->node[ex->node];
     if (q->through.r == 1.0 && q->through.g == 1.0 && q->through.b == 1.0)
@@ -25,8 +30,16 @@ static void shadow_cb(void *ctx, rt_shadow_t *q) {
   }
 }
 
+static void shadow_cb(void *ctx, rt_shadow_t *q) {
+  shadow_query(ctx, q, 0);
+}
+
+static void occluded_cb(void *ctx, rt_shadow_t *q) {
+  shadow_query(ctx, q, 1);
+}
+
 rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
-  return (rt_tracer_t){child_cb, shadow_cb, ex, NULL}; /* every shadow segment is traced */
+  return (rt_tracer_t){child_cb, shadow_cb, ex, NULL, occluded_cb}; /* every segment traced */
 }
 
 xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {

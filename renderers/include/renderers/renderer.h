@@ -61,11 +61,38 @@ typedef struct {
   /** Called after each finished row of work with (done, total), serialised; may be NULL. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
+  /* The caustic maps a render makes when its plan has RT_EFFECT_CAUSTICS (core/caustics.h); 0 is
+   * each renderer's default: */
+  int caustic_method; /**< 1 + lt_method_t: 0 the renderer's (exact: photons, as backward ray
+                           tracing; pencil: grid-pencil) */
+  int caustic_rays;   /**< rays per side of each light's grid faces; 0: RN_CAUSTIC_PHOTON_RAYS
+                           for photons, RN_CAUSTIC_PENCIL_RAYS for grid-pencil */
+  int caustic_cells;  /**< cells along the longer side of each map; 0: RN_CAUSTIC_CELLS */
 } rn_common_t;
 
-/** The defaults: 1 spp, OpenMP's threads, auxiliary channels, no measurement, no progress. */
+/** Defaults of the caustic maps: cells along a map's longer side, rays per side of a light's grid
+ *  faces for photon counting (about 4.2 million photons a face) and for grid-pencil tracing (its
+ *  pencils divide where the light needs it). */
+#define RN_CAUSTIC_CELLS 512
+#define RN_CAUSTIC_PHOTON_RAYS 2049
+#define RN_CAUSTIC_PENCIL_RAYS 129
+
+/** The defaults: 1 spp, OpenMP's threads, auxiliary channels, no measurement, no progress,
+ *  each renderer's caustic maps. */
 #define RN_COMMON_DEFAULT                                                                          \
-  { 1, 0, 1, 0, NULL, NULL }
+  { 1, 0, 1, 0, NULL, NULL, 0, 0, 0 }
+
+/** What a render's caustic maps took (rn_output_t.caustics). */
+typedef struct {
+  int maps;           /**< maps made (receiver planes times lights); 0 without caustics */
+  int empty;          /**< ... of which no light reached */
+  const char *method; /**< "photons", "grid-pencil" or "polygons" */
+  int rays, cells;    /**< rays per side, cells along the longer side */
+  uint64_t traced;    /**< light rays traced */
+  double seconds;     /**< wall-clock time of the maps (included in the render's) */
+  double outside;     /**< share of the mapped light that fell beside the maps */
+  char why[200];      /**< when the maps could not be made, the reason */
+} rn_caustic_stats_t;
 
 /** Where a render goes; everything caller-owned. */
 typedef struct {
@@ -76,6 +103,7 @@ typedef struct {
   float *sample_error; /**< measure only: the Fig. 10 error of every sample (width * height *
                             spp floats, pixel-major), or NULL */
   void *stats;         /**< rn_renderer_t.stats_size bytes for the entry's counters, or NULL */
+  rn_caustic_stats_t *caustics; /**< what the caustic maps took, or NULL */
 } rn_output_t;
 
 /** The Fig. 10 error counters of a measured render, whichever renderer made it: samples whose
