@@ -52,6 +52,19 @@ cat >"$dir/out/bench-illuminance.json" <<'JSON'
            "photons": [{"rays": 1664100, "seconds": 2.9, "rms": 0.188, "dim_rms": 0.70}],
            "equal_error": {"rays": 3.8e9, "seconds": 2310, "measured": false, "speedup": 49}}}
 JSON
+mkdir -p "$dir/out/caustics"
+cat >"$dir/out/caustics/caustics.json" <<'JSON'
+{"runs": 3, "quick": false,
+ "cases": [{"case": "fig11", "scene": "fig11-caustics.json", "width": 512, "height": 512, "spp": 1,
+            "reference_rms_estimate": 0.00378, "pencil_over_exact": 2.009,
+            "equal_error": {"photon_rays": 8.9e7, "photon_seconds": 28.6, "over_grid_pencil": 9.75,
+                            "grid_pencil_seconds": 2.93},
+            "variants": [{"variant": "reference", "caustic_method": "photons", "map_rays": 67125249,
+                          "seconds": 17.8, "against": null, "rms": null, "p99": null, "max": null},
+                         {"variant": "pencil", "caustic_method": "grid-pencil", "map_rays": 1403172,
+                          "seconds": 3.256, "against": "reference", "rms": 0.005166,
+                          "p99": 0.02099, "max": 0.2999}]}]}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -99,6 +112,8 @@ check "illuminance: the pool's energy check" "grep -q '1.000000000000 by Eq. (8)
 check "illuminance maps: a case's row and Fig. 11's speed-up" "grep -q '| ball, parallel | grid-pencil | 1274139 | 0.906 | 4.46e-03 |' '$page' && grep -q '49 times grid-pencil' '$page'"
 check "illuminance maps: the polygons' row on Fig. 11" "grep -q '20826629 rays in 34.1 s, RMS 3.59e-03 (dim cells 5.57e-02)' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
+check "caustics: the pencil's row and the equal-error line" \
+  "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"
 
 rm "$dir/out/verify-bounds.json"
 echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable

@@ -320,3 +320,22 @@ char *io_read_file(const char *path, size_t *len) {
   *len = buf ? n : 0;
   return buf;
 }
+
+int io_make_dirs(const char *d) {
+  char buf[4096];
+  size_t n = strlen(d);
+  if (n == 0 || n >= sizeof buf)
+    return -1;
+  memcpy(buf, d, n + 1);
+  for (size_t i = 1; i <= n; i++)
+    if (buf[i] == '/' || buf[i] == '\0') {
+      char c = buf[i];
+      buf[i] = '\0';
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "pencil: cannot create directory %s: %s\n", buf, strerror(errno));
+        return -1;
+      }
+      buf[i] = c;
+    }
+  return 0;
+}

@@ -51,25 +51,6 @@ void val_figures_defaults(val_figures_opts_t *o) {
 
 /* ---- files ------------------------------------------------------------------------------ */
 
-static int make_dir(const char *d) {
-  char buf[4096];
-  size_t n = strlen(d);
-  if (n == 0 || n >= sizeof buf)
-    return -1;
-  memcpy(buf, d, n + 1);
-  for (size_t i = 1; i <= n; i++)
-    if (buf[i] == '/' || buf[i] == '\0') {
-      char c = buf[i];
-      buf[i] = '\0';
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-        fprintf(stderr, "pencil: cannot create directory %s: %s\n", buf, strerror(errno));
-        return -1;
-      }
-      buf[i] = c;
-    }
-  return 0;
-}
-
 static void path_in(const val_figures_opts_t *o, const char *name, char *path, size_t cap) {
   snprintf(path, cap, "%s/%s", o->out_dir, name);
 }
@@ -654,7 +635,7 @@ static int run(const val_figures_opts_t *opts, int sweep_only) {
   int nitems = val__items(&o, sweep_only, items);
   methods_t m;
   val__results_init(&o, r);
-  rc = make_dir(o.out_dir) == 0 && methods_make(&o, &m) == 0 ? 0 : -1;
+  rc = io_make_dirs(o.out_dir) == 0 && methods_make(&o, &m) == 0 ? 0 : -1;
   if (rc == 0 && o.log)
     fprintf(o.log, "pencil %s: %s, %dx%d, %d thread(s), median of %d runs%s -> %s/\n", command,
             o.scene ? o.scene : "built-in Fig. 8 scene", width, height, o.threads, o.runs,

@@ -25,6 +25,9 @@ void io_provenance_set(const char *version, const char *commit, int argc, char *
 /** The provenance set by io_provenance_set(), or "unknown" fields when it was not called. */
 const io_provenance_t *io_provenance(void);
 
+/** Create directory d and its missing parents (as mkdir -p); 0, or -1 with the reason on stderr. */
+int io_make_dirs(const char *d);
+
 /** Check that `path` can be written as a regular file: it is not empty, it is not an existing
  *  directory, device, FIFO or socket, and its directory exists and is writable. */
 int io_output_check(const char *path, char *err, size_t cap);
