@@ -20,13 +20,15 @@ static void help(FILE *f) {
       "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
       "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
       "                          [--rays N] [--light K] [--max-split S] [--linear-tol C]\n"
-      "                          [--uniform-tol R] [--threads N]\n\n"
-      "The illuminance E that the scene's point and parallel lights deliver to the object NAME\n"
-      "(a plane or a polygon), directly and through chains of specular reflections and\n"
-      "refractions up to the\n"
-      "scene's max_depth (weighted by kr, kt, transmittance and Fresnel as in rendering; opaque\n"
-      "objects block), in the scene's units: a parallel light of intensity I gives I cos(alpha)\n"
-      "on an unobstructed receiver, a point light I cos(alpha) / r^2 (mean of R, G and B). Cell\n"
+      "                          [--uniform-tol R] [--area-mesh M] [--threads N]\n\n"
+      "The illuminance E that the scene's point, parallel and area lights deliver to the\n"
+      "object NAME (a plane or a polygon), directly and through chains of specular\n"
+      "reflections and refractions up to the scene's max_depth (weighted by kr, kt,\n"
+      "transmittance and Fresnel as in rendering; opaque objects block), in the scene's units:\n"
+      "a parallel light of intensity I gives I cos(alpha) on an unobstructed receiver, a point\n"
+      "light I cos(alpha) / r^2, an area light (a Lambertian rectangle of intensity I0 along\n"
+      "its normal) the sum over its mesh points of their share of I0 cos(theta) cos(alpha) /\n"
+      "r^2 (mean of R, G and B). Cell\n"
       "(i, j) of a W x H grid covers [U0 + i dU, U0 + (i+1) dU] x [V0 + j dV, V0 + (j+1) dV] of\n"
       "the receiver's coordinates: a plane's texture coordinates (origin its point, u its u\n"
       "axis, v = normal x u: docs/scene-format.md); a polygon's origin is its first vertex and\n"
@@ -67,6 +69,8 @@ static void help(FILE *f) {
       "                    the share R, or a quarter is turned over (default 0.02; 0: no test);\n"
       "                    polygons: when the light its vertices' errors could send the wrong way\n"
       "                    at a face exceeds the share R, or E is not near linear over it\n"
+      "  --area-mesh M     an area light is traced as M x M Lambertian point sources at its\n"
+      "                    mesh cells' centres (default 8; 1..256; 1989 section 2.3)\n"
       "  --threads N       OpenMP threads (default: all cores)\n\n"
       "A light's grid covers the directions (or, for a parallel light, the beam) towards the\n"
       "map's rectangle and every object that reflects or transmits (docs/illuminance.md).\n"
@@ -84,6 +88,7 @@ enum {
   OPT_LIGHT,
   OPT_SPLIT,
   OPT_THREADS,
+  OPT_AREA_MESH,
   OPT_LINEAR,
   OPT_UNIFORM
 };
@@ -92,7 +97,7 @@ typedef struct {
   const char *scene, *out, *method;
   const char *receiver[LT_MAX_RECEIVERS]; /**< the names given, in order */
   int nreceiver;
-  long gw, gh, rays, light, split, threads;
+  long gw, gh, rays, light, split, threads, area_mesh;
   double linear_tol, uniform_tol;
   int have_extent;
   double ext[4];
@@ -147,7 +152,7 @@ static int parse(int argc, char **argv, args_t *a) {
       {"--method", 0, 1, OPT_METHOD},     {"--rays", 0, 1, OPT_RAYS},
       {"--light", 0, 1, OPT_LIGHT},       {"--max-split", 0, 1, OPT_SPLIT},
       {"--linear-tol", 0, 1, OPT_LINEAR}, {"--uniform-tol", 0, 1, OPT_UNIFORM},
-      {"--threads", 0, 1, OPT_THREADS}};
+      {"--threads", 0, 1, OPT_THREADS},   {"--area-mesh", 0, 1, OPT_AREA_MESH}};
   int n, rc;
   cli_arg_t *args = cli_args("illuminance", argc, argv, specs,
                              (int)(sizeof specs / sizeof specs[0]), help, &n, &rc);
@@ -196,6 +201,10 @@ static int parse(int argc, char **argv, args_t *a) {
       break;
     case OPT_SPLIT:
       rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
+      break;
+    case OPT_AREA_MESH:
+      rc = cli_parse_long("--area-mesh", g->value, 1, LT_MAX_AREA_MESH, &a->area_mesh) ? CLI_OK
+                                                                                       : CLI_USAGE;
       break;
     case OPT_UNIFORM: /* a share */
       rc = cli_parse_double_in("--uniform-tol", g->value, 0, 1e6, &a->uniform_tol) ? CLI_OK
@@ -248,6 +257,7 @@ int cmd_illuminance(int argc, char **argv) {
   a.gw = a.gh = 256;
   a.light = -1;
   a.split = d.max_split;
+  a.area_mesh = d.area_mesh;
   a.linear_tol = d.linear_tol;
   a.uniform_tol = d.uniform_tol;
   int rc = parse(argc, argv, &a);
@@ -345,6 +355,7 @@ int cmd_illuminance(int argc, char **argv) {
   o.light = (int)a.light;
   o.side = (int)(side < 2 ? 2 : side);
   o.max_split = (int)a.split;
+  o.area_mesh = (int)a.area_mesh;
   o.linear_tol = a.linear_tol;
   o.uniform_tol = a.uniform_tol;
   o.threads = (int)a.threads;
@@ -407,7 +418,7 @@ int cmd_illuminance(int argc, char **argv) {
   json_t *root = json_pack(
       "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:o, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
       "s:I, "
-      "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s}",
+      "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s, s:i}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
       lights, "rays_per_side", o.method == LT_METHOD_POLYGONS ? json_null() : json_integer(o.side),
@@ -418,7 +429,8 @@ int cmd_illuminance(int argc, char **argv) {
       (json_int_t)st.lost, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
       "on_receiver_outside", st.flux_outside, "escaped", st.flux_escaped, "absorbed",
       st.flux_absorbed, "seconds", st.seconds, "cpu_seconds", cpu, "units",
-      "E in the scene's units (mean of R, G, B): intensity over length squared");
+      "E in the scene's units (mean of R, G, B): intensity over length squared", "area_mesh",
+      o.area_mesh);
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,
                    sizeof err) != 0) {

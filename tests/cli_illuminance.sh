@@ -133,5 +133,33 @@ PY
 $pencil bench illuminance --fig11 "$dir/none.json" >/dev/null 2>"$dir/err"; rc=$?
 check "bench illuminance: a missing Fig. 11 scene is refused at once, named" \
   "[ $rc -eq 2 ] && grep -q 'cannot read the Fig. 11 scene $dir/none.json' '$dir/err'"
+# an area light (1989 section 2.3): mapped as a mesh of Lambertian point sources, the mesh in the
+# JSON; the renderers and the polygons method refuse it, naming it, writing nothing
+cat >"$dir/area.json" <<'JSON'
+{"camera": {"eye": [0, 3, -6], "look_at": [0, 0, 0]},
+ "materials": {"white": {"kd": 0.8}, "glass": {"kd": 0, "ka": 0, "kr": 0, "kt": 1, "ior": 1.5}},
+ "lights": [{"type": "area", "center": [0, 4, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0.5],
+             "intensity": 10}],
+ "objects": [{"type": "plane", "name": "floor", "point": [0, 0, 0], "normal": [0, 1, 0],
+              "material": "white"},
+             {"type": "sphere", "name": "ball", "center": [0, 1.5, 0], "radius": 1,
+              "material": "glass"}]}
+JSON
+$pencil illuminance "$dir/area.json" --receiver floor -o "$dir/amap.exr" --grid 16x16 \
+  --rays 289 --area-mesh 3 >/dev/null 2>"$dir/err"; rc=$?
+check "an area light is mapped; MAP.json records the mesh" \
+  "[ $rc -eq 0 ] && /usr/bin/python3 -c \"import json, sys; d = json.load(open('$dir/amap.json')); sys.exit(0 if d['area_mesh'] == 3 and d['flux']['on_map'] > 0 else 1)\""
+$pencil illuminance "$dir/area.json" --receiver floor -o "$dir/area2.exr" --area-mesh 0 \
+  >/dev/null 2>"$dir/err"; rc=$?
+check "--area-mesh 0: exit 2 naming it, nothing written" \
+  "[ $rc -eq 2 ] && grep -q -- '--area-mesh' '$dir/err' && [ ! -e '$dir/area2.exr' ]"
+$pencil illuminance "$dir/area.json" --receiver floor -o "$dir/area3.exr" --method polygons \
+  >/dev/null 2>"$dir/err"; rc=$?
+check "polygons with an area light: exit 2 naming it" \
+  "[ $rc -eq 2 ] && grep -q 'area light' '$dir/err' && [ ! -e '$dir/area3.exr' ]"
+$pencil render "$dir/area.json" -o "$dir/area-render.exr" >/dev/null 2>"$dir/err"; rc=$?
+check "pencil render refuses an area light, naming it, nothing written" \
+  "[ $rc -eq 2 ] && grep -q 'light 0 is an area light' '$dir/err' && [ ! -e '$dir/area-render.exr' ]"
+
 [ $fail -eq 0 ] && echo "cli_illuminance: all passed"
 exit $fail

@@ -230,7 +230,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_scene_add_material(&s, &m, &mi);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
   s.ambient = rt_rgb(0.5, 0.5, 0.5);
-  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE};
+  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
@@ -260,7 +260,8 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_shade_direct2(&s, &plan, &sf, sf.mat, &r, &tr, two);
   assert_memory_equal(&two[0], &c, sizeof c); /* and the checkerboard's path agrees bit for bit */
   /* a parallel light cannot fall off */
-  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, -1, 0}, {1, 1, 1}, RT_FALLOFF_INVERSE_SQUARE};
+  rt_light_t sun = {RT_LIGHT_PARALLEL,         {0, -1, 0}, {1, 1, 1},
+                    RT_FALLOFF_INVERSE_SQUARE, {0, 0, 0},  {0, 0, 0}};
   assert_int_equal(rt_scene_add_light(&s, &sun), RT_EINVAL);
   rt_scene_free(&s);
 }
@@ -287,9 +288,14 @@ static void two_materials_shaded_at_once_match_each_alone(void **state) {
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi[0], -1, 1, NULL);
   s.ambient = rt_rgb(0.5, 0.4, 0.3);
   rt_light_t lights[3] = {
-      {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE},
-      {RT_LIGHT_POINT, {-1, -3, 1}, {1, 1, 1}, RT_FALLOFF_NONE}, /* below: faced away from */
-      {RT_LIGHT_PARALLEL, {0.3, -1, 0.2}, {0.5, 0.7, 0.9}, RT_FALLOFF_NONE}};
+      {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}},
+      {RT_LIGHT_POINT,
+       {-1, -3, 1},
+       {1, 1, 1},
+       RT_FALLOFF_NONE,
+       {0, 0, 0},
+       {0, 0, 0}}, /* below: faced away from */
+      {RT_LIGHT_PARALLEL, {0.3, -1, 0.2}, {0.5, 0.7, 0.9}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}}};
   for (int l = 0; l < 3; l++)
     rt_scene_add_light(&s, &lights[l]);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
@@ -338,8 +344,8 @@ static void parallel_light_and_its_shadow(void **state) {
   rt_scene_add_material(&s, &m, &mi);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
   rt_scene_add_sphere(&s, px_vec3(0, 100, 0), 1.0, mi, NULL);
-  rt_light_t l = {
-      RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}, RT_FALLOFF_NONE}; /* normalised on adding */
+  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5},
+                  RT_FALLOFF_NONE,   {0, 0, 0},  {0, 0, 0}}; /* normalised on adding */
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
@@ -468,7 +474,7 @@ static void plan_names_caustic_paths(void **state) {
   rt_scene_name_object(&s, floor_obj, "floor");
   rt_plan_t plan = rt_plan_make(&s, 1);
   assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));
-  rt_light_t l = {RT_LIGHT_POINT, {0, 5, 0}, {1, 1, 1}, RT_FALLOFF_NONE};
+  rt_light_t l = {RT_LIGHT_POINT, {0, 5, 0}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
   assert_int_equal(rt_scene_add_light(&s, &l), RT_OK);
   plan = rt_plan_make(&s, 1);
   assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));

@@ -183,9 +183,16 @@ rt_status_t rt_scene_add_light(rt_scene_t *s, const rt_light_t *l) {
     return RT_EINVAL;
   if (c.kind == RT_LIGHT_PARALLEL && px_vec3_normalize(l->v, &c.v) != PX_OK)
     return RT_EINVAL;
-  if (c.falloff != RT_FALLOFF_NONE &&
-      (c.falloff != RT_FALLOFF_INVERSE_SQUARE || c.kind != RT_LIGHT_POINT))
+  if (c.kind == RT_LIGHT_AREA) { /* physical by nature: it falls off as the inverse square */
+    px_vec3_t n = px_v3_cross(c.eu, c.ev);
+    if (!vec_finite(c.eu) || !vec_finite(c.ev) ||
+        !(px_v3_norm(n) > 1e-12 * px_v3_norm(c.eu) * px_v3_norm(c.ev)))
+      return RT_EINVAL;
+    c.falloff = RT_FALLOFF_INVERSE_SQUARE;
+  } else if (c.falloff != RT_FALLOFF_NONE &&
+             (c.falloff != RT_FALLOFF_INVERSE_SQUARE || c.kind != RT_LIGHT_POINT)) {
     return RT_EINVAL; /* only a point light falls off */
+  }
   if (!RESERVE(s, light, nlight, 1))
     return RT_ENOMEM;
   drop_accel(s);

@@ -102,15 +102,42 @@ static int parse_materials(io_parse_t *P, json_t *o) {
 }
 
 static int parse_light(io_parse_t *P, json_t *o) {
-  static const char *const keys[] = {"type", "position", "direction", "intensity", "falloff", NULL};
+  static const char *const keys[] = {"type",   "position", "direction", "intensity", "falloff",
+                                     "center", "edge_u",   "edge_v",    NULL};
   const char *type;
-  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}, RT_FALLOFF_NONE};
+  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
   if (!json_is_object(o))
     return io_fail(P, "expected a light object {\"type\": \"point\", ...}");
   if (!io_check_keys(P, o, keys) || !io_get_string(P, o, "type", 1, &type) ||
       !io_get_rgb(P, o, "intensity", l.intensity, &l.intensity))
     return 0;
-  if (strcmp(type, "point") == 0) {
+  if (strcmp(type, "point") != 0 && strcmp(type, "area") != 0 &&
+      (json_object_get(o, "center") || json_object_get(o, "edge_u") ||
+       json_object_get(o, "edge_v")))
+    return io_fail(P, "\"center\", \"edge_u\" and \"edge_v\" belong to an area light");
+  if (strcmp(type, "point") == 0 && (json_object_get(o, "center") || json_object_get(o, "edge_u") ||
+                                     json_object_get(o, "edge_v")))
+    return io_fail(P, "\"center\", \"edge_u\" and \"edge_v\" belong to an area light");
+  if (strcmp(type, "area") == 0) {
+    l.kind = RT_LIGHT_AREA;
+    if (json_object_get(o, "position") || json_object_get(o, "direction"))
+      return io_fail(P, "an area light has a \"center\" and edges \"edge_u\", \"edge_v\", not a "
+                        "\"position\" or \"direction\"");
+    if (json_object_get(o, "falloff"))
+      return io_fail(P, "an area light has no \"falloff\" (it always falls off as the inverse "
+                        "square)");
+    if (!io_get_vec3(P, o, "center", 1, l.v, &l.v) ||
+        !io_get_vec3(P, o, "edge_u", 1, l.eu, &l.eu) ||
+        !io_get_vec3(P, o, "edge_v", 1, l.ev, &l.ev))
+      return 0;
+    px_vec3_t n = px_v3_cross(l.eu, l.ev);
+    if (!(px_v3_norm(n) > 1e-12 * px_v3_norm(l.eu) * px_v3_norm(l.ev))) {
+      io_push_key(P, "edge_v");
+      io_fail(P, "the edges span no area (zero or parallel)");
+      io_pop(P);
+      return 0;
+    }
+  } else if (strcmp(type, "point") == 0) {
     if (json_object_get(o, "direction"))
       return io_fail(P, "a point light has a \"position\", not a \"direction\"");
     if (!io_get_vec3(P, o, "position", 1, l.v, &l.v))
@@ -142,7 +169,7 @@ static int parse_light(io_parse_t *P, json_t *o) {
     }
   } else {
     io_push_key(P, "type");
-    io_fail(P, "unknown light type '%s'; expected \"point\" or \"parallel\"", type);
+    io_fail(P, "unknown light type '%s'; expected \"point\", \"parallel\" or \"area\"", type);
     io_pop(P);
     return 0;
   }

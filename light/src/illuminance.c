@@ -39,6 +39,14 @@ const char *lt_method_name(lt_method_t m) {
 rt_status_t lt_method_check(const rt_scene_t *s, lt_method_t m, char *why, size_t cap) {
   if (m != LT_METHOD_POLYGONS)
     return RT_OK;
+  for (int l = 0; l < s->nlight; l++)
+    if (s->light[l].kind == RT_LIGHT_AREA) {
+      snprintf(why, cap,
+               "light %d is an area light: illuminance polygons take point and parallel lights "
+               "(use grid-pencil or photons)",
+               l);
+      return RT_EINVAL;
+    }
   bm_scene_t b;
   rt_status_t st = bm_scene_build(s, &b, why, cap);
   if (st == RT_OK)
@@ -207,7 +215,8 @@ static void photon_row(worker_t *W, const lt_face_t *f, int side, int j) {
   for (int i = 0; i < side; i++) {
     double a0 = i * h, b0 = j * h, a1 = a0 + h, b1 = b0 + h;
     double p00[2] = {a0, b0}, p10[2] = {a1, b0}, p11[2] = {a1, b1}, p01[2] = {a0, b1};
-    double meas = lt__face_measure(f, p00, p10, p11) + lt__face_measure(f, p00, p11, p01);
+    double meas = (lt__face_measure(f, p00, p10, p11) + lt__face_measure(f, p00, p11, p01)) *
+                  lt__face_weight(f, a0 + 0.5 * h, b0 + 0.5 * h);
     rt_ray_t r = lt__face_ray(W->C.s, f, a0 + 0.5 * h, b0 + 0.5 * h);
     lt__trace(&W->C, &r, &arr);
     for (int k = 0; k < arr.n; k++)
@@ -352,7 +361,10 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
       pencil(W, f, t[k], tx[k], split - 1);
     return;
   }
-  double meas = lt__face_measure(f, p[0], p[1], p[2]);
+  /* a Lambertian source's weight at the pencil's centre: the midpoint rule over its directions */
+  double meas =
+      lt__face_measure(f, p[0], p[1], p[2]) *
+      lt__face_weight(f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
   for (int v = 0; v < 3; v++)
     for (int k = 0; k < x[v]->n; k++) {
       const lt_arrival_t *a = &x[v]->a[k];
@@ -388,6 +400,26 @@ static void pencil_row(worker_t *W, const lt_face_t *f, int side, int j, const l
   }
 }
 
+/* The measure of face f's whole grid, weighted by a Lambertian source's cosine: the exact measure
+ * for an isotropic source, else the midpoint rule over 64 x 64 squares (a ledger's emitted flux,
+ * to the rule's accuracy). */
+static double face_flux(const lt_face_t *f) {
+  double c0[2] = {0, 0}, c1[2] = {1, 0}, c2[2] = {1, 1}, c3[2] = {0, 1};
+  if (lt__face_weight(f, 0.5, 0.5) == 1.0 && f->lambert.x == 0.0 && f->lambert.y == 0.0 &&
+      f->lambert.z == 0.0)
+    return lt__face_measure(f, c0, c1, c2) + lt__face_measure(f, c0, c2, c3);
+  const int n = 64;
+  double sum = 0.0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double p00[2] = {(double)i / n, (double)j / n}, p10[2] = {(i + 1.0) / n, (double)j / n};
+      double p11[2] = {(i + 1.0) / n, (j + 1.0) / n}, p01[2] = {(double)i / n, (j + 1.0) / n};
+      sum += (lt__face_measure(f, p00, p10, p11) + lt__face_measure(f, p00, p11, p01)) *
+             lt__face_weight(f, (i + 0.5) / n, (j + 0.5) / n);
+    }
+  return sum;
+}
+
 static void stats_add(lt_stats_t *a, const lt_stats_t *b) {
   a->rays += b->rays;
   a->segments += b->segments;
@@ -409,7 +441,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     return RT_ENOTREADY;
   if (rc->n < 1 || rc->n > LT_MAX_RECEIVERS || o->light < -1 || o->light >= s->nlight ||
       o->side < 2 || o->side > LT_MAX_GRID || o->max_split < 0 || o->max_split > 12 ||
-      o->threads < 0 || !m->e)
+      o->threads < 0 || o->area_mesh < 1 || o->area_mesh > LT_MAX_AREA_MESH || !m->e)
     return RT_EINVAL;
   int nt = rt_thread_count(o->threads);
   size_t cells = 3 * (size_t)m->width * (size_t)m->height;
@@ -446,67 +478,67 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
       status = RT_ENOMEM;
   }
   int l0 = o->light < 0 ? 0 : o->light, l1 = o->light < 0 ? s->nlight : o->light + 1;
-  for (int l = l0; l < l1 && status == RT_OK; l++) {
-    lt_face_t faces[6];
-    int nf = lt__faces(s, rc, m, l, faces);
-    for (int fi = 0; fi < nf; fi++) {
-      const lt_face_t *f = &faces[fi];
-      /* the flux the grid covers: the face's whole measure */
-      double c0[2] = {0, 0}, c1[2] = {1, 0}, c2[2] = {1, 1}, c3[2] = {0, 1};
-      double meas = lt__face_measure(f, c0, c1, c2) + lt__face_measure(f, c0, c2, c3);
-      total.flux_emitted += meas * (f->power.r + f->power.g + f->power.b) / 3.0;
-      if (o->method == LT_METHOD_POLYGONS) {
-        const int T = LT_POLYGON_TILES;
+  /* every point source: a light, or each mesh point of an area light */
+  for (int l = l0; l < l1 && status == RT_OK; l++)
+    for (int sub = 0; sub < lt__subsources(s, l, o->area_mesh) && status == RT_OK; sub++) {
+      lt_face_t faces[6];
+      int nf = lt__faces(s, rc, m, l, sub, o->area_mesh, faces);
+      for (int fi = 0; fi < nf; fi++) {
+        const lt_face_t *f = &faces[fi];
+        /* the flux the grid covers: the face's whole measure (weighted for a Lambertian source) */
+        total.flux_emitted += face_flux(f) * (f->power.r + f->power.g + f->power.b) / 3.0;
+        if (o->method == LT_METHOD_POLYGONS) {
+          const int T = LT_POLYGON_TILES;
+          int done = 0;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+          for (int t = 0; t < T * T; t++) {
+            int me = 0;
+#ifdef _OPENMP
+            me = omp_get_thread_num();
+#endif
+            int i = t % T, j = t / T;
+            double box[4] = {f->hx * (2.0 * i / T - 1), f->hx * (2.0 * (i + 1) / T - 1),
+                             f->hy * (2.0 * j / T - 1), f->hy * (2.0 * (j + 1) / T - 1)};
+            lt__polygons_tile(&W[me].C, &W[me].A, o, &planar, f, box);
+            if (o->progress) {
+#pragma omp critical(lt_progress)
+              o->progress(o->progress_ctx, ++done, T * T);
+            }
+          }
+          continue;
+        }
+        int rows = o->method == LT_METHOD_PHOTONS ? side : side - 1;
+        if (o->method == LT_METHOD_GRID_PENCIL) {
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+          for (int j = 0; j < side; j++) {
+            int me = 0;
+#ifdef _OPENMP
+            me = omp_get_thread_num();
+#endif
+            for (int i = 0; i < side; i++) {
+              rt_ray_t r = lt__face_ray(s, f, (double)i / (side - 1), (double)j / (side - 1));
+              lt__trace(&W[me].C, &r, &grid[(size_t)j * side + i]);
+            }
+          }
+        }
         int done = 0;
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
-        for (int t = 0; t < T * T; t++) {
+        for (int j = 0; j < rows; j++) {
           int me = 0;
 #ifdef _OPENMP
           me = omp_get_thread_num();
 #endif
-          int i = t % T, j = t / T;
-          double box[4] = {f->hx * (2.0 * i / T - 1), f->hx * (2.0 * (i + 1) / T - 1),
-                           f->hy * (2.0 * j / T - 1), f->hy * (2.0 * (j + 1) / T - 1)};
-          lt__polygons_tile(&W[me].C, &W[me].A, o, &planar, f, box);
+          if (o->method == LT_METHOD_PHOTONS)
+            photon_row(&W[me], f, side, j);
+          else
+            pencil_row(&W[me], f, side, j, grid + (size_t)j * side, grid + (size_t)(j + 1) * side);
           if (o->progress) {
 #pragma omp critical(lt_progress)
-            o->progress(o->progress_ctx, ++done, T * T);
+            o->progress(o->progress_ctx, ++done, rows);
           }
-        }
-        continue;
-      }
-      int rows = o->method == LT_METHOD_PHOTONS ? side : side - 1;
-      if (o->method == LT_METHOD_GRID_PENCIL) {
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
-        for (int j = 0; j < side; j++) {
-          int me = 0;
-#ifdef _OPENMP
-          me = omp_get_thread_num();
-#endif
-          for (int i = 0; i < side; i++) {
-            rt_ray_t r = lt__face_ray(s, f, (double)i / (side - 1), (double)j / (side - 1));
-            lt__trace(&W[me].C, &r, &grid[(size_t)j * side + i]);
-          }
-        }
-      }
-      int done = 0;
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
-      for (int j = 0; j < rows; j++) {
-        int me = 0;
-#ifdef _OPENMP
-        me = omp_get_thread_num();
-#endif
-        if (o->method == LT_METHOD_PHOTONS)
-          photon_row(&W[me], f, side, j);
-        else
-          pencil_row(&W[me], f, side, j, grid + (size_t)j * side, grid + (size_t)(j + 1) * side);
-        if (o->progress) {
-#pragma omp critical(lt_progress)
-          o->progress(o->progress_ctx, ++done, rows);
         }
       }
     }
-  }
   free(grid);
   if (status == RT_OK) {
     double cell = (m->u1 - m->u0) / m->width * (m->v1 - m->v0) / m->height;

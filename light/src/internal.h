@@ -41,14 +41,27 @@ typedef struct {
   int parallel;
   px_vec3_t origin; /**< point: the light; parallel: the grid's centre */
   px_vec3_t x, y, z;
-  double hx, hy;  /**< half sides (tangents for a point light) */
-  rt_rgb_t power; /**< the light's intensity I */
+  double hx, hy;     /**< half sides (tangents for a point light) */
+  rt_rgb_t power;    /**< the light's intensity I */
+  px_vec3_t lambert; /**< a Lambertian emitter's unit normal (an area light's mesh point): the
+                          intensity is power times max(0, cos) of the ray's angle to it
+                          (lt__face_weight()); zero for an isotropic source */
 } lt_face_t;
 
 /** Faces of light l that cover every ray that can reach the receiver's map (at most 6); 0 when
- *  none can. */
-int lt__faces(const rt_scene_t *s, const lt_receiver_t *r, const lt_map_t *m, int l,
-              lt_face_t out[6]);
+ *  none can. For an area light, the faces of its mesh point `sub` of mesh x mesh (row-major):
+ *  a Lambertian point source at the mesh cell's centre with its share of the intensity. */
+int lt__faces(const rt_scene_t *s, const lt_receiver_t *r, const lt_map_t *m, int l, int sub,
+              int mesh, lt_face_t out[6]);
+
+/** The intensity weight of the ray of grid parameters (a, b) of face f: 1 for an isotropic
+ *  source, max(0, cos) of its angle to f->lambert for a Lambertian one. */
+double lt__face_weight(const lt_face_t *f, double a, double b);
+
+/** Point sources light l is traced as: mesh x mesh for an area light, else 1. */
+static inline int lt__subsources(const rt_scene_t *s, int l, int mesh) {
+  return s->light[l].kind == RT_LIGHT_AREA ? mesh * mesh : 1;
+}
 
 /** The ray of grid parameters (a, b) in [0, 1]^2 of face f. */
 rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b);

@@ -6,7 +6,10 @@
  * those targets gets one face, the square of directions through the box (a frustum); a point light
  * inside it, or with an unbounded reflecting or transmitting object in the scene, gets the six
  * faces of a cube around it. A parallel light gets one face across its beam, over the box's
- * shadow (an unbounded reflecting plane is not followed beyond that box: docs/illuminance.md). */
+ * shadow (an unbounded reflecting plane is not followed beyond that box: docs/illuminance.md).
+ * An area light is traced as a mesh of Lambertian point sources, one at each mesh cell's centre
+ * with the cell's share of the intensity (the 1989 paper's section 2.3: "divide an area source
+ * into a mesh"). */
 #include <math.h>
 
 #include "core/intersect.h"
@@ -57,15 +60,26 @@ static void frame_of(px_vec3_t d, px_vec3_t *x, px_vec3_t *y) {
   *y = px_v3_cross(d, *x);
 }
 
-int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, int l,
-              lt_face_t out[6]) {
+int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, int l, int sub,
+              int mesh, lt_face_t out[6]) {
+  rt_light_t mp = s->light[l]; /* an area light's mesh point as a point light */
   const rt_light_t *L = &s->light[l];
+  px_vec3_t lambert = px_v3(0, 0, 0);
+  if (L->kind == RT_LIGHT_AREA) {
+    int i = sub % mesh, j = sub / mesh;
+    double a = (i + 0.5) / mesh - 0.5, b = (j + 0.5) / mesh - 0.5;
+    mp.kind = RT_LIGHT_POINT;
+    mp.v = px_v3_add(L->v, px_v3_add(px_v3_scale(L->eu, a), px_v3_scale(L->ev, b)));
+    mp.intensity = rt_rgb_scale(L->intensity, 1.0 / ((double)mesh * mesh));
+    lambert = px_v3_unit(px_v3_cross(L->eu, L->ev));
+    L = &mp;
+  }
   px_vec3_t lo, hi;
   int unbounded;
   targets(s, rc, m, &lo, &hi, &unbounded);
   px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
   if (L->kind == RT_LIGHT_PARALLEL) {
-    lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v, 0, 0, L->intensity};
+    lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v, 0, 0, L->intensity, lambert};
     frame_of(L->v, &f.x, &f.y);
     double far = 0.0;
     for (int k = 0; k < 8; k++) {
@@ -101,18 +115,27 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
       h = fmax(h, fmax(fabs(px_v3_dot(r, x)), fabs(px_v3_dot(r, y))) / rz);
     }
     if (frustum) {
-      out[0] = (lt_face_t){0, L->v, x, y, z, h * (1 + 1e-6), h * (1 + 1e-6), L->intensity};
+      out[0] = (lt_face_t){0, L->v, x, y, z, h * (1 + 1e-6), h * (1 + 1e-6), L->intensity, lambert};
       return 1;
     }
   }
   static const px_vec3_t axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (int k = 0; k < 6; k++) {
-    lt_face_t f = {0, L->v, px_v3(0, 0, 0), px_v3(0, 0, 0), axes[k], 1.0, 1.0, L->intensity};
+    lt_face_t f = {0,   L->v, px_v3(0, 0, 0), px_v3(0, 0, 0), axes[k],
+                   1.0, 1.0,  L->intensity,   lambert};
     frame_of(axes[k], &f.x, &f.y);
     out[k] = f;
   }
   return 6;
+}
+
+double lt__face_weight(const lt_face_t *f, double a, double b) {
+  if (f->lambert.x == 0.0 && f->lambert.y == 0.0 && f->lambert.z == 0.0)
+    return 1.0;
+  px_vec3_t d = px_v3_unit(px_v3_add(f->z, px_v3_add(px_v3_scale(f->x, (2 * a - 1) * f->hx),
+                                                     px_v3_scale(f->y, (2 * b - 1) * f->hy))));
+  return fmax(0.0, px_v3_dot(d, f->lambert));
 }
 
 rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b) {

@@ -2,6 +2,7 @@
  * entry names its own default method (the exact renderer's maps by backward ray tracing, the
  * pencil renderer's by grid-pencils), and shading reads the maps through its copy of the plan
  * (core/caustics.h). */
+#include <stdio.h>
 #include <string.h>
 
 #include "entries.h"
@@ -15,6 +16,14 @@ rt_status_t rn__caustics_make(const rt_scene_t *s, const rt_plan_t *plan, const 
   memset(maps, 0, sizeof *maps);
   *run = *plan;
   run->maps = NULL;
+  int area = rn_area_light(s);
+  if (area >= 0) {
+    snprintf(cs->why, sizeof cs->why,
+             "light %d is an area light: the renderers do not draw area lights yet (pencil "
+             "illuminance maps them)",
+             area);
+    return RT_EINVAL;
+  }
   if (!rt_plan_has(plan, RT_EFFECT_CAUSTICS))
     return RT_OK;
   if (c->caustic_method)
@@ -41,4 +50,11 @@ rt_status_t rn__caustics_make(const rt_scene_t *s, const rt_plan_t *plan, const 
   cs->outside = st.flux_outside;
   run->maps = maps;
   return RT_OK;
+}
+
+int rn_area_light(const rt_scene_t *s) {
+  for (int l = 0; l < s->nlight; l++)
+    if (s->light[l].kind == RT_LIGHT_AREA)
+      return l;
+  return -1;
 }

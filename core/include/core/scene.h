@@ -90,7 +90,11 @@ typedef struct {
   };
 } rt_prim_t;
 
-typedef enum { RT_LIGHT_POINT = 0, RT_LIGHT_PARALLEL = 1 } rt_light_kind_t;
+typedef enum {
+  RT_LIGHT_POINT = 0,
+  RT_LIGHT_PARALLEL = 1,
+  RT_LIGHT_AREA = 2 /**< a Lambertian rectangle (1989 paper, section 2.3); maps only so far */
+} rt_light_kind_t;
 
 /** A scene's wish for caustics: light that reaches diffuse surfaces through reflecting or
  *  transparent objects, drawn from illuminance maps (issue 25) instead of the textbook's straight
@@ -111,9 +115,15 @@ typedef enum {
  *  light may ask for the physical inverse-square fall-off instead. */
 typedef struct {
   rt_light_kind_t kind;
-  px_vec3_t v;          /**< point: position; parallel: unit direction the light travels in */
-  rt_rgb_t intensity;   /**< I_l (at unit distance with inverse-square fall-off) */
-  rt_falloff_t falloff; /**< RT_FALLOFF_NONE for a parallel light */
+  px_vec3_t v;          /**< point: position; parallel: unit direction the light travels in;
+                             area: the rectangle's centre */
+  rt_rgb_t intensity;   /**< I_l (at unit distance with inverse-square fall-off); area: the whole
+                             rectangle's intensity along its normal, I0 (I0 cos(theta) at angle
+                             theta from it: a Lambertian emitter of radiance I0 / area) */
+  rt_falloff_t falloff; /**< RT_FALLOFF_NONE for a parallel light; an area light's is always
+                             RT_FALLOFF_INVERSE_SQUARE */
+  px_vec3_t eu, ev;     /**< area: the rectangle's two edges (centre +- eu / 2 +- ev / 2); it
+                             emits on the side of eu x ev. Zero for the other kinds */
 } rt_light_t;
 
 /** Pinhole camera. Pixel (i, j) covers [i, i+1) x [j, j+1) in continuous pixel coordinates,
@@ -193,8 +203,9 @@ rt_status_t rt_scene_add_polygon(rt_scene_t *s, const px_vec3_t *v, int n, int m
 rt_status_t rt_scene_add_polyhedron(rt_scene_t *s, const px_vec3_t *v, int nv, const int *face_idx,
                                     const int *face_len, int nface, int material, int *object,
                                     char *why, size_t cap);
-/** Append a light (a parallel light's direction normalised). RT_EINVAL for a non-finite
- *  position, direction or intensity, a zero direction, or a fall-off on a parallel light. */
+/** Append a light (a parallel light's direction normalised; an area light's fall-off set to the
+ *  inverse square). RT_EINVAL for a non-finite position, direction, edge or intensity, a zero
+ *  direction, a fall-off on a parallel light, or an area light whose edges span no area. */
 rt_status_t rt_scene_add_light(rt_scene_t *s, const rt_light_t *l);
 
 /** Name an object (truncated to RT_NAME_MAX - 1 characters). */

@@ -40,7 +40,8 @@ int lt_method_parse(const char *name);
 const char *lt_method_name(lt_method_t m);
 
 /** RT_OK when method m can trace scene s; RT_EINVAL with the reason in why[cap] otherwise (the
- *  polygons method needs planar faces: a sphere is refused by name). */
+ *  polygons method needs planar faces, a sphere is refused by name, and point or parallel
+ *  lights: an area light is refused). */
 rt_status_t lt_method_check(const rt_scene_t *s, lt_method_t m, char *why, size_t cap);
 
 /** The polygons method starts from LT_POLYGON_TILES x LT_POLYGON_TILES beams per grid face of a
@@ -98,12 +99,17 @@ typedef struct {
   int threads;        /**< OpenMP threads; 0 = the default */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
-  int indirect; /**< 1: only light that met at least one other surface before the receiver (a
-                     caustic map: the renderer's shadow rays give the direct light) */
+  int indirect;  /**< 1: only light that met at least one other surface before the receiver (a
+                      caustic map: the renderer's shadow rays give the direct light) */
+  int area_mesh; /**< an area light is traced as area_mesh x area_mesh Lambertian point sources
+                      at its mesh cells' centres (1989 section 2.3), 1..LT_MAX_AREA_MESH */
 } lt_options_t;
 
+/** Largest side of an area light's mesh. */
+#define LT_MAX_AREA_MESH 256
+
 #define LT_OPTIONS_DEFAULT                                                                         \
-  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL, 0 }
+  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL, 0, 8 }
 
 typedef struct {
   uint64_t rays;        /**< source rays traced (grid points and division points) */
