@@ -20,7 +20,8 @@ static void help(FILE *f) {
       "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
       "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
       "                          [--rays N] [--light K] [--max-split S] [--linear-tol C]\n"
-      "                          [--uniform-tol R] [--area-mesh M] [--threads N]\n\n"
+      "                          [--uniform-tol R] [--area-mesh M] [--area-filter] [--threads "
+      "N]\n\n"
       "The illuminance E that the scene's point, parallel and area lights deliver to the\n"
       "object NAME (a plane or a polygon), directly and through chains of specular\n"
       "reflections and refractions up to the scene's max_depth (weighted by kr, kt,\n"
@@ -71,6 +72,11 @@ static void help(FILE *f) {
       "                    at a face exceeds the share R, or E is not near linear over it\n"
       "  --area-mesh M     an area light is traced as M x M Lambertian point sources at its\n"
       "                    mesh cells' centres (default 8; 1..256; 1989 section 2.3)\n"
+      "  --area-filter     grid-pencil: spread each mesh point's light over its mesh cell by the\n"
+      "                    space-variant filter of the 1989 Eqs. (9)-(12), against the\n"
+      "                    \"discrete focuses\" of a coarse mesh\n"
+      "  --indirect        only light that met another surface first (a caustic map, as the\n"
+      "                    renderers make them: their shadow rays give the direct light)\n"
       "  --threads N       OpenMP threads (default: all cores)\n\n"
       "A light's grid covers the directions (or, for a parallel light, the beam) towards the\n"
       "map's rectangle and every object that reflects or transmits (docs/illuminance.md).\n"
@@ -89,6 +95,8 @@ enum {
   OPT_SPLIT,
   OPT_THREADS,
   OPT_AREA_MESH,
+  OPT_AREA_FILTER,
+  OPT_INDIRECT,
   OPT_LINEAR,
   OPT_UNIFORM
 };
@@ -98,6 +106,7 @@ typedef struct {
   const char *receiver[LT_MAX_RECEIVERS]; /**< the names given, in order */
   int nreceiver;
   long gw, gh, rays, light, split, threads, area_mesh;
+  int area_filter, indirect;
   double linear_tol, uniform_tol;
   int have_extent;
   double ext[4];
@@ -146,13 +155,20 @@ static int parse_grid(const char *v, long *w, long *h) {
 }
 
 static int parse(int argc, char **argv, args_t *a) {
-  static const cli_spec_t specs[] = {
-      {"--output", 'o', 1, OPT_OUT},      {"--receiver", 0, 1, OPT_RECEIVER},
-      {"--grid", 0, 1, OPT_GRID},         {"--extent", 0, 1, OPT_EXTENT},
-      {"--method", 0, 1, OPT_METHOD},     {"--rays", 0, 1, OPT_RAYS},
-      {"--light", 0, 1, OPT_LIGHT},       {"--max-split", 0, 1, OPT_SPLIT},
-      {"--linear-tol", 0, 1, OPT_LINEAR}, {"--uniform-tol", 0, 1, OPT_UNIFORM},
-      {"--threads", 0, 1, OPT_THREADS},   {"--area-mesh", 0, 1, OPT_AREA_MESH}};
+  static const cli_spec_t specs[] = {{"--output", 'o', 1, OPT_OUT},
+                                     {"--receiver", 0, 1, OPT_RECEIVER},
+                                     {"--grid", 0, 1, OPT_GRID},
+                                     {"--extent", 0, 1, OPT_EXTENT},
+                                     {"--method", 0, 1, OPT_METHOD},
+                                     {"--rays", 0, 1, OPT_RAYS},
+                                     {"--light", 0, 1, OPT_LIGHT},
+                                     {"--max-split", 0, 1, OPT_SPLIT},
+                                     {"--linear-tol", 0, 1, OPT_LINEAR},
+                                     {"--uniform-tol", 0, 1, OPT_UNIFORM},
+                                     {"--threads", 0, 1, OPT_THREADS},
+                                     {"--area-mesh", 0, 1, OPT_AREA_MESH},
+                                     {"--area-filter", 0, 0, OPT_AREA_FILTER},
+                                     {"--indirect", 0, 0, OPT_INDIRECT}};
   int n, rc;
   cli_arg_t *args = cli_args("illuminance", argc, argv, specs,
                              (int)(sizeof specs / sizeof specs[0]), help, &n, &rc);
@@ -201,6 +217,12 @@ static int parse(int argc, char **argv, args_t *a) {
       break;
     case OPT_SPLIT:
       rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
+      break;
+    case OPT_AREA_FILTER:
+      a->area_filter = 1;
+      break;
+    case OPT_INDIRECT:
+      a->indirect = 1;
       break;
     case OPT_AREA_MESH:
       rc = cli_parse_long("--area-mesh", g->value, 1, LT_MAX_AREA_MESH, &a->area_mesh) ? CLI_OK
@@ -303,6 +325,11 @@ int cmd_illuminance(int argc, char **argv) {
     fprintf(stderr, "pencil illuminance: --method %s: %s: %s\n", a.method, a.scene, err);
     goto done;
   }
+  if (a.area_filter && method != LT_METHOD_GRID_PENCIL) {
+    fprintf(stderr, "pencil illuminance: --area-filter: the filter is grid-pencil tracing's "
+                    "(--method grid-pencil)\n");
+    goto done;
+  }
   for (int k = 0; k < a.nreceiver; k++) {
     objs[k] = -1;
     for (int o = 0; o < s.nobject && objs[k] < 0; o++)
@@ -356,6 +383,8 @@ int cmd_illuminance(int argc, char **argv) {
   o.side = (int)(side < 2 ? 2 : side);
   o.max_split = (int)a.split;
   o.area_mesh = (int)a.area_mesh;
+  o.area_filter = a.area_filter;
+  o.indirect = a.indirect;
   o.linear_tol = a.linear_tol;
   o.uniform_tol = a.uniform_tol;
   o.threads = (int)a.threads;
@@ -418,7 +447,7 @@ int cmd_illuminance(int argc, char **argv) {
   json_t *root = json_pack(
       "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:o, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
       "s:I, "
-      "s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s, s:i}",
+      "s:I, s:I, s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s, s:i, s:b, s:b}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
       lights, "rays_per_side", o.method == LT_METHOD_POLYGONS ? json_null() : json_integer(o.side),
@@ -426,11 +455,12 @@ int cmd_illuminance(int argc, char **argv) {
       "rays", (json_int_t)st.rays, "segments", (json_int_t)st.segments, "arrivals",
       (json_int_t)st.arrivals, "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided,
       "nonlinear", (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost",
-      (json_int_t)st.lost, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
+      (json_int_t)st.lost, "filtered", (json_int_t)st.filtered, "unshifted",
+      (json_int_t)st.unshifted, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
       "on_receiver_outside", st.flux_outside, "escaped", st.flux_escaped, "absorbed",
       st.flux_absorbed, "seconds", st.seconds, "cpu_seconds", cpu, "units",
       "E in the scene's units (mean of R, G, B): intensity over length squared", "area_mesh",
-      o.area_mesh);
+      o.area_mesh, "area_filter", o.area_filter, "indirect", o.indirect);
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,
                    sizeof err) != 0) {

@@ -193,6 +193,7 @@ typedef struct {
   lt_accum_t A;
   int max_split;
   double linear_tol, uniform_tol;
+  int area_filter; /* lt_options_t.area_filter */
 } worker_t;
 
 static rt_rgb_t flux_of(const lt_face_t *f, double measure, rt_rgb_t w) {
@@ -303,6 +304,68 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
   return 1;
 }
 
+/* The receiver landing of path `sig` of the ray from `origin` along d (or 0 when it has none). */
+static int landing(worker_t *W, px_vec3_t origin, px_vec3_t d, uint64_t sig, double uv[2]) {
+  rt_ray_t r = {origin, d, 0.0, INFINITY, W->C.s->ior, -1};
+  lt_arrivals_t x;
+  lt__trace(&W->C, &r, &x);
+  const lt_arrival_t *e = find(&x, sig);
+  if (!e || e->kind != LT_END_RECEIVER)
+    return 0;
+  uv[0] = e->u;
+  uv[1] = e->v;
+  return 1;
+}
+
+/* The space-variant filter of the 1989 paper's Eqs. (9)-(12) for one pencil of an area light's
+ * mesh point: the light of the mesh cell around the point is the point's pattern shifted as the
+ * source moves over the cell (Eq. 9), each ray's landing moving with the source while its
+ * direction stays fixed (the paper's "displacement of a ray-surface intersection", step 3b). The
+ * pencil's centre ray (path sig) is traced from the cell's four corners, and the triangle uv with
+ * flux phi is spread over the shifts B(s, t) - c0, s and t in [-1/2, 1/2], where B is the bilinear
+ * patch of the four corner landings and c0 the centre's: linear in the move as Eq. (10) has it,
+ * exact at the corners. The spread is a sum of K x K shifted copies, K such that neighbouring
+ * copies lie within a cell (at most 16); flux is kept exactly. A corner ray that leaves the path
+ * leaves the pencil as it is (counted as unshifted). */
+static void deposit_filtered(worker_t *W, const lt_face_t *f, double p[3][2], uint64_t sig,
+                             const double uv[3][2], rt_rgb_t phi) {
+  const lt_map_t *m = W->A.m;
+  double a = (p[0][0] + p[1][0] + p[2][0]) / 3, b = (p[0][1] + p[1][1] + p[2][1]) / 3;
+  rt_ray_t c = lt__face_ray(W->C.s, f, a, b);
+  double c0[2], q[2][2][2]; /* q[i][j]: the corner at s = i - 1/2, t = j - 1/2 */
+  int ok = landing(W, c.o, c.d, sig, c0);
+  for (int i = 0; i < 2 && ok; i++)
+    for (int j = 0; j < 2 && ok; j++) {
+      px_vec3_t o = px_v3_add(
+          c.o, px_v3_add(px_v3_scale(f->step[0], i - 0.5), px_v3_scale(f->step[1], j - 0.5)));
+      ok = landing(W, o, c.d, sig, q[i][j]);
+    }
+  if (!ok) {
+    W->C.st.unshifted++;
+    lt__deposit_triangle(&W->A, uv, phi);
+    return;
+  }
+  double du = (m->u1 - m->u0) / m->width, dv = (m->v1 - m->v0) / m->height, reach = 0.0;
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++)
+      reach = fmax(reach, fmax(fabs(q[i][j][0] - c0[0]) / du, fabs(q[i][j][1] - c0[1]) / dv));
+  int k = (int)fmin(16.0, fmax(1.0, ceil(2.0 * reach)));
+  rt_rgb_t share = rt_rgb_scale(phi, 1.0 / ((double)k * k));
+  for (int s = 0; s < k; s++)
+    for (int t = 0; t < k; t++) {
+      double x = (s + 0.5) / k, y = (t + 0.5) / k, sh[2], tri[3][2];
+      for (int e = 0; e < 2; e++)
+        sh[e] = (1 - x) * (1 - y) * q[0][0][e] + x * (1 - y) * q[1][0][e] +
+                (1 - x) * y * q[0][1][e] + x * y * q[1][1][e] - c0[e];
+      for (int v = 0; v < 3; v++) {
+        tri[v][0] = uv[v][0] + sh[0];
+        tri[v][1] = uv[v][1] + sh[1];
+      }
+      lt__deposit_triangle(&W->A, tri, share);
+    }
+  W->C.st.filtered++;
+}
+
 /* The pencil of the triangle of grid parameters p[3] whose rays' ends are x[3]: a receiver
  * triangle for every path the three rays share, its flux spread evenly over it. The pencil is
  * divided into four (its edges' midpoint rays traced), up to `split` times, where the three rays
@@ -378,7 +441,10 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
           continue;
         }
         double uv[3][2] = {{a->u, a->v}, {b->u, b->v}, {c->u, c->v}};
-        lt__deposit_triangle(&W->A, uv, flux_of(f, meas, w));
+        if (W->area_filter && (f->step[0].x != 0 || f->step[0].y != 0 || f->step[0].z != 0))
+          deposit_filtered(W, f, p, a->sig, uv, flux_of(f, meas, w));
+        else
+          lt__deposit_triangle(&W->A, uv, flux_of(f, meas, w));
         W->C.st.pencils++;
       } else {
         settle(W, a, flux_of(f, meas / 3.0, a->w), 1);
@@ -429,6 +495,8 @@ static void stats_add(lt_stats_t *a, const lt_stats_t *b) {
   a->nonlinear += b->nonlinear;
   a->photons += b->photons;
   a->lost += b->lost;
+  a->filtered += b->filtered;
+  a->unshifted += b->unshifted;
   a->flux_map += b->flux_map;
   a->flux_outside += b->flux_outside;
   a->flux_escaped += b->flux_escaped;
@@ -464,6 +532,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     W[t].max_split = o->max_split;
     W[t].linear_tol = o->linear_tol;
     W[t].uniform_tol = o->uniform_tol;
+    W[t].area_filter = o->area_filter;
     if (!W[t].A.flux)
       status = RT_ENOMEM;
   }

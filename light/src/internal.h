@@ -46,6 +46,9 @@ typedef struct {
   px_vec3_t lambert; /**< a Lambertian emitter's unit normal (an area light's mesh point): the
                           intensity is power times max(0, cos) of the ray's angle to it
                           (lt__face_weight()); zero for an isotropic source */
+  px_vec3_t step[2]; /**< an area light's mesh point: the source's move to its neighbours along
+                          each edge (edge / mesh), for the shift vectors of the 1989 Eqs. (9)-(10);
+                          zero otherwise */
 } lt_face_t;
 
 /** Faces of light l that cover every ray that can reach the receiver's map (at most 6); 0 when

@@ -64,8 +64,10 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
               int mesh, lt_face_t out[6]) {
   rt_light_t mp = s->light[l]; /* an area light's mesh point as a point light */
   const rt_light_t *L = &s->light[l];
-  px_vec3_t lambert = px_v3(0, 0, 0);
+  px_vec3_t lambert = px_v3(0, 0, 0), step[2] = {px_v3(0, 0, 0), px_v3(0, 0, 0)};
   if (L->kind == RT_LIGHT_AREA) {
+    step[0] = px_v3_scale(L->eu, 1.0 / mesh);
+    step[1] = px_v3_scale(L->ev, 1.0 / mesh);
     int i = sub % mesh, j = sub / mesh;
     double a = (i + 0.5) / mesh - 0.5, b = (j + 0.5) / mesh - 0.5;
     mp.kind = RT_LIGHT_POINT;
@@ -79,7 +81,8 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
   targets(s, rc, m, &lo, &hi, &unbounded);
   px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
   if (L->kind == RT_LIGHT_PARALLEL) {
-    lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v, 0, 0, L->intensity, lambert};
+    lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v,
+                   0, 0, L->intensity,   lambert,        {step[0], step[1]}};
     frame_of(L->v, &f.x, &f.y);
     double far = 0.0;
     for (int k = 0; k < 8; k++) {
@@ -115,7 +118,16 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
       h = fmax(h, fmax(fabs(px_v3_dot(r, x)), fabs(px_v3_dot(r, y))) / rz);
     }
     if (frustum) {
-      out[0] = (lt_face_t){0, L->v, x, y, z, h * (1 + 1e-6), h * (1 + 1e-6), L->intensity, lambert};
+      out[0] = (lt_face_t){0,
+                           L->v,
+                           x,
+                           y,
+                           z,
+                           h * (1 + 1e-6),
+                           h * (1 + 1e-6),
+                           L->intensity,
+                           lambert,
+                           {step[0], step[1]}};
       return 1;
     }
   }
@@ -123,7 +135,7 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
                                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (int k = 0; k < 6; k++) {
     lt_face_t f = {0,   L->v, px_v3(0, 0, 0), px_v3(0, 0, 0), axes[k],
-                   1.0, 1.0,  L->intensity,   lambert};
+                   1.0, 1.0,  L->intensity,   lambert,        {step[0], step[1]}};
     frame_of(axes[k], &f.x, &f.y);
     out[k] = f;
   }

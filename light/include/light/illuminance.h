@@ -99,17 +99,21 @@ typedef struct {
   int threads;        /**< OpenMP threads; 0 = the default */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
-  int indirect;  /**< 1: only light that met at least one other surface before the receiver (a
-                      caustic map: the renderer's shadow rays give the direct light) */
-  int area_mesh; /**< an area light is traced as area_mesh x area_mesh Lambertian point sources
-                      at its mesh cells' centres (1989 section 2.3), 1..LT_MAX_AREA_MESH */
+  int indirect;    /**< 1: only light that met at least one other surface before the receiver (a
+                        caustic map: the renderer's shadow rays give the direct light) */
+  int area_mesh;   /**< an area light is traced as area_mesh x area_mesh Lambertian point sources
+                        at its mesh cells' centres (1989 section 2.3), 1..LT_MAX_AREA_MESH */
+  int area_filter; /**< grid-pencil, area lights: 1 spreads each mesh point's light over its
+                        mesh cell by the space-variant filter of the 1989 Eqs. (9)-(12) (each
+                        pencil's light smeared along the shift vectors Delta_I, Delta_J of its
+                        centre ray); 0 sums the mesh points' maps as they are */
 } lt_options_t;
 
 /** Largest side of an area light's mesh. */
 #define LT_MAX_AREA_MESH 256
 
 #define LT_OPTIONS_DEFAULT                                                                         \
-  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL, 0, 8 }
+  { LT_METHOD_GRID_PENCIL, -1, 129, 6, 0.05, 0.02, 0, NULL, NULL, 0, 8, 0 }
 
 typedef struct {
   uint64_t rays;        /**< source rays traced (grid points and division points) */
@@ -121,6 +125,8 @@ typedef struct {
   uint64_t nonlinear;   /**< ... of which for a receiver triangle not linear enough */
   uint64_t photons;     /**< arrivals deposited as photons (photons; grid-pencil at the limit) */
   uint64_t lost;        /**< ends of rays' trees dropped because a tree had too many */
+  uint64_t filtered;    /**< area filter: pencils spread along their shift vectors */
+  uint64_t unshifted;   /**< ... deposited as they are: a shifted centre ray left the path */
   double flux_emitted;  /**< flux the traced grid covers (mean of R, G, B; scene units) */
   double flux_map;      /**< flux deposited inside the map */
   double flux_outside;  /**< flux that reached the receiver outside the map */
