@@ -349,6 +349,18 @@ static void deposit_filtered(worker_t *W, const lt_face_t *f, double p[3][2], ui
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++)
       reach = fmax(reach, fmax(fabs(q[i][j][0] - c0[0]) / du, fabs(q[i][j][1] - c0[1]) / dv));
+  /* Eq. (10)'s linearity: the patch's centre is the centre ray's landing when the landing is
+   * linear in the source's position; near a lens's rim it is far from it, the shift model fails,
+   * and the pencil is left as it is (counted with the unshifted) */
+  double mid[2], dev;
+  for (int e = 0; e < 2; e++)
+    mid[e] = 0.25 * (q[0][0][e] + q[1][0][e] + q[0][1][e] + q[1][1][e]);
+  dev = fmax(fabs(mid[0] - c0[0]) / du, fabs(mid[1] - c0[1]) / dv);
+  if (dev > 0.5 + 0.1 * reach) {
+    W->C.st.unshifted++;
+    lt__deposit_triangle(&W->A, uv, phi);
+    return;
+  }
   int k = (int)fmin(16.0, fmax(1.0, ceil(2.0 * reach)));
   rt_rgb_t share = rt_rgb_scale(phi, 1.0 / ((double)k * k));
   for (int s = 0; s < k; s++)
@@ -551,7 +563,8 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
   for (int l = l0; l < l1 && status == RT_OK; l++)
     for (int sub = 0; sub < lt__subsources(s, l, o->area_mesh) && status == RT_OK; sub++) {
       lt_face_t faces[6];
-      int nf = lt__faces(s, rc, m, l, sub, o->area_mesh, faces);
+      int nf = lt__faces(s, rc, m, l, sub, o->area_mesh,
+                         o->area_filter && o->method == LT_METHOD_GRID_PENCIL, faces);
       for (int fi = 0; fi < nf; fi++) {
         const lt_face_t *f = &faces[fi];
         /* the flux the grid covers: the face's whole measure (weighted for a Lambertian source) */

@@ -53,9 +53,11 @@ typedef struct {
 
 /** Faces of light l that cover every ray that can reach the receiver's map (at most 6); 0 when
  *  none can. For an area light, the faces of its mesh point `sub` of mesh x mesh (row-major):
- *  a Lambertian point source at the mesh cell's centre with its share of the intensity. */
+ *  a Lambertian point source at the mesh cell's centre with its share of the intensity; with
+ *  `spread` (the area filter) the targets grow by the mesh cell's size, so that the faces hold
+ *  every direction the cell's other points need (their rays are the centre's, shifted). */
 int lt__faces(const rt_scene_t *s, const lt_receiver_t *r, const lt_map_t *m, int l, int sub,
-              int mesh, lt_face_t out[6]);
+              int mesh, int spread, lt_face_t out[6]);
 
 /** The intensity weight of the ray of grid parameters (a, b) of face f: 1 for an isotropic
  *  source, max(0, cos) of its angle to f->lambert for a Lambertian one. */

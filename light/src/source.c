@@ -61,7 +61,7 @@ static void frame_of(px_vec3_t d, px_vec3_t *x, px_vec3_t *y) {
 }
 
 int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, int l, int sub,
-              int mesh, lt_face_t out[6]) {
+              int mesh, int spread, lt_face_t out[6]) {
   rt_light_t mp = s->light[l]; /* an area light's mesh point as a point light */
   const rt_light_t *L = &s->light[l];
   px_vec3_t lambert = px_v3(0, 0, 0), step[2] = {px_v3(0, 0, 0), px_v3(0, 0, 0)};
@@ -79,6 +79,11 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
   px_vec3_t lo, hi;
   int unbounded;
   targets(s, rc, m, &lo, &hi, &unbounded);
+  if (spread && s->light[l].kind == RT_LIGHT_AREA) { /* the mesh cell's other points' rays */
+    double g = px_v3_norm(step[0]) + px_v3_norm(step[1]);
+    lo = px_v3_sub(lo, px_v3(g, g, g));
+    hi = px_v3_add(hi, px_v3(g, g, g));
+  }
   px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
   if (L->kind == RT_LIGHT_PARALLEL) {
     lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v,
