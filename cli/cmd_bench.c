@@ -221,8 +221,9 @@ static void help_caustics(FILE *f) {
           "usage: pencil bench caustics [--json FILE] [--out DIR] [--runs N] [--threads N]\n"
           "                             [--quick] [--scenes DIR] [--reference-rays N]\n\n"
           "Renders with caustics (issue 25) against the exact renderer with a converged\n"
-          "backward-ray-traced map (photons, 8193 x 8193 rays a grid face), on Fig. 8 with\n"
-          "caustics (scenes/fig8-caustics.json), the 1987 Fig. 11 (fig11-caustics.json) and\n"
+          "backward-ray-traced map (photons, 8193 or 16384 rays a side of a grid face), on\n"
+          "Fig. 8 with caustics (scenes/fig8-caustics.json), the 1987 Fig. 11\n"
+          "(fig11-caustics.json) and\n"
           "the 1989 Fig. 8 pool (pool.json), each at its own size and samples: the exact\n"
           "renderer with its default map (photons), the pencil renderer with its own\n"
           "(grid-pencils) and, for polyhedral scenes, with illuminance polygons, and the\n"
@@ -242,8 +243,9 @@ static void help_caustics(FILE *f) {
           "  --scenes DIR  the directory holding the three scenes (default: scenes/ of the\n"
           "                source tree the command was built from)\n"
           "  --reference-rays N\n"
-          "                rays a side of the reference's photon grids, 3..16384 (default 8193;\n"
-          "                --quick 513); the half reference takes N / sqrt(2)\n"
+          "                rays a side of the reference's photon grids, 3..16384 (default 8193\n"
+          "                for Fig. 8, 16384 for Fig. 11 and the pool; --quick 513); the half\n"
+          "                reference takes N / sqrt(2)\n"
           "Exit codes: 0 done; 2 usage or I/O error.\n");
 }
 

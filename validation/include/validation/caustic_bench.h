@@ -23,7 +23,8 @@ typedef struct {
   const char *json;   /**< summary path or NULL */
   const char *out;    /**< directory for the images (CASE-VARIANT.exr and .png), or NULL */
   const char *scenes; /**< directory holding the scenes, or NULL for the source tree's */
-  int ref_rays;       /**< rays a side of the reference's photon grids; 0: 8193 (quick 513) */
+  int ref_rays;       /**< rays a side of the reference's photon grids; 0: 8193 for Fig. 8,
+                           16384 for Fig. 11 and the pool (quick: 513) */
   FILE *report;       /**< table (stdout) or NULL */
 } val_caustic_bench_opts_t;
 
