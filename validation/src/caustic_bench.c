@@ -200,8 +200,8 @@ static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *
   /* illuminance polygons where the scene is polyhedral; not in the quick run (their cost does
    * not shrink with the map: Fig. 11's torus takes half a minute whatever the cells) */
   int polyhedral = !o->quick && lt_method_check(&s, LT_METHOD_POLYGONS, err, sizeof err) == RT_OK;
-  const int ref_rays = o->ref_rays  ? o->ref_rays
-                       : o->quick  ? QUICK_REF_RAYS
+  const int ref_rays = o->ref_rays    ? o->ref_rays
+                       : o->quick     ? QUICK_REF_RAYS
                        : bc->ref_rays ? bc->ref_rays
                                       : REF_RAYS;
   const int half_rays = (int)lrint(ref_rays / sqrt(2.0));
