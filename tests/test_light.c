@@ -318,6 +318,20 @@ static double rect_g(double a, double b, double h) {
 #define AREA_D 0.8
 #define AREA_I0 3.0
 
+/* A bare floor under the area light above. */
+static void load_area_floor(rt_scene_t *s) {
+  char json[1024];
+  snprintf(json, sizeof json,
+           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
+           " \"materials\": {\"white\": {\"kd\": 0.8}},"
+           " \"lights\": [{\"type\": \"area\", \"center\": [%g, %g, %g], \"edge_u\": [%g, 0, 0],"
+           " \"edge_v\": [0, 0, %g], \"intensity\": %g}],"
+           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
+           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
+           AREA_CX, AREA_H, AREA_CZ, AREA_W, AREA_D, AREA_I0);
+  load(json, s);
+}
+
 static double rect_e(double x, double z) {
   double L = AREA_I0 / (AREA_W * AREA_D);
   double x1 = AREA_CX - AREA_W / 2 - x, x2 = AREA_CX + AREA_W / 2 - x;
@@ -361,17 +375,8 @@ static double rect_e3(double x, double z, int mesh) {
  * order: a quarter at twice the mesh). */
 static void area_light_lambertian_rectangle(void **state) {
   (void)state;
-  char json[1024];
-  snprintf(json, sizeof json,
-           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
-           " \"materials\": {\"white\": {\"kd\": 0.8}},"
-           " \"lights\": [{\"type\": \"area\", \"center\": [%g, %g, %g], \"edge_u\": [%g, 0, 0],"
-           " \"edge_v\": [0, 0, %g], \"intensity\": %g}],"
-           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
-           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
-           AREA_CX, AREA_H, AREA_CZ, AREA_W, AREA_D, AREA_I0);
   rt_scene_t s;
-  load(json, &s);
+  load_area_floor(&s);
   assert_int_equal(s.light[0].kind, RT_LIGHT_AREA);
   assert_int_equal(s.light[0].falloff, RT_FALLOFF_INVERSE_SQUARE);
   lt_receiver_t rc = receiver0(&s);
@@ -418,17 +423,8 @@ static void area_light_lambertian_rectangle(void **state) {
  * 1.9% there. */
 static void area_filter_exact_on_a_bare_floor(void **state) {
   (void)state;
-  char json[1024];
-  snprintf(json, sizeof json,
-           "{\"camera\": {\"eye\": [0, 3, -6], \"look_at\": [0, 0, 0]},"
-           " \"materials\": {\"white\": {\"kd\": 0.8}},"
-           " \"lights\": [{\"type\": \"area\", \"center\": [%g, %g, %g], \"edge_u\": [%g, 0, 0],"
-           " \"edge_v\": [0, 0, %g], \"intensity\": %g}],"
-           " \"objects\": [{\"type\": \"plane\", \"name\": \"floor\", \"point\": [0, 0, 0],"
-           " \"normal\": [0, 1, 0], \"material\": \"white\"}]}",
-           AREA_CX, AREA_H, AREA_CZ, AREA_W, AREA_D, AREA_I0);
   rt_scene_t s;
-  load(json, &s);
+  load_area_floor(&s);
   lt_receiver_t rc = receiver0(&s);
   for (int mesh = 1; mesh <= 2; mesh++) {
     double worst[2] = {0, 0};

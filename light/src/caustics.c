@@ -7,24 +7,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "light/illuminance.h"
-
-static void add_stats(lt_stats_t *a, const lt_stats_t *b) {
-  a->rays += b->rays;
-  a->segments += b->segments;
-  a->arrivals += b->arrivals;
-  a->pencils += b->pencils;
-  a->folded += b->folded;
-  a->divided += b->divided;
-  a->nonlinear += b->nonlinear;
-  a->photons += b->photons;
-  a->lost += b->lost;
-  a->flux_emitted += b->flux_emitted;
-  a->flux_map += b->flux_map;
-  a->flux_outside += b->flux_outside;
-  a->flux_escaped += b->flux_escaped;
-  a->flux_absorbed += b->flux_absorbed;
-}
+#include "internal.h"
 
 /* W x H with `cells` along the longer side of extent ext, the other in proportion (at least 1). */
 static void map_size(const double ext[4], int cells, int *w, int *h) {
@@ -110,7 +93,7 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
         lt_map_free(&m);
         break;
       }
-      add_stats(&st->st, &ls);
+      lt__stats_add(&st->st, &ls);
       reached += ls.flux_map + ls.flux_outside;
       outside += ls.flux_outside;
       rt_caustic_map_t *cm = &out->map[out->n];

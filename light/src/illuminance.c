@@ -498,17 +498,19 @@ static double face_flux(const lt_face_t *f) {
   return sum;
 }
 
-static void stats_add(lt_stats_t *a, const lt_stats_t *b) {
+void lt__stats_add(lt_stats_t *a, const lt_stats_t *b) {
   a->rays += b->rays;
   a->segments += b->segments;
   a->arrivals += b->arrivals;
   a->pencils += b->pencils;
+  a->folded += b->folded;
   a->divided += b->divided;
   a->nonlinear += b->nonlinear;
   a->photons += b->photons;
   a->lost += b->lost;
   a->filtered += b->filtered;
   a->unshifted += b->unshifted;
+  a->flux_emitted += b->flux_emitted;
   a->flux_map += b->flux_map;
   a->flux_outside += b->flux_outside;
   a->flux_escaped += b->flux_escaped;
@@ -628,7 +630,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     for (int t = 0; t < nt; t++) {
       for (size_t k = 0; k < cells; k++)
         m->e[k] += W[t].A.flux[k];
-      stats_add(&total, &W[t].C.st);
+      lt__stats_add(&total, &W[t].C.st);
     }
     for (size_t k = 0; k < cells; k++)
       m->e[k] /= cell;

@@ -85,6 +85,9 @@ typedef struct {
   int indirect; /**< lt_options_t.indirect: no receiver ends at depth 0 */
 } lt_ctx_t;
 
+/** a += b, every counter and flux of the stats (the seconds excepted). */
+void lt__stats_add(lt_stats_t *a, const lt_stats_t *b);
+
 /** Trace a light ray and collect its tree's arrivals on the receiver (out->n set). */
 void lt__trace(lt_ctx_t *C, const rt_ray_t *ray, lt_arrivals_t *out);
 
