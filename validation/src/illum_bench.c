@@ -7,6 +7,7 @@
 
 #include "io/image_io.h"
 #include "io/json.h"
+#include "io/output.h"
 #include "io/scene_json.h"
 #include "validation/illum_bench.h"
 #include "validation/timing.h"
@@ -201,10 +202,53 @@ static double dim_rms(const lt_map_t *a, const lt_map_t *ref) {
   return nd ? sqrt(sq / (double)nd) / (dmean / (double)nd) : NAN;
 }
 
+/* One point of Fig. 11's cost-of-accuracy curve: a method's map at a grid (rays a side; 0 for
+ * polygons), its rays, time and errors against the reference. */
+typedef struct {
+  const char *method;
+  int side;
+  uint64_t rays;
+  double seconds, rms, dim_rms;
+} curve_row_t;
+
+#define CURVE_MAX 16
+
+/* The curve as JSON rows, and as DIR/fig11-curve.csv when dir is not NULL (0 on a write error,
+ * message on stderr). */
+static json_t *curve_out(const curve_row_t *r, int n, const char *dir, int *ok) {
+  json_t *a = json_array();
+  for (int k = 0; k < n; k++)
+    json_array_append_new(a, json_pack("{s:s, s:i, s:I, s:f, s:f, s:o}", "method", r[k].method,
+                                       "rays_per_side", r[k].side, "rays", (json_int_t)r[k].rays,
+                                       "seconds", r[k].seconds, "rms", r[k].rms, "dim_rms",
+                                       io_json_number(r[k].dim_rms)));
+  *ok = 1;
+  if (!dir)
+    return a;
+  char path[4096], err[1024];
+  snprintf(path, sizeof path, "%s/fig11-curve.csv", dir);
+  io_atomic_t at;
+  if (io_atomic_open(&at, path, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench illuminance: %s\n", err);
+    *ok = 0;
+    return a;
+  }
+  fprintf(at.f, "method,rays_per_side,rays,seconds,rms,dim_rms\n");
+  for (int k = 0; k < n; k++)
+    fprintf(at.f, "%s,%d,%llu,%.6g,%.6g,%.6g\n", r[k].method, r[k].side,
+            (unsigned long long)r[k].rays, r[k].seconds, r[k].rms, r[k].dim_rms);
+  if (io_atomic_commit(&at, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench illuminance: %s\n", err);
+    *ok = 0;
+  }
+  return a;
+}
+
 /* 1987 Fig. 11 (scenes/fig11.json): the torus's light on its three-coloured rectangle, 256 x 256
  * cells. The reference is grid-pencil tracing at 4 times the resolution (513 rays a side, a
- * tenth of the default tolerances); grid-pencil tracing with 128 x 128 pencils and photon
- * counting with 100 times its grid's rays are compared with it, and photon counting is run with
+ * tenth of the default tolerances); grid-pencil tracing at 33, 65, 129 and 257 rays a side (the
+ * cost of accuracy: "curve", and fig11-curve.csv with --maps), illuminance polygons, and photon
+ * counting with 100 times the 129 grid's rays are compared with it, and photon counting is run with
  * twice the rays until its error is as low as grid-pencil's (or 100 M rays, beyond which the
  * 1/sqrt(N) law of its noise, fitted to the last run, gives the rays and time it would need). */
 static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
@@ -271,7 +315,32 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
   }
   cmp_t cq = compare(&pq, &ref, NULL);
   double dim_q = dim_rms(&pq, &ref);
+  /* the cost of accuracy: grid-pencil tracing at other grids (the 129 one is sg above) */
+  static const int sides[] = {33, 65, 257};
+  curve_row_t rows[CURVE_MAX];
+  int nrows = 0;
+  lt_options_t co = lo;
+  co.method = LT_METHOD_GRID_PENCIL;
+  for (int k = 0; k < 3 && ok; k++) {
+    lt_stats_t sc;
+    co.side = sides[k];
+    ok = lt_illuminance(&s, &rc, &co, &pq, &sc) == RT_OK;
+    if (ok)
+      rows[nrows++] = (curve_row_t){
+          "grid-pencil",     sides[k], sc.rays, sc.seconds, compare(&pq, &ref, NULL).rms,
+          dim_rms(&pq, &ref)};
+  }
+  rows[nrows++] = (curve_row_t){"grid-pencil", 129, sg.rays, sg.seconds, cg.rms, dim_g};
+  rows[nrows++] = (curve_row_t){"polygons", 0, sq.rays, sq.seconds, cq.rms, dim_q};
   lt_map_free(&pq);
+  if (!ok) {
+    fprintf(stderr, "pencil bench illuminance: the Fig. 11 grid-pencil curve failed\n");
+    lt_map_free(&ref);
+    lt_map_free(&gp);
+    lt_map_free(&ph);
+    rt_scene_free(&s);
+    return NULL;
+  }
   json_t *runs = json_array();
   double rms100 = NAN, dim100 = NAN, t_equal = NAN, n_equal = NAN;
   int equal_measured = 0;
@@ -285,6 +354,10 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
             "side, %llu rays in %.1f s\n%-12s %10s %9s %10s %10s\n",
             (unsigned long long)sr.rays, sr.seconds, "method", "rays", "seconds", "rms", "dim rms");
   if (f) {
+    for (int k = 0; k < 3; k++)
+      fprintf(f, "%-12s %10llu %9.3f %10.3e %10.3e  (%d rays a side)\n", "grid-pencil",
+              (unsigned long long)rows[k].rays, rows[k].seconds, rows[k].rms, rows[k].dim_rms,
+              rows[k].side);
     fprintf(f, "%-12s %10llu %9.3f %10.3e %10.3e\n", "grid-pencil", (unsigned long long)sg.rays,
             sg.seconds, cg.rms, dim_g);
     fprintf(f, "%-12s %10llu %9.3f %10.3e %10.3e\n", "polygons", (unsigned long long)sq.rays,
@@ -302,6 +375,8 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
     json_array_append_new(runs,
                           json_pack("{s:I, s:f, s:f, s:o}", "rays", (json_int_t)sp.rays, "seconds",
                                     sp.seconds, "rms", cp.rms, "dim_rms", io_json_number(dim_p)));
+    if (nrows < CURVE_MAX)
+      rows[nrows++] = (curve_row_t){"photons", po.side, sp.rays, sp.seconds, cp.rms, dim_p};
     if (f)
       fprintf(f, "%-12s %10llu %9.3f %10.3e %10.3e\n", "photons", (unsigned long long)sp.rays,
               sp.seconds, cp.rms, dim_p);
@@ -329,18 +404,25 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
             "120)\n",
             cg.rms, rms100, dim_g, dim100, beat ? "lower" : "NOT lower", n_equal, t_equal,
             equal_measured ? "measured" : "extrapolated by 1/sqrt(N)", speedup, sg.seconds);
+  int csv_ok;
+  json_t *curve = curve_out(rows, nrows, o->maps, &csv_ok);
   json_t *j = json_pack(
       "{s:{s:I, s:f}, s:{s:I, s:f, s:f, s:f}, s:{s:I, s:f, s:f, s:f}, s:o, s:{s:f, s:f, s:b, "
-      "s:f}, s:b}",
+      "s:f}, s:b, s:o}",
       "reference", "rays", (json_int_t)sr.rays, "seconds", sr.seconds, "grid_pencil", "rays",
       (json_int_t)sg.rays, "seconds", sg.seconds, "rms", cg.rms, "dim_rms", dim_g, "polygons",
       "rays", (json_int_t)sq.rays, "seconds", sq.seconds, "rms", cq.rms, "dim_rms", dim_q,
       "photons", runs, "equal_error", "rays", n_equal, "seconds", t_equal, "measured",
-      equal_measured, "speedup", speedup, "grid_pencil_lower_than_photons_100x", beat);
+      equal_measured, "speedup", speedup, "grid_pencil_lower_than_photons_100x", beat, "curve",
+      curve);
   lt_map_free(&ref);
   lt_map_free(&gp);
   lt_map_free(&ph);
   rt_scene_free(&s);
+  if (!csv_ok) { /* the CSV could not be written: an I/O error, as a map's would be */
+    json_decref(j);
+    return NULL;
+  }
   return j;
 }
 
