@@ -20,7 +20,7 @@ static void help(FILE *f) {
       "usage: pencil illuminance SCENE.json --receiver NAME -o MAP.exr [--grid WxH]\n"
       "                          [--extent U0,U1,V0,V1] [--method grid-pencil|photons|polygons]\n"
       "                          [--rays N] [--light K] [--max-split S] [--linear-tol C]\n"
-      "                          [--uniform-tol R] [--area-mesh M] [--area-filter] [--threads "
+      "                          [--uniform-tol R] [--area-mesh M] [--area-filter F] [--threads "
       "N]\n\n"
       "The illuminance E that the scene's point, parallel and area lights deliver to the\n"
       "object NAME (a plane or a polygon), directly and through chains of specular\n"
@@ -72,9 +72,13 @@ static void help(FILE *f) {
       "                    at a face exceeds the share R, or E is not near linear over it\n"
       "  --area-mesh M     an area light is traced as M x M Lambertian point sources at its\n"
       "                    mesh cells' centres (default 8; 1..256; 1989 section 2.3)\n"
-      "  --area-filter     grid-pencil: spread each mesh point's light over its mesh cell by the\n"
+      "  --area-filter F   grid-pencil: spread each mesh point's light over its mesh cell by the\n"
       "                    space-variant filter of the 1989 Eqs. (9)-(12), against the\n"
-      "                    \"discrete focuses\" of a coarse mesh\n"
+      "                    \"discrete focuses\" of a coarse mesh, each pencil moved by its centre\n"
+      "                    ray's displacement as the source moves over the cell: quadratic, the\n"
+      "                    displacement interpolated from 3 x 3 points of the cell; linear, the\n"
+      "                    printed Eq. (10), from its corners (drifts light outwards where the\n"
+      "                    landing is curved: docs/illuminance.md); none (the default)\n"
       "  --indirect        only light that met another surface first (a caustic map, as the\n"
       "                    renderers make them: their shadow rays give the direct light)\n"
       "  --threads N       OpenMP threads (default: all cores)\n\n"
@@ -167,7 +171,7 @@ static int parse(int argc, char **argv, args_t *a) {
                                      {"--uniform-tol", 0, 1, OPT_UNIFORM},
                                      {"--threads", 0, 1, OPT_THREADS},
                                      {"--area-mesh", 0, 1, OPT_AREA_MESH},
-                                     {"--area-filter", 0, 0, OPT_AREA_FILTER},
+                                     {"--area-filter", 0, 1, OPT_AREA_FILTER},
                                      {"--indirect", 0, 0, OPT_INDIRECT}};
   int n, rc;
   cli_arg_t *args = cli_args("illuminance", argc, argv, specs,
@@ -219,7 +223,14 @@ static int parse(int argc, char **argv, args_t *a) {
       rc = cli_parse_long("--max-split", g->value, 0, 12, &a->split) ? CLI_OK : CLI_USAGE;
       break;
     case OPT_AREA_FILTER:
-      a->area_filter = 1;
+      a->area_filter = lt_area_filter_parse(g->value);
+      if (a->area_filter < 0) {
+        fprintf(stderr,
+                "pencil illuminance: --area-filter: '%s' is not a filter (quadratic, linear, "
+                "none)\n",
+                g->value);
+        rc = CLI_USAGE;
+      }
       break;
     case OPT_INDIRECT:
       a->indirect = 1;
@@ -252,23 +263,6 @@ static int parse(int argc, char **argv, args_t *a) {
     return CLI_USAGE;
   }
   return -1;
-}
-
-/* The grey preview: E over the largest E. */
-static int preview_of(const lt_map_t *m, const float *e, rt_image_t *img) {
-  if (rt_image_alloc(img, m->width, m->height) != RT_OK)
-    return 0;
-  float top = 0.0f;
-  size_t n = (size_t)m->width * (size_t)m->height;
-  for (size_t k = 0; k < n; k++)
-    top = fmaxf(top, e[k]);
-  for (int y = 0; y < m->height; y++)
-    for (int x = 0; x < m->width; x++) { /* PNG rows from the top: the largest v first */
-      size_t src = (size_t)(m->height - 1 - y) * m->width + x, dst = (size_t)y * m->width + x;
-      float g = top > 0 ? e[src] / top : 0.0f;
-      img->ch[RT_CH_R][dst] = img->ch[RT_CH_G][dst] = img->ch[RT_CH_B][dst] = g;
-    }
-  return 1;
 }
 
 int cmd_illuminance(int argc, char **argv) {
@@ -427,7 +421,7 @@ int cmd_illuminance(int argc, char **argv) {
     rc = CLI_FAIL;
     goto done;
   }
-  ok = preview_of(&m, e, &prev);
+  ok = io_map_preview(m.width, m.height, e, &prev);
   char ext[160];
   snprintf(ext, sizeof ext, "%.17g,%.17g,%.17g,%.17g", m.u0, m.u1, m.v0, m.v1);
   io_exr_channel_t ch = {"E", e};
@@ -446,8 +440,8 @@ int cmd_illuminance(int argc, char **argv) {
       json_array_append_new(lights, json_integer(l));
   json_t *root = json_pack(
       "{s:s, s:s, s:s, s:[f, f, f, f], s:[i, i], s:s, s:o, s:o, s:i, s:f, s:f, s:{s:I, s:I, s:I, "
-      "s:I, "
-      "s:I, s:I, s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s, s:i, s:b, s:b}",
+      "s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I}, s:{s:f, s:f, s:f, s:f, s:f}, s:f, s:f, s:s, s:i, "
+      "s:s, s:b}",
       "scene", a.scene, "receiver", names, "method", lt_method_name(o.method), "extent", m.u0, m.u1,
       m.v0, m.v1, "grid", m.width, m.height, "rows", "j = 0 is the first EXR row (V0)", "lights",
       lights, "rays_per_side", o.method == LT_METHOD_POLYGONS ? json_null() : json_integer(o.side),
@@ -456,11 +450,12 @@ int cmd_illuminance(int argc, char **argv) {
       (json_int_t)st.arrivals, "pencils", (json_int_t)st.pencils, "divided", (json_int_t)st.divided,
       "nonlinear", (json_int_t)st.nonlinear, "photons", (json_int_t)st.photons, "lost",
       (json_int_t)st.lost, "filtered", (json_int_t)st.filtered, "unshifted",
-      (json_int_t)st.unshifted, "flux", "emitted_by_grid", st.flux_emitted, "on_map", st.flux_map,
-      "on_receiver_outside", st.flux_outside, "escaped", st.flux_escaped, "absorbed",
-      st.flux_absorbed, "seconds", st.seconds, "cpu_seconds", cpu, "units",
-      "E in the scene's units (mean of R, G, B): intensity over length squared", "area_mesh",
-      o.area_mesh, "area_filter", o.area_filter, "indirect", o.indirect);
+      (json_int_t)st.unshifted, "resampled", (json_int_t)st.resampled, "flux", "emitted_by_grid",
+      st.flux_emitted, "on_map", st.flux_map, "on_receiver_outside", st.flux_outside, "escaped",
+      st.flux_escaped, "absorbed", st.flux_absorbed, "seconds", st.seconds, "cpu_seconds", cpu,
+      "units", "E in the scene's units (mean of R, G, B): intensity over length squared",
+      "area_mesh", o.area_mesh, "area_filter", lt_area_filter_name((lt_area_filter_t)o.area_filter),
+      "indirect", o.indirect);
   if (!ok || !root ||
       io_map_write(a.out, m.width, m.height, &ch, 1, &prev, attrs, 4, json_path, root, err,
                    sizeof err) != 0) {

@@ -150,11 +150,15 @@ $pencil illuminance "$dir/area.json" --receiver floor -o "$dir/amap.exr" --grid 
 check "an area light is mapped; MAP.json records the mesh" \
   "[ $rc -eq 0 ] && /usr/bin/python3 -c \"import json, sys; d = json.load(open('$dir/amap.json')); sys.exit(0 if d['area_mesh'] == 3 and d['flux']['on_map'] > 0 else 1)\""
 $pencil illuminance "$dir/area.json" --receiver floor -o "$dir/afil.exr" --grid 16x16 \
-  --rays 289 --area-mesh 2 --area-filter --indirect >/dev/null 2>"$dir/err"; rc=$?
-check "--area-filter --indirect: the filter ran, MAP.json says so" \
-  "[ $rc -eq 0 ] && /usr/bin/python3 -c \"import json, sys; d = json.load(open('$dir/afil.json')); sys.exit(0 if d['area_filter'] and d['indirect'] and d['counts']['filtered'] > 0 else 1)\""
+  --rays 289 --area-mesh 2 --area-filter quadratic --indirect >/dev/null 2>"$dir/err"; rc=$?
+check "--area-filter quadratic --indirect: the filter ran, MAP.json says so" \
+  "[ $rc -eq 0 ] && /usr/bin/python3 -c \"import json, sys; d = json.load(open('$dir/afil.json')); sys.exit(0 if d['area_filter'] == 'quadratic' and d['indirect'] and d['counts']['filtered'] > 0 else 1)\""
+$pencil illuminance "$dir/area.json" --receiver floor -o "$dir/afil3.exr" --grid 16x16 \
+  --area-filter cubic >/dev/null 2>"$dir/err"; rc=$?
+check "--area-filter cubic: exit 2 naming the option and the forms, nothing written" \
+  "[ $rc -eq 2 ] && grep -q -- \"--area-filter: 'cubic'\" '$dir/err' && grep -q linear '$dir/err' && [ ! -e '$dir/afil3.exr' ]"
 $pencil illuminance "$dir/area.json" --receiver floor -o "$dir/afil2.exr" --method photons \
-  --area-filter >/dev/null 2>"$dir/err"; rc=$?
+  --area-filter linear >/dev/null 2>"$dir/err"; rc=$?
 check "--area-filter with photons: exit 2 naming it, nothing written" \
   "[ $rc -eq 2 ] && grep -q -- '--area-filter' '$dir/err' && [ ! -e '$dir/afil2.exr' ]"
 $pencil illuminance "$dir/area.json" --receiver floor -o "$dir/area2.exr" --area-mesh 0 \

@@ -52,6 +52,18 @@ cat >"$dir/out/bench-illuminance.json" <<'JSON'
            "photons": [{"rays": 1664100, "seconds": 2.9, "rms": 0.188, "dim_rms": 0.70}],
            "equal_error": {"rays": 3.8e9, "seconds": 2310, "measured": false, "speedup": 49}}}
 JSON
+mkdir -p "$dir/out/area"
+cat >"$dir/out/area/area.json" <<'JSON'
+{"cases": [{"case": "ball", "grid": 64, "reference": {"mesh": 64, "rays_per_side": 65, "rays": 193773748,
+  "seconds": 145.6, "own_rms": 2.3e-05, "half_mesh": 32, "exact_rms": null, "exact_max": null},
+  "rows": [{"case": "ball", "mesh": 2, "filter": "quadratic", "rays": 17598702, "seconds": 9.437,
+            "rms": 8.38e-04, "p99": 3.1e-03, "max": 3.74e-03, "flux_relative_error": -1.46e-03,
+            "filtered": 166532, "resampled": 402138}]}],
+ "size_sweep": [{"scale": 0.5, "cell_rad": 0.0182, "mesh": 2, "plain": {"rms": 0.0239, "max": 0.1, "seconds": 1.0},
+                 "quadratic": {"rms": 0.0214, "max": 0.1, "seconds": 6.0},
+                 "linear": {"rms": 0.0224, "max": 0.1, "seconds": 5.2}}],
+ "reference_mesh": 64, "reference_rays_per_side": 65, "quick": false}
+JSON
 mkdir -p "$dir/out/caustics"
 cat >"$dir/out/caustics/caustics.json" <<'JSON'
 {"runs": 3, "quick": false,
@@ -114,6 +126,8 @@ check "illuminance maps: the polygons' row on Fig. 11" "grep -q '20826629 rays i
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
 check "caustics: the pencil's row and the equal-error line" \
   "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"
+check "area: a row and the size sweep" \
+  "grep -q '| 2 | quadratic | 17598702 | 9.437 | 8.38e-04 | 3.10e-03 | 3.74e-03 | -1.5e-03 |' '$page' && grep -q '| 0.50 | 1.82e-02 | 2 | 2.39e-02 | 2.14e-02 | 2.24e-02 |' '$page'"
 
 rm "$dir/out/verify-bounds.json"
 echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable

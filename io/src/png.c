@@ -1,6 +1,7 @@
 /* png.c -- the PNG preview of a render: R, G, B through the display transform (post/display.h),
  * written with libpng's simplified API; and io_render_write(), which replaces an EXR and its
  * preview together. */
+#include <math.h>
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -91,6 +92,22 @@ int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_ch
   io_atomic_abort(&ae); /* no-ops after a commit */
   io_atomic_abort(&ap);
   return ok ? 0 : -1;
+}
+
+int io_map_preview(int width, int height, const float *e, rt_image_t *img) {
+  if (rt_image_alloc(img, width, height) != RT_OK)
+    return 0;
+  float top = 0.0f;
+  size_t n = (size_t)width * (size_t)height;
+  for (size_t k = 0; k < n; k++)
+    top = fmaxf(top, e[k]);
+  for (int y = 0; y < height; y++)
+    for (int x = 0; x < width; x++) { /* PNG rows from the top: the largest v first */
+      size_t src = (size_t)(height - 1 - y) * width + x, dst = (size_t)y * width + x;
+      float g = top > 0 ? e[src] / top : 0.0f;
+      img->ch[RT_CH_R][dst] = img->ch[RT_CH_G][dst] = img->ch[RT_CH_B][dst] = g;
+    }
+  return 1;
 }
 
 int io_map_write(const char *exr_path, int width, int height, const io_exr_channel_t *ch, int n,

@@ -36,6 +36,20 @@ const char *lt_method_name(lt_method_t m) {
   return m == LT_METHOD_PHOTONS ? "photons" : m == LT_METHOD_POLYGONS ? "polygons" : "grid-pencil";
 }
 
+int lt_area_filter_parse(const char *name) {
+  static const char *const names[] = {"none", "quadratic", "linear"};
+  for (int k = 0; k < 3; k++)
+    if (strcmp(name, names[k]) == 0)
+      return k;
+  return -1;
+}
+
+const char *lt_area_filter_name(lt_area_filter_t f) {
+  return f == LT_AREA_FILTER_QUADRATIC ? "quadratic"
+         : f == LT_AREA_FILTER_LINEAR  ? "linear"
+                                       : "none";
+}
+
 rt_status_t lt_method_check(const rt_scene_t *s, lt_method_t m, char *why, size_t cap) {
   if (m != LT_METHOD_POLYGONS)
     return RT_OK;
@@ -317,62 +331,117 @@ static int landing(worker_t *W, px_vec3_t origin, px_vec3_t d, uint64_t sig, dou
   return 1;
 }
 
+/* deposit_filtered() where the displacement's patch cannot be trusted (a ray that leaves the path
+ * somewhere in the mesh cell, or a landing too far from the patch): the displacements are traced
+ * exactly from n x n source positions across the cell (n from the reach, 3..8) and each copy of
+ * the pencil lands where its centre ray does; a copy whose ray leaves the path stays where the
+ * mesh point puts it. The pencil's light is still spread over the cell, so that it balances the
+ * light its filtered neighbours spread over its place (left as it is, it would not). c0: the
+ * centre ray's own landing. */
+static void resample(worker_t *W, const lt_face_t *f, double p[3][2], uint64_t sig,
+                     const double uv[3][2], rt_rgb_t phi, const double c0[2], double reach) {
+  int n = (int)fmin(8.0, fmax(3.0, ceil(reach / 2.0)));
+  rt_rgb_t share = rt_rgb_scale(phi, 1.0 / ((double)n * n));
+  rt_ray_t c =
+      lt__face_ray(W->C.s, f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) {
+      double a = (i + 0.5) / n - 0.5, b = (j + 0.5) / n - 0.5, at[2], tri[3][2];
+      px_vec3_t o =
+          px_v3_add(c.o, px_v3_add(px_v3_scale(f->step[0], a), px_v3_scale(f->step[1], b)));
+      int ok = landing(W, o, c.d, sig, at);
+      for (int v = 0; v < 3; v++)
+        for (int e = 0; e < 2; e++)
+          tri[v][e] = ok ? uv[v][e] + at[e] - c0[e] : uv[v][e];
+      lt__deposit_triangle(&W->A, tri, share);
+    }
+  W->C.st.resampled++;
+}
+
+/* The quadratic Lagrange weights of the points -1/2, 0, 1/2 at s in [-1/2, 1/2]. */
+static void lagrange3(double s, double w[3]) {
+  w[0] = 2.0 * s * (s - 0.5);
+  w[1] = 1.0 - 4.0 * s * s;
+  w[2] = 2.0 * s * (s + 0.5);
+}
+
 /* The space-variant filter of the 1989 paper's Eqs. (9)-(12) for one pencil of an area light's
- * mesh point: the light of the mesh cell around the point is the point's pattern shifted as the
- * source moves over the cell (Eq. 9), each ray's landing moving with the source while its
- * direction stays fixed (the paper's "displacement of a ray-surface intersection", step 3b). The
- * pencil's centre ray (path sig) is traced from the cell's four corners, and the triangle uv with
- * flux phi is spread over the shifts B(s, t) - c0, s and t in [-1/2, 1/2], where B is the bilinear
- * patch of the four corner landings and c0 the centre's: linear in the move as Eq. (10) has it,
- * exact at the corners. The spread is a sum of K x K shifted copies, K such that neighbouring
- * copies lie within a cell (at most 16); flux is kept exactly. A corner ray that leaves the path
- * leaves the pencil as it is (counted as unshifted). */
+ * mesh point. The light of the mesh cell around the point is the point's pattern shifted as the
+ * source moves over the cell (Eq. 9), the shift the displacement of a ray's landing when the
+ * source moves and the ray's direction stays fixed (step 3b): here the pencil's triangle moved
+ * by its centre ray's displacement. A pencil of fixed directions carries the same flux from every
+ * point of the cell, so the cell's light is the pencil's flux spread over its landings from all
+ * of the cell's points. Those landings are interpolated over the cell (lt_area_filter_t):
+ *  - LT_AREA_FILTER_QUADRATIC: the biquadratic patch of the landings from 3 x 3 points of the
+ *    cell (corners, edge midpoints, centre);
+ *  - LT_AREA_FILTER_LINEAR, the printed Eq. (10), v_i = (i/n) Delta_I: the bilinear patch of
+ *    the corners' landings. Where the landing is curved in the source's position (a lens's
+ *    aberration) each pencil's mean landing is off by the curvature, G'' w^2 / 3 for a landing
+ *    G over a cell of half-width w, and over a lens's pattern the error is systematic: light
+ *    drifts outwards (docs/illuminance.md, "Area lights", measures it).
+ * The spread is a sum of K x K copies, K such that neighbouring copies lie within a cell (at most
+ * 16); flux is kept exactly. Where the patch cannot be trusted (the centre ray leaves the path
+ * from a point of the cell, or a landing lies off the line through the centre's and its mirror
+ * point's by more than half a cell plus a tenth of the reach) the displacements are traced
+ * exactly from n x n points instead (resample()); a pencil whose own centre ray does not follow
+ * its path is left as it is (counted as unshifted). */
 static void deposit_filtered(worker_t *W, const lt_face_t *f, double p[3][2], uint64_t sig,
                              const double uv[3][2], rt_rgb_t phi) {
   const lt_map_t *m = W->A.m;
-  double a = (p[0][0] + p[1][0] + p[2][0]) / 3, b = (p[0][1] + p[1][1] + p[2][1]) / 3;
-  rt_ray_t c = lt__face_ray(W->C.s, f, a, b);
-  double c0[2], q[2][2][2]; /* q[i][j]: the corner at s = i - 1/2, t = j - 1/2 */
-  int ok = landing(W, c.o, c.d, sig, c0);
-  for (int i = 0; i < 2 && ok; i++)
-    for (int j = 0; j < 2 && ok; j++) {
-      px_vec3_t o = px_v3_add(
-          c.o, px_v3_add(px_v3_scale(f->step[0], i - 0.5), px_v3_scale(f->step[1], j - 0.5)));
-      ok = landing(W, o, c.d, sig, q[i][j]);
+  int quad = W->area_filter == LT_AREA_FILTER_QUADRATIC;
+  double c0[2],
+      q[3][3][2]; /* the centre ray's landing; q[i][j]: from s = i/2 - 1/2, t = j/2 - 1/2 */
+  rt_ray_t c =
+      lt__face_ray(W->C.s, f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
+  if (!landing(W, c.o, c.d, sig, c0)) {
+    W->C.st.unshifted++;
+    lt__deposit_triangle(&W->A, uv, phi);
+    return;
+  }
+  int ok = 1;
+  for (int i = 0; i < 3 && ok; i++)
+    for (int j = 0; j < 3 && ok; j++)
+      if ((i != 1 && j != 1) || (quad && (i != 1 || j != 1))) {
+        px_vec3_t o = px_v3_add(c.o, px_v3_add(px_v3_scale(f->step[0], 0.5 * i - 0.5),
+                                               px_v3_scale(f->step[1], 0.5 * j - 0.5)));
+        ok = landing(W, o, c.d, sig, q[i][j]);
+      }
+  double du = (m->u1 - m->u0) / m->width, dv = (m->v1 - m->v0) / m->height, reach = 0.0, bend = 0.0;
+  for (int i = 0; i < 3 && ok; i++)
+    for (int j = 0; j < 3; j++)
+      if ((i != 1 && j != 1) || (quad && (i != 1 || j != 1))) {
+        reach = fmax(reach, fmax(fabs(q[i][j][0] - c0[0]) / du, fabs(q[i][j][1] - c0[1]) / dv));
+        for (int e = 0; e < 2; e++) /* off the line through the centre and the mirror point */
+          bend = fmax(bend, fabs(0.5 * (q[i][j][e] + q[2 - i][2 - j][e]) - c0[e]) / (e ? dv : du));
+      }
+  if (!ok || bend > 0.5 + 0.1 * reach) {
+    resample(W, f, p, sig, uv, phi, c0, reach);
+    return;
+  }
+  q[1][1][0] = c0[0];
+  q[1][1][1] = c0[1];
+  if (!quad) /* the bilinear patch of the corners, as Lagrange data */
+    for (int e = 0; e < 2; e++) {
+      q[1][0][e] = 0.5 * (q[0][0][e] + q[2][0][e]);
+      q[1][2][e] = 0.5 * (q[0][2][e] + q[2][2][e]);
+      q[0][1][e] = 0.5 * (q[0][0][e] + q[0][2][e]);
+      q[2][1][e] = 0.5 * (q[2][0][e] + q[2][2][e]);
+      q[1][1][e] = 0.5 * (q[1][0][e] + q[1][2][e]);
     }
-  if (!ok) {
-    W->C.st.unshifted++;
-    lt__deposit_triangle(&W->A, uv, phi);
-    return;
-  }
-  double du = (m->u1 - m->u0) / m->width, dv = (m->v1 - m->v0) / m->height, reach = 0.0;
-  for (int i = 0; i < 2; i++)
-    for (int j = 0; j < 2; j++)
-      reach = fmax(reach, fmax(fabs(q[i][j][0] - c0[0]) / du, fabs(q[i][j][1] - c0[1]) / dv));
-  /* Eq. (10)'s linearity: the patch's centre is the centre ray's landing when the landing is
-   * linear in the source's position; near a lens's rim it is far from it, the shift model fails,
-   * and the pencil is left as it is (counted with the unshifted) */
-  double mid[2], dev;
-  for (int e = 0; e < 2; e++)
-    mid[e] = 0.25 * (q[0][0][e] + q[1][0][e] + q[0][1][e] + q[1][1][e]);
-  dev = fmax(fabs(mid[0] - c0[0]) / du, fabs(mid[1] - c0[1]) / dv);
-  if (dev > 0.5 + 0.1 * reach) {
-    W->C.st.unshifted++;
-    lt__deposit_triangle(&W->A, uv, phi);
-    return;
-  }
   int k = (int)fmin(16.0, fmax(1.0, ceil(2.0 * reach)));
   rt_rgb_t share = rt_rgb_scale(phi, 1.0 / ((double)k * k));
   for (int s = 0; s < k; s++)
     for (int t = 0; t < k; t++) {
-      double x = (s + 0.5) / k, y = (t + 0.5) / k, sh[2], tri[3][2];
-      for (int e = 0; e < 2; e++)
-        sh[e] = (1 - x) * (1 - y) * q[0][0][e] + x * (1 - y) * q[1][0][e] +
-                (1 - x) * y * q[0][1][e] + x * y * q[1][1][e] - c0[e];
-      for (int v = 0; v < 3; v++) {
-        tri[v][0] = uv[v][0] + sh[0];
-        tri[v][1] = uv[v][1] + sh[1];
-      }
+      double ws[3], wt[3], sh[2] = {-c0[0], -c0[1]}, tri[3][2];
+      lagrange3((s + 0.5) / k - 0.5, ws);
+      lagrange3((t + 0.5) / k - 0.5, wt);
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+          for (int e = 0; e < 2; e++)
+            sh[e] += ws[i] * wt[j] * q[i][j][e];
+      for (int v = 0; v < 3; v++)
+        for (int e = 0; e < 2; e++)
+          tri[v][e] = uv[v][e] + sh[e];
       lt__deposit_triangle(&W->A, tri, share);
     }
   W->C.st.filtered++;
@@ -510,6 +579,7 @@ void lt__stats_add(lt_stats_t *a, const lt_stats_t *b) {
   a->lost += b->lost;
   a->filtered += b->filtered;
   a->unshifted += b->unshifted;
+  a->resampled += b->resampled;
   a->flux_emitted += b->flux_emitted;
   a->flux_map += b->flux_map;
   a->flux_outside += b->flux_outside;
@@ -523,7 +593,8 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
     return RT_ENOTREADY;
   if (rc->n < 1 || rc->n > LT_MAX_RECEIVERS || o->light < -1 || o->light >= s->nlight ||
       o->side < 2 || o->side > LT_MAX_GRID || o->max_split < 0 || o->max_split > 12 ||
-      o->threads < 0 || o->area_mesh < 1 || o->area_mesh > LT_MAX_AREA_MESH || !m->e)
+      o->threads < 0 || o->area_mesh < 1 || o->area_mesh > LT_MAX_AREA_MESH || o->area_filter < 0 ||
+      o->area_filter > LT_AREA_FILTER_LINEAR || !m->e)
     return RT_EINVAL;
   int nt = rt_thread_count(o->threads);
   size_t cells = 3 * (size_t)m->width * (size_t)m->height;

@@ -62,6 +62,11 @@ int io_render_check(const char *exr_path, char *err, size_t cap);
 int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_channel_t *extra,
                     int nextra, const io_attr_t *attrs, int nattrs, char *err, size_t cap);
 
+/** The grey preview of a map of width x height values e (row j of the map holds its v index j):
+ *  each value over the largest, image rows from the top (the largest j first), in R = G = B.
+ *  Allocates img (rt_image_free()); 0 when out of memory. */
+int io_map_preview(int width, int height, const float *e, rt_image_t *img);
+
 /** A map's outputs (illuminance maps): the float32 channels ch[0 .. n-1] of width x height
  *  values and nothing else to exr_path, with the attributes and provenance of io_exr_write();
  *  the PNG preview of `preview` (R, G, B; may be NULL for none) beside it; and the JSON summary

@@ -103,11 +103,28 @@ typedef struct {
                         caustic map: the renderer's shadow rays give the direct light) */
   int area_mesh;   /**< an area light is traced as area_mesh x area_mesh Lambertian point sources
                         at its mesh cells' centres (1989 section 2.3), 1..LT_MAX_AREA_MESH */
-  int area_filter; /**< grid-pencil, area lights: 1 spreads each mesh point's light over its
-                        mesh cell by the space-variant filter of the 1989 Eqs. (9)-(12) (each
-                        pencil's light smeared along the shift vectors Delta_I, Delta_J of its
-                        centre ray); 0 sums the mesh points' maps as they are */
+  int area_filter; /**< grid-pencil, area lights: an lt_area_filter_t, how each mesh point's
+                        light is spread over its mesh cell by the space-variant filter of the
+                        1989 Eqs. (9)-(12) (LT_AREA_FILTER_NONE sums the mesh points' maps as
+                        they are) */
 } lt_options_t;
+
+/** The space-variant filter of an area light's mesh points (1989 Eqs. 9-12): each pencil's
+ *  light spread over the positions of the source in the point's mesh cell, moved by its centre
+ *  ray's displacement (the ray's direction fixed, as the paper's shift vectors Delta_I, Delta_J
+ *  have it), the displacement interpolated over the cell. */
+typedef enum {
+  LT_AREA_FILTER_NONE = 0,      /**< no filter: the mesh points' maps summed as they are */
+  LT_AREA_FILTER_QUADRATIC = 1, /**< the biquadratic patch of the displacements from 3 x 3
+                                     points of the cell (this project's form) */
+  LT_AREA_FILTER_LINEAR = 2     /**< the printed Eq. (10), linear in the move: the bilinear patch
+                                     of the corners' displacements; drifts light outwards where
+                                     the landing is curved in the source's position */
+} lt_area_filter_t;
+
+/** "none" / "quadratic" / "linear"; -1 for another name. */
+int lt_area_filter_parse(const char *name);
+const char *lt_area_filter_name(lt_area_filter_t f);
 
 /** Largest side of an area light's mesh. */
 #define LT_MAX_AREA_MESH 256
@@ -126,7 +143,10 @@ typedef struct {
   uint64_t photons;     /**< arrivals deposited as photons (photons; grid-pencil at the limit) */
   uint64_t lost;        /**< ends of rays' trees dropped because a tree had too many */
   uint64_t filtered;    /**< area filter: pencils spread along their shift vectors */
-  uint64_t unshifted;   /**< ... deposited as they are: a shifted centre ray left the path */
+  uint64_t unshifted;   /**< ... deposited as they are: their own centre ray left the path */
+  uint64_t resampled;   /**< ... whose displacements were traced from n x n points of the mesh
+                             cell: the patch could not be trusted (a landing far off it, or
+                             the centre ray leaving the path from a point of the cell) */
   double flux_emitted;  /**< flux the traced grid covers (mean of R, G, B; scene units) */
   double flux_map;      /**< flux deposited inside the map */
   double flux_outside;  /**< flux that reached the receiver outside the map */
