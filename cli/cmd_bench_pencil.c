@@ -178,13 +178,6 @@ static int parse(int argc, char **argv, args_t *a) {
 static int load(const args_t *a, rt_scene_t *s) {
   if (!cli_load_scene("bench pencil", a->scene, a->width, a->height, s))
     return 0;
-  if (rn_area_light(s) >= 0) {
-    fprintf(stderr,
-            "pencil bench pencil: %s: light %d is an area light, which the renderers do not draw "
-            "yet\n",
-            a->scene, rn_area_light(s));
-    return 0; /* the caller frees the scene */
-  }
   return 1;
 }
 

@@ -322,13 +322,6 @@ static int render(const args_t *a, rt_scene_t *s) {
   c.caustic_cells = (int)a->caustic_cells;
   if (a->out && !memory_fits(a, s, &plan, &c))
     return CLI_USAGE;
-  if (a->out && rn_area_light(s) >= 0) {
-    fprintf(stderr,
-            "pencil render: %s: light %d is an area light, which the renderers do not draw yet "
-            "(pencil illuminance maps it)\n",
-            a->scene ? a->scene : "the scene", rn_area_light(s));
-    return CLI_USAGE;
-  }
   if (rt_plan_has(&plan, RT_EFFECT_CAUSTICS) && a->caustic_method) {
     char why[256];
     if (lt_method_check(s, (lt_method_t)(a->caustic_method - 1), why, sizeof why) != RT_OK) {

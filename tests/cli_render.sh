@@ -47,6 +47,29 @@ for m in exact pencil; do
     "$py -c \"import OpenImageIO as o,sys; i=o.ImageInput.open('$tmp/cz-$m.exr'); \
 sys.exit(0 if 'rays a side, 32 cells' in i.spec().get_string_attribute('pencil:caustics') else 1)\""
 done
+# an area light: drawn by both renderers (its mesh points' soft light and its caustic map); the
+# polygons method, which takes point and parallel lights only, is refused naming the light
+cat >"$tmp/area.json" <<'JSON'
+{"camera": {"eye": [0, 4, -3], "look_at": [0, 0, 0]},
+ "settings": {"max_depth": 4},
+ "materials": {"white": {"kd": 0.5}, "glass": {"kd": 0, "ka": 0, "kt": 0.8, "ior": 1.5}},
+ "lights": [{"type": "area", "center": [0, 4, 0], "edge_u": [0.6, 0, 0], "edge_v": [0, 0, 0.4],
+             "intensity": 16, "samples": 3}],
+ "objects": [{"type": "plane", "name": "floor", "point": [0, 0, 0], "normal": [0, 1, 0],
+              "material": "white"},
+             {"type": "faceted_sphere", "name": "gem", "center": [0, 1, 0], "radius": 0.5,
+              "stacks": 4, "slices": 6, "material": "glass"}]}
+JSON
+for m in exact pencil; do
+  $pencil render "$tmp/area.json" --method $m --size 16x16 --spp 1 --caustic-rays 65 \
+    --caustic-cells 32 -o "$tmp/area-$m.exr" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  check "--method $m with an area light: exit 0, its caustic map made" \
+    "[ $rc -eq 0 ] && [ -s '$tmp/area-$m.exr' ] && grep -q '^caustics: 1 map(s) of 32 cells' '$tmp/out'"
+done
+$pencil render "$tmp/area.json" --size 8x8 --caustic-method polygons -o "$tmp/area-bad.exr" \
+  >/dev/null 2>"$tmp/err"; rc=$?
+check "--caustic-method polygons with an area light: exit 2 naming the light" \
+  "[ $rc -eq 2 ] && grep -q 'area light' '$tmp/err' && [ ! -e '$tmp/area-bad.exr' ]"
 grep -q "by photons" <($pencil render "$src/scenes/fig8-caustics.json" --size 8x8 --spp 1 \
   --caustic-rays 33 --caustic-cells 8 -o "$tmp/cz.exr"); rc=$?
 check "the exact renderer maps by photons by default" "[ $rc -eq 0 ]"

@@ -23,8 +23,8 @@ void fx_board(rt_scene_t *s, int w, int h) {
   rt_scene_add_material(s, &white, &mw);
   rt_scene_add_material(s, &red, &mr);
   rt_scene_add_plane(s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mw, mr, 1.0, NULL);
-  rt_light_t l = {RT_LIGHT_POINT,  {-5.0, 6.0, -2.5}, {1, 1, 1},
-                  RT_FALLOFF_NONE, {0, 0, 0},         {0, 0, 0}};
+  rt_light_t l = {RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1, 1, 1}, RT_FALLOFF_NONE,
+                  {0, 0, 0},      {0, 0, 0},         0};
   rt_scene_add_light(s, &l);
   /* looking down more steeply than Fig. 8, so that no horizon (an edge) is in view */
   s->camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 40.0, w, h};

@@ -101,8 +101,13 @@ static void slab_map_exact(void **state) {
   load_slab(&s, down, "");
   rt_plan_t p = rt_plan_make(&s, 1);
   for (int method = 0; method < 2; method++) {
-    lt_caustic_options_t o = {
-        method ? LT_METHOD_PHOTONS : LT_METHOD_GRID_PENCIL, method ? 1025 : 65, 40, 0, NULL, NULL};
+    lt_caustic_options_t o = {method ? LT_METHOD_PHOTONS : LT_METHOD_GRID_PENCIL,
+                              method ? 1025 : 65,
+                              40,
+                              0,
+                              NULL,
+                              NULL,
+                              0};
     rt_caustic_maps_t maps;
     lt_caustic_stats_t st;
     char why[256];
@@ -152,7 +157,7 @@ static void shade_replaces_textbook_shadow(void **state) {
   rt_scene_t s;
   load_slab(&s, down, "");
   rt_plan_t p = rt_plan_make(&s, 1);
-  lt_caustic_options_t o = {LT_METHOD_GRID_PENCIL, 65, 40, 0, NULL, NULL};
+  lt_caustic_options_t o = {LT_METHOD_GRID_PENCIL, 65, 40, 0, NULL, NULL, 0};
   rt_caustic_maps_t maps;
   lt_caustic_stats_t st;
   char why[256];
@@ -239,12 +244,49 @@ static void renderers_agree_with_maps(void **state) {
   rt_scene_free(&s);
 }
 
+/* Under an area light the renderers draw its mesh points' soft light and its caustic map (made
+ * with the light's own mesh and the filter): the exact and the pencil renderer agree as with a
+ * point light, both made one map of the area light, and its light reaches the floor through
+ * the slab (the light is above the slab's middle, so the floor under the slab's middle is lit
+ * only through the map: its shadow rays there are opaque). */
+static void renderers_agree_under_an_area_light(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_slab(&s,
+            "{\"type\": \"area\", \"center\": [0, 4, 0], \"edge_u\": [0.6, 0, 0], "
+            "\"edge_v\": [0, 0, 0.4], \"intensity\": 16, \"samples\": 3}",
+            "");
+  rt_image_t a, b;
+  rn_caustic_stats_t ca, cb;
+  render_slab(&s, rn_find("exact"), &a, &ca);
+  render_slab(&s, rn_find("pencil"), &b, &cb);
+  assert_int_equal(ca.maps, 1);
+  assert_int_equal(cb.maps, 1);
+  assert_int_equal(ca.empty + cb.empty, 0);
+  int n = a.width * a.height, big = 0, lit = 0;
+  double worst = 0.0;
+  for (int k = 0; k < n; k++) {
+    double d = fabs((double)a.ch[RT_CH_R][k] - b.ch[RT_CH_R][k]);
+    worst = fmax(worst, d);
+    big += d > 1.0 / 256;
+    lit += a.ch[RT_CH_R][k] > 0.01;
+  }
+  print_message("area light: exact vs pencil worst %.3g, %d of %d pixels over 1/256, %d lit\n",
+                worst, big, n, lit);
+  assert_true(lit > n / 2);
+  assert_true(big <= n / 50);
+  rt_image_free(&a);
+  rt_image_free(&b);
+  rt_scene_free(&s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(plan_receivers_and_lights),
       cmocka_unit_test(slab_map_exact),
       cmocka_unit_test(shade_replaces_textbook_shadow),
       cmocka_unit_test(renderers_agree_with_maps),
+      cmocka_unit_test(renderers_agree_under_an_area_light),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -323,9 +323,10 @@ static void guard_catches_small_objects(void **state) {
   assert_true(pt_guard_cone(&ahead, 1, p, 0.0, z, NAN, 1));   /* an unknown spread fires */
   /* shadow rays from within 0.1 of the origin to a light at (0, 0, 10): an occluder smaller than
    * the gap between the traced points fires, a larger one or one beside the rays does not */
-  rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 10}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
-  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, 0, -1}, {1, 1, 1},
-                    RT_FALLOFF_NONE,   {0, 0, 0},  {0, 0, 0}};
+  rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 10}, {1, 1, 1}, RT_FALLOFF_NONE,
+                     {0, 0, 0},      {0, 0, 0},  0};
+  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, 0, -1}, {1, 1, 1}, RT_FALLOFF_NONE,
+                    {0, 0, 0},         {0, 0, 0},  0};
   pt_bsphere_t tiny = {px_vec3(0.02, 0, 5), 0.01, 7}, wide = {px_vec3(0.1, 0, 5), 1.0, 7};
   pt_bsphere_t aside = {px_vec3(3, 0, 5), 0.01, 7}, past = {px_vec3(0, 0, -3), 0.01, 7};
   assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &lamp, 1));
@@ -960,8 +961,8 @@ static void measure_counts_diffuse_surfaces(void **state) {
                                           mg, -1, 1.0, NULL),
                        RT_OK);
     assert_int_equal(rt_scene_add_sphere(&s, px_vec3(0.0, 1.5, 0.0), 1.0, ml, &ball), RT_OK);
-    rt_light_t l = {RT_LIGHT_POINT,  {-5.0, 6.0, -2.5}, {1, 1, 1},
-                    RT_FALLOFF_NONE, {0, 0, 0},         {0, 0, 0}};
+    rt_light_t l = {RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1, 1, 1}, RT_FALLOFF_NONE,
+                    {0, 0, 0},      {0, 0, 0},         0};
     rt_scene_add_light(&s, &l);
     s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.9, 0.0}, {0, 1, 0}, 40.0, 32, 32};
     assert_int_equal(rt_scene_prepare(&s), RT_OK);

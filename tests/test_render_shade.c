@@ -216,6 +216,94 @@ static void probe_shadow(void *ctx, rt_shadow_t *q) {
   q->through = rt_rgb(0.25, 0.5, 1.0);
 }
 
+/* A shadow callback that records the queries' light indices and targets, and asks the scene. */
+typedef struct {
+  const rt_scene_t *s;
+  int calls, index;
+  double tmax_sum;
+} area_probe_t;
+
+static void area_shadow(void *ctx, rt_shadow_t *q) {
+  area_probe_t *p = ctx;
+  p->calls++;
+  p->index = q->light;
+  p->tmax_sum += q->ray.tmax;
+  rt_shadow_occluded(p->s, q);
+}
+
+/* An area light (1989 section 2.3) in shading: the sum over its N x N mesh points of a Lambertian
+ * point's I0 / N^2 cos(theta) cos(alpha) / r^2 times kd colour, each with its own shadow ray to
+ * that point, under an index no per-light cache answers; an opaque ball between the light and
+ * the point blocks part of the mesh (a soft shadow: strictly between dark and lit), and the
+ * shaded value is the sum over the points its shadow rays found free. */
+static void area_light_sums_its_mesh_points(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m = rt_material_default("m");
+  m.color = rt_rgb(0.8, 0.4, 0.2);
+  m.ka = 0.0;
+  m.kd = 0.6;
+  int mi;
+  rt_scene_add_material(&s, &m, &mi);
+  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
+  const int n = 5;
+  rt_light_t l = {RT_LIGHT_AREA, {0.3, 2, -0.2}, {3, 3, 3}, RT_FALLOFF_NONE,
+                  {1.2, 0, 0},   {0, 0, 0.8},    n};
+  assert_int_equal(rt_scene_add_light(&s, &l), RT_OK);
+  assert_int_equal(s.light[0].falloff, RT_FALLOFF_INVERSE_SQUARE);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  rt_ray_t r = ray_to(px_vec3(0, 2, -2), px_vec3(0, 0, 0));
+  rt_hit_t h;
+  assert_true(rt_intersect(&s, &r, &h));
+  rt_surface_t sf;
+  rt_shade_surface(&s, &h, &r, &sf);
+  area_probe_t probe = {&s, 0, 0, 0.0};
+  rt_tracer_t tr = {probe_child, area_shadow, &probe, NULL, NULL};
+  rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
+  /* the sum by hand: the light faces down (edge_u x edge_v = (0, -0.96, 0)) */
+  double want = 0.0, tsum = 0.0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double x = 0.3 + 1.2 * ((i + 0.5) / n - 0.5), z = -0.2 + 0.8 * ((j + 0.5) / n - 0.5);
+      double r2 = x * x + 4.0 + z * z, cosine = 2.0 / sqrt(r2);
+      want += 3.0 / (n * n) * cosine * cosine / r2;
+      tsum += sqrt(r2);
+    }
+  assert_close(c.r, 0.6 * 0.8 * want, 1e-13, 0);
+  assert_close(c.b, 0.6 * 0.2 * want, 1e-13, 0);
+  assert_int_equal(probe.calls, n * n);
+  assert_int_equal(probe.index, RT_AREA_SHADOW_INDEX(0));
+  assert_close(probe.tmax_sum, tsum, 1e-6, 0); /* each ray ends at its own point */
+  /* an opaque ball over part of the light: a soft shadow */
+  rt_material_t black = rt_material_default("black");
+  int bi;
+  rt_scene_add_material(&s, &black, &bi);
+  assert_int_equal(rt_scene_add_sphere(&s, px_vec3(0.5, 1.0, 0.0), 0.25, bi, NULL), RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_shade_surface(&s, &h, &r, &sf);
+  rt_rgb_t soft = rt_shade_direct(&s, &plan, &sf, &r, &tr);
+  double free_sum = 0.0;
+  int blocked = 0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      px_vec3_t pos =
+          px_vec3(0.3 + 1.2 * ((i + 0.5) / n - 0.5), 2.0, -0.2 + 0.8 * ((j + 0.5) / n - 0.5));
+      double r2 = px_v3_dot(pos, pos), cosine = 2.0 / sqrt(r2);
+      rt_ray_t q = {px_vec3(0, 1e-9, 0), px_v3_scale(pos, 1.0 / sqrt(r2)), 0.0, sqrt(r2), 1.0, -1};
+      rt_hit_t qh;
+      if (rt_intersect(&s, &q, &qh))
+        blocked++;
+      else
+        free_sum += 3.0 / (n * n) * cosine * cosine / r2;
+    }
+  assert_true(blocked > 0 && blocked < n * n);
+  assert_true(soft.r > 0.0 && soft.r < c.r);
+  assert_close(soft.r, 0.6 * 0.8 * free_sum, 1e-13, 0);
+  rt_scene_free(&s);
+}
+
 /* Ambient + diffuse with the light's transmittance, against the formula of textbook 9.1; with
  * the inverse-square fall-off the light's term is divided by r^2. */
 static void direct_light_follows_illumination_equation(void **state) {
@@ -230,7 +318,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_scene_add_material(&s, &m, &mi);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
   s.ambient = rt_rgb(0.5, 0.5, 0.5);
-  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
+  rt_light_t l = {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}, 0};
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
@@ -260,8 +348,8 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_shade_direct2(&s, &plan, &sf, sf.mat, &r, &tr, two);
   assert_memory_equal(&two[0], &c, sizeof c); /* and the checkerboard's path agrees bit for bit */
   /* a parallel light cannot fall off */
-  rt_light_t sun = {RT_LIGHT_PARALLEL,         {0, -1, 0}, {1, 1, 1},
-                    RT_FALLOFF_INVERSE_SQUARE, {0, 0, 0},  {0, 0, 0}};
+  rt_light_t sun = {RT_LIGHT_PARALLEL, {0, -1, 0}, {1, 1, 1}, RT_FALLOFF_INVERSE_SQUARE,
+                    {0, 0, 0},         {0, 0, 0},  0};
   assert_int_equal(rt_scene_add_light(&s, &sun), RT_EINVAL);
   rt_scene_free(&s);
 }
@@ -288,14 +376,21 @@ static void two_materials_shaded_at_once_match_each_alone(void **state) {
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi[0], -1, 1, NULL);
   s.ambient = rt_rgb(0.5, 0.4, 0.3);
   rt_light_t lights[3] = {
-      {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}},
+      {RT_LIGHT_POINT, {3, 4, 0}, {2, 2, 2}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}, 0},
       {RT_LIGHT_POINT,
        {-1, -3, 1},
        {1, 1, 1},
        RT_FALLOFF_NONE,
        {0, 0, 0},
-       {0, 0, 0}}, /* below: faced away from */
-      {RT_LIGHT_PARALLEL, {0.3, -1, 0.2}, {0.5, 0.7, 0.9}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}}};
+       {0, 0, 0},
+       0}, /* below: faced away from */
+      {RT_LIGHT_PARALLEL,
+       {0.3, -1, 0.2},
+       {0.5, 0.7, 0.9},
+       RT_FALLOFF_NONE,
+       {0, 0, 0},
+       {0, 0, 0},
+       0}};
   for (int l = 0; l < 3; l++)
     rt_scene_add_light(&s, &lights[l]);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
@@ -344,8 +439,8 @@ static void parallel_light_and_its_shadow(void **state) {
   rt_scene_add_material(&s, &m, &mi);
   rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL);
   rt_scene_add_sphere(&s, px_vec3(0, 100, 0), 1.0, mi, NULL);
-  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5},
-                  RT_FALLOFF_NONE,   {0, 0, 0},  {0, 0, 0}}; /* normalised on adding */
+  rt_light_t l = {RT_LIGHT_PARALLEL, {0, -2, 0}, {0.5, 0.5, 0.5}, RT_FALLOFF_NONE, {0, 0, 0},
+                  {0, 0, 0},         0}; /* normalised on adding */
   rt_scene_add_light(&s, &l);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   rt_plan_t plan = rt_plan_make(&s, 1);
@@ -474,7 +569,7 @@ static void plan_names_caustic_paths(void **state) {
   rt_scene_name_object(&s, floor_obj, "floor");
   rt_plan_t plan = rt_plan_make(&s, 1);
   assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));
-  rt_light_t l = {RT_LIGHT_POINT, {0, 5, 0}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
+  rt_light_t l = {RT_LIGHT_POINT, {0, 5, 0}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}, 0};
   assert_int_equal(rt_scene_add_light(&s, &l), RT_OK);
   plan = rt_plan_make(&s, 1);
   assert_non_null(strstr(plan.why[RT_EFFECT_CAUSTICS], "no light reaches a diffuse surface"));
@@ -545,6 +640,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(one_child_is_the_child_of_its_kind),
       cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),
       cmocka_unit_test(plan_names_caustic_paths),
+      cmocka_unit_test(area_light_sums_its_mesh_points),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

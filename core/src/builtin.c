@@ -38,8 +38,8 @@ static rt_status_t stage(rt_scene_t *s) {
   s->spp = 9;
   rt_material_t white = matte("white", 0.9, 0.9, 0.9), red = matte("red", 0.85, 0.12, 0.1);
   int mw, mr;
-  rt_light_t light = {RT_LIGHT_POINT,  {-5.0, 6.0, -2.5}, {1.0, 1.0, 1.0},
-                      RT_FALLOFF_NONE, {0, 0, 0},         {0, 0, 0}};
+  rt_light_t light = {
+      RT_LIGHT_POINT, {-5.0, 6.0, -2.5}, {1.0, 1.0, 1.0}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}, 0};
   rt_status_t st = rt_scene_add_material(s, &white, &mw);
   if (st == RT_OK)
     st = rt_scene_add_material(s, &red, &mr);

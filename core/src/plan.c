@@ -165,6 +165,8 @@ rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
   else
     set(&p, RT_EFFECT_SUPERSAMPLING, 0, "off: 1 sample per pixel");
   plan_caustics(&p, s);
+  for (int l = 0; l < s->nlight; l++)
+    p.area_lights |= s->light[l].kind == RT_LIGHT_AREA;
   for (int e = RT_EFFECT_DISPERSION; e <= RT_EFFECT_STAR_FILTER; e++)
     set(&p, (rt_effect_t)e, 0, "off: not implemented by this renderer yet");
   int secondary = rt_plan_has(&p, RT_EFFECT_REFLECTION) || rt_plan_has(&p, RT_EFFECT_REFRACTION);

@@ -188,10 +188,16 @@ rt_status_t rt_scene_add_light(rt_scene_t *s, const rt_light_t *l) {
     if (!vec_finite(c.eu) || !vec_finite(c.ev) ||
         !(px_v3_norm(n) > 1e-12 * px_v3_norm(c.eu) * px_v3_norm(c.ev)))
       return RT_EINVAL;
+    if (c.samples == 0)
+      c.samples = RT_AREA_SAMPLES_DEFAULT;
+    if (c.samples < 1 || c.samples > RT_MAX_AREA_SAMPLES)
+      return RT_EINVAL;
     c.falloff = RT_FALLOFF_INVERSE_SQUARE;
   } else if (c.falloff != RT_FALLOFF_NONE &&
              (c.falloff != RT_FALLOFF_INVERSE_SQUARE || c.kind != RT_LIGHT_POINT)) {
     return RT_EINVAL; /* only a point light falls off */
+  } else {
+    c.samples = 0;
   }
   if (!RESERVE(s, light, nlight, 1))
     return RT_ENOMEM;

@@ -76,7 +76,7 @@ static double phong_pow(double x, double n) {
  * made that renderer measurably slower (docs/tuning.md). */
 static inline __attribute__((always_inline)) rt_rgb_t
 shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const rt_ray_t *ray,
-       int l, px_vec3_t dir, double dist, int opaque, const rt_tracer_t *tr) {
+       int l, px_vec3_t pos, px_vec3_t dir, double dist, int opaque, const rt_tracer_t *tr) {
   if (!rt_plan_has(plan, RT_EFFECT_SHADOWS))
     return rt_rgb(1, 1, 1);
   rt_rgb_t known;
@@ -87,7 +87,7 @@ shadow(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const
   q.light = l;
   q.ray = (rt_ray_t){o, dir, 0.0, dist, ray->ior, planar_prim(s, sf->hit.prim) ? sf->hit.prim : -1};
   if (isfinite(dist))
-    q.ray.tmax = px_v3_dot(px_v3_sub(s->light[l].v, o), dir);
+    q.ray.tmax = px_v3_dot(px_v3_sub(pos, o), dir);
   q.through = rt_rgb(1, 1, 1);
   if (opaque && tr->occluded)
     tr->occluded(tr->ctx, &q);
@@ -117,12 +117,50 @@ static rt_rgb_t caustic_term(const rt_material_t *m, const rt_caustic_map_t *cm,
   return rt_rgb_mul(rt_rgb_scale(m->color, m->kd), rt_caustic_at(cm, p));
 }
 
+/* Area light l's diffuse and specular terms for the materials m[0 .. nm-1] (those with lit[i])
+ * added to out[i]: the sum over its N x N mesh points, the cells' centres (N = samples), each a
+ * Lambertian point of intensity I0 / N^2 cos(theta) / r^2, theta from the light's normal (the
+ * illuminance maps' model, light/), with its own shadow ray: soft shadows in N^2 steps. With a
+ * caustic map (opaque) every point's shadow ray is opaque. Out of line: only scenes with area
+ * lights call it. */
+static __attribute__((noinline)) void area_light(const rt_scene_t *s, const rt_plan_t *plan,
+                                                 const rt_surface_t *sf, const rt_ray_t *ray, int l,
+                                                 int opaque, const rt_tracer_t *tr,
+                                                 const rt_material_t *const *m, const int *spec,
+                                                 const int *lit, int nm, rt_rgb_t *out) {
+  const rt_light_t *li = &s->light[l];
+  int n = li->samples > 0 ? li->samples : 1;
+  px_vec3_t ne = px_v3_unit(px_v3_cross(li->eu, li->ev));
+  rt_rgb_t each = rt_rgb_scale(li->intensity, 1.0 / ((double)n * n));
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double a = (i + 0.5) / n - 0.5, b = (j + 0.5) / n - 0.5, dist;
+      px_vec3_t pos = px_v3_add(li->v, px_v3_add(px_v3_scale(li->eu, a), px_v3_scale(li->ev, b)));
+      px_vec3_t d = px_v3_sub(pos, sf->hit.p);
+      dist = px_v3_norm(d);
+      if (!(dist > 0.0) || !isfinite(dist))
+        continue;
+      px_vec3_t L = px_v3_scale(d, 1.0 / dist);
+      double ndl = px_v3_dot(sf->nf, L), emit = -px_v3_dot(L, ne);
+      if (!(ndl > 0.0) || !(emit > 0.0))
+        continue; /* the surface faces away, or the point is behind the light */
+      rt_rgb_t through =
+          shadow(s, plan, sf, ray, RT_AREA_SHADOW_INDEX(l), pos, L, dist, opaque, tr);
+      if (!(rt_rgb_max(through) > 0.0))
+        continue;
+      rt_rgb_t e = rt_rgb_mul(through, rt_rgb_scale(each, emit / (dist * dist)));
+      for (int k = 0; k < nm; k++)
+        if (lit[k])
+          out[k] = rt_rgb_add(out[k], rt_rgb_mul(e, light_term(m[k], spec[k], sf, ray, L, ndl)));
+    }
+}
+
 /* rt_shade_direct()'s sum, with the caustic maps `maps` (NULL: none). Always inlined, so that
  * the call without maps compiles to the loop it was before maps existed (the exact renderer's
  * hot path: a scene without caustics costs nothing more). */
 static inline __attribute__((always_inline)) rt_rgb_t
 direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const rt_ray_t *ray,
-       const rt_tracer_t *tr, const rt_caustic_maps_t *maps) {
+       const rt_tracer_t *tr, const rt_caustic_maps_t *maps, int area) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t c = rt_rgb_scale(rt_rgb_mul(s->ambient, m->color), m->ka);
   int spec = rt_plan_has(plan, RT_EFFECT_SPECULAR) && m->ks > 0.0;
@@ -132,12 +170,17 @@ direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const
     const rt_caustic_map_t *cm = maps ? rt_caustic_map_of(maps, sf->hit.object, l) : NULL;
     if (cm)
       c = rt_rgb_add(c, caustic_term(m, cm, sf->hit.p));
+    if (area && s->light[l].kind == RT_LIGHT_AREA) {
+      const int one = 1;
+      area_light(s, plan, sf, ray, l, cm != NULL, tr, &m, &spec, &one, 1, &c);
+      continue;
+    }
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
     double ndl = px_v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue; /* the surface faces away from the light */
-    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, cm != NULL, tr);
+    rt_rgb_t through = shadow(s, plan, sf, ray, l, s->light[l].v, L, dist, cm != NULL, tr);
     if (!(rt_rgb_max(through) > 0.0))
       continue;
     rt_rgb_t term = light_term(m, spec, sf, ray, L, ndl);
@@ -146,11 +189,21 @@ direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf, const
   return c;
 }
 
+/* rt_shade_direct() for a scene with area lights, out of line so that other scenes' code is as
+ * it was. */
+static __attribute__((noinline)) rt_rgb_t
+direct_with_area(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                 const rt_ray_t *ray, const rt_tracer_t *tr) {
+  return direct(s, plan, sf, ray, tr, plan->maps, 1);
+}
+
 rt_rgb_t rt_shade_direct(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                          const rt_ray_t *ray, const rt_tracer_t *tr) {
+  if (__builtin_expect(plan->area_lights, 0))
+    return direct_with_area(s, plan, sf, ray, tr);
   if (plan->maps)
-    return direct(s, plan, sf, ray, tr, plan->maps);
-  return direct(s, plan, sf, ray, tr, NULL);
+    return direct(s, plan, sf, ray, tr, plan->maps, 0);
+  return direct(s, plan, sf, ray, tr, NULL, 0);
 }
 
 /* As rt_shade_direct() for sf->mat and `other`, each light's direction and shadow found once:
@@ -173,12 +226,16 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
       for (int i = 0; i < 2; i++)
         out[i] = rt_rgb_add(out[i], rt_rgb_mul(rt_rgb_scale(m[i]->color, m[i]->kd), e));
     }
+    if (plan->area_lights && s->light[l].kind == RT_LIGHT_AREA) {
+      area_light(s, plan, sf, ray, l, cm != NULL, tr, m, spec, lit, 2, out);
+      continue;
+    }
     double dist;
     px_vec3_t L = to_light(&s->light[l], sf->hit.p, &dist);
     double ndl = px_v3_dot(sf->nf, L);
     if (!(ndl > 0.0))
       continue;
-    rt_rgb_t through = shadow(s, plan, sf, ray, l, L, dist, cm != NULL, tr);
+    rt_rgb_t through = shadow(s, plan, sf, ray, l, s->light[l].v, L, dist, cm != NULL, tr);
     if (!(rt_rgb_max(through) > 0.0))
       continue;
     for (int i = 0; i < 2; i++)

@@ -103,21 +103,18 @@ static int parse_materials(io_parse_t *P, json_t *o) {
 
 static int parse_light(io_parse_t *P, json_t *o) {
   static const char *const keys[] = {"type",   "position", "direction", "intensity", "falloff",
-                                     "center", "edge_u",   "edge_v",    NULL};
+                                     "center", "edge_u",   "edge_v",    "samples",   NULL};
   const char *type;
-  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}};
+  rt_light_t l = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}, 0};
   if (!json_is_object(o))
     return io_fail(P, "expected a light object {\"type\": \"point\", ...}");
   if (!io_check_keys(P, o, keys) || !io_get_string(P, o, "type", 1, &type) ||
       !io_get_rgb(P, o, "intensity", l.intensity, &l.intensity))
     return 0;
-  if (strcmp(type, "point") != 0 && strcmp(type, "area") != 0 &&
-      (json_object_get(o, "center") || json_object_get(o, "edge_u") ||
-       json_object_get(o, "edge_v")))
-    return io_fail(P, "\"center\", \"edge_u\" and \"edge_v\" belong to an area light");
-  if (strcmp(type, "point") == 0 && (json_object_get(o, "center") || json_object_get(o, "edge_u") ||
-                                     json_object_get(o, "edge_v")))
-    return io_fail(P, "\"center\", \"edge_u\" and \"edge_v\" belong to an area light");
+  if (strcmp(type, "area") != 0 && (json_object_get(o, "center") || json_object_get(o, "edge_u") ||
+                                    json_object_get(o, "edge_v") || json_object_get(o, "samples")))
+    return io_fail(P, "\"center\", \"edge_u\", \"edge_v\" and \"samples\" belong to an area "
+                      "light");
   if (strcmp(type, "area") == 0) {
     l.kind = RT_LIGHT_AREA;
     if (json_object_get(o, "position") || json_object_get(o, "direction"))
@@ -128,7 +125,9 @@ static int parse_light(io_parse_t *P, json_t *o) {
                         "square)");
     if (!io_get_vec3(P, o, "center", 1, l.v, &l.v) ||
         !io_get_vec3(P, o, "edge_u", 1, l.eu, &l.eu) ||
-        !io_get_vec3(P, o, "edge_v", 1, l.ev, &l.ev))
+        !io_get_vec3(P, o, "edge_v", 1, l.ev, &l.ev) ||
+        !io_get_int(P, o, "samples", 0, RT_AREA_SAMPLES_DEFAULT, 1, RT_MAX_AREA_SAMPLES,
+                    &l.samples))
       return 0;
     px_vec3_t n = px_v3_cross(l.eu, l.ev);
     if (!(px_v3_norm(n) > 1e-12 * px_v3_norm(l.eu) * px_v3_norm(l.ev))) {

@@ -85,6 +85,17 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
       lo.side = o->side;
       lo.threads = o->threads;
       lo.indirect = 1;
+      if (s->light[l].kind == RT_LIGHT_AREA) {
+        /* the light's own mesh, as shading has it; the rays shared among its points, so that the
+         * map costs about a point light's (photons: side / N a side each; grid-pencils, whose
+         * pencils divide where they must, at least 33) */
+        int mesh = s->light[l].samples > 0 ? s->light[l].samples : RT_AREA_SAMPLES_DEFAULT;
+        lo.area_mesh = mesh;
+        lo.area_filter = o->method == LT_METHOD_GRID_PENCIL ? o->area_filter : 0;
+        lo.side = (o->side + mesh - 1) / mesh;
+        int least = o->method == LT_METHOD_GRID_PENCIL ? 33 : 17;
+        lo.side = lo.side < least ? (o->side < least ? o->side : least) : lo.side;
+      }
       lt_stats_t ls;
       status = lt_illuminance(s, &rc, &lo, &m, &ls);
       if (status != RT_OK) {

@@ -242,7 +242,8 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
   pt_ctx_t *C = P->C;
   const pt_node_t *n = &C->paths.node[k];
   int smooth = (n->light_agree == ~0u || same_visibility(P->R, k)) &&
-               !(n->light_guard && shadow_guarded(C, P->R, k)) && !caustic_guarded(P, k);
+               !(n->light_guard && shadow_guarded(C, P->R, k)) && !caustic_guarded(P, k) &&
+               !C->plan->area_lights; /* soft shadows: traced per sample, unseen by the lattice */
   *faint = 0;
   if (!smooth && (squares || n->child[0] < 0)) {
     double b = pt__faint_bound(C, P->lc, P->R, k);

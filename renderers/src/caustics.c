@@ -16,14 +16,6 @@ rt_status_t rn__caustics_make(const rt_scene_t *s, const rt_plan_t *plan, const 
   memset(maps, 0, sizeof *maps);
   *run = *plan;
   run->maps = NULL;
-  int area = rn_area_light(s);
-  if (area >= 0) {
-    snprintf(cs->why, sizeof cs->why,
-             "light %d is an area light: the renderers do not draw area lights yet (pencil "
-             "illuminance maps them)",
-             area);
-    return RT_EINVAL;
-  }
   if (!rt_plan_has(plan, RT_EFFECT_CAUSTICS))
     return RT_OK;
   if (c->caustic_method)
@@ -35,7 +27,9 @@ rt_status_t rn__caustics_make(const rt_scene_t *s, const rt_plan_t *plan, const 
                             c->caustic_cells ? c->caustic_cells : RN_CAUSTIC_CELLS,
                             c->threads,
                             NULL,
-                            NULL};
+                            NULL,
+                            method == LT_METHOD_GRID_PENCIL ? LT_AREA_FILTER_QUADRATIC
+                                                            : LT_AREA_FILTER_NONE};
   lt_caustic_stats_t st;
   rt_status_t r = lt_caustic_maps(s, &plan->caustic, &o, maps, &st, cs->why, sizeof cs->why);
   cs->method = lt_method_name(method);
@@ -50,11 +44,4 @@ rt_status_t rn__caustics_make(const rt_scene_t *s, const rt_plan_t *plan, const 
   cs->outside = st.flux_outside;
   run->maps = maps;
   return RT_OK;
-}
-
-int rn_area_light(const rt_scene_t *s) {
-  for (int l = 0; l < s->nlight; l++)
-    if (s->light[l].kind == RT_LIGHT_AREA)
-      return l;
-  return -1;
 }

@@ -97,12 +97,6 @@ static int load_scene(const val_figures_opts_t *o, rt_scene_t *s) {
     fprintf(stderr, "pencil: cannot build the built-in Fig. 8 scene\n");
     return VAL_ESCENE;
   }
-  if (rn_area_light(s) >= 0) {
-    fprintf(stderr, "pencil: %s: light %d is an area light, which the renderers do not draw yet\n",
-            o->scene, rn_area_light(s));
-    rt_scene_free(s);
-    return VAL_ESCENE;
-  }
   int w = o->width, h = o->height;
   if (o->quick && w == 0)
     w = h = 64;

@@ -40,6 +40,9 @@ typedef struct {
    *  makes them (lt_caustic_maps()) and points its own copy of the plan at them. Shading with
    *  the effect on and no maps is the textbook's (as with the effect off). */
   const rt_caustic_maps_t *maps;
+  /** 1 when the scene has an area light (its mesh points shade with their own shadow rays,
+   *  core/shade.c): shading takes that branch only then, so that other scenes pay nothing. */
+  int area_lights;
 } rt_plan_t;
 
 /** Decide the plan for scene `s` rendered with `spp` samples per pixel. Pure function of its

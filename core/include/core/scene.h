@@ -93,7 +93,7 @@ typedef struct {
 typedef enum {
   RT_LIGHT_POINT = 0,
   RT_LIGHT_PARALLEL = 1,
-  RT_LIGHT_AREA = 2 /**< a Lambertian rectangle (1989 paper, section 2.3); maps only so far */
+  RT_LIGHT_AREA = 2 /**< a Lambertian rectangle (1989 paper, section 2.3) */
 } rt_light_kind_t;
 
 /** A scene's wish for caustics: light that reaches diffuse surfaces through reflecting or
@@ -124,7 +124,17 @@ typedef struct {
                              RT_FALLOFF_INVERSE_SQUARE */
   px_vec3_t eu, ev;     /**< area: the rectangle's two edges (centre +- eu / 2 +- ev / 2); it
                              emits on the side of eu x ev. Zero for the other kinds */
+  int samples;          /**< area: the side N of its mesh, N x N Lambertian points at the mesh
+                             cells' centres, each with I0 / N^2 (shading's direct light and soft
+                             shadows, and its caustic maps; 1..RT_MAX_AREA_SAMPLES); 0 for the
+                             other kinds */
 } rt_light_t;
+
+/** Largest side of an area light's mesh of sample points. */
+#define RT_MAX_AREA_SAMPLES 64
+
+/** The default side of an area light's mesh (the 1989 paper's Fig. 10: 7). */
+#define RT_AREA_SAMPLES_DEFAULT 8
 
 /** Pinhole camera. Pixel (i, j) covers [i, i+1) x [j, j+1) in continuous pixel coordinates,
  *  i counting columns from the left and j rows from the top. */

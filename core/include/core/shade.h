@@ -50,9 +50,14 @@ typedef struct {
                            internal reflection */
 } rt_child_t;
 
+/** The light index of the shadow queries towards an area light's mesh points: beyond every
+ *  per-light cache (a mesh point's visibility is not the light's, and no two points share one),
+ *  so that a renderer that caches shadows per light index traces these every time. */
+#define RT_AREA_SHADOW_INDEX(l) (1024 + (l))
+
 /** Result of one shadow query, reported to the tracer for its ray tree. */
 typedef struct {
-  int light;        /**< light index */
+  int light;        /**< light index (RT_AREA_SHADOW_INDEX(l) for an area light's points) */
   rt_ray_t ray;     /**< the shadow segment: from the point towards the light */
   rt_rgb_t through; /**< transmittance the tracer found (white = unoccluded) */
 } rt_shadow_t;

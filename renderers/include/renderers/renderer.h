@@ -179,11 +179,6 @@ typedef struct {
   size_t (*thread_bytes)(const rt_plan_t *plan, const rn_common_t *common, const void *options);
 } rn_renderer_t;
 
-/** The first area light of scene s, or -1: the renderers refuse scenes with one (they do not draw
- *  area lights yet; their render functions return RT_EINVAL with the reason in the caustic
- *  stats' why). */
-int rn_area_light(const rt_scene_t *s);
-
 /** The table, in the order `pencil render --help` lists it; rn_count() entries. */
 const rn_renderer_t *rn_entry(int k);
 int rn_count(void);
