@@ -28,8 +28,7 @@ rt_status_t rn__caustics_make(const rt_scene_t *s, const rt_plan_t *plan, const 
                             c->threads,
                             NULL,
                             NULL,
-                            method == LT_METHOD_GRID_PENCIL ? LT_AREA_FILTER_QUADRATIC
-                                                            : LT_AREA_FILTER_NONE};
+                            LT_AREA_FILTER_NONE}; /* the filter's cost: docs/renderer.md */
   lt_caustic_stats_t st;
   rt_status_t r = lt_caustic_maps(s, &plan->caustic, &o, maps, &st, cs->why, sizeof cs->why);
   cs->method = lt_method_name(method);

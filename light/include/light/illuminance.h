@@ -170,9 +170,10 @@ typedef struct {
   int threads;        /**< OpenMP threads; 0 = the default */
   void (*progress)(void *ctx, int done, int total); /**< after each map; may be NULL */
   void *progress_ctx;
-  int area_filter; /**< an area light's filter (lt_area_filter_t; grid-pencil only), its mesh
-                        the light's own N x N sample points (rt_light_t.samples), each with
-                        side / N rays a side (at least 33 for grid-pencils, 17 for photons) */
+  int area_filter; /**< an area light's filter (lt_area_filter_t; grid-pencil only; the
+                        renderers pass none), its mesh the light's own N x N sample points
+                        (rt_light_t.samples), each with side / N rays a side (at least 33 for
+                        grid-pencils, 17 for photons) */
 } lt_caustic_options_t;
 
 /** What lt_caustic_maps() did, summed over its maps. */
