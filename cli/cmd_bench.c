@@ -220,12 +220,14 @@ static int bench_illuminance(int argc, char **argv) {
 
 static void help_caustics(FILE *f) {
   fprintf(f, "usage: pencil bench caustics [--json FILE] [--out DIR] [--runs N] [--threads N]\n"
-             "                             [--quick] [--scenes DIR] [--reference-rays N]\n\n"
+             "                             [--quick] [--scenes DIR] [--reference-rays N]\n"
+             "                             [--case NAME[,NAME...]]\n\n"
              "Renders with caustics (issue 25) against the exact renderer with a converged\n"
              "backward-ray-traced map (photons, 8193 or 16384 rays a side of a grid face), on\n"
-             "Fig. 8 with caustics (scenes/fig8-caustics.json), the 1987 Fig. 11\n"
-             "(fig11-caustics.json) and\n"
-             "the 1989 Fig. 8 pool (pool.json), each at its own size and samples: the exact\n"
+             "Fig. 8 with caustics (case fig8, scenes/fig8-caustics.json), the 1987 Fig. 11\n"
+             "(fig11, fig11-caustics.json), the 1989 Fig. 8 pool (pool, pool.json) and the\n"
+             "1989 Fig. 10 glass of water under an area light (glass, glass.json, at 256 x 171,\n"
+             "9 spp), each at its own size and samples: the exact\n"
              "renderer with its default map (photons), the pencil renderer with its own\n"
              "(grid-pencils) and, for polyhedral scenes, with illuminance polygons, and the\n"
              "textbook's image (caustics off). Per pixel (the largest of R, G, B) the RMS, 99th\n"
@@ -241,22 +243,23 @@ static void help_caustics(FILE *f) {
              "  --runs N      timed runs per render, the median reported (default 3)\n"
              "  --threads N   OpenMP threads (default: all cores)\n"
              "  --quick       48 x 48 images, 1 spp, small maps (tests)\n"
-             "  --scenes DIR  the directory holding the three scenes (default: scenes/ of the\n"
+             "  --scenes DIR  the directory holding the scenes (default: scenes/ of the\n"
              "                source tree the command was built from)\n"
              "  --reference-rays N\n"
              "                rays a side of the reference's photon grids, 3..16384 (default 8193\n"
-             "                for Fig. 8, 16384 for Fig. 11 and the pool; --quick 513); the half\n"
-             "                reference takes N / sqrt(2)\n"
+             "                for Fig. 8, 16384 for the others; --quick 513); the half reference\n"
+             "                takes N / sqrt(2); an area light's N x N points share them\n"
+             "  --case LIST   only these cases, comma-separated (default: all four)\n"
              "Exit codes: 0 done; 2 usage or I/O error.\n");
 }
 
 static int bench_caustics(int argc, char **argv) {
-  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},          {"--out", 0, 1, 2},
-                                     {"--runs", 0, 1, 3},          {"--threads", 0, 1, 4},
-                                     {"--quick", 0, 0, 5},         {"--scenes", 0, 1, 6},
-                                     {"--reference-rays", 0, 1, 7}};
+  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},           {"--out", 0, 1, 2},
+                                     {"--runs", 0, 1, 3},           {"--threads", 0, 1, 4},
+                                     {"--quick", 0, 0, 5},          {"--scenes", 0, 1, 6},
+                                     {"--reference-rays", 0, 1, 7}, {"--case", 0, 1, 8}};
   int n, rc;
-  cli_arg_t *args = cli_args("bench caustics", argc, argv, specs, 7, help_caustics, &n, &rc);
+  cli_arg_t *args = cli_args("bench caustics", argc, argv, specs, 8, help_caustics, &n, &rc);
   if (!args)
     return rc;
   val_caustic_bench_opts_t o;
@@ -281,6 +284,14 @@ static int bench_caustics(int argc, char **argv) {
     } else if (g->spec->id == 7) {
       rc = cli_parse_long("--reference-rays", g->value, 3, LT_MAX_GRID, &ref_rays) ? CLI_OK
                                                                                    : CLI_USAGE;
+    } else if (g->spec->id == 8) {
+      char bad[256];
+      o.cases = g->value;
+      if (!val_bench_caustics_cases_ok(g->value, bad, sizeof bad)) {
+        fprintf(stderr,
+                "pencil bench caustics: --case: no case '%s' (fig8, fig11, pool or glass)\n", bad);
+        rc = CLI_USAGE;
+      }
     } else {
       o.scenes = g->value;
     }

@@ -73,6 +73,7 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
     for (int l = 0; l < s->nlight && l < 32 && status == RT_OK; l++) {
       if (!(cp->lights & (1u << l)))
         continue;
+      lt_light_extent(s, &rc, l, ext); /* each light's map covers its shadows */
       int w, h;
       map_size(ext, o->cells, &w, &h);
       lt_map_t m;
@@ -95,6 +96,12 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
         lo.side = (o->side + mesh - 1) / mesh;
         int least = o->method == LT_METHOD_GRID_PENCIL ? 33 : 17;
         lo.side = lo.side < least ? (o->side < least ? o->side : least) : lo.side;
+        /* and the division depth too: a point carries 1 / N^2 of the light, so its pencils may
+         * divide one level less for each fourfold share, log2(N) levels, but at least twice
+         * (the glass of scenes/glass.json: 72 s at 6 levels, 4.4 s at 3) */
+        int fewer = (int)lrint(log2((double)mesh));
+        lo.max_split =
+            lo.max_split - fewer < 2 ? (lo.max_split < 2 ? lo.max_split : 2) : lo.max_split - fewer;
       }
       lt_stats_t ls;
       status = lt_illuminance(s, &rc, &lo, &m, &ls);

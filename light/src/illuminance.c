@@ -201,6 +201,86 @@ int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]
   return 1;
 }
 
+/* Where the ray from light point l through corner c meets the receiver plane, in (u, v); a
+ * corner level with the light or above it (its shadow unbounded) lands `far` out along the
+ * shadow's direction. 0 when c casts no shadow on the plane from l (c beyond the plane, or l
+ * behind it). */
+static int shadow_point(const lt_receiver_t *r, px_vec3_t l, px_vec3_t c, double far, double *u,
+                        double *v) {
+  double hl = px_v3_dot(px_v3_sub(l, r->p), r->normal);
+  double hc = px_v3_dot(px_v3_sub(c, r->p), r->normal);
+  if (hl == 0.0 || hc * hl < 0.0)
+    return 0;
+  px_vec3_t d = px_v3_sub(c, l), q;
+  if (fabs(hc) < fabs(hl) * (1.0 - 1e-9)) {
+    q = px_v3_add(l, px_v3_scale(d, hl / (hl - hc)));
+  } else { /* unbounded: the shadow runs away from the light along the plane */
+    px_vec3_t t = px_v3_sub(d, px_v3_scale(r->normal, px_v3_dot(d, r->normal)));
+    double tn = px_v3_norm(t);
+    if (!(tn > 0.0))
+      return 0;
+    q = px_v3_add(c, px_v3_scale(t, far / tn));
+  }
+  px_vec3_t e = px_v3_sub(q, r->p);
+  *u = px_v3_dot(e, r->u);
+  *v = px_v3_dot(e, r->v);
+  return 1;
+}
+
+int lt_light_extent(const rt_scene_t *s, const lt_receiver_t *r, int light, double ext[4]) {
+  if (!lt_default_extent(s, r, ext))
+    return 0;
+  for (int k = 0; k < r->n; k++) /* polygons only: their own bounds, as lt_default_extent() */
+    if (s->prim[s->object[r->object[k]].first_prim].kind != RT_PRIM_POLYGON)
+      goto plane;
+  return 1;
+plane:;
+  if (light < 0 || light >= s->nlight)
+    return 1;
+  const rt_light_t *L = &s->light[light];
+  double cu = 0.5 * (ext[0] + ext[1]), cv = 0.5 * (ext[2] + ext[3]);
+  double half = 0.5 * (ext[1] - ext[0]), far = 8.0 * half;
+  px_vec3_t src[4];
+  int nsrc = 0;
+  if (L->kind == RT_LIGHT_AREA) {
+    for (int k = 0; k < 4; k++)
+      src[nsrc++] = px_v3_add(L->v, px_v3_add(px_v3_scale(L->eu, (k & 1) ? 0.5 : -0.5),
+                                              px_v3_scale(L->ev, (k & 2) ? 0.5 : -0.5)));
+  } else if (L->kind == RT_LIGHT_POINT) {
+    src[nsrc++] = L->v;
+  } else if (px_v3_dot(L->v, r->normal) != 0.0) {
+    /* parallel: a point far up the beam, where the light comes from, stands for it */
+    src[nsrc++] = px_v3_sub(r->p, px_v3_scale(L->v, 1e6 * (1.0 + far)));
+  }
+  double b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+  for (int p = 0; p < s->nprim; p++) {
+    px_vec3_t lo, hi;
+    int own = 0;
+    for (int k = 0; k < r->n; k++)
+      own |= s->prim[p].object == r->object[k];
+    if (own || !rt_prim_bounds(s, p, &lo, &hi))
+      continue;
+    for (int k = 0; k < 8; k++) {
+      px_vec3_t c = px_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+      for (int i = 0; i < nsrc; i++) {
+        double u, v;
+        if (shadow_point(r, src[i], c, far, &u, &v))
+          widen(b, u, v);
+      }
+    }
+  }
+  if (!(b[1] >= b[0]))
+    return 1;
+  /* a quarter more on each side for light a lens spreads past the shadow's edge, within the
+   * bound of far around the objects */
+  double mu = 0.25 * (b[1] - b[0]), mv = 0.25 * (b[3] - b[2]);
+  ext[0] = fmax(cu - far, fmin(ext[0], b[0] - mu));
+  ext[1] = fmin(cu + far, fmax(ext[1], b[1] + mu));
+  ext[2] = fmax(cv - far, fmin(ext[2], b[2] - mv));
+  ext[3] = fmin(cv + far, fmax(ext[3], b[3] + mv));
+  return 1;
+}
+
 /* The rays of one thread and where their flux goes. */
 typedef struct {
   lt_ctx_t C;
@@ -241,7 +321,13 @@ static void photon_row(worker_t *W, const lt_face_t *f, int side, int j) {
 
 /* ---- grid-pencil tracing ----------------------------------------------------------------- */
 
-static const lt_arrival_t *find(const lt_arrivals_t *x, uint64_t sig) {
+/* The arrival of x on path sig, or NULL. Signatures are unique within a tree, and neighbouring
+ * rays' trees list their shared paths mostly in the same order, so index `hint` (where the path
+ * stands in the asking ray's tree) is looked at first: the same answer as the plain search, in
+ * one comparison where the trees agree instead of a scan of up to LT_MAX_ARRIVALS. */
+static const lt_arrival_t *find(const lt_arrivals_t *x, uint64_t sig, int hint) {
+  if (hint >= 0 && hint < x->n && x->a[hint].sig == sig)
+    return &x->a[hint];
   for (int k = 0; k < x->n; k++)
     if (x->a[k].sig == sig)
       return &x->a[k];
@@ -254,7 +340,7 @@ static int on_map(const worker_t *W, const lt_arrivals_t *x[3]) {
   const lt_map_t *m = W->A.m;
   for (int k = 0; k < x[0]->n; k++) {
     const lt_arrival_t *a = &x[0]->a[k], *b, *c;
-    if (a->kind != LT_END_RECEIVER || !(b = find(x[1], a->sig)) || !(c = find(x[2], a->sig)))
+    if (a->kind != LT_END_RECEIVER || !(b = find(x[1], a->sig, k)) || !(c = find(x[2], a->sig, k)))
       continue;
     double u0 = fmin(a->u, fmin(b->u, c->u)), u1 = fmax(a->u, fmax(b->u, c->u));
     double v0 = fmin(a->v, fmin(b->v, c->v)), v1 = fmax(a->v, fmax(b->v, c->v));
@@ -283,8 +369,8 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
       all += x[0]->a[k].w.r + x[0]->a[k].w.g + x[0]->a[k].w.b;
   for (int k = 0; k < x[0]->n; k++) {
     const lt_arrival_t *c[3] = {&x[0]->a[k], NULL, NULL}, *mid[3];
-    if (c[0]->kind != LT_END_RECEIVER || !(c[1] = find(x[1], c[0]->sig)) ||
-        !(c[2] = find(x[2], c[0]->sig)))
+    if (c[0]->kind != LT_END_RECEIVER || !(c[1] = find(x[1], c[0]->sig, k)) ||
+        !(c[2] = find(x[2], c[0]->sig, k)))
       continue;
     /* a path that carries less than the uniformity tolerance's share of the pencil's light can
      * misplace no more than that share however its triangle bends: not worth a division (as
@@ -292,7 +378,7 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
     if (W->uniform_tol > 0 && c[0]->w.r + c[0]->w.g + c[0]->w.b <= W->uniform_tol * all)
       continue;
     for (int e = 0; e < 3; e++) { /* midpoint e lies between corners e and e + 1 */
-      if (!(mid[e] = find(&xm[e], c[0]->sig)))
+      if (!(mid[e] = find(&xm[e], c[0]->sig, k)))
         return 0;
       double du = (mid[e]->u - 0.5 * (c[e]->u + c[(e + 1) % 3]->u)) * su;
       double dv = (mid[e]->v - 0.5 * (c[e]->v + c[(e + 1) % 3]->v)) * sv;
@@ -323,7 +409,7 @@ static int landing(worker_t *W, px_vec3_t origin, px_vec3_t d, uint64_t sig, dou
   rt_ray_t r = {origin, d, 0.0, INFINITY, W->C.s->ior, -1};
   lt_arrivals_t x;
   lt__trace(&W->C, &r, &x);
-  const lt_arrival_t *e = find(&x, sig);
+  const lt_arrival_t *e = find(&x, sig, -1);
   if (!e || e->kind != LT_END_RECEIVER)
     return 0;
   uv[0] = e->u;
@@ -467,7 +553,7 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
         continue;
       double w = a->w.r + a->w.g + a->w.b;
       all += w;
-      if (!find(x[(v + 1) % 3], a->sig) || !find(x[(v + 2) % 3], a->sig))
+      if (!find(x[(v + 1) % 3], a->sig, k) || !find(x[(v + 2) % 3], a->sig, k))
         apart += w;
     }
   /* with a uniformity tolerance, paths that carry less than that share of the pencil's light to
@@ -512,7 +598,7 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
   for (int v = 0; v < 3; v++)
     for (int k = 0; k < x[v]->n; k++) {
       const lt_arrival_t *a = &x[v]->a[k];
-      const lt_arrival_t *b = find(x[(v + 1) % 3], a->sig), *c = find(x[(v + 2) % 3], a->sig);
+      const lt_arrival_t *b = find(x[(v + 1) % 3], a->sig, k), *c = find(x[(v + 2) % 3], a->sig, k);
       if (b && c) {
         if (v > 0) /* a shared path is settled once, from vertex 0 */
           continue;

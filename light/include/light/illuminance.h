@@ -173,7 +173,8 @@ typedef struct {
   int area_filter; /**< an area light's filter (lt_area_filter_t; grid-pencil only; the
                         renderers pass none), its mesh the light's own N x N sample points
                         (rt_light_t.samples), each with side / N rays a side (at least 33 for
-                        grid-pencils, 17 for photons) */
+                        grid-pencils, 17 for photons) and grid-pencils divided log2(N) levels
+                        less deep (at least 2) */
 } lt_caustic_options_t;
 
 /** What lt_caustic_maps() did, summed over its maps. */
@@ -203,5 +204,14 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
  *  caustics under lights not too low fall inside. 0 when there is neither (the caller must give
  *  an extent). */
 int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]);
+
+/** The extent of light `light`'s map on receiver r, as a render's caustic maps have it: with
+ *  polygons only, theirs (lt_default_extent()); with a plane, lt_default_extent()'s square widened
+ *  to the shadows the other bounded objects' bounding boxes cast from the light (an area light's
+ *  four corners, a parallel light's direction) and a quarter of their size more on each side,
+ *  so that light a lens spreads past a shadow's edge falls inside; at most 8 times the square's
+ *  half-side from its centre along each axis, where a low light's shadows run far. 0 as
+ *  lt_default_extent(). */
+int lt_light_extent(const rt_scene_t *s, const lt_receiver_t *r, int light, double ext[4]);
 
 #endif

@@ -24,9 +24,15 @@ typedef struct {
   const char *out;    /**< directory for the images (CASE-VARIANT.exr and .png), or NULL */
   const char *scenes; /**< directory holding the scenes, or NULL for the source tree's */
   int ref_rays;       /**< rays a side of the reference's photon grids; 0: 8193 for Fig. 8,
-                           16384 for Fig. 11 and the pool (quick: 513) */
+                           16384 for Fig. 11, the pool and the glass (quick: 513) */
+  const char *cases;  /**< comma-separated case names to run (fig8, fig11, pool, glass), or NULL
+                           for all */
   FILE *report;       /**< table (stdout) or NULL */
 } val_caustic_bench_opts_t;
+
+/** 1 when every name of the comma-separated list is a case of the benchmark; else 0 with the
+ *  first unknown name in bad[cap]. */
+int val_bench_caustics_cases_ok(const char *list, char *bad, size_t cap);
 
 /** Run the benchmark; 0 on success, -1 on an error (message on stderr). */
 int val_bench_caustics(const val_caustic_bench_opts_t *o);
