@@ -52,6 +52,11 @@ cat >"$dir/out/bench-illuminance.json" <<'JSON'
            "photons": [{"rays": 1664100, "seconds": 2.9, "rms": 0.188, "dim_rms": 0.70}],
            "equal_error": {"rays": 3.8e9, "seconds": 2310, "measured": false, "speedup": 49}}}
 JSON
+cat >"$dir/out/fig10-1989.log" <<'LOG'
+effects plan for scenes/glass.json:
+rendered 1024x682 at 9 spp in 250.000 s: 123 rays -> out/fig10-1989.exr
+caustics: 1 map(s) of 512 cells along the longer side by grid-pencil (grids of 448 x 448 rays), 0 empty; 1404238 light rays in 10.4 s (part of the render time); 3.2% of the mapped light fell beside the maps
+LOG
 mkdir -p "$dir/out/area"
 cat >"$dir/out/area/area.json" <<'JSON'
 {"cases": [{"case": "ball", "grid": 64, "reference": {"mesh": 64, "rays_per_side": 65, "rays": 193773748,
@@ -123,18 +128,21 @@ check "illuminance: a group's row" "grep -q '| point, sweep | 300 | 0 | 290 | 10
 check "illuminance: the pool's energy check" "grep -q '1.000000000000 by Eq. (8), 0.750188 by the printed' '$page'"
 check "illuminance maps: a case's row and Fig. 11's speed-up" "grep -q '| ball, parallel | grid-pencil | 1274139 | 0.906 | 4.46e-03 |' '$page' && grep -q '49 times grid-pencil' '$page'"
 check "illuminance maps: the polygons' row on Fig. 11" "grep -q '20826629 rays in 34.1 s, RMS 3.59e-03 (dim cells 5.57e-02)' '$page'"
+check "fig10: the render's closing lines" \
+  "grep -q '^    rendered 1024x682 at 9 spp in 250.000 s' '$page' && grep -q '^    caustics: 1 map(s) of 512 cells' '$page' && ! grep -q '^    effects plan' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
 check "caustics: the pencil's row and the equal-error line" \
   "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"
 check "area: a row and the size sweep" \
   "grep -q '| 2 | quadratic | 17598702 | 9.437 | 8.38e-04 | 3.10e-03 | 3.74e-03 | -1.5e-03 |' '$page' && grep -q '| 0.50 | 1.82e-02 | 2 | 2.39e-02 | 2.14e-02 | 2.24e-02 |' '$page'"
 
-rm "$dir/out/verify-bounds.json"
+rm "$dir/out/verify-bounds.json" "$dir/out/fig10-1989.log"
 echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable
 "$results" "$dir/out" -o "$page" >/dev/null 2>"$dir/err"; rc=$?
 check "exit 0 with inputs missing" "[ $rc -eq 0 ]"
 check "missing bounds: not run" \
   "grep -A2 'pencil verify bounds' '$page' | grep -q 'not run: .*verify-bounds.json. not found'"
+check "missing Fig. 10 log: not run" "grep -q 'not run: fig10-1989.log not found' '$page'"
 check "unreadable summary: figures and sweep not run" "[ \$(grep -c 'not run: .*summary.json. unreadable' '$page') -eq 2 ]"
 check "matrices still reported" "grep -q '| 1234 | 56 | 0 | 3.25e-12 |' '$page'"
 check "--help" "'$results' --help | grep -q 'usage: scripts/results'"
