@@ -584,6 +584,90 @@ static void model_first_order(void **state) {
   rt_scene_free(&s);
 }
 
+/* The generalised perspective transformation (1987 Eq. 7, P = S A^-1; bm_project) coincides
+ * with Heckbert and Hanrahan's beam-tracing transforms where the paper says it does, to rounding
+ * over a wide beam (tangents up to 0.4 off its axis), for the beam whose axial ray is the
+ * source's axis:
+ *  - a plane mirror met at 35 degrees: the central projection from the apex's mirror image, i.e.
+ *    the parameters of the mirrored point (reflection is exact and linear);
+ *  - perpendicular refraction into glass n = 1.5 at distance L: the perspective from the virtual
+ *    apex at L n2 / n1, p = lateral / (L + s n1 / n2) at depth s past the face. That is the
+ *    paraxial refraction, not Snell's law: the exact ray of those parameters lands off the point
+ *    by third order in the tangent (spherical aberration of a flat face), which the test shows.
+ * For a beam whose axial ray is off the source's axis the model agrees to second order only
+ * (model_first_order). */
+static void perspective_is_heckberts(void **state) {
+  (void)state;
+  rt_scene_t s;
+  bm_scene_t b;
+  slab_scene(&s, &b);
+  const int top = 4;
+  const double pc[2] = {0, 0};
+  srand(424242);
+  /* reflection off the top face (z = 1) from below, the axis at 35 degrees to its normal */
+  {
+    bm_source_t src =
+        make_source(0, px_v3(0.2, -0.1, 0), px_v3(sin(35 * M_PI / 180), 0, cos(35 * M_PI / 180)),
+                    px_v3(0, 1, 0), 1.0);
+    bm_path_t path = {1, {{top, PX_EVENT_REFLECT, 1.0}}};
+    bm_model_t m;
+    assert_int_equal(bm_model(&b, &src, &path, pc, &m), PX_OK);
+    double worst = 0.0;
+    for (int i = 0; i < 2000; i++) {
+      double a = 0.8 * rand() / RAND_MAX - 0.4, c = 0.8 * rand() / RAND_MAX - 0.4;
+      double t = 1.5 + 6.0 * rand() / RAND_MAX; /* beyond the mirror, unfolded */
+      px_vec3_t u = px_v3_add(
+          src.o, px_v3_scale(
+                     px_v3_add(src.z, px_v3_add(px_v3_scale(src.x, a), px_v3_scale(src.y, c))), t));
+      if (u.z <= 1.0)
+        continue; /* the ray meets the mirror's plane before u only when u is past it */
+      px_vec3_t v = px_v3(u.x, u.y, 2.0 - u.z); /* the point, mirrored back */
+      double p[2];
+      assert_int_equal(bm_project(&m, &src, v, p), PX_OK);
+      worst = fmax(worst, fmax(fabs(p[0] - a), fabs(p[1] - c)));
+    }
+    print_message("reflection at 35 degrees: worst parameter difference %.3e\n", worst);
+    assert_true(worst < 1e-12);
+  }
+  /* perpendicular refraction into the slab from 1 unit above its top face */
+  {
+    bm_source_t src = make_source(0, px_v3(0.2, -0.1, 0), px_v3(0, 0, 1), px_v3(0, 1, 0), 1.0);
+    bm_path_t path = {1, {{top, PX_EVENT_REFRACT, 1.5}}};
+    bm_model_t m;
+    assert_int_equal(bm_model(&b, &src, &path, pc, &m), PX_OK);
+    const double L = 1.0, ratio = 1.0 / 1.5;
+    double worst = 0.0, worst_snell = 0.0, small_snell = 0.0;
+    for (int i = 0; i < 2000; i++) {
+      double lx = 0.8 * rand() / RAND_MAX - 0.4, ly = 0.8 * rand() / RAND_MAX - 0.4;
+      double depth = 1.0 * rand() / RAND_MAX; /* s past the face, inside the glass */
+      double scale = L + depth * ratio;
+      px_vec3_t v =
+          px_v3_add(px_v3_add(src.o, px_v3_scale(src.z, L + depth)),
+                    px_v3_add(px_v3_scale(src.x, lx * scale), px_v3_scale(src.y, ly * scale)));
+      double p[2];
+      assert_int_equal(bm_project(&m, &src, v, p), PX_OK);
+      worst = fmax(worst, fmax(fabs(p[0] - lx), fabs(p[1] - ly)));
+      /* Snell's law puts the ray of those parameters elsewhere: by third order in the tangent */
+      px_vec3_t o, d;
+      assert_int_equal(bm_exact(&b, &src, &path, p, &o, &d), PX_OK);
+      double tt = px_v3_dot(px_v3_sub(v, o), d);
+      double miss = px_v3_norm(px_v3_sub(px_v3_axpy(tt, d, o), v));
+      double tan2 = lx * lx + ly * ly;
+      worst_snell = fmax(worst_snell, miss / (pow(tan2, 1.5) * (depth + 1e-3)));
+      if (tan2 > 0.09 && depth > 0.5)
+        small_snell = fmax(small_snell, miss);
+    }
+    print_message("perpendicular refraction: worst parameter difference %.3e; Snell's ray misses "
+                  "by up to %.3e (tangent > 0.3, depth > 0.5), at most %.3f tan^3 depth\n",
+                  worst, small_snell, worst_snell);
+    assert_true(worst < 1e-12);
+    assert_true(small_snell > 1e-3); /* the transform is the paraxial one, not Snell's */
+    assert_true(worst_snell < 1.0);  /* ... off by third order */
+  }
+  bm_scene_free(&b);
+  rt_scene_free(&s);
+}
+
 /* The model's statuses: a face whose plane is behind the axial ray (or parallel to it) is
  * PX_EMISS for bm_model and bm_exact; from inside the glass a ray at 60 degrees to the face's
  * normal cannot leave (critical angle 41.8 degrees): PX_ETIR for both, while 30 degrees leaves.
@@ -1123,17 +1207,12 @@ static void partition_matches_ray_casting(void **state) {
 
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(faces_of_polygons),
-      cmocka_unit_test(faces_of_cube_and_plane),
-      cmocka_unit_test(faces_sphere_refused),
-      cmocka_unit_test(source_measure),
-      cmocka_unit_test(project_root_exact),
-      cmocka_unit_test(model_first_order),
-      cmocka_unit_test(model_errors),
-      cmocka_unit_test(partition_two_squares),
-      cmocka_unit_test(partition_subset_and_near),
-      cmocka_unit_test(partition_plane_half),
-      cmocka_unit_test(partition_matches_ray_casting),
+      cmocka_unit_test(faces_of_polygons),        cmocka_unit_test(faces_of_cube_and_plane),
+      cmocka_unit_test(faces_sphere_refused),     cmocka_unit_test(source_measure),
+      cmocka_unit_test(project_root_exact),       cmocka_unit_test(model_first_order),
+      cmocka_unit_test(perspective_is_heckberts), cmocka_unit_test(model_errors),
+      cmocka_unit_test(partition_two_squares),    cmocka_unit_test(partition_subset_and_near),
+      cmocka_unit_test(partition_plane_half),     cmocka_unit_test(partition_matches_ray_casting),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);
