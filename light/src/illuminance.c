@@ -156,6 +156,19 @@ static void widen(double b[4], double u, double v) {
   b[3] = fmax(b[3], v);
 }
 
+/* The 8 corners of primitive p's bounding box, when it is bounded and not part of receiver r. */
+static int other_box(const rt_scene_t *s, const lt_receiver_t *r, int p, px_vec3_t c[8]) {
+  px_vec3_t lo, hi;
+  for (int k = 0; k < r->n; k++)
+    if (s->prim[p].object == r->object[k])
+      return 0;
+  if (!rt_prim_bounds(s, p, &lo, &hi))
+    return 0;
+  for (int k = 0; k < 8; k++)
+    c[k] = px_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+  return 1;
+}
+
 int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]) {
   double b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   int plane = 0;
@@ -177,15 +190,11 @@ int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]
   b[0] = b[2] = INFINITY;
   b[1] = b[3] = -INFINITY;
   for (int p = 0; p < s->nprim; p++) {
-    px_vec3_t lo, hi;
-    int own = 0;
-    for (int k = 0; k < r->n; k++)
-      own |= s->prim[p].object == r->object[k];
-    if (own || !rt_prim_bounds(s, p, &lo, &hi))
+    px_vec3_t c[8];
+    if (!other_box(s, r, p, c))
       continue;
     for (int k = 0; k < 8; k++) {
-      px_vec3_t c = px_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-      px_vec3_t d = px_v3_sub(c, r->p);
+      px_vec3_t d = px_v3_sub(c[k], r->p);
       widen(b, px_v3_dot(d, r->u), px_v3_dot(d, r->v));
     }
   }
@@ -201,25 +210,33 @@ int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]
   return 1;
 }
 
-/* Where the ray from light point l through corner c meets the receiver plane, in (u, v); a
- * corner level with the light or above it (its shadow unbounded) lands `far` out along the
- * shadow's direction. 0 when c casts no shadow on the plane from l (c beyond the plane, or l
- * behind it). */
-static int shadow_point(const lt_receiver_t *r, px_vec3_t l, px_vec3_t c, double far, double *u,
-                        double *v) {
-  double hl = px_v3_dot(px_v3_sub(l, r->p), r->normal);
+/* Where the ray from light point *l through corner c (l NULL: the ray of a parallel light along
+ * dir through c) meets the receiver plane, in (u, v); a corner level with a point light or above
+ * it (its shadow unbounded) lands `far` out along the shadow's direction. 0 when c casts no
+ * shadow on the plane (c beyond the plane, the light behind it or parallel to it). */
+static int shadow_point(const lt_receiver_t *r, const px_vec3_t *l, px_vec3_t dir, px_vec3_t c,
+                        double far, double *u, double *v) {
   double hc = px_v3_dot(px_v3_sub(c, r->p), r->normal);
-  if (hl == 0.0 || hc * hl < 0.0)
-    return 0;
-  px_vec3_t d = px_v3_sub(c, l), q;
-  if (fabs(hc) < fabs(hl) * (1.0 - 1e-9)) {
-    q = px_v3_add(l, px_v3_scale(d, hl / (hl - hc)));
-  } else { /* unbounded: the shadow runs away from the light along the plane */
-    px_vec3_t t = px_v3_sub(d, px_v3_scale(r->normal, px_v3_dot(d, r->normal)));
-    double tn = px_v3_norm(t);
-    if (!(tn > 0.0))
+  px_vec3_t q;
+  if (!l) {
+    double dn = px_v3_dot(dir, r->normal);
+    if (dn == 0.0 || -hc / dn < 0.0)
       return 0;
-    q = px_v3_add(c, px_v3_scale(t, far / tn));
+    q = px_v3_add(c, px_v3_scale(dir, -hc / dn));
+  } else {
+    double hl = px_v3_dot(px_v3_sub(*l, r->p), r->normal);
+    if (hl == 0.0 || hc * hl < 0.0)
+      return 0;
+    px_vec3_t d = px_v3_sub(c, *l);
+    if (fabs(hc) < fabs(hl) * (1.0 - 1e-9)) {
+      q = px_v3_add(*l, px_v3_scale(d, hl / (hl - hc)));
+    } else { /* unbounded: the shadow runs away from the light along the plane */
+      px_vec3_t t = px_v3_sub(d, px_v3_scale(r->normal, px_v3_dot(d, r->normal)));
+      double tn = px_v3_norm(t);
+      if (!(tn > 0.0))
+        return 0;
+      q = px_v3_add(c, px_v3_scale(t, far / tn));
+    }
   }
   px_vec3_t e = px_v3_sub(q, r->p);
   *u = px_v3_dot(e, r->u);
@@ -240,31 +257,21 @@ plane:;
   const rt_light_t *L = &s->light[light];
   double cu = 0.5 * (ext[0] + ext[1]), cv = 0.5 * (ext[2] + ext[3]);
   double half = 0.5 * (ext[1] - ext[0]), far = 8.0 * half;
-  px_vec3_t src[4];
-  int nsrc = 0;
-  if (L->kind == RT_LIGHT_AREA) {
-    for (int k = 0; k < 4; k++)
-      src[nsrc++] = px_v3_add(L->v, px_v3_add(px_v3_scale(L->eu, (k & 1) ? 0.5 : -0.5),
-                                              px_v3_scale(L->ev, (k & 2) ? 0.5 : -0.5)));
-  } else if (L->kind == RT_LIGHT_POINT) {
-    src[nsrc++] = L->v;
-  } else if (px_v3_dot(L->v, r->normal) != 0.0) {
-    /* parallel: a point far up the beam, where the light comes from, stands for it */
-    src[nsrc++] = px_v3_sub(r->p, px_v3_scale(L->v, 1e6 * (1.0 + far)));
-  }
+  /* a point light, an area light's four corners, or a parallel light's direction */
+  px_vec3_t src[4] = {L->v, L->v, L->v, L->v};
+  int nsrc = L->kind == RT_LIGHT_AREA ? 4 : 1, parallel = L->kind == RT_LIGHT_PARALLEL;
+  for (int k = 0; k < nsrc && L->kind == RT_LIGHT_AREA; k++)
+    src[k] = px_v3_add(L->v, px_v3_add(px_v3_scale(L->eu, (k & 1) ? 0.5 : -0.5),
+                                       px_v3_scale(L->ev, (k & 2) ? 0.5 : -0.5)));
   double b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int p = 0; p < s->nprim; p++) {
-    px_vec3_t lo, hi;
-    int own = 0;
-    for (int k = 0; k < r->n; k++)
-      own |= s->prim[p].object == r->object[k];
-    if (own || !rt_prim_bounds(s, p, &lo, &hi))
+    px_vec3_t c[8];
+    if (!other_box(s, r, p, c))
       continue;
     for (int k = 0; k < 8; k++) {
-      px_vec3_t c = px_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
       for (int i = 0; i < nsrc; i++) {
         double u, v;
-        if (shadow_point(r, src[i], c, far, &u, &v))
+        if (shadow_point(r, parallel ? NULL : &src[i], L->v, c[k], far, &u, &v))
           widen(b, u, v);
       }
     }
