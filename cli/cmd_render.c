@@ -4,6 +4,7 @@
  * renderer is the default; `--method NAME` picks another entry, whose options are accepted
  * after it has been named anywhere on the line. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -78,8 +79,9 @@ static void help(FILE *f, const rn_renderer_t *r) {
       "                        print the Fig. 10 error statistics (points on surfaces with a\n"
       "                        diffuse term: Fig. 8's board)\n"
       "  --explain             print the effects plan (which effects run and why)\n"
-      "  --max-memory SIZE     refuse a render whose image and working buffers need more\n"
-      "                        than SIZE (512M, 8G; default: the memory available now)\n"
+      "  --max-memory SIZE     refuse a render whose image, working buffers and caustic\n"
+      "                        maps need more than SIZE (512M, 8G; default: the memory\n"
+      "                        available now)\n"
       "\ncaustics (when the effects plan has them: light through reflecting or transparent\n"
       "objects onto diffuse planes and polygons, from illuminance maps made before tracing):\n"
       "  --caustic-method M    photons, grid-pencil or polygons (default: photons for the\n"
@@ -291,13 +293,24 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
 static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *plan,
                        const rn_common_t *c) {
   size_t need = rn_memory_estimate(a->r, plan, c, a->opt, s->camera.width, s->camera.height, 0);
+  size_t maps = rn_caustic_bytes(a->r, s, plan, c);
   size_t have = a->max_memory ? a->max_memory : io_memory_available();
+  need = need > SIZE_MAX - maps ? SIZE_MAX : need + maps;
   if (have == 0 || need <= have)
     return 1;
   int nt = rt_thread_count(c->threads);
-  char n[32], h[32];
+  char n[32], h[32], m[32];
   io_format_size(need, n, sizeof n);
   io_format_size(have, h, sizeof h);
+  io_format_size(maps, m, sizeof m);
+  if (maps > need / 2) { /* the maps are the larger part: say which options shrink them */
+    fprintf(stderr,
+            "pencil render: the caustic maps of %s need %s (of %s in all), more than the %s %s; "
+            "use fewer --caustic-rays or --caustic-cells, or --max-memory to allow more\n",
+            a->scene ? a->scene : "the built-in scene", m, n, h,
+            a->max_memory ? "--max-memory allows" : "available");
+    return 0;
+  }
   fprintf(stderr,
           "pencil render: a %dx%d image by --method %s on %d thread%s allocates %s (%d float "
           "channels, the preview and each thread's buffers), more than the %s %s; use a smaller "

@@ -2,11 +2,13 @@
  * and each mapped light, the illuminance map of the light that reaches the plane after at least
  * one reflection or refraction (core/caustics.h says how shading uses them). */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "core/image.h"
 #include "internal.h"
 
 /* W x H with `cells` along the longer side of extent ext, the other in proportion (at least 1). */
@@ -25,6 +27,35 @@ static double wall(void) {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Rays a side of each mesh point's grid for an area light of mesh N: a point light's shared among
+ * the N x N points (at least 33 for grid-pencils, whose pencils divide where they must, 17 for
+ * photons; never more than the point light's). */
+static int point_side(const lt_caustic_options_t *o, int mesh) {
+  int side = (o->side + mesh - 1) / mesh, least = o->method == LT_METHOD_GRID_PENCIL ? 33 : 17;
+  return side < least ? (o->side < least ? o->side : least) : side;
+}
+
+static int mesh_of(const rt_light_t *L) {
+  return L->kind != RT_LIGHT_AREA ? 1 : L->samples > 0 ? L->samples : RT_AREA_SAMPLES_DEFAULT;
+}
+
+size_t lt_caustic_bytes(const rt_scene_t *s, const rt_caustic_plan_t *cp,
+                        const lt_caustic_options_t *o) {
+  int nmaps = cp->nplane * __builtin_popcount(cp->lights);
+  if (nmaps == 0)
+    return 0;
+  double cells = 3.0 * (double)o->cells * (double)o->cells * sizeof(double); /* at most square */
+  double grid = 0.0; /* grid-pencils' rays of one grid face, held while its pencils are made */
+  for (int l = 0; l < s->nlight && l < 32; l++)
+    if (cp->lights & (1u << l) && o->method == LT_METHOD_GRID_PENCIL) {
+      double side =
+          s->light[l].kind == RT_LIGHT_AREA ? point_side(o, mesh_of(&s->light[l])) : o->side;
+      grid = fmax(grid, side * side * (double)sizeof(lt_arrivals_t));
+    }
+  double bytes = nmaps * cells + rt_thread_count(o->threads) * cells + grid;
+  return bytes >= (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
 }
 
 rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
@@ -90,12 +121,10 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
         /* the light's own mesh, as shading has it; the rays shared among its points, so that the
          * map costs about a point light's (photons: side / N a side each; grid-pencils, whose
          * pencils divide where they must, at least 33) */
-        int mesh = s->light[l].samples > 0 ? s->light[l].samples : RT_AREA_SAMPLES_DEFAULT;
+        int mesh = mesh_of(&s->light[l]);
         lo.area_mesh = mesh;
         lo.area_filter = o->method == LT_METHOD_GRID_PENCIL ? o->area_filter : 0;
-        lo.side = (o->side + mesh - 1) / mesh;
-        int least = o->method == LT_METHOD_GRID_PENCIL ? 33 : 17;
-        lo.side = lo.side < least ? (o->side < least ? o->side : least) : lo.side;
+        lo.side = point_side(o, mesh);
         /* and the division depth too: a point carries 1 / N^2 of the light, so its pencils may
          * divide one level less for each fourfold share, log2(N) levels, but at least twice
          * (the glass of scenes/glass.json: 72 s at 6 levels, 4.4 s at 3) */

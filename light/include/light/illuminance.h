@@ -198,6 +198,13 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
                             const lt_caustic_options_t *o, rt_caustic_maps_t *out,
                             lt_caustic_stats_t *st, char *why, size_t cap);
 
+/** The memory lt_caustic_maps() needs at its peak for plan cp and options o, in bytes: every map
+ *  kept (at most o->cells squared, three doubles a cell), each thread's accumulator of one map,
+ *  and for grid-pencils the traced rays of one light's grid (a mesh point's for an area light),
+ *  each with its tree's arrivals. For a render's memory check before the maps are made. */
+size_t lt_caustic_bytes(const rt_scene_t *s, const rt_caustic_plan_t *cp,
+                        const lt_caustic_options_t *o);
+
 /** The default extent of a receiver's map: the bounds of its polygons in (u, v) when it has only
  *  polygons; with a plane, a square around the projection of the scene's other bounded objects
  *  (their bounding box) onto the plane, twice its larger side, so that their shadows and

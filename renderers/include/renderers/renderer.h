@@ -221,6 +221,12 @@ int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel);
 size_t rn_memory_estimate(const rn_renderer_t *r, const rt_plan_t *plan, const rn_common_t *common,
                           const void *options, int width, int height, int with_sample_errors);
 
+/** The memory renderer r's caustic maps of scene s need at their peak (lt_caustic_bytes() with
+ *  the common options or r's defaults: photons for the exact renderer, grid-pencils for the
+ *  others); 0 when plan has no caustics. Not part of rn_memory_estimate(), which knows no scene. */
+size_t rn_caustic_bytes(const rn_renderer_t *r, const rt_scene_t *s, const rt_plan_t *plan,
+                        const rn_common_t *c);
+
 /** Copy the entry's defaults into options (options_size bytes). */
 void rn_defaults(const rn_renderer_t *r, void *options);
 
