@@ -156,6 +156,14 @@ static void widen(double b[4], double u, double v) {
   b[3] = fmax(b[3], v);
 }
 
+/* 1 when receiver r has a plane among its objects (else only polygons). */
+static int has_plane(const rt_scene_t *s, const lt_receiver_t *r) {
+  for (int k = 0; k < r->n; k++)
+    if (s->prim[s->object[r->object[k]].first_prim].kind != RT_PRIM_POLYGON)
+      return 1;
+  return 0;
+}
+
 /* The 8 corners of primitive p's bounding box, when it is bounded and not part of receiver r. */
 static int other_box(const rt_scene_t *s, const lt_receiver_t *r, int p, px_vec3_t c[8]) {
   px_vec3_t lo, hi;
@@ -171,24 +179,17 @@ static int other_box(const rt_scene_t *s, const lt_receiver_t *r, int p, px_vec3
 
 int lt_default_extent(const rt_scene_t *s, const lt_receiver_t *r, double ext[4]) {
   double b[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
-  int plane = 0;
-  for (int k = 0; k < r->n; k++) {
-    const rt_prim_t *pr = &s->prim[s->object[r->object[k]].first_prim];
-    if (pr->kind != RT_PRIM_POLYGON) {
-      plane = 1;
-      continue;
+  if (!has_plane(s, r)) { /* polygons only: their bounds */
+    for (int k = 0; k < r->n; k++) {
+      const rt_prim_t *pr = &s->prim[s->object[r->object[k]].first_prim];
+      for (int i = 0; i < pr->polygon.count; i++) {
+        px_vec3_t d = px_v3_sub(s->vertex[pr->polygon.first + i], r->p);
+        widen(b, px_v3_dot(d, r->u), px_v3_dot(d, r->v));
+      }
     }
-    for (int i = 0; i < pr->polygon.count; i++) {
-      px_vec3_t d = px_v3_sub(s->vertex[pr->polygon.first + i], r->p);
-      widen(b, px_v3_dot(d, r->u), px_v3_dot(d, r->v));
-    }
-  }
-  if (!plane) {
     memcpy(ext, b, sizeof b);
     return b[1] > b[0] && b[3] > b[2];
   }
-  b[0] = b[2] = INFINITY;
-  b[1] = b[3] = -INFINITY;
   for (int p = 0; p < s->nprim; p++) {
     px_vec3_t c[8];
     if (!other_box(s, r, p, c))
@@ -247,13 +248,8 @@ static int shadow_point(const lt_receiver_t *r, const px_vec3_t *l, px_vec3_t di
 int lt_light_extent(const rt_scene_t *s, const lt_receiver_t *r, int light, double ext[4]) {
   if (!lt_default_extent(s, r, ext))
     return 0;
-  for (int k = 0; k < r->n; k++) /* polygons only: their own bounds, as lt_default_extent() */
-    if (s->prim[s->object[r->object[k]].first_prim].kind != RT_PRIM_POLYGON)
-      goto plane;
-  return 1;
-plane:;
-  if (light < 0 || light >= s->nlight)
-    return 1;
+  if (!has_plane(s, r) || light < 0 || light >= s->nlight)
+    return 1; /* polygons only: their own bounds, as lt_default_extent() */
   const rt_light_t *L = &s->light[light];
   double cu = 0.5 * (ext[0] + ext[1]), cv = 0.5 * (ext[2] + ext[3]);
   double half = 0.5 * (ext[1] - ext[0]), far = 8.0 * half;
