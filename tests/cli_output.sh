@@ -71,12 +71,13 @@ check "the pencil's buffers are counted per thread and bounded at depth 32" \
   "[ $rc -eq 2 ] && grep -q 'on 3 threads allocates 1[0-9][0-9]\\.[0-9] MB' '$tmp/err'"
 $pencil render "$tmp/deep.json" --method pencil --threads 1 --max-memory 100M -o "$tmp/deep.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "... and one thread's fit in 100 MB" "[ $rc -eq 0 ] && [ -s '$tmp/deep.exr' ]"
-# the caustic maps count too: grid-pencils hold a grid face's rays with their trees' arrivals
-# (about 3.6 KB a ray), 2049 x 2049 of them 14 GB; refused before any tracing, naming the options
+# the caustic maps count too: grid-pencils hold a band of 129 rows of a grid face's rays with
+# their trees' arrivals (about 3.6 KB a ray), at 2049 rays a side 924 MB; refused before any
+# tracing, naming the options
 $pencil render "$src/scenes/fig8-caustics.json" --method pencil --caustic-rays 2049 --size 8x8 \
-  --spp 1 --max-memory 1G -o "$tmp/maps.exr" >/dev/null 2>"$tmp/err"; rc=$?
+  --spp 1 --max-memory 100M -o "$tmp/maps.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "caustic maps above --max-memory: refused, naming --caustic-rays" \
-  "[ $rc -eq 2 ] && grep -q 'caustic maps of .*fig8-caustics.json need 1[0-9]\.[0-9] GB' '$tmp/err' && grep -q -- '--caustic-rays' '$tmp/err' && [ ! -e '$tmp/maps.exr' ]"
+  "[ $rc -eq 2 ] && grep -q 'caustic maps of .*fig8-caustics.json need 9[0-9][0-9]\.[0-9] MB' '$tmp/err' && grep -q -- '--caustic-rays' '$tmp/err' && [ ! -e '$tmp/maps.exr' ]"
 $pencil render "$src/scenes/fig8-caustics.json" --method pencil --size 8x8 --spp 1 \
   --max-memory 200M -o "$tmp/maps.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "... the default grid-pencil maps fit in 200 MB" "[ $rc -eq 0 ] && [ -s '$tmp/maps.exr' ]"

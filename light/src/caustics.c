@@ -47,12 +47,12 @@ size_t lt_caustic_bytes(const rt_scene_t *s, const rt_caustic_plan_t *cp,
   if (nmaps == 0)
     return 0;
   double cells = 3.0 * (double)o->cells * (double)o->cells * sizeof(double); /* at most square */
-  double grid = 0.0; /* grid-pencils' rays of one grid face, held while its pencils are made */
+  double grid = 0.0; /* grid-pencils' rays of one band of a grid face's rows */
   for (int l = 0; l < s->nlight && l < 32; l++)
     if (cp->lights & (1u << l) && o->method == LT_METHOD_GRID_PENCIL) {
       double side =
           s->light[l].kind == RT_LIGHT_AREA ? point_side(o, mesh_of(&s->light[l])) : o->side;
-      grid = fmax(grid, side * side * (double)sizeof(lt_arrivals_t));
+      grid = fmax(grid, fmin(side, LT_GRID_BAND + 1.0) * side * (double)sizeof(lt_arrivals_t));
     }
   double bytes = nmaps * cells + rt_thread_count(o->threads) * cells + grid;
   return bytes >= (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;

@@ -714,9 +714,12 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
   memset(&total, 0, sizeof total);
   double t0 = wall_seconds();
   int side = o->side;
+  /* grid-pencils: a band of LT_GRID_BAND + 1 rows of the grid's rays at a time (the band's last
+   * row is the next band's first), each ray with its tree's arrivals */
   lt_arrivals_t *grid = NULL;
+  int band = side - 1 < LT_GRID_BAND ? side - 1 : LT_GRID_BAND;
   if (status == RT_OK && o->method == LT_METHOD_GRID_PENCIL) {
-    grid = malloc((size_t)side * (size_t)side * sizeof *grid);
+    grid = malloc((size_t)(band + 1) * (size_t)side * sizeof *grid);
     if (!grid)
       status = RT_ENOMEM;
   }
@@ -751,34 +754,51 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
           }
           continue;
         }
-        int rows = o->method == LT_METHOD_PHOTONS ? side : side - 1;
-        if (o->method == LT_METHOD_GRID_PENCIL) {
+        int rows = o->method == LT_METHOD_PHOTONS ? side : side - 1, done = 0;
+        if (o->method == LT_METHOD_PHOTONS) {
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
-          for (int j = 0; j < side; j++) {
+          for (int j = 0; j < rows; j++) {
+            int me = 0;
+#ifdef _OPENMP
+            me = omp_get_thread_num();
+#endif
+            photon_row(&W[me], f, side, j);
+            if (o->progress) {
+#pragma omp critical(lt_progress)
+              o->progress(o->progress_ctx, ++done, rows);
+            }
+          }
+          continue;
+        }
+        /* grid-pencils, band by band: the band's rows of rays (its first kept from the last
+         * band), then the pencils between them */
+        for (int j0 = 0; j0 < rows; j0 += band) {
+          int j1 = j0 + band < rows ? j0 + band : rows; /* rays of rows j0 .. j1 */
+          if (j0 > 0)
+            memcpy(grid, grid + (size_t)band * side, (size_t)side * sizeof *grid);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+          for (int j = j0 > 0 ? j0 + 1 : 0; j <= j1; j++) {
             int me = 0;
 #ifdef _OPENMP
             me = omp_get_thread_num();
 #endif
             for (int i = 0; i < side; i++) {
               rt_ray_t r = lt__face_ray(s, f, (double)i / (side - 1), (double)j / (side - 1));
-              lt__trace(&W[me].C, &r, &grid[(size_t)j * side + i]);
+              lt__trace(&W[me].C, &r, &grid[(size_t)(j - j0) * side + i]);
             }
           }
-        }
-        int done = 0;
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
-        for (int j = 0; j < rows; j++) {
-          int me = 0;
+          for (int j = j0; j < j1; j++) {
+            int me = 0;
 #ifdef _OPENMP
-          me = omp_get_thread_num();
+            me = omp_get_thread_num();
 #endif
-          if (o->method == LT_METHOD_PHOTONS)
-            photon_row(&W[me], f, side, j);
-          else
-            pencil_row(&W[me], f, side, j, grid + (size_t)j * side, grid + (size_t)(j + 1) * side);
-          if (o->progress) {
+            pencil_row(&W[me], f, side, j, grid + (size_t)(j - j0) * side,
+                       grid + (size_t)(j - j0 + 1) * side);
+            if (o->progress) {
 #pragma omp critical(lt_progress)
-            o->progress(o->progress_ctx, ++done, rows);
+              o->progress(o->progress_ctx, ++done, rows);
+            }
           }
         }
       }

@@ -8,6 +8,10 @@
 #include "core/shade.h"
 #include "light/illuminance.h"
 
+/** Rows of grid-pencils made from one band of the grid's rays: the band's rays (LT_GRID_BAND + 1
+ *  rows, about 3.6 KB a ray with its tree's arrivals) are all that is held at once. */
+#define LT_GRID_BAND 128
+
 /** Most receiver arrivals one source ray's tree may have; more are dropped and counted. */
 #define LT_MAX_ARRIVALS 64
 

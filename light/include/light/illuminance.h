@@ -200,8 +200,9 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
 
 /** The memory lt_caustic_maps() needs at its peak for plan cp and options o, in bytes: every map
  *  kept (at most o->cells squared, three doubles a cell), each thread's accumulator of one map,
- *  and for grid-pencils the traced rays of one light's grid (a mesh point's for an area light),
- *  each with its tree's arrivals. For a render's memory check before the maps are made. */
+ *  and for grid-pencils the traced rays of one band of 129 rows of a light's grid (a mesh
+ *  point's for an area light), each with its tree's arrivals. For a render's memory check
+ *  before the maps are made. */
 size_t lt_caustic_bytes(const rt_scene_t *s, const rt_caustic_plan_t *cp,
                         const lt_caustic_options_t *o);
 
