@@ -313,10 +313,11 @@ static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *pl
   }
   fprintf(stderr,
           "pencil render: a %dx%d image by --method %s on %d thread%s allocates %s (%d float "
-          "channels, the preview and each thread's buffers), more than the %s %s; use a smaller "
-          "--size or fewer --threads, or --max-memory to allow more\n",
+          "channels, the preview, each thread's buffers%s%s%s), more than the "
+          "%s %s; use a smaller --size or fewer --threads, or --max-memory to allow more\n",
           s->camera.width, s->camera.height, a->r->name, nt, nt == 1 ? "" : "s", n,
-          RT_CH_COUNT + a->r->nchannels, h, a->max_memory ? "--max-memory allows" : "available");
+          RT_CH_COUNT + a->r->nchannels, maps ? ", " : "", maps ? m : "",
+          maps ? " of caustic maps" : "", h, a->max_memory ? "--max-memory allows" : "available");
   return 0;
 }
 

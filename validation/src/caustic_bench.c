@@ -41,7 +41,8 @@ static const bench_case_t cases[] = {
      0, 0, 0, 0},
     {"pool", "pool.json", "1989 Fig. 8: a pool under a parallel light", 16384, 0, 0, 0, 0},
     /* a quarter of the paper's 1024 x 682 (its 3 x 3 samples kept); no polygons: they would
-     * trace the glass's 100 faces once for each of the light's 49 points */
+     * trace the glass's and the water's 196 faces once for each of the light's
+     * 49 points */
     {"glass", "glass.json", "1989 Fig. 10: a glass of water under an area light", 16384, 256, 171,
      9, 1},
 };
