@@ -203,10 +203,9 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return cli_parse_long("--caustic-cells", g->value, 1, LT_MAX_GRID, &a->caustic_cells);
   case OPT_MEASURE:
     if (!a->r->errors)
-      return fprintf(stderr,
-                     "pencil render: --measure: the %s renderer has nothing to measure "
-                     "(its samples are exact)\n",
-                     a->r->name),
+      return fprintf(stderr, "pencil render: --measure: the %s renderer %s\n", a->r->name,
+                     a->r->rho ? "does not measure the Fig. 10 error yet"
+                               : "has nothing to measure (its samples are exact)"),
              0;
     return a->measure = 1;
   default: {
@@ -376,9 +375,10 @@ static int render(const args_t *a, rt_scene_t *s) {
     ok = 0;
   }
   ok = ok && write_outputs(a, &out, spp);
-  if (rs != RT_OK)
-    fprintf(stderr, "pencil render: %s%s%s\n", rt_strerror(rs), caustics.why[0] ? ": " : "",
-            caustics.why);
+  if (rs != RT_OK) {
+    const char *why = out.why[0] ? out.why : caustics.why;
+    fprintf(stderr, "pencil render: %s%s%s\n", rt_strerror(rs), why[0] ? ": " : "", why);
+  }
   if (ok) {
     rn_report_t rep = {s, spp, dt, a->out, &c, a->opt, stats};
     a->r->report(stdout, &rep);

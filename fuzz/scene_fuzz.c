@@ -74,7 +74,8 @@ static void render_with(const rn_renderer_t *r, const rt_scene_t *s, int spp_sid
     c.caustic_cells = 8;
     rt_status_t st = r->render(s, &plan, &c, options, &out);
     int x, y, ch;
-    if (st != RT_OK && st != RT_ENOMEM)
+    /* a renderer may refuse a scene it is not made for, saying why (beams and spheres) */
+    if (st != RT_OK && st != RT_ENOMEM && !(st == RT_EINVAL && out.why[0]))
       broken(rt_strerror(st), r->name);
     if (st == RT_OK && rn_image_nonfinite(&img, &x, &y, &ch))
       broken("a non-finite R, G or B", r->name);

@@ -29,8 +29,8 @@ $pencil render $small -o "$tmp/d.exr" --method pencil --rho 0 >/dev/null 2>"$tmp
 check "--rho 0: exit 2 saying what is expected" "[ $rc -eq 2 ] && grep -q -- '--rho: expected a number > 0' '$tmp/err'"
 $pencil render $small -o "$tmp/d.exr" --method pencil --bounds nope >/dev/null 2>"$tmp/err"; rc=$?
 check "--bounds nope lists the choices" "[ $rc -eq 2 ] && grep -q 'corrected, printed or probe' '$tmp/err'"
-$pencil render $small -o "$tmp/d.exr" --method beams >/dev/null 2>"$tmp/err"; rc=$?
-check "unknown --method lists the table" "[ $rc -eq 2 ] && grep -q 'exact or pencil' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --method beamz >/dev/null 2>"$tmp/err"; rc=$?
+check "unknown --method lists the table" "[ $rc -eq 2 ] && grep -q 'exact, pencil or beam' '$tmp/err'"
 $pencil render $small -o "$tmp/d.exr" --measure >/dev/null 2>"$tmp/err"; rc=$?
 check "--measure on the exact renderer is refused" "[ $rc -eq 2 ] && grep -q 'nothing to measure' '$tmp/err'"
 $pencil render $small -o "$tmp/d.exr" --no-aux=1 >/dev/null 2>"$tmp/err"; rc=$?

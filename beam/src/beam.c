@@ -181,22 +181,26 @@ px_status_t bm_project(const bm_model_t *m, const bm_source_t *src, px_vec3_t v,
   return isfinite(p[0]) && isfinite(p[1]) ? PX_OK : PX_ESINGULAR;
 }
 
+void bm_model_ray(const bm_model_t *m, const bm_source_t *src, const double p[2], px_vec3_t *o,
+                  px_vec3_t *d) {
+  if (m->root) {
+    rt_ray_t r = bm_source_ray(src, p);
+    *o = r.o;
+    *d = r.d;
+    return;
+  }
+  double e0 = p[0] - m->pc[0], e1 = p[1] - m->pc[1];
+  double x1 = m->g0.m[0][0] * e0 + m->g0.m[0][1] * e1, x2 = m->g0.m[1][0] * e0 + m->g0.m[1][1] * e1;
+  double k1 = m->h.m[0][0] * e0 + m->h.m[0][1] * e1, k2 = m->h.m[1][0] * e0 + m->h.m[1][1] * e1;
+  *o = px_v3_add(m->o, px_v3_add(px_v3_scale(m->f.x1, x1), px_v3_scale(m->f.x2, x2)));
+  /* the paraxial direction with a unit component along d: the line parameter is the depth */
+  *d = px_v3_add(m->d, px_v3_add(px_v3_scale(m->f.x1, k1), px_v3_scale(m->f.x2, k2)));
+}
+
 px_status_t bm_model_hit(const bm_model_t *m, const bm_source_t *src, const double p[2],
                          px_vec3_t n, double dd, px_vec3_t *x, double *s) {
   px_vec3_t o, d;
-  if (m->root) {
-    rt_ray_t r = bm_source_ray(src, p);
-    o = r.o;
-    d = r.d;
-  } else {
-    double e0 = p[0] - m->pc[0], e1 = p[1] - m->pc[1];
-    double x1 = m->g0.m[0][0] * e0 + m->g0.m[0][1] * e1,
-           x2 = m->g0.m[1][0] * e0 + m->g0.m[1][1] * e1;
-    double k1 = m->h.m[0][0] * e0 + m->h.m[0][1] * e1, k2 = m->h.m[1][0] * e0 + m->h.m[1][1] * e1;
-    o = px_v3_add(m->o, px_v3_add(px_v3_scale(m->f.x1, x1), px_v3_scale(m->f.x2, x2)));
-    /* the paraxial direction with a unit component along d: the line parameter is the depth */
-    d = px_v3_add(m->d, px_v3_add(px_v3_scale(m->f.x1, k1), px_v3_scale(m->f.x2, k2)));
-  }
+  bm_model_ray(m, src, p, &o, &d);
   double den = px_v3_dot(n, d), t = (dd - px_v3_dot(n, o)) / den;
   if (!(den != 0.0) || !(t > 0.0) || !isfinite(t))
     return PX_EMISS;
@@ -424,6 +428,16 @@ static rt_status_t compact_into(bm_pieces_t *tmp, int from, int face, double min
 rt_status_t bm_partition(const bm_scene_t *b, const bm_source_t *src, const bm_model_t *m,
                          const px_poly2_t *region, double min_area, const int *faces, int nfaces,
                          int *near, int *nnear, bm_pieces_t *out, int *unsure) {
+  return bm_partition_capped(b, src, m, region, min_area, faces, nfaces, near, nnear, out, unsure,
+                             0, NULL);
+}
+
+rt_status_t bm_partition_capped(const bm_scene_t *b, const bm_source_t *src, const bm_model_t *m,
+                                const px_poly2_t *region, double min_area, const int *faces,
+                                int nfaces, int *near, int *nnear, bm_pieces_t *out, int *unsure,
+                                int max_faces, int *crowded) {
+  if (crowded)
+    *crowded = 0;
   cand_t *cand = NULL;
   int nc = 0, cc = 0;
   double rbox[4];
@@ -491,6 +505,10 @@ rt_status_t bm_partition(const bm_scene_t *b, const bm_source_t *src, const bm_m
     }
     if (!(px_poly2_area(&q) > 0.0))
       continue;
+    if (max_faces > 0 && nc >= max_faces) {
+      *crowded = 1; /* go on for the near list only */
+      continue;
+    }
     if (nc == cc) {
       cc = cc ? 2 * cc : 32;
       cand_t *c2 = realloc(cand, (size_t)cc * sizeof *c2);
@@ -505,6 +523,10 @@ rt_status_t bm_partition(const bm_scene_t *b, const bm_source_t *src, const bm_m
     cand[nc].q = q;
     bounds(&q, cand[nc].box);
     nc++;
+  }
+  if (crowded && *crowded) {
+    free(cand);
+    return RT_OK;
   }
   bm_pieces_t tmp = {0};
   /* each face's visible part: Q less every nearer face's polygon where they overlap */

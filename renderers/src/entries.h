@@ -9,6 +9,8 @@
 extern const rn_renderer_t rn_exact_entry;
 /** The pencil renderer of the 1987 paper's section 4.1 (pencil.c). */
 extern const rn_renderer_t rn_pencil_entry;
+/** Beam tracing of polyhedra, 1987 paper section 4.1 (3) (beam.c). */
+extern const rn_renderer_t rn_beam_entry;
 
 /** The caustic maps plan asks for (RT_EFFECT_CAUSTICS), by `method` unless c names another: *run
  *  becomes plan pointing at *maps (released with rt_caustic_maps_free()); without the effect *run

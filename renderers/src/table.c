@@ -10,7 +10,7 @@
 
 #include "entries.h"
 
-static const rn_renderer_t *const table[] = {&rn_exact_entry, &rn_pencil_entry};
+static const rn_renderer_t *const table[] = {&rn_exact_entry, &rn_pencil_entry, &rn_beam_entry};
 
 int rn_count(void) {
   return (int)(sizeof table / sizeof table[0]);

@@ -115,6 +115,11 @@ px_status_t bm_exact(const bm_scene_t *b, const bm_source_t *src, const bm_path_
  *  G0 + s H is singular there (a focus). */
 px_status_t bm_project(const bm_model_t *m, const bm_source_t *src, px_vec3_t v, double p[2]);
 
+/** The paraxial ray of parameters p: origin *o and direction *d, with a unit component along the
+ *  axial direction after faces (normalise it for a ray), the exact ray for the root. */
+void bm_model_ray(const bm_model_t *m, const bm_source_t *src, const double p[2], px_vec3_t *o,
+                  px_vec3_t *d);
+
 /** Where the paraxial ray of parameters p meets the plane n . x = dd (the exact ray for the
  *  root); its depth in *s: along the axial direction after faces, along the source's z for the
  *  root (comparable between faces on one ray either way). PX_EMISS when it does not meet it
@@ -153,5 +158,14 @@ void bm_pieces_free(bm_pieces_t *l);
 rt_status_t bm_partition(const bm_scene_t *b, const bm_source_t *src, const bm_model_t *m,
                          const px_poly2_t *region, double min_area, const int *faces, int nfaces,
                          int *near, int *nnear, bm_pieces_t *out, int *unsure);
+
+/** bm_partition() that gives up when more than max_faces faces (> 0) project into the region:
+ *  then *crowded is 1, nothing is appended to out (the near list is complete), and the caller
+ *  divides the region, whose parts meet fewer faces each; the partition's cost grows with the
+ *  square of the faces it overlaps. */
+rt_status_t bm_partition_capped(const bm_scene_t *b, const bm_source_t *src, const bm_model_t *m,
+                                const px_poly2_t *region, double min_area, const int *faces,
+                                int nfaces, int *near, int *nnear, bm_pieces_t *out, int *unsure,
+                                int max_faces, int *crowded);
 
 #endif

@@ -104,6 +104,8 @@ typedef struct {
                             spp floats, pixel-major), or NULL */
   void *stats;         /**< rn_renderer_t.stats_size bytes for the entry's counters, or NULL */
   rn_caustic_stats_t *caustics; /**< what the caustic maps took, or NULL */
+  char why[200]; /**< when render() fails, the reason if the renderer has one (else empty):
+                      "object 'ball' is a sphere: ..." */
 } rn_output_t;
 
 /** The Fig. 10 error counters of a measured render, whichever renderer made it: samples whose

@@ -1,0 +1,80 @@
+/* render.h -- beam tracing from the eye (1987 paper, section 4.1 (3)): the image of a polygonal
+ * scene made by pencils bounded by polygon edges instead of rays.
+ *
+ * The screen is cut into tiles; each tile is the parameter polygon of a beam from the pinhole
+ * (beam/beam.h: its parameters are the tangents of the camera's image plane, so that a pixel is
+ * a square of parameters). A beam is partitioned by the faces its rays meet first (hidden-
+ * surface removal in parameter space: the faces mapped to the screen exactly before the first
+ * face, by the generalised perspective transformation P = S A^-1 of Eq. (7) after it), and each
+ * piece follows its face's reflected and refracted children to the scene's depth limit, the
+ * beam tree. A piece is drawn by coverage: it is clipped to every sub-pixel cell it overlaps
+ * (s x s cells a pixel), and the cell's share of it is shaded once, at the share's centroid, by
+ * the renderers' shared shading (core/shade.h, with exact shadow rays), with the weights of its
+ * path's faces taken at the same point. Geometric edges are therefore anti-aliased by their
+ * exact area (to the model's accuracy) whatever s is; s sets how finely shading (shadows,
+ * checker squares, highlights) is sampled, as the exact renderer's s x s grid does.
+ *
+ * Error control, which the paper left undone ("dividing the pencil can assure image accuracy
+ * though this has not been implemented yet"): after its first face a piece's linear model is
+ * checked against exact tracing (Snell's law face by face along its path, bm_exact()) at its
+ * vertices and the midpoints of its edges (with certified: also at every sample cell's centre
+ * inside it). The distance between the model's point and the exact ray's on the face, in pixel
+ * intervals there (the piece's pixel footprint), must be at most rho (Eq. 3), and the exact
+ * rays' children must be the centroid's (no total internal reflection boundary inside). A piece
+ * that fails is divided in two and partitioned again, up to 2 x max_split divisions along its
+ * path; past that, and for slivers and beams whose model fails (grazing, a focus), each cell's
+ * share is traced exactly from the face on (counted).
+ *
+ * Curved objects are not beams' business: a scene with a sphere is refused, with the reason.
+ *
+ * Prefix bt_. Above beam/ (the beams) and reference/render (the exact tracer of the fallback). */
+#ifndef BEAM_RENDER_H
+#define BEAM_RENDER_H
+
+#include <stdint.h>
+
+#include "core/image.h"
+#include "core/plan.h"
+#include "core/scene.h"
+
+typedef struct {
+  double rho;     /**< tolerance ratio of Eq. (3): model against exact, pixel intervals; > 0 */
+  int max_split;  /**< a piece is divided at most 2 x max_split times along its path, 0..30 */
+  int certified;  /**< 1: also check every sample cell's centre in a piece */
+  int tile;       /**< pixels per side of a root beam, 1..256 */
+  int exact_side; /**< e: what is traced exactly is sampled on an e x e grid a cell, 1..16 */
+  int spp_side;   /**< s: s x s shading cells per pixel, 1..RT_MAX_SPP_SIDE */
+  int threads;    /**< OpenMP threads; 0 = the OpenMP default */
+  int aux;        /**< 1: fill the auxiliary channels from exact centre-ray trees */
+  /** Called after each finished tile with (done, total), serialised; may be NULL. */
+  void (*progress)(void *ctx, int done, int total);
+  void *progress_ctx;
+} bt_options_t;
+
+#define BT_OPTIONS_DEFAULT                                                                         \
+  { 0.5, 8, 0, 16, 4, 1, 0, 1, NULL, NULL }
+
+/** What a beam render did (summed over threads). */
+typedef struct {
+  uint64_t beams;       /**< beams partitioned (roots, children and divided parts) */
+  uint64_t pieces;      /**< pieces drawn by their linear model */
+  uint64_t divided;     /**< pieces divided because the model failed the checks */
+  uint64_t crowded;     /**< beams divided before their partition: too many faces */
+  uint64_t exact;       /**< pieces and beams traced exactly per cell (past max_split, or the
+                             model or the partition failed) */
+  uint64_t slivers;     /**< pieces too small to model (a quarter of a cell), traced exactly */
+  uint64_t fragments;   /**< cell shares shaded from a model */
+  uint64_t exact_cells; /**< cell shares traced exactly */
+  uint64_t checks;      /**< exact rays traced to check models */
+  double max_error;     /**< the largest checked error of an accepted piece, pixel intervals */
+  rt_stats_t rays;      /**< rays of the exact tracer: shadow rays, exact shares, aux trees */
+} bt_stats_t;
+
+/** Render the prepared scene with plan into img (allocated at the camera's size). RT_EINVAL
+ *  with the reason in why[cap] for a bad option or a scene with curved objects, RT_ENOTREADY
+ *  for an unprepared scene, RT_ENOMEM. stats may be NULL. The image does not depend on the
+ *  thread count. */
+rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_options_t *o,
+                      rt_image_t *img, bt_stats_t *stats, char *why, size_t cap);
+
+#endif

@@ -1,0 +1,781 @@
+/* render.c -- beam tracing from the eye (beam/render.h): tiles of the screen as beams, their
+ * partition by faces, the beam tree through reflections and refractions, coverage of sub-pixel
+ * cells, error control against exact tracing and the exact fallback. */
+#include "beam/render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "beam/beam.h"
+#include "core/camera.h"
+#include "core/intersect.h"
+#include "core/shade.h"
+#include "core/shade_paths.h"
+#include "render/render.h"
+
+/* A piece that fails its checks over at most this many cells is traced exactly, not divided. */
+#define BT_FEW_CELLS 4
+/* A piece of less area than this share of a cell is traced exactly (a sliver): its model, checks
+ * and beam tree would cost more than the exact rays of its share. */
+#define BT_SMALL 0.25
+/* A region over more cells than that which overlaps more faces than this is divided before it is
+ * partitioned. */
+#define BT_CROWD 24
+
+/* Steps a beam's path and its prefix models can hold. */
+#define BT_LEVELS (BM_MAX_STEPS + 1)
+
+/* One thread's state for a tile. */
+typedef struct {
+  const rt_scene_t *s;
+  const rt_plan_t *plan;
+  const bt_options_t *o;
+  const bm_scene_t *b;
+  bm_source_t src;
+  double a0, b0;   /* parameters of the image's top-left corner */
+  double cell;     /* parameter side of a sub-pixel cell */
+  double pixel;    /* ... of a pixel (s cells) */
+  int cw, ch;      /* cells across and down the image */
+  int cx0, cy0;    /* the tile's first cell */
+  int tcw, tch;    /* the tile's cells across and down */
+  double *acc;     /* the tile's cells, RGB each (tcw * tch * 3) */
+  double min_area; /* pieces of less parameter area are slivers */
+  int *near;       /* scratch for bm_partition(), one list per level of recursion */
+  int levels;      /* lists in near */
+  xr_exact_t ex;
+  rt_tracer_t tr;
+  bt_stats_t st;
+} tile_t;
+
+/* ---- cells ---------------------------------------------------------------------------------- */
+
+/* Clip the convex polygon p to the axis-aligned box [x0, x1] x [y0, y1]: its area and centroid
+ * there; 0 when nothing is left. */
+static int clip_box(const px_poly2_t *p, double x0, double x1, double y0, double y1, double *area,
+                    double c[2]) {
+  double a[PX_POLY_MAX + 8][2], b[PX_POLY_MAX + 8][2];
+  int n = p->n;
+  for (int k = 0; k < n; k++) {
+    a[k][0] = p->v[k][0];
+    a[k][1] = p->v[k][1];
+  }
+  /* four half-planes: sign * v[axis] <= sign * bound */
+  const int axis[4] = {0, 0, 1, 1};
+  const double sign[4] = {-1, 1, -1, 1}, bound[4] = {-x0, x1, -y0, y1};
+  double(*in)[2] = a, (*out)[2] = b;
+  for (int e = 0; e < 4 && n > 0; e++) {
+    int m = 0;
+    for (int k = 0; k < n; k++) {
+      const double *u = in[k], *w = in[(k + 1) % n];
+      double du = sign[e] * u[axis[e]] - bound[e], dw = sign[e] * w[axis[e]] - bound[e];
+      if (du <= 0) {
+        out[m][0] = u[0];
+        out[m++][1] = u[1];
+      }
+      if ((du < 0 && dw > 0) || (du > 0 && dw < 0)) {
+        double t = du / (du - dw);
+        out[m][0] = u[0] + t * (w[0] - u[0]);
+        out[m++][1] = u[1] + t * (w[1] - u[1]);
+      }
+    }
+    n = m;
+    double(*t)[2] = in;
+    in = out;
+    out = t;
+  }
+  if (n < 3)
+    return 0;
+  double s = 0, cx = 0, cy = 0;
+  for (int k = 0; k < n; k++) {
+    const double *u = in[k], *w = in[(k + 1) % n];
+    double cr = u[0] * w[1] - w[0] * u[1];
+    s += cr;
+    cx += (u[0] + w[0]) * cr;
+    cy += (u[1] + w[1]) * cr;
+  }
+  if (!(fabs(s) > 0.0))
+    return 0;
+  *area = 0.5 * fabs(s);
+  c[0] = cx / (3.0 * s);
+  c[1] = cy / (3.0 * s);
+  return 1;
+}
+
+/* The tile's cells that polygon r overlaps: [*i0, *i1) x [*j0, *j1) in tile cells. */
+static void cell_range(const tile_t *T, const px_poly2_t *r, int *i0, int *i1, int *j0, int *j1) {
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int k = 0; k < r->n; k++)
+    for (int a = 0; a < 2; a++) {
+      lo[a] = fmin(lo[a], r->v[k][a]);
+      hi[a] = fmax(hi[a], r->v[k][a]);
+    }
+  double u0 = (lo[0] - T->a0) / T->cell - T->cx0, u1 = (hi[0] - T->a0) / T->cell - T->cx0;
+  double v0 = (lo[1] - T->b0) / T->cell - T->cy0, v1 = (hi[1] - T->b0) / T->cell - T->cy0;
+  *i0 = (int)fmax(0.0, floor(u0));
+  *i1 = (int)fmin((double)T->tcw, ceil(u1));
+  *j0 = (int)fmax(0.0, floor(v0));
+  *j1 = (int)fmin((double)T->tch, ceil(v1));
+}
+
+/* 1 when p lies in the convex polygon r (either orientation). */
+static int inside(const px_poly2_t *r, const double p[2]) {
+  int pos = 0, neg = 0;
+  for (int k = 0; k < r->n; k++) {
+    const double *u = r->v[k], *w = r->v[(k + 1) % r->n];
+    double c = (w[0] - u[0]) * (p[1] - u[1]) - (w[1] - u[1]) * (p[0] - u[0]);
+    pos += c > 0;
+    neg += c < 0;
+  }
+  return !(pos && neg);
+}
+
+/* Add colour c over share `area` of tile cell (i, j). */
+static void deposit(tile_t *T, int i, int j, double area, rt_rgb_t c) {
+  double k = area / (T->cell * T->cell);
+  double *a = T->acc + 3 * ((size_t)j * (size_t)T->tcw + (size_t)i);
+  a[0] += k * c.r;
+  a[1] += k * c.g;
+  a[2] += k * c.b;
+}
+
+/* ---- rays along a path ---------------------------------------------------------------------- */
+
+static rt_ray_kind_t kind_of(const bm_step_t *st) {
+  return st->event == PX_EVENT_REFRACT ? RT_RAY_REFRACT : RT_RAY_REFLECT;
+}
+
+/* The surface where ray r meets face f's plane; 0 when it does not ahead. */
+static int face_surface(const tile_t *T, const bm_face_t *f, const rt_ray_t *r, rt_surface_t *sf) {
+  double den = px_v3_dot(f->n, r->d), t = (f->d - px_v3_dot(f->n, r->o)) / den;
+  if (!(den != 0.0) || !(t > 0.0) || !isfinite(t))
+    return 0;
+  rt_hit_t hit = {t, px_v3_axpy(t, r->d, r->o), f->n, f->prim, f->object};
+  rt_shade_surface(T->s, &hit, r, sf);
+  return 1;
+}
+
+/* The ray of parameters p after the first j steps of path by model m (unit direction). */
+static rt_ray_t model_ray(const tile_t *T, const bm_model_t *m, const bm_path_t *path, int j,
+                          const double p[2]) {
+  px_vec3_t o, d;
+  bm_model_ray(m, &T->src, p, &o, &d);
+  return (rt_ray_t){
+      o,        px_v3_unit(d),           0.0,
+      INFINITY, j ? m->ior : T->src.ior, j ? T->b->face[path->step[j - 1].face].prim : -1};
+}
+
+/* The weight of path's n steps at parameters p, by the models ms[0 .. n-1] (the paraxial ray of
+ * each prefix meeting its face): the product of the children's weights there. 0 when a step has
+ * no such child at p. */
+static int model_weight(const tile_t *T, const bm_model_t *ms, const bm_path_t *path, int n,
+                        const double p[2], rt_rgb_t *w) {
+  *w = rt_rgb(1, 1, 1);
+  for (int j = 0; j < n; j++) {
+    rt_ray_t r = model_ray(T, &ms[j], path, j, p);
+    rt_surface_t sf;
+    rt_child_t c;
+    if (!face_surface(T, &T->b->face[path->step[j].face], &r, &sf) ||
+        !rt_shade_child(T->s, T->plan, &sf, &r, j, kind_of(&path->step[j]), &c))
+      return 0;
+    *w = rt_rgb_mul(*w, c.weight);
+  }
+  return 1;
+}
+
+/* The exact ray of parameters p after path's n steps (each face's plane in turn, the children of
+ * shade.h, which the exact tracer follows) and the product of the weights: 0 when a step has no
+ * such child or misses its plane. */
+static int exact_path(const tile_t *T, const bm_path_t *path, const double p[2], rt_ray_t *r,
+                      rt_rgb_t *w) {
+  *r = bm_source_ray(&T->src, p);
+  *w = rt_rgb(1, 1, 1);
+  for (int j = 0; j < path->n; j++) {
+    rt_surface_t sf;
+    rt_child_t c;
+    if (!face_surface(T, &T->b->face[path->step[j].face], r, &sf) ||
+        !rt_shade_child(T->s, T->plan, &sf, r, j, kind_of(&path->step[j]), &c))
+      return 0;
+    *w = rt_rgb_mul(*w, c.weight);
+    *r = c.ray;
+  }
+  return 1;
+}
+
+/* The models of path's prefixes 0 .. n at parameters c. */
+static px_status_t prefix_models(const tile_t *T, const bm_path_t *path, const double c[2],
+                                 bm_model_t *ms) {
+  bm_path_t pre = {0};
+  for (int j = 0; j <= path->n; j++) {
+    pre.n = j;
+    if (j > 0)
+      pre.step[j - 1] = path->step[j - 1];
+    px_status_t st = bm_model(T->b, &T->src, &pre, c, &ms[j]);
+    if (st != PX_OK)
+      return st;
+  }
+  return PX_OK;
+}
+
+/* ---- the exact fallback --------------------------------------------------------------------- */
+
+/* The exact radiance along path's continuation at parameters p, with the path's weight. */
+static rt_rgb_t exact_at(tile_t *T, const bm_path_t *path, const double p[2]) {
+  rt_ray_t ray;
+  rt_rgb_t w;
+  if (!exact_path(T, path, p, &ray, &w))
+    return rt_rgb(0, 0, 0); /* no light comes back along this path at p */
+  if (path->n == 0)
+    return xr_exact_primary(&T->ex, &ray);
+  T->ex.node = -1;
+  rt_child_t ch = {ray, rt_rgb(1, 1, 1), kind_of(&path->step[path->n - 1]), 0};
+  return rt_rgb_mul(w, T->tr.child(T->tr.ctx, &ch, path->n));
+}
+
+/* Every cell share of region r traced exactly from the start of path on: the path's exact rays
+ * at the points of an e x e grid in the cell that lie in the share (e = exact_side), averaged,
+ * or at the share's centroid when none does. */
+static void exact_region(tile_t *T, const px_poly2_t *r, const bm_path_t *path) {
+  int i0, i1, j0, j1, e = T->o->exact_side;
+  cell_range(T, r, &i0, &i1, &j0, &j1);
+  for (int j = j0; j < j1; j++)
+    for (int i = i0; i < i1; i++) {
+      double x0 = T->a0 + (T->cx0 + i) * T->cell, y0 = T->b0 + (T->cy0 + j) * T->cell, area, c[2];
+      if (!clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, c))
+        continue;
+      T->st.exact_cells++;
+      rt_rgb_t sum = rt_rgb(0, 0, 0);
+      int in = 0;
+      for (int b2 = 0; b2 < e; b2++)
+        for (int a2 = 0; a2 < e; a2++) {
+          double p[2] = {x0 + (a2 + 0.5) * T->cell / e, y0 + (b2 + 0.5) * T->cell / e};
+          if (!inside(r, p))
+            continue;
+          sum = rt_rgb_add(sum, exact_at(T, path, p));
+          in++;
+        }
+      if (in == 0) {
+        sum = exact_at(T, path, c);
+        in = 1;
+      }
+      deposit(T, i, j, area, rt_rgb_scale(sum, 1.0 / in));
+    }
+}
+
+/* ---- pieces --------------------------------------------------------------------------------- */
+
+/* Split r in two across its longest extent, through its centroid. */
+static int halve(const px_poly2_t *r, px_poly2_t half[2]) {
+  double c[2];
+  if (px_poly2_centroid(r, c) != PX_OK)
+    return 0;
+  double best = -1, ax = 1, ay = 0;
+  for (int i = 0; i < r->n; i++)
+    for (int j = i + 1; j < r->n; j++) {
+      double dx = r->v[j][0] - r->v[i][0], dy = r->v[j][1] - r->v[i][1], l = dx * dx + dy * dy;
+      if (l > best) {
+        best = l;
+        ax = dx;
+        ay = dy;
+      }
+    }
+  return px_poly2_split(r, ax, ay, ax * c[0] + ay * c[1], &half[0], &half[1]) == PX_OK &&
+         half[0].n >= 3 && half[1].n >= 3;
+}
+
+/* The kinds of the children at a surface as a small code: bit 0 reflection, bit 1 its total
+ * internal reflection, bit 2 refraction. */
+static int children_code(const tile_t *T, const rt_surface_t *sf, const rt_ray_t *r, int depth,
+                         rt_child_t ch[2], int *n) {
+  *n = rt_shade_children(T->s, T->plan, sf, r, depth, ch);
+  int code = 0;
+  for (int k = 0; k < *n; k++)
+    code |= ch[k].kind == RT_RAY_REFRACT ? 4 : (1 | (ch[k].tir ? 2 : 0));
+  return code;
+}
+
+/* The pixel footprint of model m on face f at c: the points one pixel step along screen x and y
+ * away, as the columns of a 3 x 2 matrix; its pseudo-inverse's rows in *u, *v. 0 when the map
+ * is singular there. */
+static int footprint(const tile_t *T, const bm_model_t *m, const bm_face_t *f, const double c[2],
+                     px_vec3_t *u, px_vec3_t *v) {
+  double h = 1e-3 * T->pixel, s;
+  px_vec3_t x[4];
+  const double dp[4][2] = {{h, 0}, {-h, 0}, {0, h}, {0, -h}};
+  for (int k = 0; k < 4; k++) {
+    double p[2] = {c[0] + dp[k][0], c[1] + dp[k][1]};
+    if (bm_model_hit(m, &T->src, p, f->n, f->d, &x[k], &s) != PX_OK)
+      return 0;
+  }
+  double k = T->pixel / (2.0 * h);
+  px_vec3_t ja = px_v3_scale(px_v3_sub(x[0], x[1]), k), jb = px_v3_scale(px_v3_sub(x[2], x[3]), k);
+  double aa = px_v3_dot(ja, ja), ab = px_v3_dot(ja, jb), bb = px_v3_dot(jb, jb),
+         det = aa * bb - ab * ab;
+  if (!(det > 1e-300) || !isfinite(det))
+    return 0;
+  /* (J^T J)^-1 J^T */
+  *u = px_v3_scale(px_v3_sub(px_v3_scale(ja, bb), px_v3_scale(jb, ab)), 1.0 / det);
+  *v = px_v3_scale(px_v3_sub(px_v3_scale(jb, aa), px_v3_scale(ja, ab)), 1.0 / det);
+  return 1;
+}
+
+/* How far point x (in face f's plane) lies outside f's polygon: the largest distance beyond an
+ * edge, as a vector along that edge's outward normal (zero inside; zero for a plane). */
+static px_vec3_t outside(const tile_t *T, const bm_face_t *f, px_vec3_t x) {
+  px_vec3_t best = px_v3(0, 0, 0);
+  double worst = 0.0;
+  const px_vec3_t *v = T->b->vertex + f->first;
+  for (int k = 0; k < f->count; k++) {
+    px_vec3_t e = px_v3_sub(v[(k + 1) % f->count], v[k]), out = px_v3_unit(px_v3_cross(e, f->n));
+    double d = px_v3_dot(out, px_v3_sub(x, v[k]));
+    if (d > worst) {
+      worst = d;
+      best = px_v3_scale(out, d);
+    }
+  }
+  return best;
+}
+
+/* How deep point x lies inside the polygon of primitive prim (the deepest of its faces): the
+ * distance to the nearest edge, as a vector; zero when outside every face or for a plane. */
+static px_vec3_t depth_inside(const tile_t *T, int prim, px_vec3_t x) {
+  px_vec3_t best = px_v3(0, 0, 0);
+  double deepest = 0.0;
+  for (int g = T->b->face_of_prim[prim]; g >= 0 && g < T->b->nface && T->b->face[g].prim == prim;
+       g++) {
+    const bm_face_t *f = &T->b->face[g];
+    const px_vec3_t *v = T->b->vertex + f->first;
+    double least = INFINITY;
+    px_vec3_t at = px_v3(0, 0, 0);
+    for (int k = 0; k < f->count; k++) {
+      px_vec3_t e = px_v3_sub(v[(k + 1) % f->count], v[k]), in = px_v3_unit(px_v3_cross(f->n, e));
+      double d = px_v3_dot(in, px_v3_sub(x, v[k]));
+      if (d < least) {
+        least = d;
+        at = px_v3_scale(in, d);
+      }
+    }
+    if (f->count > 0 && least > deepest) {
+      deepest = least;
+      best = at;
+    }
+  }
+  return best;
+}
+
+/* Check one point p of a piece along path: on face f (NULL: the piece meets nothing), the
+ * models' points (mp, the partition's, and md, the drawing's) against the exact ray's, in pixel
+ * intervals (u, v), into *err. The exact ray must meet f (within the error of its polygon's
+ * edges: a point that lands beside f counts by how far, one that meets another face first by
+ * how deep inside that face), and its children there must have code `code`. */
+static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, const bm_model_t *md,
+                       const bm_face_t *f, px_vec3_t u, px_vec3_t v, int code, const double p[2],
+                       double *err) {
+  rt_ray_t r;
+  rt_rgb_t w;
+  rt_surface_t sf;
+  T->st.checks++;
+  if (!exact_path(T, path, p, &r, &w))
+    return 0;
+  double e = 0.0, tf = INFINITY;
+  if (f) {
+    px_vec3_t xm[2];
+    double s;
+    if (!face_surface(T, f, &r, &sf) ||
+        bm_model_hit(mp, &T->src, p, f->n, f->d, &xm[0], &s) != PX_OK ||
+        bm_model_hit(md, &T->src, p, f->n, f->d, &xm[1], &s) != PX_OK)
+      return 0;
+    for (int k = 0; k < 2; k++) {
+      px_vec3_t dx = px_v3_sub(xm[k], sf.hit.p);
+      e = fmax(e, hypot(px_v3_dot(u, dx), px_v3_dot(v, dx)));
+    }
+    px_vec3_t off = outside(T, f, sf.hit.p);
+    e = fmax(e, hypot(px_v3_dot(u, off), px_v3_dot(v, off)));
+    tf = sf.hit.t;
+  }
+  rt_hit_t h;
+  T->ex.stats.primary++;
+  if (rt_intersect(T->s, &r, &h) && (!f || h.prim != f->prim) && h.t < tf) {
+    px_vec3_t in = depth_inside(T, h.prim, h.p);
+    e = fmax(e,
+             T->b->face_of_prim[h.prim] < 0 ? INFINITY : hypot(px_v3_dot(u, in), px_v3_dot(v, in)));
+  }
+  *err = fmax(*err, e);
+  if (!(e <= T->o->rho) && path->n > 0)
+    return 0;
+  if (!f)
+    return 1;
+  rt_child_t ch[2];
+  int n;
+  return children_code(T, &sf, &r, path->n, ch, &n) == code;
+}
+
+/* The checks of piece r (face f, NULL for none; along path; the partition's model mp, the
+ * drawing's md at the piece's centroid c; children code `code` there): 1 when the models may
+ * draw it, with the largest error in *err. The pixel intervals are those on f, or across the
+ * beam one unit of depth on for a piece that meets nothing. */
+static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_model_t *mp,
+                    const bm_model_t *md, const bm_face_t *f, const double c[2], int code,
+                    double *err) {
+  px_vec3_t u, v;
+  *err = 0.0;
+  if (f) {
+    if (!footprint(T, md, f, c, &u, &v))
+      return 0;
+  } else { /* a plane across the axial ray, one unit ahead */
+    bm_face_t across = {.n = md->root ? T->src.z : md->d, .count = 0};
+    px_vec3_t o = md->root ? T->src.o : md->o;
+    across.d = px_v3_dot(across.n, o) + 1.0;
+    if (!footprint(T, md, &across, c, &u, &v))
+      return 0;
+  }
+  for (int k = 0; k < r->n; k++) {
+    int j = (k + 1) % r->n;
+    double mid[2] = {0.5 * (r->v[k][0] + r->v[j][0]), 0.5 * (r->v[k][1] + r->v[j][1])};
+    if (!check_point(T, path, mp, md, f, u, v, code, r->v[k], err) ||
+        !check_point(T, path, mp, md, f, u, v, code, mid, err))
+      return 0;
+  }
+  if (T->o->certified) { /* every cell centre inside the piece */
+    int i0, i1, j0, j1;
+    cell_range(T, r, &i0, &i1, &j0, &j1);
+    for (int j = j0; j < j1; j++)
+      for (int i = i0; i < i1; i++) {
+        double p[2] = {T->a0 + (T->cx0 + i + 0.5) * T->cell, T->b0 + (T->cy0 + j + 0.5) * T->cell};
+        if (inside(r, p) && !check_point(T, path, mp, md, f, u, v, code, p, err))
+          return 0;
+      }
+  }
+  return 1;
+}
+
+static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
+                 const int *faces, int nfaces, int level);
+
+/* Piece r of a beam along path (partitioned by model mp), meeting face g first (-1: none, the
+ * background). */
+static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_model_t *mp,
+                  int g, int splits, const int *near, int nnear, int level) {
+  const bm_face_t *f = g >= 0 ? &T->b->face[g] : NULL;
+  int n = path->n;
+  double c[2];
+  bm_model_t ms[BT_LEVELS];
+  if (px_poly2_centroid(r, c) != PX_OK)
+    return;
+  int ok = prefix_models(T, path, c, ms) == PX_OK;
+  /* the children at the centroid */
+  rt_ray_t rc;
+  rt_surface_t sc;
+  rt_child_t ch[2];
+  int nch = 0, code = 0;
+  if (ok && f) {
+    rc = model_ray(T, &ms[n], path, n, c);
+    ok = face_surface(T, f, &rc, &sc);
+    if (ok)
+      code = children_code(T, &sc, &rc, n, ch, &nch);
+  }
+  double err = 0.0;
+  if (ok)
+    ok = piece_ok(T, r, path, mp, &ms[n], f, c, code, &err);
+  if (!ok) {
+    px_poly2_t half[2];
+    int i0, i1, j0, j1;
+    cell_range(T, r, &i0, &i1, &j0, &j1);
+    /* a piece over a few cells is traced exactly: cheaper than dividing it */
+    if ((i1 - i0) * (j1 - j0) > BT_FEW_CELLS && splits < 2 * T->o->max_split && halve(r, half)) {
+      T->st.divided++;
+      beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
+      beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
+    } else {
+      T->st.exact++;
+      exact_region(T, r, path);
+    }
+    return;
+  }
+  T->st.pieces++;
+  T->st.max_error = fmax(T->st.max_error, err);
+  /* the piece's own shading (the background's colour), cell share by cell share */
+  int i0, i1, j0, j1;
+  cell_range(T, r, &i0, &i1, &j0, &j1);
+  for (int j = j0; j < j1; j++)
+    for (int i = i0; i < i1; i++) {
+      double x0 = T->a0 + (T->cx0 + i) * T->cell, y0 = T->b0 + (T->cy0 + j) * T->cell, area, p[2];
+      rt_rgb_t w, L = T->s->background;
+      if (!clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, p))
+        continue;
+      T->st.fragments++;
+      if (!model_weight(T, ms, path, n, p, &w))
+        continue;
+      if (f) {
+        rt_ray_t ray = model_ray(T, &ms[n], path, n, p);
+        rt_surface_t sf;
+        if (!face_surface(T, f, &ray, &sf))
+          continue;
+        T->ex.node = -1;
+        L = rt_shade_direct(T->s, T->plan, &sf, &ray, &T->tr);
+      }
+      deposit(T, i, j, area, rt_rgb_mul(w, L));
+    }
+  /* its children: the beam tree */
+  for (int k = 0; k < nch; k++) {
+    bm_path_t next = *path;
+    next.step[next.n++] = (bm_step_t){
+        g, ch[k].kind == RT_RAY_REFRACT ? PX_EVENT_REFRACT : PX_EVENT_REFLECT, ch[k].ray.ior};
+    beam(T, r, &next, splits, NULL, 0, level + 1);
+  }
+}
+
+/* Append to pcs, as pieces of face -1, what of region r the pieces pcs[0 .. n-1] leave: the
+ * rays that meet nothing. 0 when the subtraction runs out of room (the caller traces r
+ * exactly). */
+static int add_background(tile_t *T, const px_poly2_t *r, bm_pieces_t *pcs) {
+  enum { CAP = 64 };
+  px_poly2_t left[CAP], cut[PX_POLY_MAX];
+  int nleft = 1, npieces = pcs->n;
+  left[0] = *r;
+  double total = px_poly2_area(r), covered = 0.0;
+  for (int k = 0; k < npieces; k++)
+    covered += px_poly2_area(&pcs->p[k].region);
+  if (covered >= total * (1.0 - 1e-12))
+    return 1; /* the pieces tile r */
+  double tiny = 1e-9 * T->cell * T->cell;
+  for (int k = 0; k < npieces && nleft > 0; k++) {
+    px_poly2_t next[CAP];
+    int nnext = 0;
+    for (int i = 0; i < nleft; i++) {
+      int nc = 0;
+      if (px_poly2_subtract(&left[i], &pcs->p[k].region, tiny, cut, PX_POLY_MAX, &nc) != PX_OK)
+        return 0;
+      if (nnext + nc > CAP)
+        return 0;
+      for (int j = 0; j < nc; j++)
+        next[nnext++] = cut[j];
+    }
+    memcpy(left, next, (size_t)nnext * sizeof *left);
+    nleft = nnext;
+  }
+  for (int i = 0; i < nleft; i++) {
+    if (pcs->n == pcs->cap) {
+      int cap = pcs->cap ? 2 * pcs->cap : 16;
+      bm_piece_t *q = realloc(pcs->p, (size_t)cap * sizeof *q);
+      if (!q)
+        return 0;
+      pcs->p = q;
+      pcs->cap = cap;
+    }
+    pcs->p[pcs->n].face = px_poly2_area(&left[i]) > T->min_area ? -1 : -2;
+    pcs->p[pcs->n++].region = left[i];
+  }
+  return 1;
+}
+
+/* The beam of parameter polygon r whose rays follow path: partitioned by the faces they meet
+ * next (among faces[0 .. nfaces-1] when faces is not NULL), each piece drawn and followed. */
+static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
+                 const int *faces, int nfaces, int level) {
+  double c[2];
+  bm_model_t m;
+  if (px_poly2_centroid(r, c) != PX_OK)
+    return; /* no area */
+  T->st.beams++;
+  if (path->n >= BM_MAX_STEPS || level >= T->levels ||
+      bm_model(T->b, &T->src, path, c, &m) != PX_OK) {
+    T->st.exact++;
+    exact_region(T, r, path);
+    return;
+  }
+  bm_pieces_t pcs = {0};
+  int unsure = 0, nnear = 0, crowded = 0, *near = T->near + (size_t)level * (size_t)T->b->nface;
+  /* a region larger than a few cells that overlaps many faces is divided first */
+  int i0, i1, j0, j1;
+  cell_range(T, r, &i0, &i1, &j0, &j1);
+  int cap = (i1 - i0) * (j1 - j0) > BT_FEW_CELLS ? BT_CROWD : 0;
+  if (bm_partition_capped(T->b, &T->src, &m, r, T->min_area, faces, nfaces, near, &nnear, &pcs,
+                          &unsure, cap, &crowded) != RT_OK ||
+      (!crowded && !add_background(T, r, &pcs))) {
+    bm_pieces_free(&pcs);
+    T->st.exact++;
+    exact_region(T, r, path);
+    return;
+  }
+  px_poly2_t half[2];
+  if (crowded && halve(r, half)) { /* not a division of the error control: no split counted */
+    bm_pieces_free(&pcs);
+    T->st.crowded++;
+    beam(T, &half[0], path, splits, near, nnear, level + 1);
+    beam(T, &half[1], path, splits, near, nnear, level + 1);
+    return;
+  }
+  if (unsure || crowded) {
+    bm_pieces_free(&pcs);
+    if (splits < 2 * T->o->max_split && halve(r, half)) {
+      T->st.divided++;
+      beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
+      beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
+    } else {
+      T->st.exact++;
+      exact_region(T, r, path);
+    }
+    return;
+  }
+  for (int k = 0; k < pcs.n; k++) {
+    if (pcs.p[k].face == -2 ||
+        px_poly2_area(&pcs.p[k].region) < BT_SMALL * T->cell * T->cell) {
+      T->st.slivers++;
+      exact_region(T, &pcs.p[k].region, path);
+    } else {
+      piece(T, &pcs.p[k].region, path, &m, pcs.p[k].face, splits, near, nnear, level);
+    }
+  }
+  bm_pieces_free(&pcs);
+}
+
+/* ---- the image ------------------------------------------------------------------------------ */
+
+static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
+  to->beams += from->beams;
+  to->pieces += from->pieces;
+  to->divided += from->divided;
+  to->crowded += from->crowded;
+  to->exact += from->exact;
+  to->slivers += from->slivers;
+  to->fragments += from->fragments;
+  to->exact_cells += from->exact_cells;
+  to->checks += from->checks;
+  to->max_error = fmax(to->max_error, from->max_error);
+  to->rays.primary += from->rays.primary;
+  to->rays.reflect += from->rays.reflect;
+  to->rays.refract += from->rays.refract;
+  to->rays.shadow += from->rays.shadow;
+}
+
+rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_options_t *o,
+                      rt_image_t *img, bt_stats_t *stats, char *why, size_t cap) {
+  why[0] = '\0';
+  if (!s->bvh)
+    return RT_ENOTREADY;
+  if (!(o->rho > 0.0) || !isfinite(o->rho) || o->max_split < 0 || o->max_split > 30 ||
+      o->tile < 1 || o->tile > 256 || o->exact_side < 1 || o->exact_side > 16 || o->spp_side < 1 ||
+      o->spp_side > RT_MAX_SPP_SIDE || o->threads < 0) {
+    snprintf(why, cap, "beam options out of range");
+    return RT_EINVAL;
+  }
+  rt_view_t view;
+  if (rt_view_make(&s->camera, &view) != RT_OK || img->width != s->camera.width ||
+      img->height != s->camera.height) {
+    snprintf(why, cap, "the camera or the image size is invalid");
+    return RT_EINVAL;
+  }
+  bm_scene_t b;
+  rt_status_t st = bm_scene_build(s, &b, why, cap);
+  if (st != RT_OK)
+    return st;
+  int sp = o->spp_side, W = view.width, H = view.height, ts = o->tile;
+  int tx = (W + ts - 1) / ts, ty = (H + ts - 1) / ts, ntiles = tx * ty, done = 0;
+  double pixel = 2.0 * view.half_h / H;
+  bt_stats_t total;
+  memset(&total, 0, sizeof total);
+  /* levels of recursion: path steps, divisions of each piece and of each partition, and the
+   * divisions of crowded regions down to a few cells (at most 2 log2 of a tile's cells) */
+  int levels = BT_LEVELS + 4 * o->max_split + 4 + 48;
+  int nt = rt_thread_count(o->threads);
+  int failed = 0;
+  rt_tree_node_t *trees = NULL;
+  if (o->aux && !(trees = malloc((size_t)nt * (size_t)plan->tree_nodes * sizeof *trees))) {
+    bm_scene_free(&b);
+    return RT_ENOMEM;
+  }
+#pragma omp parallel num_threads(nt)
+  {
+    int tid = 0;
+#ifdef _OPENMP
+    tid = omp_get_thread_num();
+#endif
+    tile_t T = {.s = s,
+                .plan = plan,
+                .o = o,
+                .b = &b,
+                .src = {0, view.eye, view.right, view.down, view.forward, s->ior},
+                .a0 = -view.half_w,
+                .b0 = -view.half_h,
+                .cell = pixel / sp,
+                .pixel = pixel,
+                .cw = W * sp,
+                .ch = H * sp,
+                .min_area = 1e-6 * (pixel / sp) * (pixel / sp),
+                .levels = levels};
+    T.acc = malloc((size_t)ts * ts * sp * sp * 3 * sizeof(double));
+    T.near = malloc((size_t)levels * (size_t)(b.nface > 0 ? b.nface : 1) * sizeof(int));
+    T.ex = xr_exact_make(s, plan, NULL);
+    T.tr = xr_exact_tracer(&T.ex);
+    rt_tree_t tree = trees ? rt_tree_make(trees + (size_t)tid * plan->tree_nodes, plan->tree_nodes)
+                           : rt_tree_make(NULL, 0);
+    if (!T.acc || !T.near) {
+#pragma omp atomic write
+      failed = 1;
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int t = 0; t < ntiles; t++) {
+      int failed_now;
+#pragma omp atomic read
+      failed_now = failed;
+      if (failed_now)
+        continue;
+      int px0 = (t % tx) * ts, py0 = (t / tx) * ts;
+      int pw = px0 + ts <= W ? ts : W - px0, ph = py0 + ts <= H ? ts : H - py0;
+      T.cx0 = px0 * sp;
+      T.cy0 = py0 * sp;
+      T.tcw = pw * sp;
+      T.tch = ph * sp;
+      memset(T.acc, 0, (size_t)T.tcw * T.tch * 3 * sizeof(double));
+      double x0 = T.a0 + T.cx0 * T.cell, x1 = T.a0 + (T.cx0 + T.tcw) * T.cell;
+      double y0 = T.b0 + T.cy0 * T.cell, y1 = T.b0 + (T.cy0 + T.tch) * T.cell;
+      px_poly2_t root = {4, {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+      bm_path_t path = {0};
+      beam(&T, &root, &path, 0, NULL, 0, 0);
+      /* the tile's cells into its pixels (a box filter over the s x s cells) */
+      for (int j = 0; j < ph; j++)
+        for (int i = 0; i < pw; i++) {
+          double sum[3] = {0, 0, 0};
+          for (int b2 = 0; b2 < sp; b2++)
+            for (int a2 = 0; a2 < sp; a2++) {
+              const double *a = T.acc + 3 * ((size_t)(j * sp + b2) * T.tcw + (size_t)(i * sp + a2));
+              sum[0] += a[0];
+              sum[1] += a[1];
+              sum[2] += a[2];
+            }
+          size_t k = (size_t)(py0 + j) * W + (size_t)(px0 + i);
+          for (int c = 0; c < 3; c++)
+            img->ch[RT_CH_R + c][k] = (float)(sum[c] / (sp * sp));
+          if (trees) { /* the auxiliary channels from the exact centre ray's tree */
+            T.ex.tree = &tree;
+            rt_ray_t cr = rt_view_ray(&view, px0 + i + 0.5, py0 + j + 0.5, s->ior);
+            xr_exact_primary(&T.ex, &cr);
+            rt_image_set_aux(img, s, k, &tree);
+            T.ex.tree = NULL;
+          }
+        }
+      if (o->progress) {
+#pragma omp critical(bt_progress)
+        o->progress(o->progress_ctx, ++done, ntiles);
+      }
+    }
+    T.st.rays = T.ex.stats;
+#pragma omp critical(bt_stats)
+    add_stats(&total, &T.st);
+    free(T.acc);
+    free(T.near);
+  }
+  free(trees);
+  bm_scene_free(&b);
+  if (failed)
+    return RT_ENOMEM;
+  if (stats)
+    *stats = total;
+  return RT_OK;
+}
