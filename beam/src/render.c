@@ -624,8 +624,7 @@ static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int spli
     return;
   }
   for (int k = 0; k < pcs.n; k++) {
-    if (pcs.p[k].face == -2 ||
-        px_poly2_area(&pcs.p[k].region) < BT_SMALL * T->cell * T->cell) {
+    if (pcs.p[k].face == -2 || px_poly2_area(&pcs.p[k].region) < BT_SMALL * T->cell * T->cell) {
       T->st.slivers++;
       exact_region(T, &pcs.p[k].region, path);
     } else {
