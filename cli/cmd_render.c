@@ -375,7 +375,11 @@ static int render(const args_t *a, rt_scene_t *s) {
     ok = 0;
   }
   ok = ok && write_outputs(a, &out, spp);
-  if (rs != RT_OK) {
+  /* a renderer that refuses the scene with a reason (beams and a sphere) is a scene error */
+  int refused = rs == RT_EINVAL && out.why[0];
+  if (refused)
+    fprintf(stderr, "pencil render: --method %s: %s\n", a->r->name, out.why);
+  else if (rs != RT_OK) {
     const char *why = out.why[0] ? out.why : caustics.why;
     fprintf(stderr, "pencil render: %s%s%s\n", rt_strerror(rs), why[0] ? ": " : "", why);
   }
@@ -403,7 +407,7 @@ static int render(const args_t *a, rt_scene_t *s) {
   rn_channels_free(&out);
   rt_image_free(&img);
   free(stats);
-  return ok ? CLI_OK : CLI_FAIL;
+  return ok ? CLI_OK : refused ? CLI_USAGE : CLI_FAIL;
 }
 
 int cmd_render(int argc, char **argv) {

@@ -31,6 +31,8 @@ $pencil render $small -o "$tmp/d.exr" --method pencil --bounds nope >/dev/null 2
 check "--bounds nope lists the choices" "[ $rc -eq 2 ] && grep -q 'corrected, printed or probe' '$tmp/err'"
 $pencil render $small -o "$tmp/d.exr" --method beamz >/dev/null 2>"$tmp/err"; rc=$?
 check "unknown --method lists the table" "[ $rc -eq 2 ] && grep -q 'exact, pencil or beam' '$tmp/err'"
+$pencil render $small -o "$tmp/d.exr" --method beam >/dev/null 2>"$tmp/err"; rc=$?
+check "beams refuse the ball: exit 2 naming it, no file" "[ $rc -eq 2 ] && grep -q \"object 'glass ball' is a sphere\" '$tmp/err' && [ ! -e '$tmp/d.exr' ]"
 $pencil render $small -o "$tmp/d.exr" --measure >/dev/null 2>"$tmp/err"; rc=$?
 check "--measure on the exact renderer is refused" "[ $rc -eq 2 ] && grep -q 'nothing to measure' '$tmp/err'"
 $pencil render $small -o "$tmp/d.exr" --no-aux=1 >/dev/null 2>"$tmp/err"; rc=$?
