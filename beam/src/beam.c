@@ -209,6 +209,24 @@ px_status_t bm_model_hit(const bm_model_t *m, const bm_source_t *src, const doub
   return PX_OK;
 }
 
+int bm_halve(const px_poly2_t *r, px_poly2_t half[2]) {
+  double c[2];
+  if (px_poly2_centroid(r, c) != PX_OK)
+    return 0;
+  double best = -1, ax = 1, ay = 0;
+  for (int i = 0; i < r->n; i++)
+    for (int j = i + 1; j < r->n; j++) {
+      double dx = r->v[j][0] - r->v[i][0], dy = r->v[j][1] - r->v[i][1], l = dx * dx + dy * dy;
+      if (l > best) {
+        best = l;
+        ax = dx;
+        ay = dy;
+      }
+    }
+  return px_poly2_split(r, ax, ay, ax * c[0] + ay * c[1], &half[0], &half[1]) == PX_OK &&
+         half[0].n >= 3 && half[1].n >= 3;
+}
+
 void bm_pieces_free(bm_pieces_t *l) {
   free(l->p);
   memset(l, 0, sizeof *l);

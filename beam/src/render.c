@@ -41,7 +41,6 @@ typedef struct {
   double a0, b0;   /* parameters of the image's top-left corner */
   double cell;     /* parameter side of a sub-pixel cell */
   double pixel;    /* ... of a pixel (s cells) */
-  int cw, ch;      /* cells across and down the image */
   int cx0, cy0;    /* the tile's first cell */
   int tcw, tch;    /* the tile's cells across and down */
   double *acc;     /* the tile's cells, RGB each (tcw * tch * 3) */
@@ -269,25 +268,6 @@ static void exact_region(tile_t *T, const px_poly2_t *r, const bm_path_t *path) 
 
 /* ---- pieces --------------------------------------------------------------------------------- */
 
-/* Split r in two across its longest extent, through its centroid. */
-static int halve(const px_poly2_t *r, px_poly2_t half[2]) {
-  double c[2];
-  if (px_poly2_centroid(r, c) != PX_OK)
-    return 0;
-  double best = -1, ax = 1, ay = 0;
-  for (int i = 0; i < r->n; i++)
-    for (int j = i + 1; j < r->n; j++) {
-      double dx = r->v[j][0] - r->v[i][0], dy = r->v[j][1] - r->v[i][1], l = dx * dx + dy * dy;
-      if (l > best) {
-        best = l;
-        ax = dx;
-        ay = dy;
-      }
-    }
-  return px_poly2_split(r, ax, ay, ax * c[0] + ay * c[1], &half[0], &half[1]) == PX_OK &&
-         half[0].n >= 3 && half[1].n >= 3;
-}
-
 /* The kinds of the children at a surface as a small code: bit 0 reflection, bit 1 its total
  * internal reflection, bit 2 refraction. */
 static int children_code(const tile_t *T, const rt_surface_t *sf, const rt_ray_t *r, int depth,
@@ -457,6 +437,22 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
 static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
                  const int *faces, int nfaces, int level);
 
+/* Region r along path failed (its model, checks or partition): divided in two and each half
+ * partitioned again (near: the faces its parts need), while `worth` it and the divisions along
+ * the path allow; traced exactly otherwise. */
+static void divide(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
+                   const int *near, int nnear, int level, int worth) {
+  px_poly2_t half[2];
+  if (worth && splits < 2 * T->o->max_split && bm_halve(r, half)) {
+    T->st.divided++;
+    beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
+    beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
+  } else {
+    T->st.exact++;
+    exact_region(T, r, path);
+  }
+}
+
 /* Piece r of a beam along path (partitioned by model mp), meeting face g first (-1: none, the
  * background). */
 static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_model_t *mp,
@@ -483,18 +479,10 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
   if (ok)
     ok = piece_ok(T, r, path, mp, &ms[n], f, c, code, &err);
   if (!ok) {
-    px_poly2_t half[2];
+    /* a piece over a few cells is traced exactly: cheaper than dividing it */
     int i0, i1, j0, j1;
     cell_range(T, r, &i0, &i1, &j0, &j1);
-    /* a piece over a few cells is traced exactly: cheaper than dividing it */
-    if ((i1 - i0) * (j1 - j0) > BT_FEW_CELLS && splits < 2 * T->o->max_split && halve(r, half)) {
-      T->st.divided++;
-      beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
-      beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
-    } else {
-      T->st.exact++;
-      exact_region(T, r, path);
-    }
+    divide(T, r, path, splits, near, nnear, level, (i1 - i0) * (j1 - j0) > BT_FEW_CELLS);
     return;
   }
   T->st.pieces++;
@@ -604,7 +592,7 @@ static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int spli
     return;
   }
   px_poly2_t half[2];
-  if (crowded && halve(r, half)) { /* not a division of the error control: no split counted */
+  if (crowded && bm_halve(r, half)) { /* not a division of the error control: no split counted */
     bm_pieces_free(&pcs);
     T->st.crowded++;
     beam(T, &half[0], path, splits, near, nnear, level + 1);
@@ -613,14 +601,7 @@ static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int spli
   }
   if (unsure || crowded) {
     bm_pieces_free(&pcs);
-    if (splits < 2 * T->o->max_split && halve(r, half)) {
-      T->st.divided++;
-      beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
-      beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
-    } else {
-      T->st.exact++;
-      exact_region(T, r, path);
-    }
+    divide(T, r, path, splits, near, nnear, level, 1);
     return;
   }
   for (int k = 0; k < pcs.n; k++) {
@@ -704,8 +685,6 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                 .b0 = -view.half_h,
                 .cell = pixel / sp,
                 .pixel = pixel,
-                .cw = W * sp,
-                .ch = H * sp,
                 .min_area = 1e-6 * (pixel / sp) * (pixel / sp),
                 .levels = levels};
     T.acc = malloc((size_t)ts * ts * sp * sp * 3 * sizeof(double));

@@ -83,25 +83,6 @@ static void photon(pg_t *P, const px_poly2_t *r, const bm_path_t *path, rt_rgb_t
     lt__settle(P->A, &arr.a[k], rt_rgb_scale(rt_rgb_mul(P->power, arr.a[k].w), meas), 1);
 }
 
-/* Split r in two across its longest extent, through its centroid. */
-static int halve(const px_poly2_t *r, px_poly2_t half[2]) {
-  double c[2];
-  if (px_poly2_centroid(r, c) != PX_OK)
-    return 0;
-  double best = -1, ax = 1, ay = 0;
-  for (int i = 0; i < r->n; i++)
-    for (int j = i + 1; j < r->n; j++) {
-      double dx = r->v[j][0] - r->v[i][0], dy = r->v[j][1] - r->v[i][1], l = dx * dx + dy * dy;
-      if (l > best) {
-        best = l;
-        ax = dx;
-        ay = dy;
-      }
-    }
-  return px_poly2_split(r, ax, ay, ax * c[0] + ay * c[1], &half[0], &half[1]) == PX_OK &&
-         half[0].n >= 3 && half[1].n >= 3;
-}
-
 static void beam(pg_t *P, const px_poly2_t *r, const bm_path_t *path, rt_rgb_t w, int splits,
                  const int *faces, int nfaces);
 
@@ -280,7 +261,7 @@ static void piece(pg_t *P, const px_poly2_t *r, const bm_path_t *path, const bm_
   }
   if (!ok) {
     px_poly2_t half[2];
-    if (splits < 2 * P->o->max_split && halve(r, half)) {
+    if (splits < 2 * P->o->max_split && bm_halve(r, half)) {
       st->divided++;
       st->nonlinear += (uint64_t)nonlinear;
       /* each half is traced again from its path's start: its own axial ray and partition */
@@ -359,7 +340,7 @@ static void beam(pg_t *P, const px_poly2_t *r, const bm_path_t *path, rt_rgb_t w
     return;
   }
   px_poly2_t half[2];
-  if (unsure && splits < 2 * P->o->max_split && halve(r, half)) {
+  if (unsure && splits < 2 * P->o->max_split && bm_halve(r, half)) {
     bm_pieces_free(&pcs);
     st->divided++;
     beam(P, &half[0], path, w, splits + 1, near, nnear);

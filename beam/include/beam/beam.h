@@ -127,6 +127,11 @@ void bm_model_ray(const bm_model_t *m, const bm_source_t *src, const double p[2]
 px_status_t bm_model_hit(const bm_model_t *m, const bm_source_t *src, const double p[2],
                          px_vec3_t n, double dd, px_vec3_t *x, double *s);
 
+/** Split polygon r in two across its longest extent (the farthest pair of vertices), through its
+ *  centroid: how a beam whose model fails is divided. 0 when r has no centroid or a half would
+ *  have fewer than 3 vertices. */
+int bm_halve(const px_poly2_t *r, px_poly2_t half[2]);
+
 /** One piece of a partition: a convex polygon of parameters and the face its rays meet first
  *  (-1: none). */
 typedef struct {
