@@ -931,7 +931,7 @@ static void error_maximum_keeps_nan(void **state) {
   assert_false(px_max(NAN, 0.0) <= 0.5); /* a test written as e <= tol rejects it */
 }
 
-/* Which surfaces the Fig. 10 measure compares (pt_surface_measured): those with a diffuse term.
+/* Which surfaces the Fig. 10 measure compares (rt_object_measured): those with a diffuse term.
  * In Fig. 8 that is the checkerboard alone, the paper's surface (the glass has kd = 0). A plane
  * without a texture under the glass ball is measured too, so that a scene without a checkerboard
  * does not pass as error-free because nothing was compared; a scene of glass alone has no
@@ -940,8 +940,8 @@ static void measure_counts_diffuse_surfaces(void **state) {
   (void)state;
   rt_scene_t s;
   fx_fig8(&s, 32, 32);
-  assert_true(pt_surface_measured(&s, 0));  /* the checkerboard */
-  assert_false(pt_surface_measured(&s, 1)); /* the glass ball */
+  assert_true(rt_object_measured(&s, 0));  /* the checkerboard */
+  assert_false(rt_object_measured(&s, 1)); /* the glass ball */
   rt_scene_free(&s);
   pt_options_t o = PT_OPTIONS_DEFAULT;
   o.measure = 1;

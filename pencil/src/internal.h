@@ -316,7 +316,7 @@ void pt__interp_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray
 
 /** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h) and the subtrees its
  *  evaluation traced exactly (C->sub), tracing it exactly: e[0] the largest over its measured
- *  points (pt_surface_measured) in pixels (|J+ e|), e[1] the same on the transmission-first path
+ *  points (rt_object_measured) in pixels (|J+ e|), e[1] the same on the transmission-first path
  *  only, e[2] the largest |e| / sigma_min (strict). Returns the number of pencil points
  *  compared. */
 int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]);

@@ -2,7 +2,7 @@
  * (checkerboard) intersections obtained by the pencil tracer and by the ray tracer normalized by
  * one pixel interval on the checkerboard".
  *
- * Measured surfaces are those with a diffuse term (pt_surface_measured): in Fig. 8 only the
+ * Measured surfaces are those with a diffuse term (rt_object_measured): in Fig. 8 only the
  * checkerboard, the paper's surface; elsewhere e.g. Fig. 11's rectangle or a matte ball, so that
  * a scene without a checkerboard is not reported as error-free because nothing was compared.
  * For a sample, every measured point the pencil computed (any node of its tree on a measured
@@ -81,7 +81,7 @@ static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, dou
   int r = C->sub.root[i], end = i + 1 < C->sub.n ? C->sub.root[i + 1] : S->n, points = 0;
   for (int x = r + 1; x < end; x++) {
     const rt_tree_node_t *sn = &S->node[x];
-    if (sn->object < 0 || !pt_surface_measured(C->s, sn->object))
+    if (sn->object < 0 || !rt_object_measured(C->s, sn->object))
       continue;
     int kinds[64], m = kinds_up(S, x, r, kinds);
     int xx = m >= 0 && xk >= 0 ? follow_down(X, xk, kinds, m, NULL, NULL) : -1;
@@ -151,7 +151,7 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
   /* exact -> pencil: measured points the pencil did not compute and did not trace exactly (or
    * whose subtree traced exactly has no such point) */
   for (int x = 0; x < X->n; x++) {
-    if (X->node[x].object < 0 || !pt_surface_measured(C->s, X->node[x].object))
+    if (X->node[x].object < 0 || !rt_object_measured(C->s, X->node[x].object))
       continue;
     int claimed = -1;
     for (int i = 0; i < nsub && claimed < 0; i++)

@@ -214,12 +214,6 @@ static int path_stages(const rt_scene_t *s, const rt_tree_t *tree, int k, ex_sta
   return m - 1;
 }
 
-int pt_surface_measured(const rt_scene_t *s, int object) {
-  const rt_object_t *o = &s->object[object];
-  return s->material[o->material].kd > 0.0 ||
-         (o->material2 >= 0 && s->material[o->material2].kd > 0.0);
-}
-
 void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const pt_node_t *parent,
                       pt_node_t *out) {
   const rt_tree_node_t *nd = &tree->node[k];
@@ -230,7 +224,7 @@ void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const p
   out->object = nd->object;
   out->prim = nd->prim;
   out->textured = nd->texel >= 0;
-  out->measured = nd->object >= 0 && pt_surface_measured(s, nd->object);
+  out->measured = nd->object >= 0 && rt_object_measured(s, nd->object);
   out->child[0] = out->child[1] = -1;
   out->child_kind[0] = out->child_kind[1] = -1;
   for (int j = k + 1, c = 0; j < tree->n && c < 2; j++)

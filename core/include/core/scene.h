@@ -225,6 +225,17 @@ void rt_scene_name_object(rt_scene_t *s, int object, const char *name);
  *  last change and before tracing. RT_EINVAL for bad settings, RT_ENOMEM. */
 rt_status_t rt_scene_prepare(rt_scene_t *s);
 
+/** 1 when the Fig. 10 error measure counts hits on `object` (>= 0): its material, or either
+ *  material of a checkerboard, has a diffuse term (kd > 0). The paper measures on the
+ *  checkerboard; in Fig. 8 that is the only such surface (the glass has kd = 0), and in a scene
+ *  without a checkerboard (Fig. 11's rectangle) the measure still has points to compare. Shared
+ *  by every renderer that measures (pencil, beam). */
+static inline int rt_object_measured(const rt_scene_t *s, int object) {
+  const rt_object_t *o = &s->object[object];
+  return s->material[o->material].kd > 0.0 ||
+         (o->material2 >= 0 && s->material[o->material2].kd > 0.0);
+}
+
 /** rt_scene_material_at() for a checkerboard (o->material2 >= 0): scene.c. */
 const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t *o, int prim,
                                           px_vec3_t p, int *texel);

@@ -70,7 +70,7 @@ typedef struct {
   int object, prim;     /**< surface met, -1 on a miss */
   int textured;         /**< 1 when the surface is a checkerboard (texel >= 0) */
   int measured;         /**< 1 when the error measure counts hits on the surface: it has a
-                             diffuse term (pt_surface_measured) */
+                             diffuse term (rt_object_measured) */
   int child[2];         /**< tree indices of the children, -1 when absent */
   int child_kind[2];    /**< their rt_ray_kind_t */
   int mode;             /**< pt_node_mode_t: how the samples' rays of this node are traced */
@@ -160,12 +160,6 @@ double pt_footprint(px_mat2_t b, const double delta[2][2], px_vec3_t e1, px_vec3
 
 /** A surface displacement e in pixels: |J+ e| with the node's footprint. */
 double pt_pixels(const pt_node_t *n, px_vec3_t e);
-
-/** 1 when the Fig. 10 error measure counts hits on `object` (>= 0): its material, or either
- *  material of a checkerboard, has a diffuse term (kd > 0). The paper measures on the
- *  checkerboard; in Fig. 8 that is the only such surface (the glass has kd = 0), and in a scene
- *  without a checkerboard (Fig. 11's rectangle) the measure still has points to compare. */
-int pt_surface_measured(const rt_scene_t *s, int object);
 
 /** Largest spread |xi| a pencil may have whatever its C (px_spread_limit's cap): where C = 0
  *  only the third-order error limits, which the second-order bounds do not cover. For the

@@ -135,7 +135,7 @@ typedef struct {
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
-                                (pt_surface_measured: the checkerboard in Fig. 8); when 0 the
+                                (rt_object_measured: the checkerboard in Fig. 8); when 0 the
                                 measure has compared nothing */
   uint64_t within;         /**< ... whose error is <= rho (samples without such a point count) */
   uint64_t mismatches;     /**< ... whose exact ray tree lacks a path the pencil used */

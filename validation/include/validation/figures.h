@@ -49,7 +49,7 @@ typedef struct {
   double rho;
   uint64_t samples;             /**< every sample of the image */
   uint64_t samples_with_points; /**< ... with a pencil-traced point on a measured surface (the
-                                     checkerboard in Fig. 8; pt_surface_measured): 0 means the
+                                     checkerboard in Fig. 8; rt_object_measured): 0 means the
                                      measure compared nothing and fraction_within says nothing */
   double fraction_within;       /**< samples with error <= rho (image area) */
   double p99;                   /**< 99th percentile of the per-sample error (pixels) */
