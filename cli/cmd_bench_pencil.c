@@ -152,8 +152,11 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return 1;
   case OPT_METHOD:
     a->method = rn_find(v);
-    if (!a->method || !a->method->errors)
-      return usage_err("--method", v, "a renderer that approximates exact tracing (pencil)");
+    if (!a->method || !a->method->errors || !rn_option_find(a->method, "--rho") ||
+        !rn_option_find(a->method, "--brightness-tol") || !rn_option_find(a->method, "--certified"))
+      return usage_err("--method", v,
+                       "a renderer that approximates exact tracing with --rho, "
+                       "--brightness-tol and --certified (pencil)");
     return 1;
   default:
     a->measure = 0;

@@ -142,10 +142,16 @@ static int parse_fig9(const char *v, val_figures_opts_t *o) {
 
 static int parse_method(const char *cmd, const char *v, val_figures_opts_t *o) {
   const rn_renderer_t *r = rn_find(v);
-  if (!r || !r->errors)
+  /* the drivers set these options of the method (their variants and baselines) */
+  static const char *const needs[] = {"--rho", "--bounds", "--certified", "--brightness-tol"};
+  int ok = r && r->errors;
+  for (size_t k = 0; ok && k < sizeof needs / sizeof needs[0]; k++)
+    ok = rn_option_find(r, needs[k]) != NULL;
+  if (!ok)
     return fprintf(stderr,
                    "pencil %s: --method: expected a renderer that approximates exact "
-                   "tracing (pencil), got '%s'\n",
+                   "tracing with --rho, --bounds, --certified and --brightness-tol (pencil), "
+                   "got '%s'\n",
                    cmd, v),
            0;
   o->method = r;

@@ -203,9 +203,10 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return cli_parse_long("--caustic-cells", g->value, 1, LT_MAX_GRID, &a->caustic_cells);
   case OPT_MEASURE:
     if (!a->r->errors)
-      return fprintf(stderr, "pencil render: --measure: the %s renderer %s\n", a->r->name,
-                     a->r->rho ? "does not measure the Fig. 10 error yet"
-                               : "has nothing to measure (its samples are exact)"),
+      return fprintf(stderr,
+                     "pencil render: --measure: the %s renderer has nothing to measure "
+                     "(its samples are exact)\n",
+                     a->r->name),
              0;
     return a->measure = 1;
   default: {

@@ -50,6 +50,13 @@ typedef struct {
   xr_exact_t ex;
   rt_tracer_t tr;
   bt_stats_t st;
+  /* the Fig. 10 measure (o->measure), per tile cell */
+  xr_exact_t mex;  /* the measure's own exact tracer: the render's ray counts stay the render's */
+  rt_tree_t probe; /* the exact tree of the cell centre being measured */
+  int nodes;       /* nodes a tree may have (plan->tree_nodes) */
+  double *err;     /* 3 a cell: the error, on the transmission-first path, strict */
+  uint8_t *pts;    /* 1: a model's point on a measured surface; 2: traced exactly from the eye */
+  uint8_t *seen;   /* nodes a cell: the exact tree's node accounted for by a piece */
 } tile_t;
 
 /* ---- cells ---------------------------------------------------------------------------------- */
@@ -122,14 +129,26 @@ static void cell_range(const tile_t *T, const px_poly2_t *r, int *i0, int *i1, i
   *j1 = (int)fmin((double)T->tch, ceil(v1));
 }
 
-/* 1 when p lies in the convex polygon r (either orientation). */
+/* 1 when p lies in the convex polygon r (either orientation). Edges
+ * shorter than a billionth of the polygon's extent have no direction to speak of (the clipping
+ * leaves such between vertices that coincide to rounding) and are passed over. */
 static int inside(const px_poly2_t *r, const double p[2]) {
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int k = 0; k < r->n; k++)
+    for (int a = 0; a < 2; a++) {
+      lo[a] = fmin(lo[a], r->v[k][a]);
+      hi[a] = fmax(hi[a], r->v[k][a]);
+    }
+  double least = 1e-9 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
   int pos = 0, neg = 0;
   for (int k = 0; k < r->n; k++) {
     const double *u = r->v[k], *w = r->v[(k + 1) % r->n];
-    double c = (w[0] - u[0]) * (p[1] - u[1]) - (w[1] - u[1]) * (p[0] - u[0]);
-    pos += c > 0;
-    neg += c < 0;
+    double len = hypot(w[0] - u[0], w[1] - u[1]);
+    if (!(len > least))
+      continue;
+    double d = ((w[0] - u[0]) * (p[1] - u[1]) - (w[1] - u[1]) * (p[0] - u[0])) / len;
+    pos += d > 0.0;
+    neg += d < 0.0;
   }
   return !(pos && neg);
 }
@@ -221,6 +240,165 @@ static px_status_t prefix_models(const tile_t *T, const bm_path_t *path, const d
   return PX_OK;
 }
 
+/* ---- the Fig. 10 measure -------------------------------------------------------------------- */
+
+/* The centre of tile cell (i, j). */
+static void cell_centre(const tile_t *T, int i, int j, double p[2]) {
+  p[0] = T->a0 + (T->cx0 + i + 0.5) * T->cell;
+  p[1] = T->b0 + (T->cy0 + j + 0.5) * T->cell;
+}
+
+/* The exact tree of ray parameters p into T->probe. */
+static void probe(tile_t *T, const double p[2]) {
+  rt_ray_t r = bm_source_ray(&T->src, p);
+  xr_exact_primary(&T->mex, &r);
+}
+
+/* The node of T->probe on path (each step's face's primitive met, then the step's kind), or -1;
+ * *transmit = 1 when the path is the tree's transmission-first one up to there (a reflection only
+ * where no refraction was spawned: rt_tree_follow()). */
+static int probe_follow(const tile_t *T, const bm_path_t *path, int *transmit) {
+  const rt_tree_t *t = &T->probe;
+  *transmit = 1;
+  if (t->n == 0 || t->overflow)
+    return -1;
+  int x = 0;
+  for (int j = 0; j < path->n; j++) {
+    if (t->node[x].prim != T->b->face[path->step[j].face].prim)
+      return -1;
+    int kind = kind_of(&path->step[j]), next = -1, refract = 0;
+    for (int c = x + 1; c < t->n; c++)
+      if (t->node[c].parent == x) {
+        refract |= t->node[c].kind == RT_RAY_REFRACT;
+        if (t->node[c].kind == kind)
+          next = c;
+      }
+    if (kind != RT_RAY_REFRACT && refract)
+      *transmit = 0;
+    if (next < 0)
+      return -1;
+    x = next;
+  }
+  return x;
+}
+
+/* Record error e (strict es; on the transmission-first path when t) at tile cell k. */
+static void record(tile_t *T, size_t k, double e, double es, int t) {
+  double *c = T->err + 3 * k;
+  c[0] = fmax(c[0], e);
+  if (t)
+    c[1] = fmax(c[1], e);
+  c[2] = fmax(c[2], es);
+  T->pts[k] |= 1;
+}
+
+/* The samples of accepted piece r (face f, NULL for none; drawn by model md; footprint rows u, v):
+ * its points against the exact trees'. */
+static void measure_model(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_face_t *f,
+                          const bm_model_t *md, px_vec3_t u, px_vec3_t v) {
+  /* |J+|: the largest singular value of the 2 x 3 pseudo-inverse, for the strict measure */
+  double uu = px_v3_dot(u, u), uv = px_v3_dot(u, v), vv = px_v3_dot(v, v);
+  double jp = sqrt(0.5 * (uu + vv) + sqrt(0.25 * (uu - vv) * (uu - vv) + uv * uv));
+  int measured = f && rt_object_measured(T->s, f->object);
+  int i0, i1, j0, j1;
+  cell_range(T, r, &i0, &i1, &j0, &j1);
+  for (int j = j0; j < j1; j++)
+    for (int i = i0; i < i1; i++) {
+      double p[2];
+      cell_centre(T, i, j, p);
+      if (!inside(r, p))
+        continue;
+      size_t k = (size_t)j * T->tcw + i;
+      probe(T, p);
+      int t, x = probe_follow(T, path, &t);
+      const rt_tree_node_t *nd = x >= 0 ? &T->probe.node[x] : NULL;
+      if (!f) { /* the background: the exact ray must meet nothing */
+        if (nd && nd->object < 0)
+          T->seen[k * T->nodes + x] = 1;
+        continue;
+      }
+      if (nd && nd->prim == f->prim) {
+        T->seen[k * T->nodes + x] = 1;
+        px_vec3_t xm;
+        double s;
+        if (!measured || bm_model_hit(md, &T->src, p, f->n, f->d, &xm, &s) != PX_OK)
+          continue;
+        px_vec3_t dx = px_v3_sub(xm, nd->point);
+        record(T, k, hypot(px_v3_dot(u, dx), px_v3_dot(v, dx)), px_v3_norm(dx) * jp, t);
+      } else if (measured) {
+        record(T, k, INFINITY, INFINITY, t); /* the model's point has no counterpart */
+      }
+    }
+}
+
+/* The samples of region r traced exactly along path from its start: the exact tree's nodes from
+ * the path's on are accounted for (no error). */
+static void measure_exact(tile_t *T, const px_poly2_t *r, const bm_path_t *path) {
+  int i0, i1, j0, j1;
+  cell_range(T, r, &i0, &i1, &j0, &j1);
+  for (int j = j0; j < j1; j++)
+    for (int i = i0; i < i1; i++) {
+      double p[2];
+      cell_centre(T, i, j, p);
+      if (!inside(r, p))
+        continue;
+      size_t k = (size_t)j * T->tcw + i;
+      if (path->n == 0)
+        T->pts[k] |= 2;
+      probe(T, p);
+      int t, x = probe_follow(T, path, &t);
+      if (x < 0)
+        continue;
+      /* the subtree of x: the nodes after it deeper than it (depth-first order) */
+      T->seen[k * T->nodes + x] = 1;
+      for (int c = x + 1; c < T->probe.n && T->probe.node[c].depth > T->probe.node[x].depth; c++)
+        T->seen[k * T->nodes + c] = 1;
+    }
+}
+
+/* The tile's samples into the counters and the outputs: an exact point on a measured surface that
+ * no piece accounted for is a mismatch. */
+static void measure_tile(tile_t *T, const bt_extra_t *x, int width) {
+  int sp = T->o->spp_side;
+  double rho = T->o->rho;
+  bt_stats_t *st = &T->st;
+  for (int j = 0; j < T->tch; j++)
+    for (int i = 0; i < T->tcw; i++) {
+      size_t k = (size_t)j * T->tcw + i;
+      double p[2], *e = T->err + 3 * k;
+      cell_centre(T, i, j, p);
+      probe(T, p);
+      for (int n = 0; n < T->probe.n; n++) {
+        const rt_tree_node_t *nd = &T->probe.node[n];
+        if (nd->object >= 0 && rt_object_measured(T->s, nd->object) && !T->seen[k * T->nodes + n])
+          e[0] = e[1] = e[2] = INFINITY;
+      }
+      st->measured++;
+      st->with_points += (T->pts[k] & 1) != 0;
+      st->samples_exact += (T->pts[k] & 2) != 0;
+      st->within += e[0] <= rho;
+      st->within_t += e[1] <= rho;
+      st->within_strict += e[2] <= rho;
+      if (isinf(e[0]))
+        st->mismatches++;
+      else
+        st->fig10_max = fmax(st->fig10_max, e[0]);
+      if (isfinite(e[1]))
+        st->fig10_max_t = fmax(st->fig10_max_t, e[1]);
+      if (isfinite(e[2]))
+        st->fig10_max_strict = fmax(st->fig10_max_strict, e[2]);
+      double bin = e[0] / BT_HIST_STEP;
+      st->hist[bin < BT_HIST_BINS - 1 ? (int)bin : BT_HIST_BINS - 1]++;
+      int pi = (T->cx0 + i) / sp, pj = (T->cy0 + j) / sp, a = (T->cx0 + i) % sp,
+          b = (T->cy0 + j) % sp;
+      size_t px = (size_t)pj * width + pi;
+      if (x && x->sample_error)
+        x->sample_error[px * sp * sp + (size_t)(b * sp + a)] = (float)e[0];
+      if (x && x->error)
+        x->error[px] = (a == 0 && b == 0) ? (float)e[0] : fmaxf(x->error[px], (float)e[0]);
+    }
+}
+
 /* ---- the exact fallback --------------------------------------------------------------------- */
 
 /* The exact radiance along path's continuation at parameters p, with the path's weight. */
@@ -241,6 +419,8 @@ static rt_rgb_t exact_at(tile_t *T, const bm_path_t *path, const double p[2]) {
  * or at the share's centroid when none does. */
 static void exact_region(tile_t *T, const px_poly2_t *r, const bm_path_t *path) {
   int i0, i1, j0, j1, e = T->o->exact_side;
+  if (T->o->measure)
+    measure_exact(T, r, path);
   cell_range(T, r, &i0, &i1, &j0, &j1);
   for (int j = j0; j < j1; j++)
     for (int i = i0; i < i1; i++) {
@@ -352,10 +532,12 @@ static px_vec3_t depth_inside(const tile_t *T, int prim, px_vec3_t x) {
  * models' points (mp, the partition's, and md, the drawing's) against the exact ray's, in pixel
  * intervals (u, v), into *err. The exact ray must meet f (within the error of its polygon's
  * edges: a point that lands beside f counts by how far, one that meets another face first by
- * how deep inside that face), and its children there must have code `code`. */
+ * how deep inside that face), and its children there must have code `code`. A `strict` point (a
+ * sample's, in certified mode) allows no edge error: its exact ray must meet f itself first (or
+ * nothing, for a piece that meets nothing), so that the sample's path is the piece's. */
 static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, const bm_model_t *md,
                        const bm_face_t *f, px_vec3_t u, px_vec3_t v, int code, const double p[2],
-                       double *err) {
+                       int strict, double *err) {
   rt_ray_t r;
   rt_rgb_t w;
   rt_surface_t sf;
@@ -380,7 +562,10 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
   }
   rt_hit_t h;
   T->ex.stats.primary++;
-  if (rt_intersect(T->s, &r, &h) && (!f || h.prim != f->prim) && h.t < tf) {
+  int hit = rt_intersect(T->s, &r, &h);
+  if (strict && (f ? !hit || h.prim != f->prim : hit))
+    return 0; /* a sample's exact ray must follow the piece's path itself */
+  if (hit && (!f || h.prim != f->prim) && h.t < tf) {
     px_vec3_t in = depth_inside(T, h.prim, h.p);
     e = fmax(e,
              T->b->face_of_prim[h.prim] < 0 ? INFINITY : hypot(px_v3_dot(u, in), px_v3_dot(v, in)));
@@ -397,11 +582,12 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
 
 /* The checks of piece r (face f, NULL for none; along path; the partition's model mp, the
  * drawing's md at the piece's centroid c; children code `code` there): 1 when the models may
- * draw it, with the largest error in *err. The pixel intervals are those on f, or across the
+ * draw it, with the largest error in *err and the rows of the footprint's pseudo-inverse in *pu,
+ * *pv (footprint()). The pixel intervals are those on f, or across the
  * beam one unit of depth on for a piece that meets nothing. */
 static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_model_t *mp,
                     const bm_model_t *md, const bm_face_t *f, const double c[2], int code,
-                    double *err) {
+                    double *err, px_vec3_t *pu, px_vec3_t *pv) {
   px_vec3_t u, v;
   *err = 0.0;
   if (f) {
@@ -414,11 +600,13 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
     if (!footprint(T, md, &across, c, &u, &v))
       return 0;
   }
+  *pu = u;
+  *pv = v;
   for (int k = 0; k < r->n; k++) {
     int j = (k + 1) % r->n;
     double mid[2] = {0.5 * (r->v[k][0] + r->v[j][0]), 0.5 * (r->v[k][1] + r->v[j][1])};
-    if (!check_point(T, path, mp, md, f, u, v, code, r->v[k], err) ||
-        !check_point(T, path, mp, md, f, u, v, code, mid, err))
+    if (!check_point(T, path, mp, md, f, u, v, code, r->v[k], 0, err) ||
+        !check_point(T, path, mp, md, f, u, v, code, mid, 0, err))
       return 0;
   }
   if (T->o->certified) { /* every cell centre inside the piece */
@@ -427,7 +615,7 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
     for (int j = j0; j < j1; j++)
       for (int i = i0; i < i1; i++) {
         double p[2] = {T->a0 + (T->cx0 + i + 0.5) * T->cell, T->b0 + (T->cy0 + j + 0.5) * T->cell};
-        if (inside(r, p) && !check_point(T, path, mp, md, f, u, v, code, p, err))
+        if (inside(r, p) && !check_point(T, path, mp, md, f, u, v, code, p, 1, err))
           return 0;
       }
   }
@@ -476,8 +664,9 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
       code = children_code(T, &sc, &rc, n, ch, &nch);
   }
   double err = 0.0;
+  px_vec3_t u, v;
   if (ok)
-    ok = piece_ok(T, r, path, mp, &ms[n], f, c, code, &err);
+    ok = piece_ok(T, r, path, mp, &ms[n], f, c, code, &err, &u, &v);
   if (!ok) {
     /* a piece over a few cells is traced exactly: cheaper than dividing it */
     int i0, i1, j0, j1;
@@ -487,6 +676,8 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
   }
   T->st.pieces++;
   T->st.max_error = fmax(T->st.max_error, err);
+  if (T->o->measure)
+    measure_model(T, r, path, f, &ms[n], u, v);
   /* the piece's own shading (the background's colour), cell share by cell share */
   int i0, i1, j0, j1;
   cell_range(T, r, &i0, &i1, &j0, &j1);
@@ -632,10 +823,23 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->rays.reflect += from->rays.reflect;
   to->rays.refract += from->rays.refract;
   to->rays.shadow += from->rays.shadow;
+  to->measured += from->measured;
+  to->with_points += from->with_points;
+  to->within += from->within;
+  to->within_t += from->within_t;
+  to->within_strict += from->within_strict;
+  to->mismatches += from->mismatches;
+  to->samples_exact += from->samples_exact;
+  to->fig10_max = fmax(to->fig10_max, from->fig10_max);
+  to->fig10_max_t = fmax(to->fig10_max_t, from->fig10_max_t);
+  to->fig10_max_strict = fmax(to->fig10_max_strict, from->fig10_max_strict);
+  for (int k = 0; k < BT_HIST_BINS; k++)
+    to->hist[k] += from->hist[k];
 }
 
 rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_options_t *o,
-                      rt_image_t *img, bt_stats_t *stats, char *why, size_t cap) {
+                      rt_image_t *img, const bt_extra_t *extra, bt_stats_t *stats, char *why,
+                      size_t cap) {
   why[0] = '\0';
   if (!s->bvh)
     return RT_ENOTREADY;
@@ -691,6 +895,21 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
     T.near = malloc((size_t)levels * (size_t)(b.nface > 0 ? b.nface : 1) * sizeof(int));
     T.ex = xr_exact_make(s, plan, NULL);
     T.tr = xr_exact_tracer(&T.ex);
+    size_t tcells = (size_t)ts * ts * sp * sp;
+    rt_tree_node_t *probe_nodes = NULL;
+    if (o->measure) {
+      T.nodes = plan->tree_nodes;
+      probe_nodes = malloc((size_t)T.nodes * sizeof *probe_nodes);
+      T.probe = rt_tree_make(probe_nodes, T.nodes);
+      T.mex = xr_exact_make(s, plan, &T.probe);
+      T.err = malloc(tcells * 3 * sizeof *T.err);
+      T.pts = malloc(tcells);
+      T.seen = malloc(tcells * (size_t)T.nodes);
+      if (!probe_nodes || !T.err || !T.pts || !T.seen) {
+#pragma omp atomic write
+        failed = 1;
+      }
+    }
     rt_tree_t tree = trees ? rt_tree_make(trees + (size_t)tid * plan->tree_nodes, plan->tree_nodes)
                            : rt_tree_make(NULL, 0);
     if (!T.acc || !T.near) {
@@ -711,11 +930,19 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
       T.tcw = pw * sp;
       T.tch = ph * sp;
       memset(T.acc, 0, (size_t)T.tcw * T.tch * 3 * sizeof(double));
+      if (o->measure) {
+        size_t nc = (size_t)T.tcw * T.tch;
+        memset(T.err, 0, nc * 3 * sizeof *T.err);
+        memset(T.pts, 0, nc);
+        memset(T.seen, 0, nc * (size_t)T.nodes);
+      }
       double x0 = T.a0 + T.cx0 * T.cell, x1 = T.a0 + (T.cx0 + T.tcw) * T.cell;
       double y0 = T.b0 + T.cy0 * T.cell, y1 = T.b0 + (T.cy0 + T.tch) * T.cell;
       px_poly2_t root = {4, {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
       bm_path_t path = {0};
       beam(&T, &root, &path, 0, NULL, 0, 0);
+      if (o->measure)
+        measure_tile(&T, extra, W);
       /* the tile's cells into its pixels (a box filter over the s x s cells) */
       for (int j = 0; j < ph; j++)
         for (int i = 0; i < pw; i++) {
@@ -748,6 +975,10 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
     add_stats(&total, &T.st);
     free(T.acc);
     free(T.near);
+    free(probe_nodes);
+    free(T.err);
+    free(T.pts);
+    free(T.seen);
   }
   free(trees);
   bm_scene_free(&b);

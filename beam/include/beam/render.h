@@ -18,12 +18,13 @@
  * though this has not been implemented yet"): after its first face a piece's linear model is
  * checked against exact tracing (Snell's law face by face along its path, bm_exact()) at its
  * vertices and the midpoints of its edges (with certified: also at every sample cell's centre
- * inside it). The distance between the model's point and the exact ray's on the face, in pixel
- * intervals there (the piece's pixel footprint), must be at most rho (Eq. 3), and the exact
- * rays' children must be the centroid's (no total internal reflection boundary inside). A piece
- * that fails is divided in two and partitioned again, up to 2 x max_split divisions along its
- * path; past that, and for slivers and beams whose model fails (grazing, a focus), each cell's
- * share is traced exactly from the face on (counted).
+ * inside it, whose exact ray must then follow the piece's path to the piece's face exactly). The
+ * distance between the model's point and the exact ray's on the face, in pixel intervals there (the
+ * piece's pixel footprint), must be at most rho (Eq. 3), and the exact rays' children must be the
+ * centroid's (no total internal reflection boundary inside). A piece that fails is divided in two
+ * and partitioned again, up to 2 x max_split divisions along its path; past that, and for slivers
+ * and beams whose model fails (grazing, a focus), each cell's share is traced exactly from the face
+ * on (counted).
  *
  * Curved objects are not beams' business: a scene with a sphere is refused, with the reason.
  *
@@ -46,13 +47,18 @@ typedef struct {
   int spp_side;   /**< s: s x s shading cells per pixel, 1..RT_MAX_SPP_SIDE */
   int threads;    /**< OpenMP threads; 0 = the OpenMP default */
   int aux;        /**< 1: fill the auxiliary channels from exact centre-ray trees */
+  int measure;    /**< 1: measure the Fig. 10 error of every sample (bt_stats_t, bt_extra_t) */
   /** Called after each finished tile with (done, total), serialised; may be NULL. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
 } bt_options_t;
 
 #define BT_OPTIONS_DEFAULT                                                                         \
-  { 0.5, 8, 0, 16, 4, 1, 0, 1, NULL, NULL }
+  { 0.5, 8, 0, 16, 4, 1, 0, 1, 0, NULL, NULL }
+
+/** Bins of the Fig. 10 error histogram (as the renderer table's). */
+#define BT_HIST_BINS 256
+#define BT_HIST_STEP 0.01
 
 /** What a beam render did (summed over threads). */
 typedef struct {
@@ -68,13 +74,38 @@ typedef struct {
   uint64_t checks;      /**< exact rays traced to check models */
   double max_error;     /**< the largest checked error of an accepted piece, pixel intervals */
   rt_stats_t rays;      /**< rays of the exact tracer: shadow rays, exact shares, aux trees */
+  /* The Fig. 10 measure (options.measure), one sample at each cell's centre: the error of every
+   * point a piece's model put on a measured surface (rt_object_measured()) against the exact
+   * tracer's point of the same path and primitive, |J+ e| in pixel intervals of the piece's
+   * footprint; a point without a counterpart in the exact tree, or an exact point on a measured
+   * surface that no piece accounted for, is an infinite error (a mismatch). Points of shares
+   * traced exactly have none. The sample's error is the largest of its points'. */
+  uint64_t measured;      /**< samples measured */
+  uint64_t with_points;   /**< ... with a model's point on a measured surface */
+  uint64_t within;        /**< ... whose error is <= rho */
+  uint64_t within_t;      /**< ... within rho on the transmission-first path */
+  uint64_t within_strict; /**< ... within rho measured as |e| / the smallest pixel interval */
+  uint64_t mismatches;    /**< ... with an infinite error */
+  uint64_t samples_exact; /**< ... whose centre lies in a share traced exactly from the eye */
+  double fig10_max, fig10_max_t, fig10_max_strict; /**< the largest finite errors */
+  uint64_t hist[BT_HIST_BINS]; /**< errors in bins of BT_HIST_STEP, the last one everything
+                                    above (mismatches included) */
 } bt_stats_t;
 
-/** Render the prepared scene with plan into img (allocated at the camera's size). RT_EINVAL
+/** Per-sample and per-pixel outputs of a measured render; either may be NULL. */
+typedef struct {
+  float *sample_error; /**< width * height * s^2, pixel-major: sample (a, b) of pixel (i, j) at
+                            (j * width + i) * s^2 + b * s + a */
+  float *error;        /**< width * height: each pixel's largest sample error */
+} bt_extra_t;
+
+/** Render the prepared scene with plan into img (allocated at the camera's size), and with
+ *  o->measure the measure into extra (may be NULL) and stats. RT_EINVAL
  *  with the reason in why[cap] for a bad option or a scene with curved objects, RT_ENOTREADY
  *  for an unprepared scene, RT_ENOMEM. stats may be NULL. The image does not depend on the
  *  thread count. */
 rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_options_t *o,
-                      rt_image_t *img, bt_stats_t *stats, char *why, size_t cap);
+                      rt_image_t *img, const bt_extra_t *extra, bt_stats_t *stats, char *why,
+                      size_t cap);
 
 #endif
