@@ -147,7 +147,7 @@ static void fig11_beats_point_sampling(void **state) {
 static void rho_controls_the_error(void **state) {
   (void)state;
   rt_scene_t s;
-  load_fig11(128, &s);
+  load_fig11(96, &s);
   rt_image_t ref, loose, tight;
   exact(&s, 16, &ref);
   bt_stats_t sl, stt;
