@@ -166,6 +166,47 @@ static void rho_controls_the_error(void **state) {
   rt_scene_free(&s);
 }
 
+/* The bounds of Eq. (4) in the render (Fig. 11, 64 x 64, rho 0.2, measured): with the corrected
+ * and the printed coefficients pieces are bounded, no exact check ray strays further from a
+ * piece's models than its bound (no violation, checked error over bound <= 1), every accepted
+ * bound is within rho, and so is every finite Fig. 10 error (the bound covers the inside of a
+ * piece, which the checks at its vertices and midpoints do not); probes bound nothing. */
+static void bounds_hold_in_the_render(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_fig11(64, &s);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  const char *names[] = {"corrected", "printed", "probe"};
+  for (int bound = BT_BOUND_CORRECTED; bound <= BT_BOUND_PROBE; bound++) {
+    bt_options_t o = BT_OPTIONS_DEFAULT;
+    o.rho = 0.2;
+    o.bound = bound;
+    o.aux = 0;
+    o.measure = 1;
+    rt_image_t img;
+    assert_int_equal(rt_image_alloc(&img, 64, 64), RT_OK);
+    char why[256];
+    bt_stats_t st;
+    assert_int_equal(bt_render(&s, &plan, &o, &img, NULL, &st, why, sizeof why), RT_OK);
+    print_message("%-9s: %llu pieces bounded, %llu unbounded, largest bound %.3g, error / bound "
+                  "<= %.3f, %llu violations; Fig. 10 max %.4g\n",
+                  names[bound], (unsigned long long)st.bounded, (unsigned long long)st.unbounded,
+                  st.max_bound, st.max_ratio, (unsigned long long)st.violations, st.fig10_max);
+    if (bound == BT_BOUND_PROBE) {
+      assert_int_equal(st.bounded, 0);
+      assert_true(st.max_bound == 0.0);
+    } else {
+      assert_true(st.bounded > 100);
+      assert_int_equal(st.violations, 0);
+      assert_true(st.max_ratio <= 1.0);
+      assert_true(st.max_bound > 0.0 && st.max_bound <= o.rho);
+      assert_true(st.fig10_max <= o.rho);
+    }
+    rt_image_free(&img);
+  }
+  rt_scene_free(&s);
+}
+
 /* The Fig. 10 measure of Fig. 11 at 2 x 2 samples a pixel: certified, every sample's points lie
  * within rho of the exact tracer's and no path is missed (the issue's target); the measure leaves
  * the image as it is, and each pixel's error is its samples' largest. */
@@ -264,6 +305,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(coverage_is_exact),
       cmocka_unit_test(fig11_beats_point_sampling),
       cmocka_unit_test(rho_controls_the_error),
+      cmocka_unit_test(bounds_hold_in_the_render),
       cmocka_unit_test(certified_measure_is_within_rho),
       cmocka_unit_test(threads_do_not_change_the_image),
       cmocka_unit_test(spheres_are_refused),

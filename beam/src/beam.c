@@ -99,8 +99,10 @@ px_status_t bm_exact(const bm_scene_t *b, const bm_source_t *src, const bm_path_
   return PX_OK;
 }
 
-px_status_t bm_model(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
-                     const double pc[2], bm_model_t *m) {
+/* bm_model(), and when cas is not NULL the path's elements appended to it (a transfer to each
+ * face, then the face's refraction or reflection): the cascade of the Appendix's error analysis. */
+static px_status_t trace_model(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                               const double pc[2], bm_model_t *m, px_cascade_t *cas) {
   memset(m, 0, sizeof *m);
   m->pc[0] = pc[0];
   m->pc[1] = pc[1];
@@ -138,6 +140,11 @@ px_status_t bm_model(const bm_scene_t *b, const bm_source_t *src, const bm_path_
     px_mat4_t e;
     if (st == PX_OK)
       st = px_interface_matrix(&ifc, sp->event, f, fo, PX_VARIANT_CORRECTED, &e);
+    if (st == PX_OK && cas) {
+      st = px_cascade_push_transfer(cas, len, f);
+      if (st == PX_OK)
+        st = px_cascade_push_interface(cas, &ifc, sp->event, f, fo, PX_VARIANT_CORRECTED);
+    }
     if (st != PX_OK)
       return st;
     t = px_mat4_mul(e, t);
@@ -154,6 +161,100 @@ px_status_t bm_model(const bm_scene_t *b, const bm_source_t *src, const bm_path_
   m->d = d;
   m->f = f;
   m->ior = ior;
+  return PX_OK;
+}
+
+px_status_t bm_model(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                     const double pc[2], bm_model_t *m) {
+  return trace_model(b, src, path, pc, m, NULL);
+}
+
+/* The linear transfer x' = x + L xi in ray coordinates (xi the sine-like projection of the unit
+ * direction) against the exact x + L xi / sqrt(1 - |xi|^2): the difference is at most
+ * BM_TRANSFER_K3 L |xi|^3 for |xi| <= BM_SPREAD_CAP ((1 - xi^2)^(-1/2) - 1 <= xi^2 / 2
+ * (1 - xi^2)^(-3/2) <= 0.77 xi^2 there). */
+#define BM_TRANSFER_K3 0.77
+
+px_status_t bm_model_bound(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                           const bm_model_t *m, const px_poly2_t *r, px_vec3_t n, double dd,
+                           px_variant_t variant, bm_bound_t *out) {
+  memset(out, 0, sizeof *out);
+  if (m->root)
+    return PX_OK; /* before the first face the projection is exact */
+  /* the spread of r about the axial ray: |delta| over the vertices (the largest |delta| of a
+   * convex polygon is at a vertex) */
+  double dmax = 0.0;
+  for (int k = 0; k < r->n; k++)
+    dmax = fmax(dmax, hypot(r->v[k][0] - m->pc[0], r->v[k][1] - m->pc[1]));
+  if (!isfinite(dmax))
+    return PX_EINVAL;
+  /* the cascade of the path, and the transfer to the plane */
+  px_element_t elem[2 * BM_MAX_STEPS + 1];
+  px_cascade_t cas;
+  px_cascade_init(&cas, elem, sizeof elem / sizeof elem[0]);
+  bm_model_t again;
+  px_status_t st = trace_model(b, src, path, m->pc, &again, &cas);
+  if (st != PX_OK)
+    return st;
+  double den = px_v3_dot(n, m->d), cos_f = fabs(den) / px_v3_norm(n);
+  if (!(cos_f > PX_COS_MIN))
+    return PX_EGRAZING;
+  double len = (dd - px_v3_dot(n, m->o)) / den;
+  if (!(len > 0.0) || !isfinite(len))
+    return PX_EMISS;
+  st = px_cascade_push_transfer(&cas, len, m->f);
+  if (st != PX_OK)
+    return st;
+  px_pencil_t k;
+  st = px_pencil_constants(&cas, NULL, variant, &k);
+  if (st != PX_OK)
+    return st;
+  px_mat4_t t = px_cascade_product(&cas);
+  double na = px_mat2_norm2(px_mat4_block(t, 0, 0)), nb = px_mat2_norm2(px_mat4_block(t, 0, 1)),
+         nd = px_mat2_norm2(px_mat4_block(t, 1, 1));
+  double x0 = 0.0, xi0 = 0.0, conv = 0.0;
+  if (src->parallel) {
+    x0 = dmax; /* the parameters are the ray's offset itself: no conversion error */
+  } else {
+    /* xi = P Delta / |w + Delta| for w = z + pc x + pc y (|w| = L) and Delta = delta x + delta
+     * y, against the model's P Delta / L: the difference is |P Delta| (2 |w . Delta| +
+     * |Delta|^2) / (L |w + Delta| (L + |w + Delta|)), with |w + Delta| >= max(1, L - |Delta|)
+     * and |w . Delta| <= sqrt(L^2 - 1) |Delta| */
+    double L = sqrt(1.0 + m->pc[0] * m->pc[0] + m->pc[1] * m->pc[1]);
+    double w = fmax(1.0, L - dmax);
+    xi0 = dmax / w;
+    conv = dmax * (2.0 * sqrt(L * L - 1.0) * dmax + dmax * dmax) / (L * w * (L + w));
+  }
+  out->xi0 = xi0;
+  out->x0 = x0;
+  out->c = k.c;
+  double ex = fmax(0.0, px_pencil_ex(&k, x0, xi0)), exi = fmax(0.0, px_pencil_exi(&k, x0, xi0));
+  out->second = ex;
+  /* the third-order error of every transfer (the Appendix's bounds are second-order), carried
+   * to the plane by the position block of what follows it */
+  double third = 0.0;
+  for (size_t i = 1; i <= cas.n; i++) {
+    if (elem[i - 1].kind != PX_ELEMENT_TRANSFER)
+      continue;
+    px_mat4_t before = px_cascade_before(&cas, i), after = px_cascade_after(&cas, i);
+    double spread = px_mat2_norm2(px_mat4_block(before, 1, 0)) * x0 +
+                    px_mat2_norm2(px_mat4_block(before, 1, 1)) * xi0;
+    if (!(spread <= BM_SPREAD_CAP))
+      return PX_EILLCOND;
+    third += BM_TRANSFER_K3 * fabs(elem[i - 1].distance) *
+             px_mat2_norm2(px_mat4_block(after, 0, 0)) * spread * spread * spread;
+  }
+  out->third = third;
+  out->conversion = nb * conv;
+  double pos = ex + third + nb * conv, dir = exi + nd * conv;
+  /* from the plane across the ray at the axial ray's point to the plane n . x = dd: a point at
+   * transverse offset x slides |x| tan(theta) along its ray, where the directions differ by
+   * dir, and a transverse displacement grows by at most 1 / cos(theta) */
+  double reach = na * x0 + nb * xi0 + pos;
+  double slide = reach * sqrt(fmax(0.0, 1.0 - cos_f * cos_f)) / cos_f;
+  out->err = (pos + dir * slide) / cos_f;
+  if (!isfinite(out->err))
+    return PX_ENONFINITE;
   return PX_OK;
 }
 

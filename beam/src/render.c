@@ -27,6 +27,9 @@
 /* A region over more cells than that which overlaps more faces than this is divided before it is
  * partitioned. */
 #define BT_CROWD 24
+/* Rounding between a model's point and the exact ray's, in pixel intervals: a checked distance
+ * this much over a piece's bound is not yet evidence against the bound. */
+#define BT_SLACK 1e-6
 
 /* Steps a beam's path and its prefix models can hold. */
 #define BT_LEVELS (BM_MAX_STEPS + 1)
@@ -292,13 +295,18 @@ static void record(tile_t *T, size_t k, double e, double es, int t) {
   T->pts[k] |= 1;
 }
 
+/* |J+|: the largest singular value of the 2 x 3 pseudo-inverse of rows u, v (footprint()), so
+ * that |J+ e| <= |J+| |e| turns a length on the face into pixel intervals at most. */
+static double pinv_norm(px_vec3_t u, px_vec3_t v) {
+  double uu = px_v3_dot(u, u), uv = px_v3_dot(u, v), vv = px_v3_dot(v, v);
+  return sqrt(0.5 * (uu + vv) + sqrt(0.25 * (uu - vv) * (uu - vv) + uv * uv));
+}
+
 /* The samples of accepted piece r (face f, NULL for none; drawn by model md; footprint rows u, v):
  * its points against the exact trees'. */
 static void measure_model(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_face_t *f,
                           const bm_model_t *md, px_vec3_t u, px_vec3_t v) {
-  /* |J+|: the largest singular value of the 2 x 3 pseudo-inverse, for the strict measure */
-  double uu = px_v3_dot(u, u), uv = px_v3_dot(u, v), vv = px_v3_dot(v, v);
-  double jp = sqrt(0.5 * (uu + vv) + sqrt(0.25 * (uu - vv) * (uu - vv) + uv * uv));
+  double jp = pinv_norm(u, v); /* for the strict measure */
   int measured = f && rt_object_measured(T->s, f->object);
   int i0, i1, j0, j1;
   cell_range(T, r, &i0, &i1, &j0, &j1);
@@ -530,21 +538,22 @@ static px_vec3_t depth_inside(const tile_t *T, int prim, px_vec3_t x) {
 
 /* Check one point p of a piece along path: on face f (NULL: the piece meets nothing), the
  * models' points (mp, the partition's, and md, the drawing's) against the exact ray's, in pixel
- * intervals (u, v), into *err. The exact ray must meet f (within the error of its polygon's
- * edges: a point that lands beside f counts by how far, one that meets another face first by
- * how deep inside that face), and its children there must have code `code`. A `strict` point (a
- * sample's, in certified mode) allows no edge error: its exact ray must meet f itself first (or
- * nothing, for a piece that meets nothing), so that the sample's path is the piece's. */
+ * intervals (u, v), at most `limit` (the largest into *em; over it sets *over). The exact ray must
+ * meet f (within rho of its polygon's edges: a point that lands beside f counts by how far, one
+ * that meets another face first by how deep inside that face; the largest into *ee), and its
+ * children there must have code `code`. A `strict` point (a sample's, in certified mode) allows no
+ * edge error: its exact ray must meet f itself first (or nothing, for a piece that meets nothing),
+ * so that the sample's path is the piece's. */
 static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, const bm_model_t *md,
                        const bm_face_t *f, px_vec3_t u, px_vec3_t v, int code, const double p[2],
-                       int strict, double *err) {
+                       int strict, double limit, double *em, double *ee, int *over) {
   rt_ray_t r;
   rt_rgb_t w;
   rt_surface_t sf;
   T->st.checks++;
   if (!exact_path(T, path, p, &r, &w))
     return 0;
-  double e = 0.0, tf = INFINITY;
+  double m = 0.0, e = 0.0, tf = INFINITY;
   if (f) {
     px_vec3_t xm[2];
     double s;
@@ -554,10 +563,10 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
       return 0;
     for (int k = 0; k < 2; k++) {
       px_vec3_t dx = px_v3_sub(xm[k], sf.hit.p);
-      e = fmax(e, hypot(px_v3_dot(u, dx), px_v3_dot(v, dx)));
+      m = fmax(m, hypot(px_v3_dot(u, dx), px_v3_dot(v, dx)));
     }
     px_vec3_t off = outside(T, f, sf.hit.p);
-    e = fmax(e, hypot(px_v3_dot(u, off), px_v3_dot(v, off)));
+    e = hypot(px_v3_dot(u, off), px_v3_dot(v, off));
     tf = sf.hit.t;
   }
   rt_hit_t h;
@@ -570,8 +579,13 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
     e = fmax(e,
              T->b->face_of_prim[h.prim] < 0 ? INFINITY : hypot(px_v3_dot(u, in), px_v3_dot(v, in)));
   }
-  *err = fmax(*err, e);
-  if (!(e <= T->o->rho) && path->n > 0)
+  *em = fmax(*em, m);
+  *ee = fmax(*ee, e);
+  if (path->n > 0 && !(m <= limit)) {
+    *over = 1;
+    return 0;
+  }
+  if (path->n > 0 && !(e <= T->o->rho))
     return 0;
   if (!f)
     return 1;
@@ -582,9 +596,10 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
 
 /* The checks of piece r (face f, NULL for none; along path; the partition's model mp, the
  * drawing's md at the piece's centroid c; children code `code` there): 1 when the models may
- * draw it, with the largest error in *err and the rows of the footprint's pseudo-inverse in *pu,
- * *pv (footprint()). The pixel intervals are those on f, or across the
- * beam one unit of depth on for a piece that meets nothing. */
+ * draw it, with the largest checked error in *err and the rows of the footprint's pseudo-inverse
+ * in *pu, *pv (footprint()); 0 when it fails; -1 when the models' error cannot be bounded. The
+ * pixel intervals are those on f, or across the beam one unit of depth on for a piece that meets
+ * nothing (whose models place nothing: only its edges, the faces' around it, are checked). */
 static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_model_t *mp,
                     const bm_model_t *md, const bm_face_t *f, const double c[2], int code,
                     double *err, px_vec3_t *pu, px_vec3_t *pv) {
@@ -602,24 +617,48 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
   }
   *pu = u;
   *pv = v;
-  for (int k = 0; k < r->n; k++) {
+  /* the bound of both models' error over the piece, on f */
+  double limit = T->o->rho, eb = 0.0;
+  int bounded = f && path->n > 0 && T->o->bound != BT_BOUND_PROBE;
+  if (bounded) {
+    px_variant_t var = T->o->bound == BT_BOUND_PRINTED ? PX_VARIANT_PRINTED : PX_VARIANT_CORRECTED;
+    bm_bound_t bp, bd;
+    if (bm_model_bound(T->b, &T->src, path, mp, r, f->n, f->d, var, &bp) != PX_OK ||
+        bm_model_bound(T->b, &T->src, path, md, r, f->n, f->d, var, &bd) != PX_OK)
+      return -1;
+    T->st.bounded++;
+    eb = pinv_norm(u, v) * fmax(bp.err, bd.err);
+    if (!(eb <= T->o->rho))
+      return 0;
+    limit = eb + BT_SLACK;
+  }
+  double em = 0.0, ee = 0.0;
+  int over = 0, ok = 1;
+  for (int k = 0; ok && k < r->n; k++) {
     int j = (k + 1) % r->n;
     double mid[2] = {0.5 * (r->v[k][0] + r->v[j][0]), 0.5 * (r->v[k][1] + r->v[j][1])};
-    if (!check_point(T, path, mp, md, f, u, v, code, r->v[k], 0, err) ||
-        !check_point(T, path, mp, md, f, u, v, code, mid, 0, err))
-      return 0;
+    ok = check_point(T, path, mp, md, f, u, v, code, r->v[k], 0, limit, &em, &ee, &over) &&
+         check_point(T, path, mp, md, f, u, v, code, mid, 0, limit, &em, &ee, &over);
   }
-  if (T->o->certified) { /* every cell centre inside the piece */
+  if (ok && T->o->certified) { /* every cell centre inside the piece */
     int i0, i1, j0, j1;
     cell_range(T, r, &i0, &i1, &j0, &j1);
-    for (int j = j0; j < j1; j++)
-      for (int i = i0; i < i1; i++) {
+    for (int j = j0; ok && j < j1; j++)
+      for (int i = i0; ok && i < i1; i++) {
         double p[2] = {T->a0 + (T->cx0 + i + 0.5) * T->cell, T->b0 + (T->cy0 + j + 0.5) * T->cell};
-        if (inside(r, p) && !check_point(T, path, mp, md, f, u, v, code, p, 1, err))
-          return 0;
+        ok = !inside(r, p) ||
+             check_point(T, path, mp, md, f, u, v, code, p, 1, limit, &em, &ee, &over);
       }
   }
-  return 1;
+  if (bounded) {
+    T->st.violations += (uint64_t)over;
+    if (eb > BT_SLACK)
+      T->st.max_ratio = fmax(T->st.max_ratio, em / eb);
+    if (ok)
+      T->st.max_bound = fmax(T->st.max_bound, eb);
+  }
+  *err = fmax(em, ee);
+  return ok;
 }
 
 static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
@@ -667,6 +706,12 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
   px_vec3_t u, v;
   if (ok)
     ok = piece_ok(T, r, path, mp, &ms[n], f, c, code, &err, &u, &v);
+  if (ok < 0) { /* the models' error cannot be bounded: rays */
+    T->st.unbounded++;
+    T->st.exact++;
+    exact_region(T, r, path);
+    return;
+  }
   if (!ok) {
     /* a piece over a few cells is traced exactly: cheaper than dividing it */
     int i0, i1, j0, j1;
@@ -819,6 +864,11 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->exact_cells += from->exact_cells;
   to->checks += from->checks;
   to->max_error = fmax(to->max_error, from->max_error);
+  to->bounded += from->bounded;
+  to->unbounded += from->unbounded;
+  to->violations += from->violations;
+  to->max_bound = fmax(to->max_bound, from->max_bound);
+  to->max_ratio = fmax(to->max_ratio, from->max_ratio);
   to->rays.primary += from->rays.primary;
   to->rays.reflect += from->rays.reflect;
   to->rays.refract += from->rays.refract;
@@ -844,8 +894,9 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   if (!s->bvh)
     return RT_ENOTREADY;
   if (!(o->rho > 0.0) || !isfinite(o->rho) || o->max_split < 0 || o->max_split > 30 ||
-      o->tile < 1 || o->tile > 256 || o->exact_side < 1 || o->exact_side > 16 || o->spp_side < 1 ||
-      o->spp_side > RT_MAX_SPP_SIDE || o->threads < 0) {
+      o->bound < BT_BOUND_CORRECTED || o->bound > BT_BOUND_PROBE || o->tile < 1 || o->tile > 256 ||
+      o->exact_side < 1 || o->exact_side > 16 || o->spp_side < 1 || o->spp_side > RT_MAX_SPP_SIDE ||
+      o->threads < 0) {
     snprintf(why, cap, "beam options out of range");
     return RT_EINVAL;
   }

@@ -13,6 +13,9 @@ static_assert(RN_HIST_BINS == BT_HIST_BINS, "one histogram for every renderer");
 
 static const bt_options_t defaults = BT_OPTIONS_DEFAULT;
 
+/* bt_bound_t's values in order (the pencil renderer's names) */
+static const char *const bound_names[] = {"corrected", "printed", "probe", NULL};
+
 static const char *const channels[] = {"beam.error"};
 
 static const rn_option_t beam_options[] = {
@@ -22,6 +25,10 @@ static const rn_option_t beam_options[] = {
     {"--max-split", RN_OPT_INT, offsetof(bt_options_t, max_split), 0, 0, 30, 0, NULL, "N",
      "divide a beam at most 2 N times along its path before tracing\n"
      "it exactly, 0..30 (default 8)"},
+    {"--bounds", RN_OPT_CHOICE, offsetof(bt_options_t, bound), 0, 0, 0, 0, bound_names, "B",
+     "what limits a piece's model error: the bound of Eq. (4),\n"
+     "corrected (default) or printed, or probe (exact rays at its\n"
+     "vertices and edge midpoints; not a bound)"},
     {"--certified", RN_OPT_FLAG, offsetof(bt_options_t, certified), 1, 0, 0, 0, NULL, NULL,
      "also check every sample cell's centre of a piece exactly"},
     {"--tile", RN_OPT_INT, offsetof(bt_options_t, tile), 0, 1, 256, 0, NULL, "N",
@@ -64,7 +71,9 @@ static int describe(const void *options, rn_attr_t *attrs) {
   snprintf(attrs[1].value, sizeof attrs[1].value, "%d", o->max_split);
   attrs[2].key = "beam:certified";
   snprintf(attrs[2].value, sizeof attrs[2].value, "%s", o->certified ? "yes" : "no");
-  return 3;
+  attrs[3].key = "beam:bounds";
+  snprintf(attrs[3].value, sizeof attrs[3].value, "%s", bound_names[o->bound]);
+  return 4;
 }
 
 static void report(FILE *f, const rn_report_t *r) {
@@ -73,12 +82,13 @@ static void report(FILE *f, const rn_report_t *r) {
   const rt_scene_t *s = r->scene;
   uint64_t cells = st->fragments + st->exact_cells;
   fprintf(f,
-          "beam-traced %dx%d at %d spp in %.3f s (rho %g%s): %llu beams, %llu pieces by their "
+          "beam-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): %llu beams, %llu pieces by "
+          "their "
           "model (%llu divided, %llu traced exactly, %llu slivers, %llu crowded beams divided); "
           "%llu cell shares, %.2f%% "
           "traced exactly; largest checked error %.3g pixel intervals (%llu check rays); %llu "
           "exact rays (%llu shadow) -> %s\n",
-          s->camera.width, s->camera.height, r->spp, r->seconds, o->rho,
+          s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, bound_names[o->bound],
           o->certified ? ", certified" : "", (unsigned long long)st->beams,
           (unsigned long long)st->pieces, (unsigned long long)st->divided,
           (unsigned long long)st->exact, (unsigned long long)st->slivers,
@@ -86,6 +96,13 @@ static void report(FILE *f, const rn_report_t *r) {
           cells ? 100.0 * st->exact_cells / cells : 0.0, st->max_error,
           (unsigned long long)st->checks, (unsigned long long)rt_stats_total(&st->rays),
           (unsigned long long)st->rays.shadow, r->out);
+  if (o->bound != BT_BOUND_PROBE)
+    fprintf(f,
+            "Eq. (4) bounds: %llu pieces bounded, largest accepted bound %.3g pixel intervals; "
+            "%llu unbounded (traced exactly); checked error over bound at most %.3g, %llu "
+            "violations\n",
+            (unsigned long long)st->bounded, st->max_bound, (unsigned long long)st->unbounded,
+            st->max_ratio, (unsigned long long)st->violations);
   if (r->common->measure)
     fprintf(f,
             "Fig. 10 error: %llu samples (%llu with measured points, %llu traced exactly from the "
@@ -139,9 +156,11 @@ const rn_renderer_t rn_beam_entry = {
         "space, faces mapped by the generalised perspective transformation of Eq. (7) after\n"
         "the first face) and followed through reflections and refractions. Pieces are drawn\n"
         "by their exact coverage of s x s cells a pixel, each share shaded once by the exact\n"
-        "renderer's shading; a piece whose model strays more than rho pixel intervals from\n"
-        "exact tracing at its vertices and edge midpoints is divided, and past --max-split\n"
-        "traced exactly. Polygons and planes only: a scene with a sphere is refused.\n"
+        "renderer's shading. A piece whose model error, bounded by Eq. (4) over the whole\n"
+        "piece, exceeds rho pixel intervals, or whose exact rays at its vertices and edge\n"
+        "midpoints meet another face or change children, is divided, and past --max-split\n"
+        "traced exactly; so is a piece whose error cannot be bounded (grazing, a focus).\n"
+        "Polygons and planes only: a scene with a sphere is refused.\n"
         "Auxiliary channels come from exact centre-ray trees. With --measure, every sample\n"
         "cell's centre is measured as Fig. 10 (the model's points on surfaces with a diffuse\n"
         "term against the exact tracer's, in pixel intervals); channel beam.error holds each\n"

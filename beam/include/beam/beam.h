@@ -127,6 +127,36 @@ void bm_model_ray(const bm_model_t *m, const bm_source_t *src, const double p[2]
 px_status_t bm_model_hit(const bm_model_t *m, const bm_source_t *src, const double p[2],
                          px_vec3_t n, double dd, px_vec3_t *x, double *s);
 
+/** The most spread (|xi|, in any segment of a path) the bound below allows: beyond it the
+ *  transfers' third-order term is not bounded by BM_TRANSFER_K3 (beam.c). */
+#define BM_SPREAD_CAP 0.5
+
+/** An error bound of a beam's linear model and its parts (bm_model_bound()). */
+typedef struct {
+  double err;        /**< the bound on the distance between the model's and the exact ray's
+                          points on the plane, for every ray of the polygon (world length) */
+  double x0, xi0;    /**< the spread of Eq. (4): largest |x| and |xi| at the source */
+  double c;          /**< the pencil constant C of Eq. (4) along the path and on to the plane */
+  double second;     /**< e_x of Eq. (4) at (x0, xi0): the second-order position error */
+  double third;      /**< the transfers' third-order position error */
+  double conversion; /**< the position error of the linearised parameters-to-xi map (apex) */
+} bm_bound_t;
+
+/** The error of model m (along path) over parameter polygon r, where its rays meet the plane
+ *  n . x = dd: the pencil constants A-F of Eq. (4) for the path's cascade and the transfer to
+ *  the plane (Appendix (3) with the element coefficients of `variant`: PX_VARIANT_CORRECTED or
+ *  the printed A-1, clamped at 0 where it goes negative), at the spread of r about the model's
+ *  axial ray, plus what the second-order form leaves out: the transfers' third-order term, the
+ *  linearised map from the source's parameters to ray coordinates, and the slide from the plane
+ *  across the ray onto the plane (Eq. 3's surface, 1 / cos of the incidence on it). Zero for a
+ *  root model (exact). PX_EMISS when the plane is not ahead, PX_EGRAZING when the axial ray
+ *  skims it or an element is grazing, PX_ETIR, PX_EILLCOND when a segment's spread exceeds
+ *  BM_SPREAD_CAP or an element's coefficients are ill-conditioned (px_error_coeffs()): a beam
+ *  whose error cannot be bounded. */
+px_status_t bm_model_bound(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                           const bm_model_t *m, const px_poly2_t *r, px_vec3_t n, double dd,
+                           px_variant_t variant, bm_bound_t *out);
+
 /** Split polygon r in two across its longest extent (the farthest pair of vertices), through its
  *  centroid: how a beam whose model fails is divided. 0 when r has no centroid or a half would
  *  have fewer than 3 vertices. */

@@ -14,17 +14,25 @@
  * exact area (to the model's accuracy) whatever s is; s sets how finely shading (shadows,
  * checker squares, highlights) is sampled, as the exact renderer's s x s grid does.
  *
- * Error control, which the paper left undone ("dividing the pencil can assure image accuracy
- * though this has not been implemented yet"): after its first face a piece's linear model is
- * checked against exact tracing (Snell's law face by face along its path, bm_exact()) at its
- * vertices and the midpoints of its edges (with certified: also at every sample cell's centre
- * inside it, whose exact ray must then follow the piece's path to the piece's face exactly). The
- * distance between the model's point and the exact ray's on the face, in pixel intervals there (the
- * piece's pixel footprint), must be at most rho (Eq. 3), and the exact rays' children must be the
- * centroid's (no total internal reflection boundary inside). A piece that fails is divided in two
- * and partitioned again, up to 2 x max_split divisions along its path; past that, and for slivers
- * and beams whose model fails (grazing, a focus), each cell's share is traced exactly from the face
- * on (counted).
+ * Error control, which the paper left undone ("errors can be estimated by Eq. (4), and dividing
+ * the pencil can assure image accuracy though this has not been implemented yet"): after its
+ * first face the error of a piece's linear models (the partition's and the drawing's) over the
+ * whole piece is bounded by Eq. (4) with the corrected coefficients of the Appendix, plus the
+ * terms the second-order form leaves out (bm_model_bound()), in pixel intervals on the piece's
+ * face (Eq. 3's tolerance, the piece's pixel footprint there), and must be at most rho; a piece
+ * whose error cannot be bounded (grazing, a singular map) is traced exactly, counted. What a
+ * bound on the linear map cannot say, which face the rays meet and where the children change,
+ * is checked against exact tracing (Snell's law face by face along its path) at the piece's
+ * vertices and edge midpoints: the exact ray must meet the piece's face within rho of its edges,
+ * and its children must be the centroid's (no total internal reflection boundary inside); its
+ * distance from the models' points, which the bound covers, is compared with the bound, and a
+ * larger one is counted as a violation (evidence against the bound) and treated as a failure.
+ * With certified, every sample cell's centre inside the piece is checked too, and its exact ray
+ * must follow the piece's path to the piece's face exactly. `bound` = BT_BOUND_PROBE is the
+ * check without a bound: the probes' distances within rho, which says nothing of the interior.
+ * A piece that fails is divided in two and partitioned again, up to 2 x max_split divisions
+ * along its path; past that, and for slivers and beams whose model fails (grazing, a focus),
+ * each cell's share is traced exactly from the face on (counted).
  *
  * Curved objects are not beams' business: a scene with a sphere is refused, with the reason.
  *
@@ -38,10 +46,20 @@
 #include "core/plan.h"
 #include "core/scene.h"
 
+/** What decides whether a piece's linear model is accurate enough. */
+typedef enum {
+  BT_BOUND_CORRECTED = 0, /**< the error bound of Eqs. (4)-(6) with the corrected coefficients
+                               (bm_model_bound()) over the whole piece, <= rho */
+  BT_BOUND_PRINTED = 1,   /**< the same with the printed coefficients of A-1 (docs/errata.md) */
+  BT_BOUND_PROBE = 2      /**< no bound: the exact rays at the piece's vertices and edge
+                               midpoints, within rho (does not cover the interior) */
+} bt_bound_t;
+
 typedef struct {
   double rho;     /**< tolerance ratio of Eq. (3): model against exact, pixel intervals; > 0 */
   int max_split;  /**< a piece is divided at most 2 x max_split times along its path, 0..30 */
   int certified;  /**< 1: also check every sample cell's centre in a piece */
+  int bound;      /**< a bt_bound_t */
   int tile;       /**< pixels per side of a root beam, 1..256 */
   int exact_side; /**< e: what is traced exactly is sampled on an e x e grid a cell, 1..16 */
   int spp_side;   /**< s: s x s shading cells per pixel, 1..RT_MAX_SPP_SIDE */
@@ -54,7 +72,7 @@ typedef struct {
 } bt_options_t;
 
 #define BT_OPTIONS_DEFAULT                                                                         \
-  { 0.5, 8, 0, 16, 4, 1, 0, 1, 0, NULL, NULL }
+  { 0.5, 8, 0, BT_BOUND_CORRECTED, 16, 4, 1, 0, 1, 0, NULL, NULL }
 
 /** Bins of the Fig. 10 error histogram (as the renderer table's). */
 #define BT_HIST_BINS 256
@@ -73,7 +91,16 @@ typedef struct {
   uint64_t exact_cells; /**< cell shares traced exactly */
   uint64_t checks;      /**< exact rays traced to check models */
   double max_error;     /**< the largest checked error of an accepted piece, pixel intervals */
-  rt_stats_t rays;      /**< rays of the exact tracer: shadow rays, exact shares, aux trees */
+  /* the bound (bt_bound_t other than BT_BOUND_PROBE) */
+  uint64_t bounded;    /**< pieces whose models' error was bounded (bm_model_bound()) */
+  uint64_t unbounded;  /**< pieces whose error could not be bounded (grazing, a singular map, too
+                            wide a spread): traced exactly */
+  uint64_t violations; /**< pieces where an exact check ray strayed further than the bound said:
+                            divided as a failure, and counted as evidence against the bound */
+  double max_bound;    /**< the largest bound of an accepted piece, pixel intervals */
+  double max_ratio;    /**< the largest checked error over its piece's bound (<= 1 while the
+                            bound holds) */
+  rt_stats_t rays;     /**< rays of the exact tracer: shadow rays, exact shares, aux trees */
   /* The Fig. 10 measure (options.measure), one sample at each cell's centre: the error of every
    * point a piece's model put on a measured surface (rt_object_measured()) against the exact
    * tracer's point of the same path and primitive, |J+ e| in pixel intervals of the piece's
