@@ -233,16 +233,19 @@ px_status_t bm_model_bound(const bm_scene_t *b, const bm_source_t *src, const bm
   /* the third-order error of every transfer (the Appendix's bounds are second-order), carried
    * to the plane by the position block of what follows it */
   double third = 0.0;
-  for (size_t i = 1; i <= cas.n; i++) {
+  px_mat4_t after[2 * BM_MAX_STEPS + 1], before = px_mat4_identity(); /* T_i^a, T_i^b */
+  after[cas.n - 1] = px_mat4_identity();
+  for (size_t i = cas.n - 1; i > 0; i--)
+    after[i - 1] = px_mat4_mul(after[i], elem[i].t);
+  for (size_t i = 1; i <= cas.n; before = px_mat4_mul(elem[i - 1].t, before), i++) {
     if (elem[i - 1].kind != PX_ELEMENT_TRANSFER)
       continue;
-    px_mat4_t before = px_cascade_before(&cas, i), after = px_cascade_after(&cas, i);
     double spread = px_mat2_norm2(px_mat4_block(before, 1, 0)) * x0 +
                     px_mat2_norm2(px_mat4_block(before, 1, 1)) * xi0;
     if (!(spread <= BM_SPREAD_CAP))
       return PX_EILLCOND;
     third += BM_TRANSFER_K3 * fabs(elem[i - 1].distance) *
-             px_mat2_norm2(px_mat4_block(after, 0, 0)) * spread * spread * spread;
+             px_mat2_norm2(px_mat4_block(after[i - 1], 0, 0)) * spread * spread * spread;
   }
   out->third = third;
   out->conversion = nb * conv;

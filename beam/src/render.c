@@ -27,6 +27,10 @@
 /* A region over more cells than that which overlaps more faces than this is divided before it is
  * partitioned. */
 #define BT_CROWD 24
+/* A beam whose faces or pieces would have fewer cells each than this is traced exactly: a piece
+ * costs its model, bound, partition and a dozen check rays, more than the exact rays of a few
+ * cells (the cost against facet count, docs/journal/2026-12-03-beam-bounds.md). */
+#define BT_DENSE 4
 /* Rounding between a model's point and the exact ray's, in pixel intervals: a checked distance
  * this much over a piece's bound is not yet evidence against the bound. */
 #define BT_SLACK 1e-6
@@ -827,6 +831,15 @@ static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int spli
     exact_region(T, r, path);
     return;
   }
+  /* faces (crowded) or pieces so small against the cells that rays are cheaper */
+  int cells = (i1 - i0) * (j1 - j0);
+  if ((crowded ? nnear : pcs.n) * BT_DENSE > cells && cells > BT_FEW_CELLS) {
+    bm_pieces_free(&pcs);
+    T->st.dense++;
+    T->st.exact++;
+    exact_region(T, r, path);
+    return;
+  }
   px_poly2_t half[2];
   if (crowded && bm_halve(r, half)) { /* not a division of the error control: no split counted */
     bm_pieces_free(&pcs);
@@ -858,6 +871,7 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->pieces += from->pieces;
   to->divided += from->divided;
   to->crowded += from->crowded;
+  to->dense += from->dense;
   to->exact += from->exact;
   to->slivers += from->slivers;
   to->fragments += from->fragments;

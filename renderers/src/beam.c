@@ -81,21 +81,22 @@ static void report(FILE *f, const rn_report_t *r) {
   const bt_options_t *o = r->options;
   const rt_scene_t *s = r->scene;
   uint64_t cells = st->fragments + st->exact_cells;
-  fprintf(f,
-          "beam-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): %llu beams, %llu pieces by "
-          "their "
-          "model (%llu divided, %llu traced exactly, %llu slivers, %llu crowded beams divided); "
-          "%llu cell shares, %.2f%% "
-          "traced exactly; largest checked error %.3g pixel intervals (%llu check rays); %llu "
-          "exact rays (%llu shadow) -> %s\n",
-          s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, bound_names[o->bound],
-          o->certified ? ", certified" : "", (unsigned long long)st->beams,
-          (unsigned long long)st->pieces, (unsigned long long)st->divided,
-          (unsigned long long)st->exact, (unsigned long long)st->slivers,
-          (unsigned long long)st->crowded, (unsigned long long)cells,
-          cells ? 100.0 * st->exact_cells / cells : 0.0, st->max_error,
-          (unsigned long long)st->checks, (unsigned long long)rt_stats_total(&st->rays),
-          (unsigned long long)st->rays.shadow, r->out);
+  fprintf(
+      f,
+      "beam-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): %llu beams, %llu pieces by "
+      "their "
+      "model (%llu divided, %llu traced exactly, %llu slivers, %llu crowded beams divided, %llu "
+      "dense beams traced exactly); "
+      "%llu cell shares, %.2f%% "
+      "traced exactly; largest checked error %.3g pixel intervals (%llu check rays); %llu "
+      "exact rays (%llu shadow) -> %s\n",
+      s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, bound_names[o->bound],
+      o->certified ? ", certified" : "", (unsigned long long)st->beams,
+      (unsigned long long)st->pieces, (unsigned long long)st->divided,
+      (unsigned long long)st->exact, (unsigned long long)st->slivers,
+      (unsigned long long)st->crowded, (unsigned long long)st->dense, (unsigned long long)cells,
+      cells ? 100.0 * st->exact_cells / cells : 0.0, st->max_error, (unsigned long long)st->checks,
+      (unsigned long long)rt_stats_total(&st->rays), (unsigned long long)st->rays.shadow, r->out);
   if (o->bound != BT_BOUND_PROBE)
     fprintf(f,
             "Eq. (4) bounds: %llu pieces bounded, largest accepted bound %.3g pixel intervals; "

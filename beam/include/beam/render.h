@@ -84,6 +84,7 @@ typedef struct {
   uint64_t pieces;      /**< pieces drawn by their linear model */
   uint64_t divided;     /**< pieces divided because the model failed the checks */
   uint64_t crowded;     /**< beams divided before their partition: too many faces */
+  uint64_t dense;       /**< beams traced exactly: fewer than 4 cells a face or a piece */
   uint64_t exact;       /**< pieces and beams traced exactly per cell (past max_split, or the
                              model or the partition failed) */
   uint64_t slivers;     /**< pieces too small to model (a quarter of a cell), traced exactly */
