@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# `pencil bench beam` contracts (issue 24): --quick renders three cases (fig11, prism, sphere100)
+# with every variant, writes CASE-VARIANT.exr and .png into --out and a JSON summary whose keys
+# scripts read (cases[]: case, faces, variants[]: variant, renderer, spp, seconds, mean, p99,
+# max; equal_error: exact_seconds, bracket, exact_over_beam); the beams' image errs less than
+# exact tracing at 1 spp and the exact ladder's errors fall with samples; bad options exit 2
+# naming the option before any rendering.
+set -u
+pencil=$1
+fail=0
+py=/usr/bin/python3
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+out=$tmp/out
+
+$pencil bench beam --quick --runs 1 --threads 2 --out "$out" --json "$out/beam.json" \
+  >"$tmp/log" 2>"$tmp/err"; rc=$?
+check "bench beam --quick exits 0" "[ $rc -eq 0 ]"
+check "the table names every case" \
+  "grep -q '^fig11 ' '$tmp/log' && grep -q '^prism ' '$tmp/log' && grep -q '^sphere100 ' '$tmp/log'"
+for c in fig11 prism sphere100; do
+  for v in reference beam beam-probe exact-1 exact-64 pencil-16; do
+    check "$c-$v.exr and .png written" "[ -s '$out/$c-$v.exr' ] && [ -s '$out/$c-$v.png' ]"
+  done
+done
+check "JSON: three cases, every variant with its numbers" "$py - '$out/beam.json' <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d['benchmark'] == 'beam' and 'provenance' in d and d['quick'] is True
+assert [c['case'] for c in d['cases']] == ['fig11', 'prism', 'sphere100']
+assert [c['faces'] for c in d['cases']] == [100, 5, 100]
+for c in d['cases']:
+    v = {r['variant']: r for r in c['variants']}
+    assert set(v) == {'reference', 'beam', 'beam-probe', 'exact-1', 'exact-4', 'exact-16',
+                      'exact-64', 'pencil-16'}, set(v)
+    assert v['reference']['mean'] is None and v['reference']['spp'] == 144
+    for k, r in v.items():
+        if k != 'reference':
+            assert r['seconds'] > 0 and 0 <= r['mean'] <= r['p99'] <= r['max'], r
+    e = c['equal_error']
+    assert e['bracket'] in ('inside', 'below', 'above'), e
+    assert e['exact_seconds'] > 0 and e['exact_over_beam'] > 0, e
+PY"
+check "beams err less than exact at 1 spp; the exact ladder's errors fall" "$py - '$out/beam.json' <<'PY'
+import json, sys
+for c in json.load(open(sys.argv[1]))['cases']:
+    v = {r['variant']: r for r in c['variants']}
+    assert v['beam']['mean'] < 0.5 * v['exact-1']['mean'], c['case']
+    assert v['exact-1']['mean'] > v['exact-4']['mean'] > v['exact-16']['mean'], c['case']
+PY"
+
+$pencil bench beam --runs 0 >/dev/null 2>"$tmp/err"; rc=$?
+check "--runs 0: exit 2 naming --runs" "[ $rc -eq 2 ] && grep -q -- '--runs' '$tmp/err'"
+$pencil bench beam --rho 0 >/dev/null 2>"$tmp/err"; rc=$?
+check "--rho 0: exit 2 naming --rho" "[ $rc -eq 2 ] && grep -q -- '--rho' '$tmp/err'"
+$pencil bench beam --size 4 >/dev/null 2>"$tmp/err"; rc=$?
+check "--size 4: exit 2 naming --size" "[ $rc -eq 2 ] && grep -q -- '--size' '$tmp/err'"
+$pencil bench beam --json "$tmp" >/dev/null 2>"$tmp/err"; rc=$?
+check "--json naming a directory: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q -- '--json' '$tmp/err'"
+$pencil bench beam --scenes "$tmp/nowhere" --quick >/dev/null 2>"$tmp/err"; rc=$?
+check "--scenes without the scene: exit 2 naming the file" "[ $rc -eq 2 ] && grep -q 'fig11.json' '$tmp/err'"
+$pencil bench beam --case fig11,nope --quick >/dev/null 2>"$tmp/err"; rc=$?
+check "--case with an unknown name: exit 2 naming it" "[ $rc -eq 2 ] && grep -q -- \"--case: no case 'nope'\" '$tmp/err'"
+$pencil bench beam --case prism --quick --runs 1 --json "$tmp/one.json" >/dev/null 2>"$tmp/err"; rc=$?
+check "--case prism runs that case alone" "[ $rc -eq 0 ] && $py -c \"import json,sys; assert [c['case'] for c in json.load(open(sys.argv[1]))['cases']] == ['prism']\" '$tmp/one.json'"
+$pencil bench beam --help >"$tmp/help"; rc=$?
+check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
+echo "cli_bench_beam: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
+exit $fail
