@@ -4,15 +4,16 @@
 # scripts read (cases[]: case, faces, variants[]: variant, renderer, spp, seconds, mean, p99,
 # max; equal_error: exact_seconds, bracket, exact_over_beam); the beams' image errs less than
 # exact tracing at 1 spp and the exact ladder's errors fall with samples; bad options exit 2
-# naming the option before any rendering.
+# naming the option before any rendering. DIR (argument 2) keeps the outputs for the notebook.
 set -u
 pencil=$1
+out=${2:-}
 fail=0
 py=/usr/bin/python3
 check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-out=$tmp/out
+[ -n "$out" ] || out=$tmp/out
 
 $pencil bench beam --quick --runs 1 --threads 2 --out "$out" --json "$out/beam.json" \
   >"$tmp/log" 2>"$tmp/err"; rc=$?
@@ -24,6 +25,7 @@ for c in fig11 prism sphere100; do
     check "$c-$v.exr and .png written" "[ -s '$out/$c-$v.exr' ] && [ -s '$out/$c-$v.png' ]"
   done
 done
+check "the beams' difference maps written" "[ -s '$out/fig11-beam-diff.exr' ] && [ -s '$out/sphere100-beam-diff.exr' ]"
 check "JSON: three cases, every variant with its numbers" "$py - '$out/beam.json' <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
@@ -41,6 +43,10 @@ for c in d['cases']:
     e = c['equal_error']
     assert e['bracket'] in ('inside', 'below', 'above'), e
     assert e['exact_seconds'] > 0 and e['exact_over_beam'] > 0, e
+f = d['cases'][0]['fig10']
+assert 'fig10' not in d['cases'][1]
+assert f['default']['samples'] == 32 * 32 and 0.9 <= f['default']['within'] <= 1, f
+assert f['certified']['within'] == 1 and f['certified']['mismatches'] == 0, f
 PY"
 check "beams err less than exact at 1 spp; the exact ladder's errors fall" "$py - '$out/beam.json' <<'PY'
 import json, sys

@@ -84,6 +84,27 @@ cat >"$dir/out/caustics/caustics.json" <<'JSON'
                           "seconds": 3.256, "against": "reference", "rms": 0.005166,
                           "p99": 0.02099, "max": 0.2999}]}]}
 JSON
+mkdir -p "$dir/out/beam"
+cat >"$dir/out/beam/beam.json" <<'JSON'
+{"benchmark": "beam", "size": 256, "reference_spp": 256, "rho": 0.5, "runs": 3, "quick": false,
+ "cases": [{"case": "fig11", "what": "torus", "faces": 100, "width": 256, "height": 256,
+            "variants": [{"variant": "reference", "renderer": "exact", "spp": 256, "seconds": 16.0,
+                          "mean": null, "p99": null, "max": null},
+                         {"variant": "beam", "renderer": "beam", "spp": 1, "seconds": 1.223,
+                          "mean": 4.972e-04, "p99": 1.439e-02, "max": 2.093e-01},
+                         {"variant": "beam-probe", "renderer": "beam", "spp": 1, "seconds": 0.912,
+                          "mean": 5.199e-04, "p99": 1.5e-02, "max": 1.8e-01},
+                         {"variant": "exact-16", "renderer": "exact", "spp": 16, "seconds": 1.056,
+                          "mean": 8.398e-04, "p99": 2.1e-02, "max": 9.9e-02}],
+            "equal_error": {"exact_seconds": 1.981, "bracket": "inside", "exact_over_beam": 1.62,
+                            "exact_seconds_probe": 1.9, "bracket_probe": "inside",
+                            "exact_over_beam_probe": 2.1},
+            "beam_over_exact16": 1.158, "beam_over_pencil16": 1.072,
+            "fig10": {"default": {"samples": 65536, "within": 0.998215, "max": 0.1041,
+                                  "mismatches": 117, "seconds_measured": 3.0},
+                      "certified": {"samples": 65536, "within": 1, "max": 0.1041,
+                                    "mismatches": 0, "seconds_measured": 4.0}}}]}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -137,6 +158,8 @@ check "caustics: the pencil's row and the equal-error line" \
   "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"
 check "area: a row and the size sweep" \
   "grep -q '| 2 | quadratic | 17598702 | 9.437 | 8.38e-04 | 3.10e-03 | 3.74e-03 | -1.5e-03 |' '$page' && grep -q '| 0.50 | 1.82e-02 | 2 | 2.39e-02 | 2.14e-02 | 2.24e-02 |' '$page'"
+check "beam: a case's row and the Fig. 10 measure" \
+  "grep -q '| fig11 | 100 | 1.223 | 4.97e-04 | 1.44e-02 | 2.09e-01 | 0.912 | 5.20e-04 | 1.056 | 8.40e-04 | 1.981 (inside) | 1.62 | 1.07 |' '$page' && grep -q '| certified | 65536 | 100.0000% | 0.104 | 0 |' '$page'"
 
 rm "$dir/out/verify-bounds.json" "$dir/out/fig10-1989.log"
 echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable

@@ -233,6 +233,68 @@ static double exact_at(const result_t *ladder, double e, const char **where) {
   return NAN;
 }
 
+/* The per-pixel difference |a - b| of every channel into a new image, saved as CASE-VARIANT-diff
+ * (the map of the beams' error). */
+static int save_diff(const char *dir, const char *name, const char *variant, const rt_image_t *a,
+                     const rt_image_t *b) {
+  rt_image_t d;
+  if (rt_image_alloc(&d, a->width, a->height) != RT_OK) {
+    fprintf(stderr, "pencil bench beam: out of memory\n");
+    return -1;
+  }
+  size_t n = (size_t)a->width * a->height;
+  for (int c = RT_CH_R; c <= RT_CH_B; c++)
+    for (size_t k = 0; k < n; k++)
+      d.ch[c][k] = fabsf(a->ch[c][k] - b->ch[c][k]);
+  char v[64];
+  snprintf(v, sizeof v, "%s-diff", variant);
+  int r = save(dir, name, v, &d);
+  rt_image_free(&d);
+  return r;
+}
+
+/* The Fig. 10 measure of a beam render (one sample a pixel): the share of samples within rho, the
+ * largest finite error, path mismatches. */
+typedef struct {
+  double within, max, seconds;
+  unsigned long long measured, mismatches;
+} fig10_t;
+
+static int measure(const rt_scene_t *s, const val_beam_bench_opts_t *o, int certified, fig10_t *m) {
+  rt_plan_t plan = rt_plan_make(s, 1);
+  bt_options_t bo = BT_OPTIONS_DEFAULT;
+  bo.rho = o->rho;
+  bo.certified = certified;
+  bo.threads = o->threads;
+  bo.aux = 0;
+  bo.measure = 1;
+  rt_image_t img;
+  bt_stats_t st;
+  char why[256];
+  if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
+    return -1;
+  double t0 = val_wall_seconds();
+  rt_status_t r = bt_render(s, &plan, &bo, &img, NULL, &st, why, sizeof why);
+  m->seconds = val_wall_seconds() - t0;
+  rt_image_free(&img);
+  if (r != RT_OK || st.measured == 0) {
+    fprintf(stderr, "pencil bench beam: the measured beam render failed: %s%s%s\n", rt_strerror(r),
+            why[0] ? ": " : "", why);
+    return -1;
+  }
+  m->within = (double)st.within / (double)st.measured;
+  m->max = st.fig10_max;
+  m->measured = (unsigned long long)st.measured;
+  m->mismatches = (unsigned long long)st.mismatches;
+  return 0;
+}
+
+static json_t *fig10_json(const fig10_t *m) {
+  return json_pack("{s:I, s:f, s:f, s:I, s:f}", "samples", (json_int_t)m->measured, "within",
+                   m->within, "max", m->max, "mismatches", (json_int_t)m->mismatches,
+                   "seconds_measured", m->seconds);
+}
+
 static int faces_of(const bench_case_t *bc) {
   return bc->stacks > 0 ? bc->stacks * bc->slices : bc->stacks < 0 ? 5 : 100;
 }
@@ -266,7 +328,14 @@ static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, 
       bad = compare(&img[v], &img[V_REF], &res[v]) != 0;
     if (!bad && o->out)
       bad = save(o->out, bc->name, vs[v].name, &img[v]) != 0;
+    if (!bad && o->out && v == V_BEAM)
+      bad = save_diff(o->out, bc->name, vs[v].name, &img[v], &img[V_REF]) != 0;
   }
+  /* the paper's own case: the Fig. 10 measure, without and with certification */
+  fig10_t m10[2];
+  int with10 = bc->stacks == 0;
+  for (int k = 0; k < 2 && with10 && !bad; k++)
+    bad = measure(&s, o, k, &m10[k]) != 0;
   json_t *j = NULL;
   if (!bad) {
     const char *where = "", *where_p = "";
@@ -287,6 +356,12 @@ static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, 
               te, where, ratio, res[V_BEAM].seconds / res[V_EXACT16].seconds,
               res[V_BEAM].seconds / res[V_PENCIL16].seconds,
               res[V_BEAM].seconds / res[V_PROBE].seconds);
+      for (int k = 0; k < 2 && with10; k++)
+        fprintf(f,
+                "Fig. 10 measure%s: %.4f%% of %llu samples within rho = %g, max %.4g pixel "
+                "intervals, %llu path mismatches\n",
+                k ? " (certified)" : "", 100.0 * m10[k].within, m10[k].measured, o->rho, m10[k].max,
+                m10[k].mismatches);
       fflush(f);
     }
     json_t *rows = json_array();
@@ -305,6 +380,10 @@ static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, 
                   "exact_over_beam_probe", io_json_number(tp / res[V_PROBE].seconds),
                   "beam_over_exact16", res[V_BEAM].seconds / res[V_EXACT16].seconds,
                   "beam_over_pencil16", res[V_BEAM].seconds / res[V_PENCIL16].seconds);
+    if (j && with10)
+      json_object_set_new(j, "fig10",
+                          json_pack("{s:o, s:o}", "default", fig10_json(&m10[0]), "certified",
+                                    fig10_json(&m10[1])));
   }
   for (int v = 0; v < NVARIANTS; v++)
     rt_image_free(&img[v]);
