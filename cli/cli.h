@@ -84,5 +84,7 @@ int cmd_illuminance(int argc, char **argv);
 /** `pencil figures` and `pencil sweep` (cmd_figures.c). */
 int cmd_figures(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
+/** `pencil post` (cmd_post.c): post-processing filters, `post star`. */
+int cmd_post(int argc, char **argv);
 
 #endif

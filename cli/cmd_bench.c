@@ -13,6 +13,7 @@
 #include "io/json.h"
 #include "io/output.h"
 #include "light/illuminance.h"
+#include "post/star.h"
 #include "render/render.h"
 #include "renderers/renderer.h"
 #include "validation/area_bench.h"
@@ -24,7 +25,7 @@
 #define MAX_RUNS 101
 
 static void help_bench(FILE *f) {
-  fprintf(f, "usage: pencil bench render|pencil|illuminance|caustics|area|beam [OPTIONS]\n\n"
+  fprintf(f, "usage: pencil bench render|pencil|illuminance|caustics|area|beam|star [OPTIONS]\n\n"
              "benchmarks:\n"
              "  render       exact-tracing rays per second (Fig. 8 scene, 1,000-polygon scene)\n"
              "  pencil       pencil / exact CPU-time ratio and accuracy at 49 spp (issue 5)\n"
@@ -32,6 +33,7 @@ static void help_bench(FILE *f) {
              "  caustics     renders with caustics against a converged reference (issue 25)\n"
              "  area         area lights: meshes, plain and filtered, against the brute force\n"
              "  beam         beam tracing of polyhedra against exact and pencil at equal error\n"
+             "  star         the cross-screen filter: 512 x 512 and 4096 x 4096 HDR images\n"
              "'pencil bench NAME --help' describes each.\n");
 }
 
@@ -483,6 +485,149 @@ static int bench_beam(int argc, char **argv) {
   return val_bench_beam(&o) == 0 ? CLI_OK : CLI_USAGE;
 }
 
+static void help_star(FILE *f) {
+  fprintf(f,
+          "usage: pencil bench star [--runs N] [--sizes N[,N...]] [--threads N] [--json FILE]\n\n"
+          "The cross-screen filter (pencil post star, 1989 section 4) on synthetic HDR images:\n"
+          "a dim random background with sun-like spots 3,200 times brighter, three channels,\n"
+          "the default plate (its kernel scales with the image: the same star on the sensor).\n"
+          "For each size, with 1 thread and with N: the median wall-clock time of the runs of\n"
+          "the filter (kernel, FFTs, products; not reading or writing files), the kernel's\n"
+          "share, and the FFT grid. Targets (issue 23): 512 x 512 under 50 ms on one core,\n"
+          "4096 x 4096 under 2 s.\n\n"
+          "options:\n"
+          "  --runs N        runs per configuration, 1..101 (default 5)\n"
+          "  --sizes LIST    image sides, 16..8192 (default 512,4096)\n"
+          "  --threads N     the second configuration's threads (default: all cores)\n"
+          "  --json FILE     also write the results as JSON\n"
+          "Exit codes: 0 done; 2 usage or I/O error.\n");
+}
+
+/* A synthetic HDR plane: background in [0, 0.2), a few spots 3,200 times the background's mean. */
+static void star_plane(float *p, int side, unsigned seed) {
+  for (size_t k = 0; k < (size_t)side * side; k++) {
+    seed = seed * 1664525u + 1013904223u;
+    p[k] = 0.2f * (float)(seed >> 8) / 16777216.0f;
+  }
+  for (int s = 0; s < 12; s++) {
+    seed = seed * 1664525u + 1013904223u;
+    size_t k = (size_t)(seed >> 4) % ((size_t)side * side);
+    p[k] = 320.0f;
+  }
+}
+
+static int bench_star(int argc, char **argv) {
+  static const cli_spec_t specs[] = {
+      {"--runs", 0, 1, 1}, {"--sizes", 0, 1, 2}, {"--threads", 0, 1, 3}, {"--json", 0, 1, 4}};
+  int n, rc;
+  cli_arg_t *args = cli_args("bench star", argc, argv, specs, 4, help_star, &n, &rc);
+  if (!args)
+    return rc;
+  long runs = 5, threads = 0;
+  int sizes[8] = {512, 4096}, nsizes = 2;
+  const char *json = NULL;
+  for (int k = 0; k < n && rc == CLI_OK; k++) {
+    const cli_arg_t *g = &args[k];
+    if (!g->spec) {
+      fprintf(stderr, "pencil bench star: unexpected argument '%s'\n", g->value);
+      rc = CLI_USAGE;
+    } else if (g->spec->id == 1) {
+      rc = cli_parse_long("--runs", g->value, 1, MAX_RUNS, &runs) ? CLI_OK : CLI_USAGE;
+    } else if (g->spec->id == 2) {
+      nsizes = 0;
+      for (const char *p = g->value; *p && rc == CLI_OK;) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || (*end && *end != ',') || v < 16 || v > 8192 || nsizes == 8) {
+          fprintf(stderr, "pencil bench star: --sizes: expected up to 8 sides 16..8192, got '%s'\n",
+                  g->value);
+          rc = CLI_USAGE;
+          break;
+        }
+        sizes[nsizes++] = (int)v;
+        p = *end ? end + 1 : end;
+      }
+    } else if (g->spec->id == 3) {
+      rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
+    } else {
+      json = g->value;
+    }
+  }
+  free(args);
+  if (rc != CLI_OK)
+    return rc;
+  char err[1024], why[512];
+  if (json && io_output_check(json, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench star: --json: %s\n", err);
+    return CLI_USAGE;
+  }
+  int nt = threads > 0 ? (int)threads : rt_thread_count(0);
+  pp_star_t p = PP_STAR_DEFAULT;
+  json_t *rows = json_array();
+  printf("pencil bench star: the cross-screen filter, default plate, 3 channels, median of %ld "
+         "run(s)\n%6s %7s %10s %10s %12s\n",
+         runs, "size", "threads", "seconds", "kernel s", "kernel side");
+  for (int q = 0; q < nsizes && rc == CLI_OK; q++) {
+    int side = sizes[q];
+    size_t np = (size_t)side * side;
+    float *in[3], *out[3];
+    int ok = 1;
+    for (int c = 0; c < 3; c++) {
+      in[c] = malloc(np * sizeof(float));
+      out[c] = malloc(np * sizeof(float));
+      ok = ok && in[c] && out[c];
+      if (in[c])
+        star_plane(in[c], side, 17u + (unsigned)c);
+    }
+    for (int th = 0; th < 2 && ok; th++) {
+      int t = th ? nt : 1;
+      double tk[MAX_RUNS], ta[MAX_RUNS];
+      int kside = 0;
+      for (int r = 0; r < runs && ok; r++) {
+        pp_kernel_t k;
+        double t0 = val_wall_seconds();
+        ok = pp_star_kernel(&p, side, side, &k, why, sizeof why) == 0;
+        double t1 = val_wall_seconds();
+        ok = ok && pp_star_apply(&k, side, side, 3, (const float *const *)in, out, t, NULL, why,
+                                 sizeof why) == 0;
+        ta[r] = val_wall_seconds() - t0;
+        tk[r] = t1 - t0;
+        kside = k.side;
+        pp_kernel_free(&k);
+      }
+      if (!ok)
+        break;
+      double med = val_median(ta, (int)runs), medk = val_median(tk, (int)runs);
+      printf("%6d %7d %10.4f %10.4f %12d\n", side, t, med, medk, kside);
+      json_array_append_new(rows, json_pack("{s:i, s:i, s:f, s:f, s:i}", "size", side, "threads", t,
+                                            "seconds", med, "kernel_seconds", medk, "kernel_side",
+                                            kside));
+      if (nt == 1)
+        break;
+    }
+    if (!ok) {
+      fprintf(stderr, "pencil bench star: %s\n", why[0] ? why : "out of memory");
+      rc = CLI_USAGE;
+    }
+    for (int c = 0; c < 3; c++) {
+      free(in[c]);
+      free(out[c]);
+    }
+  }
+  if (rc == CLI_OK && json) {
+    json_t *root =
+        json_pack("{s:s, s:i, s:o}", "benchmark", "star", "runs", (int)runs, "rows", rows);
+    if (io_json_write(json, root, err, sizeof err) != 0) {
+      fprintf(stderr, "pencil bench star: %s\n", err);
+      rc = CLI_USAGE;
+    }
+    json_decref(root);
+  } else {
+    json_decref(rows);
+  }
+  return rc;
+}
+
 int cmd_bench(int argc, char **argv) {
   if (argc < 2 || cli_is_help(argv[1])) {
     help_bench(argc < 2 ? stderr : stdout);
@@ -498,11 +643,13 @@ int cmd_bench(int argc, char **argv) {
     return bench_area(argc - 1, argv + 1);
   if (strcmp(argv[1], "beam") == 0)
     return bench_beam(argc - 1, argv + 1);
+  if (strcmp(argv[1], "star") == 0)
+    return bench_star(argc - 1, argv + 1);
   if (strcmp(argv[1], "render") != 0) {
     fprintf(
         stderr,
         "pencil bench: unknown benchmark '%s' (available: render, pencil, illuminance, caustics, "
-        "area, beam)\n",
+        "area, beam, star)\n",
         argv[1]);
     return CLI_USAGE;
   }

@@ -7,6 +7,7 @@
 #include "validation/bounds.h"
 #include "validation/illuminance.h"
 #include "validation/stability.h"
+#include "validation/star.h"
 #include "validation/verify.h"
 
 static void help(FILE *f) {
@@ -16,7 +17,8 @@ static void help(FILE *f) {
       "       pencil verify bounds [--json FILE] [--csv DIR] [--quick] [--no-fit] [--threads N]\n"
       "       pencil verify stability [--samples N] [--seed S] [--json FILE] [--threads N]\n"
       "                               [--quick]\n"
-      "       pencil verify illuminance [--json FILE] [--csv FILE] [--quick]\n\n"
+      "       pencil verify illuminance [--json FILE] [--csv FILE] [--quick]\n"
+      "       pencil verify star [--json FILE] [--csv FILE] [--quick]\n\n"
       "matrices  compare every system matrix (transfer Eq. 1, refraction Eq. 2, reflection,\n"
       "          cascades) of a sweep of > 2,000 systems with the Jacobian of exact\n"
       "          Snell-law tracing in __float128; prints a summary table per family and\n"
@@ -43,7 +45,12 @@ static void help(FILE *f) {
       "          traced rays cover on the receiver, __float128 differences) for every system\n"
       "          of the matrix sweep with both sources and receivers at 0 to 89.9 degrees,\n"
       "          and receivers approaching caustics; the 1989 Eq. (1)'s factor n1/n2 as\n"
-      "          printed, and the flux it puts on a pool's floor (docs/errata.md, E4).\n\n"
+      "          printed, and the flux it puts on a pool's floor (docs/errata.md, E4).\n"
+      "star      the cross-screen filter's linearisation (1989 Eq. 16: a normal N lands at\n"
+      "          (n - 1) d N) against a plate simulated by exact refraction at both faces:\n"
+      "          first-order agreement, the slopes where it errs by 1%% and 10%%, total\n"
+      "          internal reflection, and the star's profile for plates of fine to coarse\n"
+      "          scratches (docs/star.md).\n\n"
       "options:\n"
       "  --json FILE   write the summary {\"systems\", \"worst_relative_error\", \"failures\", "
       "...}\n"
@@ -169,10 +176,11 @@ int cmd_verify(int argc, char **argv) {
   if (strcmp(argv[1], "stability") == 0)
     return run_stability(argc, argv);
   int bounds = strcmp(argv[1], "bounds") == 0, illum = strcmp(argv[1], "illuminance") == 0;
-  if (!bounds && !illum && strcmp(argv[1], "matrices") != 0) {
+  int star = strcmp(argv[1], "star") == 0;
+  if (!bounds && !illum && !star && strcmp(argv[1], "matrices") != 0) {
     fprintf(stderr,
             "pencil verify: unknown verification '%s' (try: matrices, bounds, stability, "
-            "illuminance)\n",
+            "illuminance, star)\n",
             argv[1]);
     return CLI_USAGE;
   }
@@ -188,6 +196,9 @@ int cmd_verify(int argc, char **argv) {
       o.progress_ctx = (void *)"verifying bounds";
     }
     r = val_verify_bounds(&o);
+  } else if (star) { /* issue 23: validation/src/verify_star.c */
+    val_star_opts_t o = {a.quick, a.json, a.csv, stdout};
+    r = val_verify_star(&o);
   } else if (illum) {
     val_illum_opts_t o = {a.quick, a.json, a.csv, stdout};
     r = val_verify_illuminance(&o);

@@ -23,6 +23,7 @@ static const command_t commands[] = {
      "illuminance map of a receiver: grid-pencil tracing or photon counting (1989 section 2)"},
     {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep"},
     {"sweep", cmd_sweep, "time ratio and errors of the pencil renderer against rho"},
+    {"post", cmd_post, "post-processing of HDR images: the cross-screen (star) filter (1989)"},
 };
 
 static void usage(FILE *f) {

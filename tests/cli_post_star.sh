@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# `pencil post star` and `pencil verify star` contracts (issue 23): a synthetic HDR image with a
+# spot 3,200 times its background is filtered into OUT.exr (R, G, B), OUT.png and OUT.json (flux
+# kept, kernel, parameters); the star lies along its rays; bad input (not an EXR, a missing
+# channel, NaN or negative pixels, a directory, a kernel larger than the image, n <= 1, the
+# input as output) exits 2 naming the cause, and nothing is written. `verify star --quick`
+# passes and writes its JSON.
+set -u
+pencil=$1
+fail=0
+py=/usr/bin/python3
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+$py - "$tmp" <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+d = sys.argv[1]
+def write(name, arr, chans):
+    spec = oiio.ImageSpec(arr.shape[1], arr.shape[0], len(chans), "float")
+    spec.channelnames = tuple(chans)
+    out = oiio.ImageOutput.create(f"{d}/{name}")
+    out.open(f"{d}/{name}", spec)
+    out.write_image(arr.astype(np.float32))
+    out.close()
+rng = np.random.default_rng(7)
+img = (0.1 * rng.random((96, 128, 3))).astype(np.float32)
+img[48, 64, :] = 320.0
+write("in.exr", img, ("R", "G", "B"))
+write("grey.exr", img[:, :, :1], ("Y",))
+bad = img.copy(); bad[5, 7, 1] = np.nan; write("nan.exr", bad, ("R", "G", "B"))
+neg = img.copy(); neg[9, 3, 2] = -1.0; write("neg.exr", neg, ("R", "G", "B"))
+PY
+[ -s "$tmp/in.exr" ] || { echo "FAIL: could not write the test image"; exit 1; }
+
+$pencil post star "$tmp/in.exr" -o "$tmp/out.exr" --sigma 0.01,0.04 >"$tmp/log" 2>"$tmp/err"; rc=$?
+check "post star exits 0" "[ $rc -eq 0 ]"
+check "OUT.exr, OUT.png and OUT.json written" "[ -s '$tmp/out.exr' ] && [ -s '$tmp/out.png' ] && [ -s '$tmp/out.json' ]"
+check "JSON: flux kept, kernel and parameters" "$py - '$tmp/out.json' <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d['filter'] == 'star' and d['width'] == 128 and d['height'] == 96 and 'provenance' in d
+assert d['parameters']['ratio'] == 0.07 and d['parameters']['sigma2'] == 0.04
+assert d['kernel']['side'] == 2 * d['kernel']['radius'] + 1 <= 96
+for c in 'RGB':
+    f = d['flux'][c]
+    assert abs(f['full'] - f['in']) <= 1e-9 * f['in'], f
+    assert 0.99 * f['in'] < f['frame'] <= f['in'] * (1 + 1e-9), f
+PY"
+check "the star: light along its rays, not between them; the image otherwise kept" "$py - '$tmp' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+d = sys.argv[1]
+def read(p):
+    b = oiio.ImageBuf(p); return b.get_pixels(oiio.FLOAT)[:, :, :3]
+a, b = read(f'{d}/in.exr'), read(f'{d}/out.exr')
+assert b.shape == a.shape
+e = b - a   # the light the filter moved
+diag = np.mean([e[48 - t, 64 + t, 0] + e[48 + t, 64 + t, 0] for t in range(4, 12)])
+axis = np.mean([e[48, 64 + t, 0] + e[48 - t, 64, 0] for t in range(4, 12)])
+assert diag > 0.03 and diag > 10 * abs(axis), (diag, axis)   # an X: rays at 45 degrees
+assert abs(b.sum() / a.sum() - 1) < 0.01
+assert b[48, 64, 0] < a[48, 64, 0] and b[48, 64, 0] > 0.9 * a[48, 64, 0]
+PY"
+
+nothing() { [ ! -e "$tmp/x.exr" ] && [ ! -e "$tmp/x.png" ] && [ ! -e "$tmp/x.json" ]; }
+echo "not an image" >"$tmp/text.exr"
+$pencil post star "$tmp/text.exr" -o "$tmp/x.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "not an EXR: exit 2 naming the file, nothing written" "[ $rc -eq 2 ] && grep -q 'text.exr' '$tmp/err' && nothing"
+$pencil post star "$tmp/grey.exr" -o "$tmp/x.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a missing channel: exit 2 naming it" "[ $rc -eq 2 ] && grep -q \"no channel 'R'\" '$tmp/err' && nothing"
+$pencil post star "$tmp/nan.exr" -o "$tmp/x.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a NaN pixel: exit 2 naming channel and pixel" "[ $rc -eq 2 ] && grep -q 'channel G, pixel (7, 5)' '$tmp/err' && nothing"
+$pencil post star "$tmp/neg.exr" -o "$tmp/x.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a negative pixel: exit 2 naming channel and pixel" "[ $rc -eq 2 ] && grep -q 'channel B, pixel (3, 9)' '$tmp/err' && nothing"
+$pencil post star "$tmp" -o "$tmp/x.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a directory: exit 2, not a regular file" "[ $rc -eq 2 ] && grep -q 'not a regular file' '$tmp/err' && nothing"
+$pencil post star "$tmp/in.exr" -o "$tmp/x.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a kernel larger than the image: exit 2 with its size" "[ $rc -eq 2 ] && grep -q 'larger than the image' '$tmp/err' && nothing"
+$pencil post star "$tmp/in.exr" -o "$tmp/x.exr" --ior 1 >/dev/null 2>"$tmp/err"; rc=$?
+check "--ior 1: exit 2 naming --ior" "[ $rc -eq 2 ] && grep -q -- '--ior' '$tmp/err' && nothing"
+$pencil post star "$tmp/in.exr" -o "$tmp/in.exr" --sigma 0.01,0.04 >/dev/null 2>"$tmp/err"; rc=$?
+check "the input as output: exit 2, the input kept" "[ $rc -eq 2 ] && cmp -s '$tmp/in.exr' <(cat '$tmp/in.exr') && [ ! -e '$tmp/in.png' ]"
+$pencil post star "$tmp/in.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "no -o: exit 2" "[ $rc -eq 2 ] && grep -q -- '-o OUT.exr is required' '$tmp/err'"
+$pencil post star --help >"$tmp/help"; rc=$?
+check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
+
+$pencil verify star --quick --json "$tmp/v.json" --csv "$tmp/v.csv" >"$tmp/vlog"; rc=$?
+check "verify star --quick passes" "[ $rc -eq 0 ] && grep -q 'agrees with exact refraction to first order' '$tmp/vlog'"
+check "verify star JSON and CSV" "$py - '$tmp/v.json' '$tmp/v.csv' <<'PY'
+import json, sys, csv
+d = json.load(open(sys.argv[1]))
+assert d['pass'] is True and len(d['slopes']) == 6 and len(d['profiles']) == 2
+for r in d['slopes']:
+    assert r['relative_error_at_1e-4'] < 1e-6 and r['sign'] == '-N'
+    assert 0.1 < r['slope_at_1pct'] < r['slope_at_10pct'] < 1
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == 6 * 25
+PY"
+echo "cli_post_star: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
+exit $fail
