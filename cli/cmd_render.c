@@ -15,6 +15,7 @@
 #include "io/image_io.h"
 #include "io/output.h"
 #include "light/illuminance.h"
+#include "post/star.h"
 #include "renderers/renderer.h"
 #include "validation/timing.h"
 
@@ -27,6 +28,7 @@ enum {
   OPT_NO_AUX,
   OPT_EXPLAIN,
   OPT_MEASURE,
+  OPT_STAR,
   OPT_MAX_MEMORY,
   OPT_CAUSTIC_METHOD,
   OPT_CAUSTIC_RAYS,
@@ -42,6 +44,7 @@ static const cli_spec_t common[] = {{"--output", 'o', 1, OPT_OUTPUT},
                                     {"--no-aux", 0, 0, OPT_NO_AUX},
                                     {"--explain", 0, 0, OPT_EXPLAIN},
                                     {"--measure", 0, 0, OPT_MEASURE},
+                                    {"--star", 0, 0, OPT_STAR},
                                     {"--max-memory", 0, 1, OPT_MAX_MEMORY},
                                     {"--caustic-method", 0, 1, OPT_CAUSTIC_METHOD},
                                     {"--caustic-rays", 0, 1, OPT_CAUSTIC_RAYS},
@@ -79,6 +82,11 @@ static void help(FILE *f, const rn_renderer_t *r) {
       "                        print the Fig. 10 error statistics (points on surfaces with a\n"
       "                        diffuse term: Fig. 8's board)\n"
       "  --explain             print the effects plan (which effects run and why)\n"
+      "  --star                apply the cross-screen (star) filter after rendering, with\n"
+      "                        the scene's \"post\": {\"star\"} parameters or the defaults\n"
+      "                        (1989 section 4, docs/star.md): R, G, B filtered, the\n"
+      "                        unfiltered image kept as channels unfiltered.R, .G, .B, the\n"
+      "                        PNG through the display curve phi\n"
       "  --max-memory SIZE     refuse a render whose image, working buffers and caustic\n"
       "                        maps need more than SIZE (512M, 8G; default: the memory\n"
       "                        available now)\n"
@@ -105,7 +113,7 @@ static void help(FILE *f, const rn_renderer_t *r) {
 typedef struct {
   const char *scene, *out;
   long spp, threads, width, height;
-  int explain, no_aux, measure;
+  int explain, no_aux, measure, star;
   long caustic_method, caustic_rays, caustic_cells; /**< 0: the renderer's default */
   size_t max_memory; /**< refuse a render needing more (bytes); 0: the memory available */
   const rn_renderer_t *r;
@@ -178,6 +186,8 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return a->no_aux = 1;
   case OPT_EXPLAIN:
     return a->explain = 1;
+  case OPT_STAR:
+    return a->star = 1;
   case OPT_MAX_MEMORY:
     if (!io_parse_size(g->value, &a->max_memory))
       return fprintf(stderr,
@@ -262,12 +272,58 @@ static void explain(FILE *f, const rt_plan_t *p, const char *scene) {
           p->tree_nodes);
 }
 
-static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
+/* The star filter's parameters of the scene (post/star.h). */
+static pp_star_t star_params(const rt_star_t *st) {
+  return (pp_star_t){st->directions, st->angle_deg, st->ratio,    st->sigma1,  st->sigma2,
+                     st->weight2,    st->ior,       st->focal_mm, st->frame_mm};
+}
+
+/* After rendering: the star filter on img's R, G, B in place (kernel k), the unfiltered planes
+ * into unf[3] and the preview through the display curve into prev. 0 after a message. */
+static int apply_star(const rt_scene_t *s, const pp_kernel_t *k, int threads, rt_image_t *img,
+                      float *unf[3], rt_image_t *prev) {
+  int w = img->width, h = img->height;
+  size_t n = (size_t)w * (size_t)h;
+  char why[512];
+  if (rt_image_alloc(prev, w, h) != RT_OK) {
+    fprintf(stderr, "pencil render: out of memory for the star filter\n");
+    return 0;
+  }
+  for (int c = 0; c < 3; c++) {
+    if (!(unf[c] = malloc(n * sizeof(float)))) {
+      fprintf(stderr, "pencil render: out of memory for the star filter\n");
+      return 0;
+    }
+    memcpy(unf[c], img->ch[RT_CH_R + c], n * sizeof(float));
+  }
+  float *planes[3] = {img->ch[RT_CH_R], img->ch[RT_CH_G], img->ch[RT_CH_B]};
+  pp_star_flux_t fl[3];
+  double t0 = val_wall_seconds();
+  if (pp_star_apply(k, w, h, 3, (const float *const *)unf, planes, threads, fl, why, sizeof why) !=
+      0) {
+    fprintf(stderr, "pencil render: star filter: %s\n", why);
+    return 0;
+  }
+  for (int c = 0; c < 3; c++)
+    for (size_t q = 0; q < n; q++)
+      prev->ch[RT_CH_R + c][q] = pp_tone(planes[c][q], s->star.exposure, s->star.white);
+  printf("star filter: kernel %d x %d (%.4g pixels a unit of slope), %.3f s; %.6f of the light "
+         "stayed in the frame (R), the rest was carried beyond it\n",
+         k->side, k->side, k->scale, val_wall_seconds() - t0,
+         fl[0].in > 0.0 ? fl[0].frame / fl[0].in : 1.0);
+  return 1;
+}
+
+/* The image and its preview; `more` channels after the renderer's (the star filter's
+ * unfiltered planes), the preview from `prev` when not NULL. */
+static int write_outputs(const args_t *a, const rn_output_t *o, int spp,
+                         const io_exr_channel_t *more, int nmore, const rt_image_t *prev,
+                         const char *star) {
   char err[1024];
   rn_attr_t ra[RN_MAX_ATTRS];
-  io_attr_t attrs[4 + RN_MAX_ATTRS];
+  io_attr_t attrs[5 + RN_MAX_ATTRS];
   char cbuf[160];
-  io_exr_channel_t ch[RN_MAX_CHANNELS];
+  io_exr_channel_t ch[RN_MAX_CHANNELS + 3];
   char sppbuf[16];
   snprintf(sppbuf, sizeof sppbuf, "%d", spp);
   int na = 0, nr = a->r->describe(a->opt, ra);
@@ -282,9 +338,15 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp) {
              c->method, c->rays, c->cells, 100.0 * c->outside);
     attrs[na++] = (io_attr_t){"pencil:caustics", cbuf};
   }
+  if (star)
+    attrs[na++] = (io_attr_t){"pencil:star", star};
+  int nch = 0;
   for (int k = 0; k < a->r->nchannels; k++)
-    ch[k] = (io_exr_channel_t){a->r->channels[k], o->channels[k]};
-  if (io_render_write(a->out, o->image, ch, a->r->nchannels, attrs, na, err, sizeof err) != 0)
+    ch[nch++] = (io_exr_channel_t){a->r->channels[k], o->channels[k]};
+  for (int k = 0; k < nmore && nch < RN_MAX_CHANNELS + 3; k++)
+    ch[nch++] = more[k];
+  if (io_render_write_preview(a->out, o->image, ch, nch, attrs, na, prev ? prev : o->image, err,
+                              sizeof err) != 0)
     return fprintf(stderr, "pencil render: %s\n", err), 0;
   return 1;
 }
@@ -323,7 +385,31 @@ static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *pl
 
 static int render(const args_t *a, rt_scene_t *s) {
   int spp = a->spp > 0 ? (int)a->spp : s->spp;
+  if (a->star && !s->star.on) { /* --star: the defaults */
+    pp_star_t d = PP_STAR_DEFAULT;
+    s->star = (rt_star_t){1,         d.directions, d.angle_deg, d.ratio,    d.sigma1, d.sigma2,
+                          d.weight2, d.ior,        d.focal_mm,  d.frame_mm, 1.0,      4.0};
+  }
   rt_plan_t plan = rt_plan_make(s, spp);
+  /* the star filter's kernel before a long render: a plate too coarse for the image is a scene
+   * error found now */
+  pp_kernel_t kernel;
+  memset(&kernel, 0, sizeof kernel);
+  char kwhy[512], star_attr[256] = "";
+  if (rt_plan_has(&plan, RT_EFFECT_STAR_FILTER)) {
+    pp_star_t sp = star_params(&s->star);
+    int w = s->camera.width, h = s->camera.height;
+    if (pp_star_kernel(&sp, w, w < h ? w : h, &kernel, kwhy, sizeof kwhy) != 0) {
+      fprintf(stderr, "pencil render: %s: \"post\": \"star\": %s\n",
+              a->scene ? a->scene : "the built-in scene", kwhy);
+      return CLI_USAGE;
+    }
+    snprintf(star_attr, sizeof star_attr,
+             "directions %d, angle %g deg, ratio %g, sigma %g,%g rad, weight2 %g, ior %g, focal %g "
+             "mm, frame %g mm",
+             sp.directions, sp.angle_deg, sp.ratio, sp.sigma1, sp.sigma2, sp.weight2, sp.ior,
+             sp.focal_mm, sp.frame_mm);
+  }
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = (int)lrint(sqrt(spp));
   c.threads = (int)a->threads;
@@ -334,19 +420,24 @@ static int render(const args_t *a, rt_scene_t *s) {
   c.caustic_method = (int)a->caustic_method;
   c.caustic_rays = (int)a->caustic_rays;
   c.caustic_cells = (int)a->caustic_cells;
-  if (a->out && !memory_fits(a, s, &plan, &c))
+  if (a->out && !memory_fits(a, s, &plan, &c)) {
+    pp_kernel_free(&kernel);
     return CLI_USAGE;
+  }
   if (rt_plan_has(&plan, RT_EFFECT_CAUSTICS) && a->caustic_method) {
     char why[256];
     if (lt_method_check(s, (lt_method_t)(a->caustic_method - 1), why, sizeof why) != RT_OK) {
       fprintf(stderr, "pencil render: --caustic-method: %s\n", why);
+      pp_kernel_free(&kernel);
       return CLI_USAGE;
     }
   }
   if (a->explain)
     explain(stdout, &plan, a->scene ? a->scene : "the built-in Fig. 8 scene");
-  if (!a->out)
+  if (!a->out) {
+    pp_kernel_free(&kernel);
     return CLI_OK;
+  }
   rt_image_t img;
   rn_caustic_stats_t caustics;
   rn_output_t out = {.image = &img, .caustics = &caustics};
@@ -355,12 +446,14 @@ static int render(const args_t *a, rt_scene_t *s) {
     free(stats);
     fprintf(stderr, "pencil render: cannot allocate a %dx%d image\n", s->camera.width,
             s->camera.height);
+    pp_kernel_free(&kernel);
     return CLI_FAIL;
   }
   if (rn_channels_alloc(a->r, s->camera.width, s->camera.height, &out) != RT_OK) {
     free(stats);
     rt_image_free(&img);
     fprintf(stderr, "pencil render: out of memory\n");
+    pp_kernel_free(&kernel);
     return CLI_FAIL;
   }
   out.stats = stats;
@@ -375,7 +468,20 @@ static int render(const args_t *a, rt_scene_t *s) {
             a->r->name, "RGB"[pc], px, py);
     ok = 0;
   }
-  ok = ok && write_outputs(a, &out, spp);
+  float *unf[3] = {NULL, NULL, NULL};
+  rt_image_t prev;
+  memset(&prev, 0, sizeof prev);
+  int star = ok && rt_plan_has(&plan, RT_EFFECT_STAR_FILTER);
+  if (star)
+    ok = apply_star(s, &kernel, c.threads > 0 ? c.threads : rt_thread_count(0), &img, unf, &prev);
+  io_exr_channel_t more[3] = {
+      {"unfiltered.R", unf[0]}, {"unfiltered.G", unf[1]}, {"unfiltered.B", unf[2]}};
+  ok = ok && write_outputs(a, &out, spp, more, star ? 3 : 0, star ? &prev : NULL,
+                           star ? star_attr : NULL);
+  for (int k = 0; k < 3; k++)
+    free(unf[k]);
+  rt_image_free(&prev);
+  pp_kernel_free(&kernel);
   /* a renderer that refuses the scene with a reason (beams and a sphere) is a scene error */
   int refused = rs == RT_EINVAL && out.why[0];
   if (refused)

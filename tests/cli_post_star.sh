@@ -4,9 +4,14 @@
 # kept, kernel, parameters); the star lies along its rays; bad input (not an EXR, a missing
 # channel, NaN or negative pixels, a directory, a kernel larger than the image, n <= 1, the
 # input as output) exits 2 naming the cause, and nothing is written. `verify star --quick`
-# passes and writes its JSON.
+# passes and writes its JSON. `pencil render` with the scene's "post": {"star"} (the glints scene)
+# or --star filters R, G, B and keeps the unfiltered image; a bad "star" key or a plate too coarse
+# for the image is a scene error found before rendering. DIR (argument 3; argument 2 is the source
+# tree) keeps the glints render and the verification for the notebook.
 set -u
 pencil=$1
+src=$2
+keep=${3:-}
 fail=0
 py=/usr/bin/python3
 check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
@@ -97,5 +102,36 @@ for r in d['slopes']:
 rows = list(csv.DictReader(open(sys.argv[2])))
 assert len(rows) == 6 * 25
 PY"
+[ -n "$keep" ] || keep=$tmp/keep
+mkdir -p "$keep"
+$pencil render "$src/scenes/glints.json" --size 96x96 --spp 1 -o "$keep/glints.exr" >"$tmp/rlog" 2>"$tmp/err"; rc=$?
+check "render glints.json: exit 0, the star filter reported" "[ $rc -eq 0 ] && grep -q '^star filter: kernel' '$tmp/rlog' && [ -s '$keep/glints.png' ]"
+check "the render: R, G, B filtered, unfiltered.R/G/B kept, flux kept to what left the frame" "$py - '$keep/glints.exr' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+b = oiio.ImageBuf(sys.argv[1]); n = list(b.spec().channelnames); a = b.get_pixels(oiio.FLOAT)
+assert all(('unfiltered.' + c) in n for c in 'RGB'), n
+after = a[:, :, [n.index(c) for c in 'RGB']]; before = a[:, :, [n.index('unfiltered.' + c) for c in 'RGB']]
+assert before.max() > 100 and after.max() < before.max()   # sun glints, spread into stars
+r = after.sum() / before.sum()
+assert 0.95 < r <= 1 + 1e-6, r
+assert oiio.ImageInput.open(sys.argv[1]).spec().get_string_attribute('pencil:star').startswith('directions 2')
+PY"
+$pencil render --star --size 32x32 --spp 1 --no-aux -o "$tmp/f8.exr" >"$tmp/rlog" 2>&1; rc=$?
+check "--star on a scene without it: the defaults" "[ $rc -eq 0 ] && grep -q '^star filter' '$tmp/rlog'"
+$pencil render --size 32x32 --explain >"$tmp/plan" 2>&1
+check "--explain without it: off, and why" "grep -q 'star-filter    off: the scene does not ask for it' '$tmp/plan'"
+$py - "$src/scenes/fig11.json" "$tmp" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["post"] = {"star": {"ior": 1}}
+json.dump(s, open(sys.argv[2] + "/bad_ior.json", "w"))
+s["post"] = {"star": {"sigma": [0.02, 5]}}
+json.dump(s, open(sys.argv[2] + "/coarse.json", "w"))
+PY
+$pencil render "$tmp/bad_ior.json" -o "$tmp/y.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a bad star key: exit 2 naming post.star.ior" "[ $rc -eq 2 ] && grep -q 'post.star.ior' '$tmp/err' && [ ! -e '$tmp/y.exr' ]"
+$pencil render "$tmp/coarse.json" -o "$tmp/y.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a plate too coarse for the image: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q 'larger than the image' '$tmp/err' && [ ! -e '$tmp/y.exr' ]"
+$pencil verify star --quick --json "$keep/verify-star.json" --csv "$keep/verify-star.csv" >/dev/null
 echo "cli_post_star: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
 exit $fail

@@ -105,6 +105,18 @@ cat >"$dir/out/beam/beam.json" <<'JSON'
                       "certified": {"samples": 65536, "within": 1, "max": 0.1041,
                                     "mismatches": 0, "seconds_measured": 4.0}}}]}
 JSON
+mkdir -p "$dir/out/star"
+cat >"$dir/out/star/verify-star.json" <<'JSON'
+{"verification": "star", "focal_mm": 50, "pass": true,
+ "slopes": [{"n": 1.5, "phi_deg": 0, "relative_error_at_1e-4": 4.58e-09, "sign": "-N",
+             "slope_at_1pct": 0.1482, "slope_at_10pct": 0.482, "tir_from_slope": null, "pass": true}],
+ "profiles": [{"sigma1": 0.02, "sigma2": 0.1, "weight2": 0.5, "tv_distance": 3.528e-3,
+               "rms_exact_mm": 1.8, "rms_linear_mm": 1.78, "rms_ratio": 1.01286, "lost_to_tir": 0}]}
+JSON
+cat >"$dir/out/star/bench-star.json" <<'JSON'
+{"benchmark": "star", "runs": 5, "rows": [{"size": 512, "threads": 1, "seconds": 0.0412,
+ "kernel_seconds": 0.0011, "kernel_side": 381}]}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -160,6 +172,8 @@ check "area: a row and the size sweep" \
   "grep -q '| 2 | quadratic | 17598702 | 9.437 | 8.38e-04 | 3.10e-03 | 3.74e-03 | -1.5e-03 |' '$page' && grep -q '| 0.50 | 1.82e-02 | 2 | 2.39e-02 | 2.14e-02 | 2.24e-02 |' '$page'"
 check "beam: a case's row and the Fig. 10 measure" \
   "grep -q '| fig11 | 100 | 1.223 | 4.97e-04 | 1.44e-02 | 2.09e-01 | 0.912 | 5.20e-04 | 1.056 | 8.40e-04 | 1.981 (inside) | 1.62 | 1.07 |' '$page' && grep -q '| certified | 65536 | 100.0000% | 0.104 | 0 |' '$page'"
+check "star: a slope row, a profile row and the bench row" \
+  "grep -q '| 1.5 | 0 | 4.58e-09 | -N | 0.1482 | 0.482 | - |' '$page' && grep -q '| 0.02, 0.1 | 3.53e-03 | 1.0129 | 0.00e+00 |' '$page' && grep -q '| 512 | 1 | 0.0412 | 0.0011 | 381 |' '$page'"
 
 rm "$dir/out/verify-bounds.json" "$dir/out/fig10-1989.log"
 echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable

@@ -167,8 +167,15 @@ rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
   plan_caustics(&p, s);
   for (int l = 0; l < s->nlight; l++)
     p.area_lights |= s->light[l].kind == RT_LIGHT_AREA;
-  for (int e = RT_EFFECT_DISPERSION; e <= RT_EFFECT_STAR_FILTER; e++)
-    set(&p, (rt_effect_t)e, 0, "off: not implemented by this renderer yet");
+  set(&p, RT_EFFECT_DISPERSION, 0, "off: not implemented by this renderer yet");
+  if (s->star.on)
+    set(&p, RT_EFFECT_STAR_FILTER, 1,
+        "on: a cross-screen filter of %d scratch direction(s), B = %g, slopes %g and %g, after "
+        "rendering (1989 section 4)",
+        s->star.directions, s->star.ratio, s->star.sigma1, s->star.sigma2);
+  else
+    set(&p, RT_EFFECT_STAR_FILTER, 0,
+        "off: the scene does not ask for it (\"post\": {\"star\": {...}} or --star)");
   int secondary = rt_plan_has(&p, RT_EFFECT_REFLECTION) || rt_plan_has(&p, RT_EFFECT_REFRACTION);
   p.max_depth = secondary ? s->max_depth : 0;
   p.tree_nodes = tree_bound(&p);

@@ -76,6 +76,12 @@ int io_render_check(const char *exr_path, char *err, size_t cap) {
 
 int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_channel_t *extra,
                     int nextra, const io_attr_t *attrs, int nattrs, char *err, size_t cap) {
+  return io_render_write_preview(exr_path, img, extra, nextra, attrs, nattrs, img, err, cap);
+}
+
+int io_render_write_preview(const char *exr_path, const rt_image_t *img,
+                            const io_exr_channel_t *extra, int nextra, const io_attr_t *attrs,
+                            int nattrs, const rt_image_t *preview, char *err, size_t cap) {
   char png[4096];
   io_atomic_t ae, ap;
   if (io_render_check(exr_path, err, cap) != 0 || !io_png_path_for(exr_path, png, sizeof png))
@@ -87,7 +93,7 @@ int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_ch
     return -1;
   }
   int ok = io_exr_write_file(ae.tmp, exr_path, img, extra, nextra, attrs, nattrs, err, cap) == 0 &&
-           io_png_write_file(ap.tmp, png, img, err, cap) == 0;
+           io_png_write_file(ap.tmp, png, preview, err, cap) == 0;
   ok = ok && io_atomic_commit(&ae, err, cap) == 0 && io_atomic_commit(&ap, err, cap) == 0;
   io_atomic_abort(&ae); /* no-ops after a commit */
   io_atomic_abort(&ap);

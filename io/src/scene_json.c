@@ -9,6 +9,7 @@
 #include "core/camera.h"
 #include "io/scene_json.h"
 #include "parse.h"
+#include "post/star.h"
 
 static int parse_camera(io_parse_t *P, json_t *c) {
   static const char *const keys[] = {"eye", "look_at", "up", "fov", "width", "height", NULL};
@@ -187,19 +188,69 @@ static int parse_lights(io_parse_t *P, json_t *arr) {
   return ok;
 }
 
+/* "post": {"star": {...}}: the cross-screen filter after rendering (docs/star.md); absent keys
+ * take post/star.h's defaults. */
+static int parse_post(io_parse_t *P, json_t *o) {
+  static const char *const keys[] = {"star", NULL};
+  static const char *const star_keys[] = {"directions", "angle", "ratio", "sigma",
+                                          "weight2",    "ior",   "focal", "frame",
+                                          "exposure",   "white", NULL};
+  json_t *st;
+  io_push_key(P, "post");
+  int ok = io_check_keys(P, o, keys) && io_get_object(P, o, "star", 0, &st);
+  if (ok && st) {
+    pp_star_t d = PP_STAR_DEFAULT;
+    rt_star_t *r = &P->scene->star;
+    io_push_key(P, "star");
+    r->on = 1;
+    r->sigma1 = d.sigma1;
+    r->sigma2 = d.sigma2;
+    ok = io_check_keys(P, st, star_keys) &&
+         io_get_int(P, st, "directions", 0, d.directions, 1, 16, &r->directions) &&
+         io_get_number(P, st, "angle", 0, d.angle_deg, -360.0, 360.0, 0, &r->angle_deg) &&
+         io_get_number(P, st, "ratio", 0, d.ratio, 0.0, 0.999999, 0, &r->ratio) &&
+         io_get_number(P, st, "weight2", 0, d.weight2, 0.0, 1.0, 0, &r->weight2) &&
+         io_get_number(P, st, "ior", 0, d.ior, 1.0, 10.0, 1, &r->ior) &&
+         io_get_number(P, st, "focal", 0, d.focal_mm, 0.0, 1e5, 1, &r->focal_mm) &&
+         io_get_number(P, st, "frame", 0, d.frame_mm, 0.0, 1e5, 1, &r->frame_mm) &&
+         io_get_number(P, st, "exposure", 0, 1.0, 0.0, 1e12, 1, &r->exposure) &&
+         io_get_number(P, st, "white", 0, 4.0, 0.0, 1e12, 1, &r->white);
+    json_t *sg;
+    if (ok && (sg = json_object_get(st, "sigma")) != NULL) {
+      io_push_key(P, "sigma");
+      double a = json_number_value(json_array_get(sg, 0)),
+             b = json_number_value(json_array_get(sg, 1));
+      if (!json_is_array(sg) || json_array_size(sg) != 2 ||
+          !json_is_number(json_array_get(sg, 0)) || !json_is_number(json_array_get(sg, 1)) ||
+          !(a > 0.0 && a <= 10.0) || !(b > 0.0 && b <= 10.0))
+        ok = io_fail(P, "expected [sigma1, sigma2], two slopes in (0, 10]");
+      else {
+        r->sigma1 = a;
+        r->sigma2 = b;
+      }
+      io_pop(P);
+    }
+    io_pop(P);
+  }
+  io_pop(P);
+  return ok;
+}
+
 static int parse_root(io_parse_t *P, json_t *root) {
-  static const char *const keys[] = {"camera", "settings", "materials", "lights", "objects", NULL};
-  json_t *cam, *set, *mat, *lights, *objs;
+  static const char *const keys[] = {"camera",  "settings", "materials", "lights",
+                                     "objects", "post",     NULL};
+  json_t *cam, *set, *mat, *lights, *objs, *post;
   if (!json_is_object(root))
     return io_fail(P, "expected the scene to be one JSON object {\"camera\": ..., ...}");
   if (!io_check_keys(P, root, keys) || !io_get_object(P, root, "camera", 1, &cam) ||
       !io_get_object(P, root, "settings", 0, &set) ||
       !io_get_object(P, root, "materials", 0, &mat) ||
-      !io_get_array(P, root, "lights", 0, &lights) || !io_get_array(P, root, "objects", 1, &objs))
+      !io_get_array(P, root, "lights", 0, &lights) || !io_get_array(P, root, "objects", 1, &objs) ||
+      !io_get_object(P, root, "post", 0, &post))
     return 0;
   return parse_camera(P, cam) && (!set || parse_settings(P, set)) &&
          (!mat || parse_materials(P, mat)) && (!lights || parse_lights(P, lights)) &&
-         io_parse_objects(P, objs);
+         io_parse_objects(P, objs) && (!post || parse_post(P, post));
 }
 
 /* A JSON syntax error as "NAME:LINE:COLUMN: invalid JSON: ..." (or "NAME: ..." without a line,

@@ -154,6 +154,16 @@ typedef struct {
 
 struct rt_bvh;
 
+/** The cross-screen (star) filter a scene asks for (`"post": {"star": {...}}`, docs/star.md; the
+ *  1989 paper's section 4): the scratched plate and the camera of post/star.h's pp_star_t, and
+ *  the display curve of the preview. Applied to the image after rendering; off unless asked. */
+typedef struct {
+  int on;
+  int directions;
+  double angle_deg, ratio, sigma1, sigma2, weight2, ior, focal_mm, frame_mm;
+  double exposure, white; /**< the preview's display curve (pp_tone()) */
+} rt_star_t;
+
 typedef struct {
   rt_camera_t camera;
   rt_rgb_t ambient;    /**< Ia, the global ambient intensity */
@@ -164,6 +174,7 @@ typedef struct {
   double ior;          /**< refractive index of the space between objects */
   int caustics;        /**< rt_caustics_t: whether the scene wants light through specular and
                             transparent objects drawn as caustics */
+  rt_star_t star;      /**< the star filter after rendering (star.on = 0: none) */
 
   rt_material_t *material;
   int nmaterial, cap_material;

@@ -61,6 +61,11 @@ int io_render_check(const char *exr_path, char *err, size_t cap);
  *  failure leaves the old files as they were. */
 int io_render_write(const char *exr_path, const rt_image_t *img, const io_exr_channel_t *extra,
                     int nextra, const io_attr_t *attrs, int nattrs, char *err, size_t cap);
+/** io_render_write() with the PNG preview made from `preview` (R, G, B, the same size) instead of
+ *  img: an image whose display transform is not the plain clamp (the star filter's phi). */
+int io_render_write_preview(const char *exr_path, const rt_image_t *img,
+                            const io_exr_channel_t *extra, int nextra, const io_attr_t *attrs,
+                            int nattrs, const rt_image_t *preview, char *err, size_t cap);
 
 /** The grey preview of a map of width x height values e (row j of the map holds its v index j):
  *  each value over the largest, image rows from the top (the largest j first), in R = G = B.
