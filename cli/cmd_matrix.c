@@ -11,9 +11,10 @@
 static void help(FILE *f) {
   fprintf(f,
           "usage: pencil matrix refract --theta-deg T --n1 N1 --n2 N2 [--radius R] [--variant V]\n"
-          "                            [--error-bound]\n"
+          "                            [--error-bound] [--dispersion D]\n"
           "       pencil matrix reflect --theta-deg T [--radius R] [--variant V] [--error-bound]\n"
-          "       pencil matrix transfer --distance D\n\n"
+          "                            [--dispersion D]\n"
+          "       pencil matrix transfer --distance D [--dispersion D]\n\n"
           "Prints the 4x4 system matrix as JSON {\"T\": [[...], ...]}; rows and columns are\n"
           "ordered x1, x2, xi1, xi2 (position, then direction; Eq. 1 and Eq. 2).\n\n"
           "Frames (paper, Fig. 3): x2 = x2' = the unit normal of the plane of incidence,\n"
@@ -31,6 +32,13 @@ static void help(FILE *f) {
           "  --distance D    transfer length along the axial ray\n"
           "  --variant V     corrected (default: confirmed by exact tracing) or printed\n"
           "                  (Eq. 2 verbatim from the paper; see docs/errata.md)\n"
+          "  --dispersion D  print the 5 x 5 extended matrix of the 1989 Eq. (13) instead, rows\n"
+          "                  and columns x1, x2, xi1, xi2, delta-lambda (nm): D = dn2/dlambda\n"
+          "                  (1/nm) of the far medium at the axial ray's wavelength (the near\n"
+          "                  one taken as not dispersing); the upper-left 4 x 4 is the matrix\n"
+          "                  printed without it. A reflection's and a transfer's wavelength\n"
+          "                  column is zero. --variant printed evaluates Eq. (14) as printed\n"
+          "                  (docs/errata.md, E7).\n"
           "  --error-bound   also print \"error_bound\": the bound on the matrix's scaled\n"
           "                  relative error (<= 1e-8; docs/verification.md, \"Stability\")\n\n"
           "Every matrix printed is within 1e-8 of the exact one (relative to its largest entry,\n"
@@ -54,13 +62,15 @@ int cmd_matrix(int argc, char **argv) {
     return CLI_USAGE;
   }
   double distance = NAN;
-  enum { OPT_ERROR_BOUND = 1 };
-  cli_spec_t specs[7];
-  int ns = is_transfer ? 1 : cli_element_specs(&e, specs), error_bound = 0;
+  enum { OPT_ERROR_BOUND = 1, OPT_DISPERSION = 2 };
+  cli_spec_t specs[8];
+  int ns = is_transfer ? 1 : cli_element_specs(&e, specs), error_bound = 0, five = 0;
+  double disp = 0.0;
   if (is_transfer)
     specs[0] = (cli_spec_t){"--distance", 0, 1, 1};
   else
     specs[ns++] = (cli_spec_t){"--error-bound", 0, 0, OPT_ERROR_BOUND};
+  specs[ns++] = (cli_spec_t){"--dispersion", 0, 1, OPT_DISPERSION};
   char cmd[32];
   snprintf(cmd, sizeof cmd, "matrix %s", kind);
   int n, rc;
@@ -70,6 +80,12 @@ int cmd_matrix(int argc, char **argv) {
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     if (!is_transfer && args[k].spec && args[k].spec->id == OPT_ERROR_BOUND) {
       error_bound = 1;
+      continue;
+    }
+    if (args[k].spec && args[k].spec->id == OPT_DISPERSION) {
+      five = 1;
+      rc =
+          cli_parse_double_in("--dispersion", args[k].value, -1.0, 1.0, &disp) ? CLI_OK : CLI_USAGE;
       continue;
     }
     int r =
@@ -85,7 +101,8 @@ int cmd_matrix(int argc, char **argv) {
     return rc;
 
   px_mat4_t t;
-  double bound = 0.0; /* a transfer is exact: its entries are the inputs */
+  px_ray4_t w = {{0, 0, 0, 0}}; /* the wavelength column (with --dispersion) */
+  double bound = 0.0;           /* a transfer is exact: its entries are the inputs */
   if (is_transfer) {
     if (isnan(distance)) {
       fprintf(stderr, "pencil matrix transfer: --distance is required\n");
@@ -99,12 +116,33 @@ int cmd_matrix(int argc, char **argv) {
     double c, s; /* from degrees without rounding the radian value (accurate near grazing) */
     px_cos_sin_deg(e.theta_deg, &c, &s);
     px_status_t st = px_element_matrix_cs(ev, c, s, e.n1, e.n2, e.radius, e.variant, &t, &bound);
+    px_mat5_t t5;
+    if (st == PX_OK && five) {
+      st = px_element_matrix5_cs(ev, c, s, e.n1, e.n2, 0.0, disp, e.radius, e.variant, &t5, NULL);
+      w = t5.w;
+    }
     if (st != PX_OK) {
       fprintf(stderr,
               "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n", kind,
               e.theta_deg, e.n1, e.n2, px_strerror(st));
       return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
     }
+  }
+  if (five) { /* the 5 x 5 of Eq. (13): the 4 x 4's rows with the column, then (0 0 0 0 1) */
+    printf("{\"T\": [");
+    for (int i = 0; i < 5; i++) {
+      printf("%s[", i ? ", " : "");
+      for (int j = 0; j < 5; j++) {
+        double v = i < 4 ? (j < 4 ? t.m[i][j] : w.v[i]) : (j == 4 ? 1.0 : 0.0);
+        printf("%s%.17g", j ? ", " : "", v == 0.0 ? 0.0 : v);
+      }
+      printf("]");
+    }
+    if (error_bound)
+      printf("], \"error_bound\": %.3g}\n", bound);
+    else
+      printf("]}\n");
+    return CLI_OK;
   }
   if (!error_bound) {
     cli_print_matrix_json(stdout, "T", t.m);

@@ -96,6 +96,23 @@ check "1e-12 deg below the critical angle is refused as ill-conditioned" \
 out=$($pencil matrix refract --theta-deg 30 --n1 1 --n2 1.5 --radius 1e-300 2>/tmp/pencil_err.$$); rc=$?
 check "radius 1e-300 is refused as overflow (as by pencil bounds)" \
   "[ $rc -eq 1 ] && [ -z '$out' ] && grep -q 'overflow' /tmp/pencil_err.$$"
+# --dispersion (issue 22): the 5 x 5 of the 1989 Eq. (13); its 4 x 4 block is the plain matrix,
+# its column (0, 0, (-dn2 sin theta') / (n2 cos theta'), 0, 1) for air into glass (docs/spectral.md:
+# 1.289e-5 at 40 degrees, n2 = 1.5168, D = -4.18e-5); a reflection's and a transfer's is zero
+out5=$($pencil matrix refract --theta-deg 40 --n1 1 --n2 1.5168 --dispersion -4.18e-5)
+out4=$($pencil matrix refract --theta-deg 40 --n1 1 --n2 1.5168)
+check "refract --dispersion: 5 x 5, block = the 4 x 4, the derived column" \
+  "$py -c 'import json,sys,math; t=json.loads(sys.argv[1])[\"T\"]; m=json.loads(sys.argv[2])[\"T\"]; assert len(t)==5 and all(len(r)==5 for r in t); assert all(t[i][j]==m[i][j] for i in range(4) for j in range(4)); tp=math.asin(math.sin(math.radians(40))/1.5168); want=4.18e-5*math.sin(tp)/(1.5168*math.cos(tp)); assert abs(t[2][4]-want)<1e-15 and abs(want-1.289e-5)<1e-8 and t[0][4]==t[1][4]==t[3][4]==0 and t[4]==[0,0,0,0,1]' '$out5' '$out4'"
+out=$($pencil matrix reflect --theta-deg 30 --dispersion 1e-4)
+check "reflect --dispersion: a zero column" \
+  "$py -c 'import json,sys; t=json.loads(sys.argv[1])[\"T\"]; assert [r[4] for r in t]==[0,0,0,0,1]' '$out'"
+out=$($pencil matrix transfer --distance 2 --dispersion 1e-4)
+check "transfer --dispersion: a zero column" "[ '$out' = '{\"T\": [[1, 0, 2, 0, 0], [0, 1, 0, 2, 0], [0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [0, 0, 0, 0, 1]]}' ]"
+$pencil matrix refract --theta-deg 40 --n1 1 --n2 1.5 --dispersion x >/dev/null 2>/tmp/pencil_err.$$; rc=$?
+check "--dispersion x: exit 2 naming it" "[ $rc -eq 2 ] && grep -q -- '--dispersion' /tmp/pencil_err.$$"
+$pencil matrix refract --theta-deg 60 --n1 1.5 --n2 1 --dispersion 1e-5 >/dev/null 2>&1; rc=$?
+check "--dispersion at total internal reflection: exit 1" "[ $rc -eq 1 ]"
+
 
 for c in "" "matrix" "verify"; do
   $pencil $c --help >/tmp/pencil_help.$$ 2>&1; rc=$?

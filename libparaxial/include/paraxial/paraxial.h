@@ -5,6 +5,7 @@
 
 #include "paraxial/bounds.h"
 #include "paraxial/cascade.h"
+#include "paraxial/dispersion.h"
 #include "paraxial/frame.h"
 #include "paraxial/illuminance.h"
 #include "paraxial/interp.h"

@@ -1,0 +1,192 @@
+/* dispersion.c -- index models and the extended system matrix of the 1989 Eq. (13)
+ * (dispersion.h). */
+#include "paraxial/dispersion.h"
+
+#include <math.h>
+#include <string.h>
+
+px_index_t px_index_constant(double n) {
+  px_index_t m;
+  memset(&m, 0, sizeof m);
+  m.kind = PX_INDEX_CONSTANT;
+  m.a = n;
+  m.lo_nm = 0.0;
+  m.hi_nm = INFINITY;
+  return m;
+}
+
+px_status_t px_index_eval(const px_index_t *m, double lambda_nm, double *n, double *dn_dlambda) {
+  if (!isfinite(lambda_nm) || !(lambda_nm > 0.0) || !(lambda_nm >= m->lo_nm) ||
+      !(lambda_nm <= m->hi_nm))
+    return PX_EINVAL;
+  double l = lambda_nm * 1e-3, l2 = l * l, nn, dn; /* um; dn per um */
+  switch (m->kind) {
+  case PX_INDEX_CONSTANT:
+    nn = m->a;
+    dn = 0.0;
+    break;
+  case PX_INDEX_CAUCHY:
+    nn = m->a + m->b[0] / l2 + m->b[1] / (l2 * l2);
+    dn = -2.0 * m->b[0] / (l2 * l) - 4.0 * m->b[1] / (l2 * l2 * l);
+    break;
+  case PX_INDEX_SELLMEIER: {
+    if (m->nterm < 1 || m->nterm > 3)
+      return PX_EINVAL;
+    double s = 1.0, ds = 0.0; /* n^2 and d(n^2)/dl */
+    for (int i = 0; i < m->nterm; i++) {
+      double den = l2 - m->c[i];
+      if (!(fabs(den) > 1e-12))
+        return PX_ENONFINITE;
+      s += m->b[i] * l2 / den;
+      ds += -2.0 * l * m->b[i] * m->c[i] / (den * den);
+    }
+    if (!(s > 0.0))
+      return PX_ENONFINITE;
+    nn = sqrt(s);
+    dn = ds / (2.0 * nn);
+    break;
+  }
+  default:
+    return PX_EINVAL;
+  }
+  if (!isfinite(nn) || !(nn > 0.0) || !isfinite(dn))
+    return PX_ENONFINITE;
+  if (n)
+    *n = nn;
+  if (dn_dlambda)
+    *dn_dlambda = dn * 1e-3; /* per nm */
+  return PX_OK;
+}
+
+px_status_t px_index_from_abbe(double nd, double vd, px_index_t *out) {
+  if (!isfinite(nd) || !(nd > 1.0) || !isfinite(vd) || !(vd > 0.0))
+    return PX_EINVAL;
+  double lf = PX_LAMBDA_F * 1e-3, lc = PX_LAMBDA_C * 1e-3, ld = PX_LAMBDA_D * 1e-3;
+  double b = (nd - 1.0) / (vd * (1.0 / (lf * lf) - 1.0 / (lc * lc)));
+  memset(out, 0, sizeof *out);
+  out->kind = PX_INDEX_CAUCHY;
+  out->a = nd - b / (ld * ld);
+  out->b[0] = b;
+  out->lo_nm = 380.0;
+  out->hi_nm = 780.0;
+  return PX_OK;
+}
+
+int px_index_disperses(const px_index_t *m) {
+  switch (m->kind) {
+  case PX_INDEX_CAUCHY:
+    return m->b[0] != 0.0 || m->b[1] != 0.0;
+  case PX_INDEX_SELLMEIER:
+    return 1;
+  default:
+    return 0;
+  }
+}
+
+px_mat5_t px_mat5_identity(void) {
+  px_mat5_t r = {px_mat4_identity(), {{0, 0, 0, 0}}};
+  return r;
+}
+
+px_mat5_t px_mat5_from4(px_mat4_t t, px_ray4_t w) {
+  px_mat5_t r = {t, w};
+  return r;
+}
+
+px_mat5_t px_mat5_mul(px_mat5_t b, px_mat5_t a) {
+  px_mat5_t r;
+  r.t = px_mat4_mul(b.t, a.t);
+  r.w = px_mat4_apply(b.t, a.w);
+  for (int i = 0; i < 4; i++)
+    r.w.v[i] += b.w.v[i];
+  return r;
+}
+
+px_ray4_t px_mat5_apply(px_mat5_t t, px_ray4_t psi, double dlambda) {
+  px_ray4_t r = px_mat4_apply(t.t, psi);
+  for (int i = 0; i < 4; i++)
+    r.v[i] += t.w.v[i] * dlambda;
+  return r;
+}
+
+int px_mat5_isfinite(px_mat5_t t) {
+  if (!px_mat4_isfinite(t.t))
+    return 0;
+  for (int i = 0; i < 4; i++)
+    if (!isfinite(t.w.v[i]))
+      return 0;
+  return 1;
+}
+
+px_mat5_t px_transfer_matrix5(double z0) {
+  return px_mat5_from4(px_transfer_matrix(z0), (px_ray4_t){{0, 0, 0, 0}});
+}
+
+px_status_t px_interface_column(const px_interface_t *ifc, px_event_t ev, px_frame_t out,
+                                double dn1, double dn2, px_variant_t variant, px_ray4_t *w) {
+  if (!isfinite(dn1) || !isfinite(dn2))
+    return PX_EINVAL;
+  px_vec3_t sp;
+  double cp;
+  px_status_t st = px_interface_outgoing(ifc, ev, &sp, &cp);
+  if (st != PX_OK)
+    return st;
+  if (!(fabs(cp) > PX_COS_MIN) || !(px_vec3_dot(ifc->nu, ifc->s) > PX_COS_MIN))
+    return PX_EGRAZING;
+  if (px_vec3_norm(px_vec3_sub(out.z, sp)) > 1e-9)
+    return PX_EINVAL; /* the frame is not the outgoing ray's */
+  memset(w, 0, sizeof *w);
+  if (ev == PX_EVENT_REFLECT)
+    return PX_OK; /* the mirror law has no index */
+  /* Theta'^T xi_lambda = r, Theta'_ij = x'_i . u_j: the tangential Snell law differentiated */
+  px_vec3_t u[2] = {ifc->u1, ifc->u2};
+  double r[2];
+  for (int j = 0; j < 2; j++)
+    r[j] = variant == PX_VARIANT_PRINTED
+               ? dn2 * px_vec3_dot(u[j], sp) /* the printed Eq. (14): -n2 times the far medium's */
+               : (dn1 * px_vec3_dot(u[j], ifc->s) - dn2 * px_vec3_dot(u[j], sp)) / ifc->n2;
+  px_mat2_t tt = px_mat2(px_vec3_dot(out.x1, u[0]), px_vec3_dot(out.x2, u[0]),
+                         px_vec3_dot(out.x1, u[1]), px_vec3_dot(out.x2, u[1])); /* Theta'^T */
+  px_mat2_t inv;
+  if (px_mat2_inverse(tt, &inv) != PX_OK)
+    return PX_ESINGULAR;
+  w->v[2] = inv.m[0][0] * r[0] + inv.m[0][1] * r[1];
+  w->v[3] = inv.m[1][0] * r[0] + inv.m[1][1] * r[1];
+  return isfinite(w->v[2]) && isfinite(w->v[3]) ? PX_OK : PX_ENONFINITE;
+}
+
+px_status_t px_interface_matrix5(const px_interface_t *ifc, px_event_t ev, px_frame_t in,
+                                 px_frame_t out, double dn1, double dn2, px_variant_t variant,
+                                 px_mat5_t *t) {
+  px_mat4_t m;
+  px_ray4_t w;
+  px_status_t st = px_interface_matrix(ifc, ev, in, out, variant, &m);
+  if (st == PX_OK)
+    st = px_interface_column(ifc, ev, out, dn1, dn2, variant, &w);
+  if (st == PX_OK)
+    *t = px_mat5_from4(m, w);
+  return st;
+}
+
+px_status_t px_element_matrix5_cs(px_event_t ev, double c, double s, double n1, double n2,
+                                  double dn1, double dn2, double radius, px_variant_t variant,
+                                  px_mat5_t *t, double *err) {
+  px_mat4_t m;
+  px_status_t st = px_element_matrix_cs(ev, c, s, n1, n2, radius, variant, &m, err);
+  if (st != PX_OK)
+    return st;
+  /* the same interface and frames as px_element_matrix_cs() */
+  double k = isinf(radius) ? 0.0 : 1.0 / radius;
+  px_interface_t ifc;
+  px_frame_t in, out;
+  px_ray4_t w;
+  st = px_interface_make(px_vec3(s, 0.0, c), px_vec3(0, 0, 1), px_vec3(0, 1, 0), px_mat2_diag(k, k),
+                         NULL, n1, ev == PX_EVENT_REFLECT ? n1 : n2, &ifc);
+  if (st == PX_OK)
+    st = px_interface_frames(&ifc, ev, &in, &out);
+  if (st == PX_OK)
+    st = px_interface_column(&ifc, ev, out, dn1, dn2, variant, &w);
+  if (st == PX_OK)
+    *t = px_mat5_from4(m, w);
+  return st;
+}
