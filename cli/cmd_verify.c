@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "validation/bounds.h"
+#include "validation/dispersion.h"
 #include "validation/illuminance.h"
 #include "validation/stability.h"
 #include "validation/star.h"
@@ -18,7 +19,8 @@ static void help(FILE *f) {
       "       pencil verify stability [--samples N] [--seed S] [--json FILE] [--threads N]\n"
       "                               [--quick]\n"
       "       pencil verify illuminance [--json FILE] [--csv FILE] [--quick]\n"
-      "       pencil verify star [--json FILE] [--csv FILE] [--quick]\n\n"
+      "       pencil verify star [--json FILE] [--csv FILE] [--quick]\n"
+      "       pencil verify dispersion [--json FILE] [--csv FILE] [--quick]\n\n"
       "matrices  compare every system matrix (transfer Eq. 1, refraction Eq. 2, reflection,\n"
       "          cascades) of a sweep of > 2,000 systems with the Jacobian of exact\n"
       "          Snell-law tracing in __float128; prints a summary table per family and\n"
@@ -50,7 +52,12 @@ static void help(FILE *f) {
       "          (n - 1) d N) against a plate simulated by exact refraction at both faces:\n"
       "          first-order agreement, the slopes where it errs by 1%% and 10%%, total\n"
       "          internal reflection, and the star's profile for plates of fine to coarse\n"
-      "          scratches (docs/star.md).\n\n"
+      "          scratches (docs/star.md).\n"
+      "dispersion  the wavelength column of the 5 x 5 extended matrix (1989 Eq. 13) of every\n"
+      "          system of the matrix sweep, its media given glasses of low and high\n"
+      "          dispersion, against exact tracing differentiated in wavelength (__float128);\n"
+      "          the printed Eq. (14); how far in wavelength the linear model holds\n"
+      "          (docs/spectral.md, docs/errata.md E7).\n\n"
       "options:\n"
       "  --json FILE   write the summary {\"systems\", \"worst_relative_error\", \"failures\", "
       "...}\n"
@@ -176,11 +183,11 @@ int cmd_verify(int argc, char **argv) {
   if (strcmp(argv[1], "stability") == 0)
     return run_stability(argc, argv);
   int bounds = strcmp(argv[1], "bounds") == 0, illum = strcmp(argv[1], "illuminance") == 0;
-  int star = strcmp(argv[1], "star") == 0;
-  if (!bounds && !illum && !star && strcmp(argv[1], "matrices") != 0) {
+  int star = strcmp(argv[1], "star") == 0, disp = strcmp(argv[1], "dispersion") == 0;
+  if (!bounds && !illum && !star && !disp && strcmp(argv[1], "matrices") != 0) {
     fprintf(stderr,
             "pencil verify: unknown verification '%s' (try: matrices, bounds, stability, "
-            "illuminance, star)\n",
+            "illuminance, star, dispersion)\n",
             argv[1]);
     return CLI_USAGE;
   }
@@ -196,6 +203,9 @@ int cmd_verify(int argc, char **argv) {
       o.progress_ctx = (void *)"verifying bounds";
     }
     r = val_verify_bounds(&o);
+  } else if (disp) { /* issue 22: validation/src/verify_dispersion.c */
+    val_disp_opts_t o = {a.quick, a.json, a.csv, stdout};
+    r = val_verify_dispersion(&o);
   } else if (star) { /* issue 23: validation/src/verify_star.c */
     val_star_opts_t o = {a.quick, a.json, a.csv, stdout};
     r = val_verify_star(&o);

@@ -117,6 +117,12 @@ cat >"$dir/out/star/bench-star.json" <<'JSON'
 {"benchmark": "star", "runs": 5, "rows": [{"size": 512, "threads": 1, "seconds": 0.0412,
  "kernel_seconds": 0.0011, "kernel_side": 381}]}
 JSON
+cat >"$dir/out/verify-dispersion.json" <<'JSON'
+{"verification": "dispersion", "cases": 5248, "compared": 5248, "refused": 0, "failures": 0,
+ "worst_relative_error": 1.179e-11, "tolerance": 1e-9, "printed": {"failures": 4085, "worst_relative_error": 6.87},
+ "linearity": [{"delta_lambda_nm": 10, "median": 2.465e-2, "p90": 0.1036, "max": 0.74, "cases": 4085,
+                "optics_median": 5.526e-4, "optics_p90": 8.24e-2}]}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -174,6 +180,8 @@ check "beam: a case's row and the Fig. 10 measure" \
   "grep -q '| fig11 | 100 | 1.223 | 4.97e-04 | 1.44e-02 | 2.09e-01 | 0.912 | 5.20e-04 | 1.056 | 8.40e-04 | 1.981 (inside) | 1.62 | 1.07 |' '$page' && grep -q '| certified | 65536 | 100.0000% | 0.104 | 0 |' '$page'"
 check "star: a slope row, a profile row and the bench row" \
   "grep -q '| 1.5 | 0 | 4.58e-09 | -N | 0.1482 | 0.482 | - |' '$page' && grep -q '| 0.02, 0.1 | 3.53e-03 | 1.0129 | 0.00e+00 |' '$page' && grep -q '| 512 | 1 | 0.0412 | 0.0011 | 381 |' '$page'"
+check "dispersion: the counts and a linearity row" \
+  "grep -q '5248 cases compared' '$page' && grep -q 'off in 4085 of them' '$page' && grep -q '| 10 | 2.46e-02 | 1.04e-01 | 5.53e-04 | 8.24e-02 |' '$page'"
 
 rm "$dir/out/verify-bounds.json" "$dir/out/fig10-1989.log"
 echo '{"systems": ' >"$dir/out/figures/summary.json"   # truncated: unreadable

@@ -57,3 +57,21 @@ print("cli_verify: illuminance passed,", s["cases"], "cases")
 PY
 $pencil verify stability --samples 0 >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || { echo "FAIL: --samples 0 must be a usage error"; exit 1; }
+# `pencil verify dispersion` (the full sweep: 0.3 s): every column within 1e-9 of exact tracing
+# differentiated in wavelength, the printed Eq. (14) failing (erratum E7), the linearity sweep.
+$pencil verify dispersion --json "$dir/d.json" --csv "$dir/d.csv" >"$dir/d.txt" || { cat "$dir/d.txt"; exit 1; }
+/usr/bin/python3 - "$dir" <<'PY' || exit 1
+import csv, json, sys
+d = sys.argv[1]
+s = json.load(open(f"{d}/d.json"))
+assert s["failures"] == 0 and "provenance" in s and s["tolerance"] == 1e-9, s
+assert s["compared"] >= 1000 and s["worst_relative_error"] <= 1e-9, s
+assert s["printed"]["failures"] > 1000, s["printed"]
+assert set(s["families"]) >= {"plane", "sphere", "cylinder", "ellipsoid", "cascade"}
+lin = {round(r["delta_lambda_nm"]): r for r in s["linearity"]}
+assert lin[10]["optics_median"] < lin[10]["median"] < lin[190]["median"], lin
+rows = list(csv.DictReader(open(f"{d}/d.csv")))
+assert len(rows) == s["cases"] and {r["glass"] for r in rows} == {"low", "high"}
+assert any("41.8" in r["label"] and r["status"] == "ok" for r in rows), "no case near the critical angle"
+print("cli_verify: dispersion passed,", s["compared"], "cases")
+PY

@@ -190,3 +190,24 @@ px_status_t px_element_matrix5_cs(px_event_t ev, double c, double s, double n1, 
     *t = px_mat5_from4(m, w);
   return st;
 }
+
+px_status_t px_cascade_product5(const px_cascade_t *c, const double *dn1, const double *dn2,
+                                px_variant_t variant, px_mat5_t *out) {
+  px_mat5_t r = px_mat5_identity();
+  for (size_t i = 0; i < c->n; i++) {
+    const px_element_t *e = &c->elem[i];
+    px_ray4_t w = {{0, 0, 0, 0}};
+    if (e->kind != PX_ELEMENT_TRANSFER) {
+      px_event_t ev = e->kind == PX_ELEMENT_REFLECT ? PX_EVENT_REFLECT : PX_EVENT_REFRACT;
+      px_status_t st = px_interface_column(&e->ifc, ev, e->out, dn1 ? dn1[i] : 0.0,
+                                           dn2 ? dn2[i] : 0.0, variant, &w);
+      if (st != PX_OK)
+        return st;
+    }
+    r = px_mat5_mul(px_mat5_from4(e->t, w), r);
+  }
+  if (!px_mat5_isfinite(r))
+    return PX_ENONFINITE;
+  *out = r;
+  return PX_OK;
+}

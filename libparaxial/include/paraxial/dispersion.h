@@ -103,6 +103,13 @@ px_status_t px_element_matrix5_cs(px_event_t ev, double c, double s, double n1, 
                                   double dn1, double dn2, double radius, px_variant_t variant,
                                   px_mat5_t *t, double *err);
 
+/** The extended matrix of a cascade (cascade.h): every element's block as px_cascade_product()
+ *  multiplies them (so out->t is its result bit for bit) and the columns of its refractions and
+ *  reflections from dn1[i], dn2[i] (dn/dlambda, 1/nm, of the media before and after element i;
+ *  ignored for transfers; NULL for all 0). px_interface_column()'s errors. */
+px_status_t px_cascade_product5(const px_cascade_t *c, const double *dn1, const double *dn2,
+                                px_variant_t variant, px_mat5_t *out);
+
 /** A transfer's extended matrix: its column is zero (x_lambda' = x_lambda + z0 xi_lambda comes
  *  from the block). */
 px_mat5_t px_transfer_matrix5(double z0);
