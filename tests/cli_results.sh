@@ -179,7 +179,7 @@ check "area: a row and the size sweep" \
 check "beam: a case's row and the Fig. 10 measure" \
   "grep -q '| fig11 | 100 | 1.223 | 4.97e-04 | 1.44e-02 | 2.09e-01 | 0.912 | 5.20e-04 | 1.056 | 8.40e-04 | 1.981 (inside) | 1.62 | 1.07 |' '$page' && grep -q '| certified | 65536 | 100.0000% | 0.104 | 0 |' '$page'"
 check "star: a slope row, a profile row and the bench row" \
-  "grep -q '| 1.5 | 0 | 4.58e-09 | -N | 0.1482 | 0.482 | - |' '$page' && grep -q '| 0.02, 0.1 | 3.53e-03 | 1.0129 | 0.00e+00 |' '$page' && grep -q '| 512 | 1 | 0.0412 | 0.0011 | 381 |' '$page'"
+  "grep -q '| 1.5 | 0 | 4.58e-09 | -N | 0.1482 | 0.482 | - |' '$page' && grep -q '| 0.02, 0.1 | 3.53e-03 | 1.0129 | 0.00e+00 |' '$page' && grep -q '| 512 | physical | 1 | 0.0412 | 0.0011 | 381 |' '$page'"
 check "dispersion: the counts and a linearity row" \
   "grep -q '5248 cases compared' '$page' && grep -q 'off in 4085 of them' '$page' && grep -q '| 10 | 2.46e-02 | 1.04e-01 | 5.53e-04 | 8.24e-02 |' '$page'"
 

@@ -124,11 +124,11 @@ int pp_star_apply(const pp_kernel_t *k, int w, int h, int n, const float *const 
                   int threads, pp_star_flux_t *flux, char *why, size_t cap) {
   int R = k->radius, mx = good_size(w + R), my = good_size(h + R), hx = mx / 2 + 1;
   size_t nr = (size_t)mx * my, nc = (size_t)hx * my;
-  double *rb = fftw_malloc(nr * sizeof *rb);
-  fftw_complex *ks = fftw_malloc(nc * sizeof *ks), *ps = fftw_malloc(nc * sizeof *ps);
+  double *rb = fftw_malloc(nr * sizeof *rb), *kr = malloc(nc * sizeof *kr);
+  fftw_complex *ps = fftw_malloc(nc * sizeof *ps);
   fftw_plan fwd = NULL, back = NULL;
-  int rc = -1;
-  if (!rb || !ks || !ps) {
+  int rc = -1, nt = threads > 0 ? threads : 1;
+  if (!rb || !kr || !ps) {
     snprintf(why, cap, "out of memory for an FFT grid of %d x %d", mx, my);
     goto done;
   }
@@ -147,49 +147,61 @@ int pp_star_apply(const pp_kernel_t *k, int w, int h, int n, const float *const 
     goto done;
   }
   /* the kernel's spectrum, its centre at the origin (offsets wrap around), scaled by the
-   * inverse transform's 1 / (mx my) */
+   * inverse transform's 1 / (mx my). The kernel is point-symmetric, so its spectrum is real:
+   * the imaginary parts are rounding and are dropped. */
   memset(rb, 0, nr * sizeof *rb);
   for (int dy = -R; dy <= R; dy++)
     for (int dx = -R; dx <= R; dx++)
       rb[(size_t)((dy + my) % my) * mx + (size_t)((dx + mx) % mx)] =
           k->k[(size_t)(dy + R) * k->side + (size_t)(dx + R)];
-  fftw_execute_dft_r2c(fwd, rb, ks);
+  fftw_execute_dft_r2c(fwd, rb, ps);
   double norm = 1.0 / ((double)mx * (double)my);
-  for (size_t q = 0; q < nc; q++) {
-    ks[q][0] *= norm;
-    ks[q][1] *= norm;
-  }
+#pragma omp parallel for num_threads(nt) schedule(static)
+  for (size_t q = 0; q < nc; q++)
+    kr[q] = ps[q][0] * norm;
   for (int c = 0; c < n; c++) {
     double fin = 0.0, peak = 0.0;
-    memset(rb, 0, nr * sizeof *rb);
-    for (int y = 0; y < h; y++)
-      for (int x = 0; x < w; x++) {
-        double v = in[c][(size_t)y * w + x];
-        rb[(size_t)y * mx + x] = v;
-        fin += v;
-        peak = fmax(peak, v);
-      }
+    const float *src = in[c];
+    /* the plane into the top-left of the grid, zeros elsewhere */
+#pragma omp parallel for num_threads(nt) schedule(static) reduction(+ : fin) reduction(max : peak)
+    for (int y = 0; y < my; y++) {
+      double *row = rb + (size_t)y * mx;
+      int x = 0;
+      if (y < h)
+        for (; x < w; x++) {
+          double v = src[(size_t)y * w + x];
+          row[x] = v;
+          fin += v;
+          peak = fmax(peak, v);
+        }
+      memset(row + x, 0, (size_t)(mx - x) * sizeof *row);
+    }
     fftw_execute_dft_r2c(fwd, rb, ps);
+#pragma omp parallel for num_threads(nt) schedule(static)
     for (size_t q = 0; q < nc; q++) {
-      double re = ps[q][0] * ks[q][0] - ps[q][1] * ks[q][1];
-      double im = ps[q][0] * ks[q][1] + ps[q][1] * ks[q][0];
-      ps[q][0] = re;
-      ps[q][1] = im;
+      ps[q][0] *= kr[q];
+      ps[q][1] *= kr[q];
     }
     fftw_execute_dft_c2r(back, ps, rb);
     double full = 0.0, frame = 0.0, low = 0.0;
-    for (size_t q = 0; q < nr; q++)
-      full += rb[q];
-    for (int y = 0; y < h; y++)
-      for (int x = 0; x < w; x++) {
-        double v = rb[(size_t)y * mx + x];
+    float *dst = out[c];
+#pragma omp parallel for num_threads(nt) schedule(static) reduction(+ : full, frame) \
+    reduction(min : low)
+    for (int y = 0; y < my; y++) {
+      const double *row = rb + (size_t)y * mx;
+      for (int x = 0; x < mx; x++) {
+        double v = row[x];
+        full += v;
+        if (y >= h || x >= w)
+          continue;
         if (v < 0.0) { /* rounding below a non-negative kernel's non-negative result */
           low = fmin(low, v);
           v = 0.0;
         }
         frame += v;
-        out[c][(size_t)y * w + x] = (float)v;
+        dst[(size_t)y * w + x] = (float)v;
       }
+    }
     if (flux)
       flux[c] = (pp_star_flux_t){fin, full, frame, low < 0.0 && peak > 0.0 ? -low / peak : 0.0};
   }
@@ -200,7 +212,7 @@ done:
   if (back)
     fftw_destroy_plan(back);
   fftw_free(rb);
-  fftw_free(ks);
+  free(kr);
   fftw_free(ps);
   return rc;
 }
