@@ -353,9 +353,10 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp,
 
 /* 1 when the render fits in the memory allowed; else a message and 0. */
 static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *plan,
-                       const rn_common_t *c) {
+                       const rn_common_t *c, size_t star) {
   size_t need = rn_memory_estimate(a->r, plan, c, a->opt, s->camera.width, s->camera.height, 0);
   size_t maps = rn_caustic_bytes(a->r, s, plan, c);
+  need = need > SIZE_MAX - star ? SIZE_MAX : need + star; /* the star filter after rendering */
   size_t have = a->max_memory ? a->max_memory : io_memory_available();
   need = need > SIZE_MAX - maps ? SIZE_MAX : need + maps;
   if (have == 0 || need <= have)
@@ -375,11 +376,12 @@ static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *pl
   }
   fprintf(stderr,
           "pencil render: a %dx%d image by --method %s on %d thread%s allocates %s (%d float "
-          "channels, the preview, each thread's buffers%s%s%s), more than the "
+          "channels, the preview, each thread's buffers%s%s%s%s), more than the "
           "%s %s; use a smaller --size or fewer --threads, or --max-memory to allow more\n",
           s->camera.width, s->camera.height, a->r->name, nt, nt == 1 ? "" : "s", n,
           RT_CH_COUNT + a->r->nchannels, maps ? ", " : "", maps ? m : "",
-          maps ? " of caustic maps" : "", h, a->max_memory ? "--max-memory allows" : "available");
+          maps ? " of caustic maps" : "", star ? ", the star filter's FFT grid" : "", h,
+          a->max_memory ? "--max-memory allows" : "available");
   return 0;
 }
 
@@ -420,7 +422,13 @@ static int render(const args_t *a, rt_scene_t *s) {
   c.caustic_method = (int)a->caustic_method;
   c.caustic_rays = (int)a->caustic_rays;
   c.caustic_cells = (int)a->caustic_cells;
-  if (a->out && !memory_fits(a, s, &plan, &c)) {
+  /* the star filter's FFT grid, the unfiltered planes and the preview */
+  size_t star_bytes =
+      kernel.k ? pp_star_bytes(&kernel, s->camera.width, s->camera.height) +
+                     (size_t)s->camera.width * s->camera.height * 3 * sizeof(float) +
+                     (size_t)s->camera.width * s->camera.height * RT_CH_COUNT * sizeof(float)
+               : 0;
+  if (a->out && !memory_fits(a, s, &plan, &c, star_bytes)) {
     pp_kernel_free(&kernel);
     return CLI_USAGE;
   }

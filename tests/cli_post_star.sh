@@ -132,6 +132,8 @@ $pencil render "$tmp/bad_ior.json" -o "$tmp/y.exr" >/dev/null 2>"$tmp/err"; rc=$
 check "a bad star key: exit 2 naming post.star.ior" "[ $rc -eq 2 ] && grep -q 'post.star.ior' '$tmp/err' && [ ! -e '$tmp/y.exr' ]"
 $pencil render "$tmp/coarse.json" -o "$tmp/y.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "a plate too coarse for the image: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q 'larger than the image' '$tmp/err' && [ ! -e '$tmp/y.exr' ]"
+$pencil render --star --size 4096x4096 --max-memory 100M -o "$tmp/y.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "the star filter's memory counted before rendering" "[ $rc -eq 2 ] && grep -q \"the star filter's FFT grid\" '$tmp/err' && [ ! -e '$tmp/y.exr' ]"
 $pencil verify star --quick --json "$keep/verify-star.json" --csv "$keep/verify-star.csv" >/dev/null
 echo "cli_post_star: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
 exit $fail

@@ -120,6 +120,12 @@ static int good_size(int n) {
   }
 }
 
+size_t pp_star_bytes(const pp_kernel_t *k, int w, int h) {
+  size_t mx = (size_t)good_size(w + k->radius), my = (size_t)good_size(h + k->radius);
+  size_t nc = (mx / 2 + 1) * my;
+  return mx * my * sizeof(double) + nc * (sizeof(fftw_complex) + sizeof(double));
+}
+
 int pp_star_apply(const pp_kernel_t *k, int w, int h, int n, const float *const *in, float **out,
                   int threads, pp_star_flux_t *flux, char *why, size_t cap) {
   int R = k->radius, mx = good_size(w + R), my = good_size(h + R), hx = mx / 2 + 1;
