@@ -281,7 +281,7 @@ static pp_star_t star_params(const rt_star_t *st) {
 /* After rendering: the star filter on img's R, G, B in place (kernel k), the unfiltered planes
  * into unf[3] and the preview through the display curve into prev. 0 after a message. */
 static int apply_star(const rt_scene_t *s, const pp_kernel_t *k, int threads, rt_image_t *img,
-                      float *unf[3], rt_image_t *prev) {
+                      float *unf[3], rt_image_t *prev, char *line, size_t cap) {
   int w = img->width, h = img->height;
   size_t n = (size_t)w * (size_t)h;
   char why[512];
@@ -307,10 +307,11 @@ static int apply_star(const rt_scene_t *s, const pp_kernel_t *k, int threads, rt
   for (int c = 0; c < 3; c++)
     for (size_t q = 0; q < n; q++)
       prev->ch[RT_CH_R + c][q] = pp_tone(planes[c][q], s->star.exposure, s->star.white);
-  printf("star filter: kernel %d x %d (%.4g pixels a unit of slope), %.3f s; %.6f of the light "
-         "stayed in the frame (R), the rest was carried beyond it\n",
-         k->side, k->side, k->scale, val_wall_seconds() - t0,
-         fl[0].in > 0.0 ? fl[0].frame / fl[0].in : 1.0);
+  snprintf(line, cap,
+           "star filter: kernel %d x %d (%.4g pixels a unit of slope), %.3f s; %.6f of the light "
+           "stayed in the frame (R), the rest was carried beyond it\n",
+           k->side, k->side, k->scale, val_wall_seconds() - t0,
+           fl[0].in > 0.0 ? fl[0].frame / fl[0].in : 1.0);
   return 1;
 }
 
@@ -480,8 +481,10 @@ static int render(const args_t *a, rt_scene_t *s) {
   rt_image_t prev;
   memset(&prev, 0, sizeof prev);
   int star = ok && rt_plan_has(&plan, RT_EFFECT_STAR_FILTER);
+  char star_line[256] = ""; /* printed after the renderer's closing line */
   if (star)
-    ok = apply_star(s, &kernel, c.threads > 0 ? c.threads : rt_thread_count(0), &img, unf, &prev);
+    ok = apply_star(s, &kernel, c.threads > 0 ? c.threads : rt_thread_count(0), &img, unf, &prev,
+                    star_line, sizeof star_line);
   io_exr_channel_t more[3] = {
       {"unfiltered.R", unf[0]}, {"unfiltered.G", unf[1]}, {"unfiltered.B", unf[2]}};
   ok = ok && write_outputs(a, &out, spp, more, star ? 3 : 0, star ? &prev : NULL,
@@ -501,6 +504,7 @@ static int render(const args_t *a, rt_scene_t *s) {
   if (ok) {
     rn_report_t rep = {s, spp, dt, a->out, &c, a->opt, stats};
     a->r->report(stdout, &rep);
+    fputs(star_line, stdout);
     if (caustics.maps > 0) {
       char grid[48] = "";
       if (caustics.rays)
