@@ -67,6 +67,39 @@ static void index_models(void **state) {
   assert_true(nd == 1.33 && dn == 0.0);
 }
 
+/* The catalogue: each entry's n_d and Abbe number V_d = (n_d - 1) / (n_F - n_C) against the values
+ * the sources' catalogues print (Schott: N-BK7 1.51680 / 64.17, F2 1.62004 / 36.37, SF11
+ * 1.78472 / 25.68; fused silica 1.45846 / 67.82; diamond 2.4175 / 55.3), to 2e-4 and 0.5; an
+ * unknown name is refused. */
+static void catalogue(void **state) {
+  (void)state;
+  const struct {
+    const char *name;
+    double nd, vd;
+  } want[] = {{"N-BK7", 1.51680, 64.17},
+              {"F2", 1.62004, 36.37},
+              {"SF11", 1.78472, 25.68},
+              {"fused-silica", 1.45846, 67.82},
+              {"diamond", 2.4175, 55.3}};
+  for (size_t k = 0; k < sizeof want / sizeof *want; k++) {
+    px_index_t m;
+    double nd, nf, nc;
+    assert_int_equal(px_index_named(want[k].name, &m), PX_OK);
+    assert_int_equal(px_index_eval(&m, PX_LAMBDA_D, &nd, NULL), PX_OK);
+    assert_int_equal(px_index_eval(&m, PX_LAMBDA_F, &nf, NULL), PX_OK);
+    assert_int_equal(px_index_eval(&m, PX_LAMBDA_C, &nc, NULL), PX_OK);
+    print_message("%-13s n_d %.5f (catalogue %.5f), V_d %.2f (%.2f)\n", want[k].name, nd,
+                  want[k].nd, (nd - 1.0) / (nf - nc), want[k].vd);
+    assert_close(nd, want[k].nd, 0.0, 2e-4);
+    assert_close((nd - 1.0) / (nf - nc), want[k].vd, 0.0, 0.5);
+    assert_true(px_index_disperses(&m));
+    assert_true(strstr(px_index_names(), want[k].name) != NULL);
+  }
+  px_index_t m;
+  assert_int_equal(px_index_named("unobtainium", &m), PX_EINVAL);
+  assert_int_equal(px_index_named(NULL, &m), PX_EINVAL);
+}
+
 /* 5 x 5 products: the block is px_mat4_mul's bit for bit, the column T2 w1 + w2, apply is
  * T psi + w dlambda, and a transfer carries a column as x_lambda + z0 xi_lambda. */
 static void mat5_algebra(void **state) {
@@ -266,9 +299,8 @@ static void slab_cascade(void **state) {
 
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(index_models),
-      cmocka_unit_test(mat5_algebra),
-      cmocka_unit_test(column_against_snell),
+      cmocka_unit_test(index_models), cmocka_unit_test(catalogue),
+      cmocka_unit_test(mat5_algebra), cmocka_unit_test(column_against_snell),
       cmocka_unit_test(slab_cascade),
   };
   if (argc > 1)

@@ -155,6 +155,23 @@ static int tree_bound(const rt_plan_t *p) {
   return p->max_depth >= 16 ? (1 << 17) - 1 : (1 << (p->max_depth + 1)) - 1; /* binary tree */
 }
 
+/* Dispersion: no renderer draws it yet (issue 22); the plan says which material would need it. */
+static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s) {
+  for (int i = 0; i < s->nobject; i++) {
+    const rt_material_t *m = &s->material[s->object[i].material];
+    double dn;
+    if (m->kt > 0.0 && px_index_disperses(&m->index) &&
+        px_index_eval(&m->index, PX_LAMBDA_D, NULL, &dn) == PX_OK) {
+      set(p, RT_EFFECT_DISPERSION, 0,
+          "off: material '%s' disperses (dn/dlambda %.3g /nm at the d-line), but no renderer "
+          "draws dispersion yet: it is rendered at n_d = %.5g",
+          m->name, dn, m->ior);
+      return;
+    }
+  }
+  set(p, RT_EFFECT_DISPERSION, 0, "off: no transparent material's index varies with wavelength");
+}
+
 rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
   rt_plan_t p;
   memset(&p, 0, sizeof p);
@@ -167,7 +184,7 @@ rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
   plan_caustics(&p, s);
   for (int l = 0; l < s->nlight; l++)
     p.area_lights |= s->light[l].kind == RT_LIGHT_AREA;
-  set(&p, RT_EFFECT_DISPERSION, 0, "off: not implemented by this renderer yet");
+  plan_dispersion(&p, s);
   if (s->star.on)
     set(&p, RT_EFFECT_STAR_FILTER, 1,
         "on: a cross-screen filter of %d scratch direction(s), B = %g, slopes %g and %g, after "

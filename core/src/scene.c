@@ -41,6 +41,7 @@ rt_material_t rt_material_default(const char *name) {
   m.ka = 0.1;
   m.kd = 0.9;
   m.ior = 1.0;
+  m.index = px_index_constant(1.0);
   m.transmittance = rt_rgb(1, 1, 1);
   return m;
 }

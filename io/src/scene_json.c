@@ -63,6 +63,100 @@ static int parse_settings(io_parse_t *P, json_t *o) {
   return ok;
 }
 
+/* A material's "ior": a number (the index at every wavelength), or a model (docs/scene-format.md):
+ * {"glass": NAME}, {"model": "abbe", "nd": .., "vd": ..}, {"model": "cauchy", "A": .., "B_um2": ..,
+ * "C_um4": ..} or {"model": "sellmeier", "B": [..], "C_um2": [..], "range_nm": [lo, hi]}. A model
+ * must hold on 380..780 nm with a finite index >= 1 there; ior is its value at the d-line. */
+static int parse_ior(io_parse_t *P, json_t *o, rt_material_t *m) {
+  json_t *v = json_object_get(o, "ior");
+  if (!v || json_is_number(v)) {
+    int ok = io_get_number(P, o, "ior", 0, m->ior, 0, 100.0, 1, &m->ior);
+    m->index = px_index_constant(m->ior);
+    return ok;
+  }
+  io_push_key(P, "ior");
+  int ok = 1;
+  px_index_t x;
+  memset(&x, 0, sizeof x);
+  const char *glass = NULL, *model = NULL;
+  if (!json_is_object(v)) {
+    ok = io_fail(P, "expected a number or an index model {\"glass\": ...} or {\"model\": ...}");
+  } else if (json_object_get(v, "glass")) {
+    static const char *const keys[] = {"glass", NULL};
+    ok = io_check_keys(P, v, keys) && io_get_string(P, v, "glass", 1, &glass);
+    if (ok && px_index_named(glass, &x) != PX_OK) {
+      io_push_key(P, "glass");
+      ok = io_fail(P, "no glass '%s' in the catalogue (%s)", glass, px_index_names());
+      io_pop(P);
+    }
+  } else if (!(ok = io_get_string(P, v, "model", 1, &model))) {
+  } else if (strcmp(model, "abbe") == 0) {
+    static const char *const keys[] = {"model", "nd", "vd", NULL};
+    double nd, vd;
+    ok = io_check_keys(P, v, keys) && io_get_number(P, v, "nd", 1, 0, 1.0, 10.0, 1, &nd) &&
+         io_get_number(P, v, "vd", 1, 0, 0.0, 1000.0, 1, &vd) &&
+         px_index_from_abbe(nd, vd, &x) == PX_OK;
+  } else if (strcmp(model, "cauchy") == 0) {
+    static const char *const keys[] = {"model", "A", "B_um2", "C_um4", NULL};
+    x.kind = PX_INDEX_CAUCHY;
+    x.lo_nm = 380.0;
+    x.hi_nm = 780.0;
+    ok = io_check_keys(P, v, keys) && io_get_number(P, v, "A", 1, 0, 0.0, 10.0, 1, &x.a) &&
+         io_get_number(P, v, "B_um2", 0, 0, -10.0, 10.0, 0, &x.b[0]) &&
+         io_get_number(P, v, "C_um4", 0, 0, -10.0, 10.0, 0, &x.b[1]);
+  } else if (strcmp(model, "sellmeier") == 0) {
+    static const char *const keys[] = {"model", "B", "C_um2", "range_nm", NULL};
+    json_t *b = json_object_get(v, "B"), *c = json_object_get(v, "C_um2"),
+           *r = json_object_get(v, "range_nm");
+    x.kind = PX_INDEX_SELLMEIER;
+    x.lo_nm = 380.0;
+    x.hi_nm = 780.0;
+    ok = io_check_keys(P, v, keys);
+    if (ok && (!json_is_array(b) || !json_is_array(c) || json_array_size(b) < 1 ||
+               json_array_size(b) > 3 || json_array_size(b) != json_array_size(c)))
+      ok = io_fail(P, "expected \"B\" and \"C_um2\", arrays of 1 to 3 numbers of equal length");
+    for (size_t k = 0; ok && k < json_array_size(b); k++) {
+      if (!json_is_number(json_array_get(b, k)) || !json_is_number(json_array_get(c, k)))
+        ok = io_fail(P, "\"B\" and \"C_um2\" must hold numbers");
+      else {
+        x.b[k] = json_number_value(json_array_get(b, k));
+        x.c[k] = json_number_value(json_array_get(c, k));
+      }
+    }
+    x.nterm = (int)json_array_size(b);
+    if (ok && r) {
+      io_push_key(P, "range_nm");
+      if (!json_is_array(r) || json_array_size(r) != 2 || !json_is_number(json_array_get(r, 0)) ||
+          !json_is_number(json_array_get(r, 1)))
+        ok = io_fail(P, "expected [lo, hi] in nm");
+      else {
+        x.lo_nm = json_number_value(json_array_get(r, 0));
+        x.hi_nm = json_number_value(json_array_get(r, 1));
+      }
+      io_pop(P);
+    }
+  } else {
+    io_push_key(P, "model");
+    ok = io_fail(P,
+                 "expected \"abbe\", \"cauchy\" or \"sellmeier\" (or {\"glass\": NAME}), got '%s'",
+                 model);
+    io_pop(P);
+  }
+  /* the model must hold over the visible range with a finite index >= 1 */
+  for (double l = 380.0; ok && l <= 780.0; l += 5.0) {
+    double n;
+    if (px_index_eval(&x, l, &n, NULL) != PX_OK || !(n >= 1.0) || n > 100.0)
+      ok = io_fail(
+          P, "the model does not give an index >= 1 at %g nm (it must hold on 380 to 780 nm)", l);
+  }
+  if (ok) {
+    px_index_eval(&x, PX_LAMBDA_D, &m->ior, NULL);
+    m->index = x;
+  }
+  io_pop(P);
+  return ok;
+}
+
 static int parse_material(io_parse_t *P, const char *name, json_t *o) {
   static const char *const keys[] = {
       "color", "ka", "kd", "ks", "phong", "kr", "kt", "ior", "fresnel", "transmittance", NULL};
@@ -77,8 +171,7 @@ static int parse_material(io_parse_t *P, const char *name, json_t *o) {
            io_get_number(P, o, "ks", 0, m.ks, 0, 1, 0, &m.ks) &&
            io_get_number(P, o, "phong", 0, m.phong, 0, 1e6, 0, &m.phong) &&
            io_get_number(P, o, "kr", 0, m.kr, 0, 1, 0, &m.kr) &&
-           io_get_number(P, o, "kt", 0, m.kt, 0, 1, 0, &m.kt) &&
-           io_get_number(P, o, "ior", 0, m.ior, 0, 100.0, 1, &m.ior) &&
+           io_get_number(P, o, "kt", 0, m.kt, 0, 1, 0, &m.kt) && parse_ior(P, o, &m) &&
            io_get_bool(P, o, "fresnel", 0, &m.fresnel) &&
            io_get_rgb(P, o, "transmittance", m.transmittance, &m.transmittance);
   if (ok && rt_scene_add_material(P->scene, &m, NULL) != RT_OK)

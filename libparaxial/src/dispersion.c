@@ -72,6 +72,63 @@ px_status_t px_index_from_abbe(double nd, double vd, px_index_t *out) {
   return PX_OK;
 }
 
+/* The catalogue: Sellmeier B_i and C_i (um^2) as their sources print them. */
+static const struct {
+  const char *name;
+  int nterm;
+  double b[3], c[3], lo_nm, hi_nm;
+} catalogue[] = {
+    /* Schott optical glass data sheets */
+    {"N-BK7",
+     3,
+     {1.03961212, 0.231792344, 1.01046945},
+     {0.00600069867, 0.0200179144, 103.560653},
+     300.0,
+     2500.0},
+    {"F2",
+     3,
+     {1.34533359, 0.209073176, 0.937357162},
+     {0.00997743871, 0.0470450767, 111.886764},
+     320.0,
+     2500.0},
+    {"SF11",
+     3,
+     {1.73759695, 0.313747346, 1.89878101},
+     {0.013188707, 0.0623068142, 155.23629},
+     370.0,
+     2500.0},
+    /* Malitson 1965: C_i are the squares of 0.0684043, 0.1162414 and 9.896161 um */
+    {"fused-silica",
+     3,
+     {0.6961663, 0.4079426, 0.8974794},
+     {0.0684043 * 0.0684043, 0.1162414 * 0.1162414, 9.896161 * 9.896161},
+     210.0,
+     3710.0},
+    /* Peter 1923: C_i the squares of 0.1060 and 0.1750 um; measured 226-644 nm, used to 780 */
+    {"diamond", 2, {4.3356, 0.3306, 0.0}, {0.1060 * 0.1060, 0.1750 * 0.1750, 0.0}, 380.0, 780.0},
+};
+
+px_status_t px_index_named(const char *name, px_index_t *out) {
+  for (size_t k = 0; name && k < sizeof catalogue / sizeof catalogue[0]; k++)
+    if (strcmp(name, catalogue[k].name) == 0) {
+      memset(out, 0, sizeof *out);
+      out->kind = PX_INDEX_SELLMEIER;
+      out->nterm = catalogue[k].nterm;
+      for (int i = 0; i < 3; i++) {
+        out->b[i] = catalogue[k].b[i];
+        out->c[i] = catalogue[k].c[i];
+      }
+      out->lo_nm = catalogue[k].lo_nm;
+      out->hi_nm = catalogue[k].hi_nm;
+      return PX_OK;
+    }
+  return PX_EINVAL;
+}
+
+const char *px_index_names(void) {
+  return "N-BK7, F2, SF11, fused-silica, diamond";
+}
+
 int px_index_disperses(const px_index_t *m) {
   switch (m->kind) {
   case PX_INDEX_CAUCHY:

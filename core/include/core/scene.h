@@ -26,10 +26,14 @@ typedef struct {
   double ks;              /**< specular (Phong) coefficient */
   double phong;           /**< Phong exponent, >= 0 */
   double kr;              /**< coherent reflection coefficient */
-  double kt;   /**< coherent refraction coefficient; > 0 makes the material transparent */
-  double ior;  /**< refractive index of the material's interior, > 0 */
-  int fresnel; /**< 1: split kt between reflection (kt F) and refraction (kt (1 - F))
-                    with the unpolarised Fresnel reflectance F; 0: constant kr, kt */
+  double kt;        /**< coherent refraction coefficient; > 0 makes the material transparent */
+  double ior;       /**< refractive index of the material's interior, > 0 (at the d-line when the
+                         index is a model) */
+  px_index_t index; /**< the index as a function of wavelength (paraxial/dispersion.h): constant
+                         (ior) unless the scene gives a model; renderers use ior until
+                         dispersion is drawn (issue 22) */
+  int fresnel;      /**< 1: split kt between reflection (kt F) and refraction (kt (1 - F))
+                         with the unpolarised Fresnel reflectance F; 0: constant kr, kt */
   rt_rgb_t transmittance; /**< colour filter of transmitted light (refraction and shadow rays) */
 } rt_material_t;
 

@@ -65,6 +65,15 @@ px_status_t px_index_eval(const px_index_t *m, double lambda_nm, double *n, doub
  *  and C lines, range 380..780 nm. PX_EINVAL for n_d <= 1 or V_d <= 0 (or not finite). */
 px_status_t px_index_from_abbe(double nd, double vd, px_index_t *out);
 
+/** A material of the small catalogue by name (Sellmeier models, range in the entry):
+ *  "N-BK7", "F2" and "SF11" (Schott's published coefficients), "fused-silica" (Malitson,
+ *  J. Opt. Soc. Am. 55, 1205, 1965) and "diamond" (Peter, Z. Phys. 15, 358, 1923); docs/spectral.md
+ *  lists them with their n_d and V_d. PX_EINVAL for another name. */
+px_status_t px_index_named(const char *name, px_index_t *out);
+
+/** The catalogue's names, comma-separated, for messages. */
+const char *px_index_names(void);
+
 /** 1 when the model's index varies with wavelength. */
 int px_index_disperses(const px_index_t *m);
 
