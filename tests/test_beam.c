@@ -468,6 +468,27 @@ static void slab_scene(rt_scene_t *s, bm_scene_t *b) {
   assert_close(b->face[5].n.z, 1.0, 1e-15, 0.0);  /* the bottom, z = 2 */
 }
 
+/* Paths through the glass slab (slab_scene(): top face 4, bottom 5), each with a far plane
+ * (normal and a point) where models and exact rays are compared. */
+static const struct {
+  const char *name;
+  int n;
+  bm_step_t st[3];
+  px_vec3_t pn, pp;
+} slab_paths[] = {
+    {"refract in", 1, {{4, PX_EVENT_REFRACT, 1.5}}, {0, 0, 1}, {0, 0, 2}},
+    {"through",
+     2,
+     {{4, PX_EVENT_REFRACT, 1.5}, {5, PX_EVENT_REFRACT, 1.0}},
+     {0.1, -0.2, 1},
+     {0, 0, 6}},
+    {"reflect", 1, {{4, PX_EVENT_REFLECT, 1.0}}, {0.2, 0.1, 1}, {0, 0, -3}},
+    {"in, reflect, out",
+     3,
+     {{4, PX_EVENT_REFRACT, 1.5}, {5, PX_EVENT_REFLECT, 1.5}, {4, PX_EVENT_REFRACT, 1}},
+     {-0.1, 0.3, 1},
+     {0, 0, -3}},
+};
 static double plane_hit_err(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
                             const bm_model_t *m, const double p[2], px_vec3_t n, double dd) {
   px_vec3_t o, d, x;
@@ -493,36 +514,16 @@ static void model_first_order(void **state) {
   rt_scene_t s;
   bm_scene_t b;
   slab_scene(&s, &b);
-  const int top = 4, bottom = 5;
-  struct {
-    const char *name;
-    int n;
-    bm_step_t st[3];
-    px_vec3_t pn, pp; /* the far plane: normal and a point */
-  } paths[] = {
-      {"refract in", 1, {{top, PX_EVENT_REFRACT, 1.5}}, px_v3(0, 0, 1), px_v3(0, 0, 2)},
-      {"through",
-       2,
-       {{top, PX_EVENT_REFRACT, 1.5}, {bottom, PX_EVENT_REFRACT, 1.0}},
-       px_v3(0.1, -0.2, 1),
-       px_v3(0, 0, 6)},
-      {"reflect", 1, {{top, PX_EVENT_REFLECT, 1.0}}, px_v3(0.2, 0.1, 1), px_v3(0, 0, -3)},
-      {"in, reflect, out",
-       3,
-       {{top, PX_EVENT_REFRACT, 1.5}, {bottom, PX_EVENT_REFLECT, 1.5}, {top, PX_EVENT_REFRACT, 1}},
-       px_v3(-0.1, 0.3, 1),
-       px_v3(0, 0, -3)},
-  };
   const double dirs[3][2] = {{1, 0}, {0, 1}, {0.6, -0.8}};
   const double pc[2] = {0.05, -0.03};
   for (int parallel = 0; parallel < 2; parallel++) {
     bm_source_t src =
         make_source(parallel, px_v3(0.2, -0.1, 0), px_v3(0.15, 0.1, 1), px_v3(0, 1, 0), 1.0);
-    for (size_t i = 0; i < sizeof paths / sizeof *paths; i++) {
+    for (size_t i = 0; i < sizeof slab_paths / sizeof *slab_paths; i++) {
       bm_path_t path = {0};
-      path.n = paths[i].n;
+      path.n = slab_paths[i].n;
       for (int k = 0; k < path.n; k++)
-        path.step[k] = paths[i].st[k];
+        path.step[k] = slab_paths[i].st[k];
       bm_model_t m;
       assert_int_equal(bm_model(&b, &src, &path, pc, &m), PX_OK);
       assert_int_equal(m.root, 0);
@@ -539,8 +540,8 @@ static void model_first_order(void **state) {
       assert_close(px_v3_norm(px_v3_sub(ed, m.d)), 0.0, 0.0, 1e-14);
       assert_close(px_v3_norm(px_v3_sub(m.f.z, m.d)), 0.0, 0.0, 1e-15);
       assert_close(px_frame_defect(m.f), 0.0, 0.0, 1e-14);
-      px_vec3_t n = px_v3_unit(paths[i].pn);
-      double dd = px_v3_dot(n, paths[i].pp);
+      px_vec3_t n = px_v3_unit(slab_paths[i].pn);
+      double dd = px_v3_dot(n, slab_paths[i].pp);
       for (int j = 0; j < 3; j++) {
         double err[3];
         for (int e = 0; e < 3; e++) {
@@ -550,16 +551,16 @@ static void model_first_order(void **state) {
         }
         if (parallel) {
           if (!(fmax(err[0], fmax(err[1], err[2])) < 1e-12 * b.scale))
-            fail_msg("parallel, %s, direction %d: errors %.3e %.3e %.3e, not exact", paths[i].name,
-                     j, err[0], err[1], err[2]);
+            fail_msg("parallel, %s, direction %d: errors %.3e %.3e %.3e, not exact",
+                     slab_paths[i].name, j, err[0], err[1], err[2]);
           continue;
         }
         double r1 = err[0] / err[1], r2 = err[1] / err[2];
-        print_message("apex, %-16s dir %d: err %.3e %.3e %.3e, ratios %.1f %.1f\n", paths[i].name,
-                      j, err[0], err[1], err[2], r1, r2);
+        print_message("apex, %-16s dir %d: err %.3e %.3e %.3e, ratios %.1f %.1f\n",
+                      slab_paths[i].name, j, err[0], err[1], err[2], r1, r2);
         if (!(r1 >= 50 && r1 <= 200 && r2 >= 50 && r2 <= 200 && err[2] < 1e-7 * b.scale))
           fail_msg("apex, %s, direction %d: errors %.3e %.3e %.3e are not second order",
-                   paths[i].name, j, err[0], err[1], err[2]);
+                   slab_paths[i].name, j, err[0], err[1], err[2]);
       }
       /* projection and hit are inverse; the projection is the exact ray's parameters to second
        * order */
@@ -763,37 +764,17 @@ static void bound_holds(void **state) {
   rt_scene_t s;
   bm_scene_t b;
   slab_scene(&s, &b);
-  const int top = 4, bottom = 5;
-  struct {
-    const char *name;
-    int n;
-    bm_step_t st[3];
-    px_vec3_t pn, pp;
-  } paths[] = {
-      {"refract in", 1, {{top, PX_EVENT_REFRACT, 1.5}}, px_v3(0, 0, 1), px_v3(0, 0, 2)},
-      {"through",
-       2,
-       {{top, PX_EVENT_REFRACT, 1.5}, {bottom, PX_EVENT_REFRACT, 1.0}},
-       px_v3(0.1, -0.2, 1),
-       px_v3(0, 0, 6)},
-      {"reflect", 1, {{top, PX_EVENT_REFLECT, 1.0}}, px_v3(0.2, 0.1, 1), px_v3(0, 0, -3)},
-      {"in, reflect, out",
-       3,
-       {{top, PX_EVENT_REFRACT, 1.5}, {bottom, PX_EVENT_REFLECT, 1.5}, {top, PX_EVENT_REFRACT, 1}},
-       px_v3(-0.1, 0.3, 1),
-       px_v3(0, 0, -3)},
-  };
   uint64_t seed = 12345;
   for (int steep = 0; steep < 2; steep++) {
     bm_source_t src =
         make_source(0, px_v3(0.2, -0.1, 0), px_v3(steep ? 0.9 : 0.15, 0.1, 1), px_v3(0, 1, 0), 1.0);
-    for (size_t i = 0; i < sizeof paths / sizeof *paths; i++) {
+    for (size_t i = 0; i < sizeof slab_paths / sizeof *slab_paths; i++) {
       bm_path_t path = {0};
-      path.n = paths[i].n;
+      path.n = slab_paths[i].n;
       for (int k = 0; k < path.n; k++)
-        path.step[k] = paths[i].st[k];
-      px_vec3_t n = px_v3_unit(paths[i].pn);
-      double dd = px_v3_dot(n, paths[i].pp), worst = 0.0;
+        path.step[k] = slab_paths[i].st[k];
+      px_vec3_t n = px_v3_unit(slab_paths[i].pn);
+      double dd = px_v3_dot(n, slab_paths[i].pp), worst = 0.0;
       for (int trial = 0; trial < 40; trial++) {
         double u[5];
         for (int k = 0; k < 5; k++) {
@@ -839,27 +820,29 @@ static void bound_holds(void **state) {
           if (!(most <= bc.err + slack) || !(most <= bp.err + slack))
             fail_msg("%s, %s, trial %d, spread %.2e: exact rays %.4e from the model, bound %.4e "
                      "(printed %.4e)",
-                     paths[i].name, steep ? "steep" : "near axis", trial, hs, most, bc.err, bp.err);
+                     slab_paths[i].name, steep ? "steep" : "near axis", trial, hs, most, bc.err,
+                     bp.err);
           if (hs > 1e-2)
             worst = fmax(worst, most / bc.err);
           if (scale == 0)
             prev = bc.err;
           else if (!(prev / bc.err >= 50.0 && (h > 0.01 || prev / bc.err <= 200.0)))
             fail_msg("%s: bound %.4e at spread %.2e, %.4e at a tenth: not second order",
-                     paths[i].name, prev, h, bc.err);
+                     slab_paths[i].name, prev, h, bc.err);
         }
       }
-      print_message("%-16s %s: largest error / bound %.3f\n", paths[i].name,
+      print_message("%-16s %s: largest error / bound %.3f\n", slab_paths[i].name,
                     steep ? "steep" : "near axis", worst);
       if (path.step[0].event == PX_EVENT_REFRACT && !(worst > 0.1))
-        fail_msg("%s: the bound is vacuous (error / bound at most %.3f)", paths[i].name, worst);
+        fail_msg("%s: the bound is vacuous (error / bound at most %.3f)", slab_paths[i].name,
+                 worst);
     }
   }
   /* a root model is exact; a skimmed plane and one behind have no bound */
   bm_source_t src = make_source(0, px_v3(0.2, -0.1, 0), px_v3(0.15, 0.1, 1), px_v3(0, 1, 0), 1.0);
   const double pc[2] = {0, 0};
   px_poly2_t r = {3, {{-0.01, -0.01}, {0.01, -0.01}, {0, 0.01}}};
-  bm_path_t root = {0}, in = {1, {{top, PX_EVENT_REFRACT, 1.5}}};
+  bm_path_t root = {0}, in = {1, {{4, PX_EVENT_REFRACT, 1.5}}}; /* into the top face */
   bm_model_t m;
   bm_bound_t bd;
   assert_int_equal(bm_model(&b, &src, &root, pc, &m), PX_OK);
