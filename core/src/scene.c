@@ -99,6 +99,9 @@ rt_status_t rt_scene_add_material(rt_scene_t *s, const rt_material_t *m, int *in
   if (!RESERVE(s, material, nmaterial, 1))
     return RT_ENOMEM;
   s->material[s->nmaterial] = *m;
+  /* an index that does not vary is the scalar ior, whatever the caller left in the model */
+  if (!px_index_disperses(&m->index))
+    s->material[s->nmaterial].index = px_index_constant(m->ior);
   if (index)
     *index = s->nmaterial;
   s->nmaterial++;

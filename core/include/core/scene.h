@@ -30,8 +30,9 @@ typedef struct {
   double ior;       /**< refractive index of the material's interior, > 0 (at the d-line when the
                          index is a model) */
   px_index_t index; /**< the index as a function of wavelength (paraxial/dispersion.h): constant
-                         (ior) unless the scene gives a model; renderers use ior until
-                         dispersion is drawn (issue 22) */
+                         (ior) unless the scene gives a model (rt_scene_add_material() sets a
+                         model that does not vary to ior); renderers use ior until dispersion
+                         is drawn (issue 22) */
   int fresnel;      /**< 1: split kt between reflection (kt F) and refraction (kt (1 - F))
                          with the unpolarised Fresnel reflectance F; 0: constant kr, kt */
   rt_rgb_t transmittance; /**< colour filter of transmitted light (refraction and shadow rays) */
