@@ -391,35 +391,15 @@ static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, 
   return j;
 }
 
-/* 1 when `name` is in the comma-separated list. */
-static int listed(const char *list, const char *name) {
-  size_t n = strlen(name);
-  for (const char *p = list; *p;) {
-    size_t k = strcspn(p, ",");
-    if (k == n && strncmp(p, name, n) == 0)
-      return 1;
-    p += k + (p[k] == ',');
-  }
-  return 0;
-}
-
 const char *val_bench_beam_case_names(void) {
   return "fig11, prism, sphere100, sphere500, sphere990, sphere2500, sphere5040, sphere10000";
 }
 
 int val_bench_beam_cases_ok(const char *list, char *bad, size_t cap) {
-  for (const char *p = list; *p;) {
-    size_t k = strcspn(p, ",");
-    int known = 0;
-    for (int c = 0; c < NCASES; c++)
-      known |= strlen(cases[c].name) == k && strncmp(p, cases[c].name, k) == 0;
-    if (!known) {
-      snprintf(bad, cap, "%.*s", (int)k, p);
-      return 0;
-    }
-    p += k + (p[k] == ',');
-  }
-  return 1;
+  const char *names[NCASES];
+  for (int c = 0; c < NCASES; c++)
+    names[c] = cases[c].name;
+  return val_case_list_ok(list, names, NCASES, bad, cap);
 }
 
 int val_bench_beam(const val_beam_bench_opts_t *o) {
@@ -434,7 +414,7 @@ int val_bench_beam(const val_beam_bench_opts_t *o) {
             side, side, o->rho, ref_side * ref_side, o->runs);
   json_t *all = json_array();
   for (int k = 0; k < NCASES; k++) {
-    if (o->cases ? !listed(o->cases, cases[k].name) : o->quick && !cases[k].quick)
+    if (o->cases ? !val_case_listed(o->cases, cases[k].name) : o->quick && !cases[k].quick)
       continue;
     json_t *j = run_case(&cases[k], o, side, ref_side, f);
     if (!j) {

@@ -315,33 +315,11 @@ static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *
   return j;
 }
 
-/* 1 when `name` is in the comma-separated list (NULL: every name is). */
-static int listed(const char *list, const char *name) {
-  if (!list)
-    return 1;
-  size_t n = strlen(name);
-  for (const char *p = list; *p;) {
-    size_t k = strcspn(p, ",");
-    if (k == n && strncmp(p, name, n) == 0)
-      return 1;
-    p += k + (p[k] == ',');
-  }
-  return 0;
-}
-
 int val_bench_caustics_cases_ok(const char *list, char *bad, size_t cap) {
-  for (const char *p = list; *p;) {
-    size_t k = strcspn(p, ",");
-    int known = 0;
-    for (int c = 0; c < NCASES; c++)
-      known |= strlen(cases[c].name) == k && strncmp(p, cases[c].name, k) == 0;
-    if (!known) {
-      snprintf(bad, cap, "%.*s", (int)k, p);
-      return 0;
-    }
-    p += k + (p[k] == ',');
-  }
-  return 1;
+  const char *names[NCASES];
+  for (int c = 0; c < NCASES; c++)
+    names[c] = cases[c].name;
+  return val_case_list_ok(list, names, NCASES, bad, cap);
 }
 
 int val_bench_caustics(const val_caustic_bench_opts_t *o) {
@@ -354,7 +332,7 @@ int val_bench_caustics(const val_caustic_bench_opts_t *o) {
             o->runs);
   json_t *all = json_array();
   for (int k = 0; k < NCASES; k++) {
-    if (!listed(o->cases, cases[k].name))
+    if (!val_case_listed(o->cases, cases[k].name))
       continue;
     json_t *j = run_case(&cases[k], o, f);
     if (!j) {

@@ -1,7 +1,9 @@
-/* timing.c -- clocks and medians for the benchmark and figure drivers. */
+/* timing.c -- clocks, medians and --case lists for the benchmark and figure drivers. */
 #include "validation/timing.h"
 
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static double seconds(clockid_t id) {
@@ -25,4 +27,32 @@ static int cmp_double(const void *a, const void *b) {
 double val_median(double *v, int n) {
   qsort(v, (size_t)n, sizeof v[0], cmp_double);
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int val_case_listed(const char *list, const char *name) {
+  if (!list)
+    return 1;
+  size_t n = strlen(name);
+  for (const char *p = list; *p;) {
+    size_t k = strcspn(p, ",");
+    if (k == n && strncmp(p, name, n) == 0)
+      return 1;
+    p += k + (p[k] == ',');
+  }
+  return 0;
+}
+
+int val_case_list_ok(const char *list, const char *const *names, int n, char *bad, size_t cap) {
+  for (const char *p = list; *p;) {
+    size_t k = strcspn(p, ",");
+    int known = 0;
+    for (int c = 0; c < n; c++)
+      known |= strlen(names[c]) == k && strncmp(p, names[c], k) == 0;
+    if (!known) {
+      snprintf(bad, cap, "%.*s", (int)k, p);
+      return 0;
+    }
+    p += k + (p[k] == ',');
+  }
+  return 1;
 }
