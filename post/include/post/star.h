@@ -82,13 +82,14 @@ typedef struct {
 
 /** Filter the n planes in[c] (w x h floats, non-negative and finite: the caller checks) into
  *  out[c] (may be the same arrays) by the kernel: the linear convolution, by FFT on a grid of
- *  at least (w + radius) x (h + radius). threads > 0 FFTW threads (0: 1). flux may be NULL
+ *  at least (w + radius) x (h + radius), pruned (only the image's rows and the rows it keeps are
+ *  transformed along x). threads > 0 OpenMP threads (0: 1). flux may be NULL
  *  (else n entries). -1 with the reason in why[cap] when out of memory or FFTW cannot plan. */
 int pp_star_apply(const pp_kernel_t *k, int w, int h, int n, const float *const *in, float **out,
                   int threads, pp_star_flux_t *flux, char *why, size_t cap);
 
-/** The memory pp_star_apply() allocates for a w x h image and kernel k (the FFT grid, its
- *  spectrum and the kernel's), bytes. */
+/** The memory pp_star_apply() allocates for a w x h image and kernel k (the image's rows of the
+ *  half spectrum, the kernel's spectrum and two threads' buffers), bytes. */
 size_t pp_star_bytes(const pp_kernel_t *k, int w, int h);
 
 /** The same convolution summed directly (O(w h side^2)): the FFT's check on small images. */
