@@ -61,8 +61,8 @@ typedef struct {
 
 /* N renders of scene s with `threads`; median time and rays per second in *r. */
 static int measure(const rt_scene_t *s, int side, int threads, int runs, result_t *r) {
-  rt_plan_t plan = rt_plan_make(s, side * side);
   const rn_renderer_t *x = rn_exact(); /* the table's exact entry: its rays are rt_stats_t */
+  rt_plan_t plan = rn_plan_make(x, s, side * side);
   unsigned char xopt[64];
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = side;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Index models in scene files (issue 22): "ior" as {"glass": NAME} or {"model": ...} loads, the
-# material renders at its index at the d-line (so a scene with a model renders as the same scene
-# with that number), and the effects plan names the dispersive material and why dispersion is off.
+# Index models in scene files (issue 22): "ior" as {"glass": NAME} or {"model": ...} loads; the
+# exact renderer draws it through the spectral fan (the effects plan says how many bins), the
+# pencil renderer at its index at the d-line (so its image equals the same scene with that number,
+# and the plan says why); "spectral_bins" sets the bins.
 set -u
 pencil=$1
 fail=0
@@ -24,16 +25,33 @@ scene '{"model": "abbe", "nd": 1.5, "vd": 50}' >"$tmp/model.json"
 scene '1.5' >"$tmp/number.json"
 scene '{"glass": "SF11"}' >"$tmp/sf11.json"
 $pencil render "$tmp/model.json" --explain >"$tmp/plan" 2>&1; rc=$?
-check "a model loads; the plan names it and its n_d" "[ $rc -eq 0 ] && grep -q \"dispersion     off: material 'glass' disperses (dn/dlambda .* /nm at the d-line), but no renderer draws dispersion yet: it is rendered at n_d = 1.5\" '$tmp/plan'"
+check "a model loads; the exact renderer's plan fans it out into 40 bins" "[ $rc -eq 0 ] && grep -q \"dispersion     on: material 'glass' disperses (dn/dlambda .* /nm at the d-line): white rays refracting at it fan out into 40 wavelength bins over 380-780 nm\" '$tmp/plan'"
+$pencil render "$tmp/model.json" --method pencil --explain >"$tmp/plan1" 2>&1
+check "the pencil renderer's plan: off, at n_d" "grep -q \"dispersion     off: material 'glass' disperses, but the pencil renderer does not draw dispersion yet: it is rendered at n_d = 1.5\" '$tmp/plan1'"
 $pencil render "$tmp/number.json" --explain >"$tmp/plan2" 2>&1
 check "a number: no dispersion" "grep -q \"dispersion     off: no transparent material's index varies with wavelength\" '$tmp/plan2'"
-$pencil render "$tmp/sf11.json" --explain >"$tmp/plan3" 2>&1
-check "a catalogue glass: SF11 at n_d 1.7847" "grep -q 'n_d = 1.7847' '$tmp/plan3'"
-$pencil render "$tmp/model.json" --no-aux -o "$tmp/a.exr" >/dev/null 2>&1 && $pencil render "$tmp/number.json" --no-aux -o "$tmp/b.exr" >/dev/null 2>&1
-check "a model renders as its index at the d-line" "$py - '$tmp/a.exr' '$tmp/b.exr' <<'PY'
+$pencil render "$tmp/sf11.json" --method beam --explain >"$tmp/plan3" 2>&1
+check "a catalogue glass: SF11 at n_d 1.7847 for beams" "grep -q 'n_d = 1.7847' '$tmp/plan3'"
+sed 's/"caustics": "off"/"caustics": "off", "spectral_bins": 4/' "$tmp/model.json" >"$tmp/bins4.json"
+$pencil render "$tmp/bins4.json" --explain >"$tmp/plan4" 2>&1
+check "spectral_bins sets the bins" "grep -q 'fan out into 4 wavelength bins' '$tmp/plan4'"
+for m in exact pencil; do
+  $pencil render "$tmp/model.json" --method $m --no-aux -o "$tmp/a-$m.exr" >/dev/null 2>&1 &&
+    $pencil render "$tmp/number.json" --method $m --no-aux -o "$tmp/b-$m.exr" >/dev/null 2>&1 ||
+    echo "FAIL: render $m"
+done
+check "the pencil renderer draws a model as its index at the d-line" "$py - '$tmp/a-pencil.exr' '$tmp/b-pencil.exr' <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 a, b = (oiio.ImageBuf(p).get_pixels(oiio.FLOAT)[:, :, :3] for p in sys.argv[1:3])
 assert np.abs(a - b).max() < 1e-5, np.abs(a - b).max()
+PY"
+check "the exact renderer draws its dispersion: colours change through the glass only" "$py - '$tmp/a-exact.exr' '$tmp/b-exact.exr' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+a, b = (oiio.ImageBuf(p).get_pixels(oiio.FLOAT)[:, :, :3] for p in sys.argv[1:3])
+assert np.isfinite(a).all()
+d = np.abs(a - b).max(axis=2)
+assert d.max() > 1e-3, d.max()           # the board seen through the ball shifts by wavelength
+assert (d < 1e-6).mean() > 0.3, (d < 1e-6).mean()  # the board beside the ball is untouched
 PY"
 echo "cli_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
 exit $fail

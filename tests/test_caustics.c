@@ -174,7 +174,7 @@ static void shade_replaces_textbook_shadow(void **state) {
   for (int k = 0; k < 2; k++) {
     px_vec3_t eye = px_v3(pts[k].x, 3, pts[k].z - 1);
     px_vec3_t d = px_v3_unit(px_v3_sub(pts[k], eye));
-    rt_ray_t ray = {eye, d, 0.0, INFINITY, 1.0, -1};
+    rt_ray_t ray = {eye, d, 0.0, INFINITY, 1.0, -1, 0.0f};
     rt_hit_t hit = {px_v3_norm(px_v3_sub(pts[k], eye)), pts[k], px_v3(0, 1, 0),
                     s.object[0].first_prim, 0};
     rt_surface_t sf;

@@ -32,7 +32,7 @@ static int mat_add(rt_scene_t *s) {
 static rt_ray_t ray_to(px_vec3_t o, px_vec3_t target) {
   px_vec3_t d;
   px_vec3_normalize(px_vec3_sub(target, o), &d);
-  return (rt_ray_t){o, d, 0.0, INFINITY, 1.0, -1};
+  return (rt_ray_t){o, d, 0.0, INFINITY, 1.0, -1, 0.0f};
 }
 
 /* The exact tracer's first hit of the ray with quadric q. */
@@ -228,7 +228,7 @@ static void bvh_matches_brute_force(void **state) {
     px_vec3_t d = px_vec3(rnd(&seed), rnd(&seed), rnd(&seed));
     if (px_vec3_normalize(d, &d) != PX_OK)
       continue;
-    rt_ray_t r = {o, d, 0.0, INFINITY, 1.0, -1};
+    rt_ray_t r = {o, d, 0.0, INFINITY, 1.0, -1, 0.0f};
     rt_hit_t a, b;
     int fa = rt_intersect(&s, &r, &a), fb = rt_intersect_brute(&s, &r, &b);
     assert_int_equal(fa, fb);

@@ -44,7 +44,7 @@ static int add_fresnel_glass(rt_scene_t *s) {
 static rt_ray_t ray_to(px_vec3_t o, px_vec3_t target) {
   px_vec3_t d;
   px_vec3_normalize(px_vec3_sub(target, o), &d);
-  return (rt_ray_t){o, d, 0.0, INFINITY, 1.0, -1};
+  return (rt_ray_t){o, d, 0.0, INFINITY, 1.0, -1, 0.0f};
 }
 
 static void vec_close(px_vec3_t a, px_vec3_t b, double tol) {
@@ -185,18 +185,18 @@ static void shadow_attenuation_is_product_of_kt(void **state) {
   rt_scene_add_sphere(&s, px_vec3(5, 3, 0), 1.0, mo, NULL);
   rt_scene_add_sphere(&s, px_vec3(0, 20, 0), 1.0, mo, NULL); /* beyond the light */
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
-  rt_ray_t up = {px_vec3(0, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1};
+  rt_ray_t up = {px_vec3(0, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1, 0.0f};
   rt_rgb_t t = rt_transmittance(&s, &up);
   assert_close(t.r, 0.6 * 0.5, 1e-15, 0);
   assert_close(t.g, 0.3 * 0.5, 1e-15, 0);
   assert_close(t.b, 0.15 * 0.5, 1e-15, 0);
   up.tmax = 4.5; /* only the first ball */
   assert_close(rt_transmittance(&s, &up).r, 0.6, 1e-15, 0);
-  rt_ray_t inside = {px_vec3(0, 2.5, 0), px_vec3(0, 1, 0), 0.0, 4.5, 1.0, -1};
+  rt_ray_t inside = {px_vec3(0, 2.5, 0), px_vec3(0, 1, 0), 0.0, 4.5, 1.0, -1, 0.0f};
   assert_close(rt_transmittance(&s, &inside).r, 0.6, 1e-15, 0); /* starts inside: one exit */
-  rt_ray_t side = {px_vec3(5, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1};
+  rt_ray_t side = {px_vec3(5, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1, 0.0f};
   assert_true(rt_rgb_max(rt_transmittance(&s, &side)) == 0.0);
-  rt_ray_t clear = {px_vec3(-5, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1};
+  rt_ray_t clear = {px_vec3(-5, 0, 0), px_vec3(0, 1, 0), 0.0, 10.0, 1.0, -1, 0.0f};
   t = rt_transmittance(&s, &clear);
   assert_true(t.r == 1.0 && t.g == 1.0 && t.b == 1.0);
   rt_scene_free(&s);
@@ -291,7 +291,8 @@ static void area_light_sums_its_mesh_points(void **state) {
       px_vec3_t pos =
           px_vec3(0.3 + 1.2 * ((i + 0.5) / n - 0.5), 2.0, -0.2 + 0.8 * ((j + 0.5) / n - 0.5));
       double r2 = px_v3_dot(pos, pos), cosine = 2.0 / sqrt(r2);
-      rt_ray_t q = {px_vec3(0, 1e-9, 0), px_v3_scale(pos, 1.0 / sqrt(r2)), 0.0, sqrt(r2), 1.0, -1};
+      rt_ray_t q = {
+          px_vec3(0, 1e-9, 0), px_v3_scale(pos, 1.0 / sqrt(r2)), 0.0, sqrt(r2), 1.0, -1, 0.0f};
       rt_hit_t qh;
       if (rt_intersect(&s, &q, &qh))
         blocked++;
@@ -486,7 +487,7 @@ static void children_weights_fresnel_and_tir(void **state) {
   assert_close(ch[1].ray.ior, 1.5, 0, 0);
   assert_int_equal(rt_shade_children(&s, &plan, &sf, &r, plan.max_depth, ch), 0);
   /* inside the ball along x = 0.9: sin(incidence) = 0.9 > 1/1.5, beyond the critical angle */
-  rt_ray_t in = {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1};
+  rt_ray_t in = {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1, 0.0f};
   assert_true(rt_intersect(&s, &in, &h));
   rt_shade_surface(&s, &h, &in, &sf);
   assert_false(sf.entering);
@@ -513,9 +514,9 @@ static void one_child_is_the_child_of_its_kind(void **state) {
   rt_plan_t plans[2] = {rt_plan_make(&s, 1), rt_plan_make(&s, 1)};
   plans[1].on &= ~(1u << RT_EFFECT_REFRACTION);
   const rt_ray_t rays[3] = {
-      ray_to(px_vec3(0.3, 0.2, -5), px_vec3(0, 0, 0)),              /* enters the glass ball */
-      {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1}, /* inside it: TIR */
-      ray_to(px_vec3(0.2, 0, 5), px_vec3(0, 0, 10))};               /* the clear ball: kr = 0 */
+      ray_to(px_vec3(0.3, 0.2, -5), px_vec3(0, 0, 0)), /* enters the glass ball */
+      {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1, 0.0f}, /* inside it: TIR */
+      ray_to(px_vec3(0.2, 0, 5), px_vec3(0, 0, 10))}; /* the clear ball: kr = 0 */
   int seen[3] = {0, 0, 0}; /* children returned: reflected, refracted, with TIR */
   for (int p = 0; p < 2; p++)
     for (int i = 0; i < 3; i++)

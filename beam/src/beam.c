@@ -8,7 +8,7 @@
 #include <string.h>
 
 rt_ray_t bm_source_ray(const bm_source_t *src, const double p[2]) {
-  rt_ray_t r = {src->o, src->z, 0.0, INFINITY, src->ior, -1};
+  rt_ray_t r = {src->o, src->z, 0.0, INFINITY, src->ior, -1, 0.0f};
   px_vec3_t t = px_v3_add(px_v3_scale(src->x, p[0]), px_v3_scale(src->y, p[1]));
   if (src->parallel)
     r.o = px_v3_add(src->o, t);

@@ -192,7 +192,8 @@ static rt_ray_t model_ray(const tile_t *T, const bm_model_t *m, const bm_path_t 
   bm_model_ray(m, &T->src, p, &o, &d);
   return (rt_ray_t){
       o,        px_v3_unit(d),           0.0,
-      INFINITY, j ? m->ior : T->src.ior, j ? T->b->face[path->step[j - 1].face].prim : -1};
+      INFINITY, j ? m->ior : T->src.ior, j ? T->b->face[path->step[j - 1].face].prim : -1,
+      0.0f};
 }
 
 /* The weight of path's n steps at parameters p, by the models ms[0 .. n-1] (the paraxial ray of

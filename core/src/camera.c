@@ -31,5 +31,5 @@ rt_ray_t rt_view_ray(const rt_view_t *v, double x, double y, double ior) {
   double sy = (2.0 * y / v->height - 1.0) * v->half_h;
   px_vec3_t d = px_v3_axpy(sx, v->right, px_v3_axpy(sy, v->down, v->forward));
   /* |d| >= 1: forward is unit and orthogonal to the offsets */
-  return (rt_ray_t){v->eye, px_v3_unit(d), 0.0, INFINITY, ior, -1};
+  return (rt_ray_t){v->eye, px_v3_unit(d), 0.0, INFINITY, ior, -1, 0.0f};
 }

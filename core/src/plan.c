@@ -3,6 +3,9 @@
  * reflective and refractive children exist only "if object(q) is reflective/refractive"). */
 #include "core/plan.h"
 
+#include "colour/colour.h"
+
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -145,31 +148,72 @@ static void plan_caustics(rt_plan_t *p, const rt_scene_t *s) {
       n > 1 ? " and others" : "", nmaps, rest);
 }
 
+/* Ray-tree nodes a sample can make: a binary tree (or a chain) to the depth limit; below a spectral
+ * fan, p->bins monochromatic subtrees where a white ray refracts (each binary again, with no fan of
+ * its own). Capped: a renderer's buffer that overflows flags the tree (core/raytree.h). */
 static int tree_bound(const rt_plan_t *p) {
-  int both = rt_plan_has(p, RT_EFFECT_REFLECTION) && rt_plan_has(p, RT_EFFECT_REFRACTION);
-  int any = rt_plan_has(p, RT_EFFECT_REFLECTION) || rt_plan_has(p, RT_EFFECT_REFRACTION);
-  if (!any)
-    return 1;
-  if (!both)
-    return p->max_depth + 1; /* a chain: one child per node */
-  return p->max_depth >= 16 ? (1 << 17) - 1 : (1 << (p->max_depth + 1)) - 1; /* binary tree */
+  int r = rt_plan_has(p, RT_EFFECT_REFLECTION), t = rt_plan_has(p, RT_EFFECT_REFRACTION);
+  double white = 1.0, mono = 1.0, cap = p->bins > 0 ? (1 << 18) - 1 : (1 << 17) - 1;
+  for (int d = 1; d <= p->max_depth && (r || t); d++) {
+    double fan = p->bins > 0 ? p->bins * mono : white;
+    white = fmin(cap, 1.0 + r * white + t * fan);
+    mono = fmin(cap, 1.0 + (r + t) * mono);
+  }
+  return (int)white;
 }
 
-/* Dispersion: no renderer draws it yet (issue 22); the plan says which material would need it. */
+static int is_dispersive(const rt_material_t *m) {
+  return m->kt > 0.0 && px_index_disperses(&m->index);
+}
+
+/* Dispersion: on where refraction runs and a transparent material's index varies with wavelength
+ * (the scene's own index, settings.ior, is a number). White rays that refract into or out of such
+ * a material fan out into the scene's bins (docs/spectral.md, section 3). */
 static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s) {
-  for (int i = 0; i < s->nobject; i++) {
-    const rt_material_t *m = &s->material[s->object[i].material];
-    double dn;
-    if (m->kt > 0.0 && px_index_disperses(&m->index) &&
-        px_index_eval(&m->index, PX_LAMBDA_D, NULL, &dn) == PX_OK) {
-      set(p, RT_EFFECT_DISPERSION, 0,
-          "off: material '%s' disperses (dn/dlambda %.3g /nm at the d-line), but no renderer "
-          "draws dispersion yet: it is rendered at n_d = %.5g",
-          m->name, dn, m->ior);
-      return;
-    }
+  const rt_material_t *m = used(s, is_dispersive);
+  double dn = 0.0;
+  if (!m) {
+    set(p, RT_EFFECT_DISPERSION, 0, "off: no transparent material's index varies with wavelength");
+    return;
   }
-  set(p, RT_EFFECT_DISPERSION, 0, "off: no transparent material's index varies with wavelength");
+  if (px_index_eval(&m->index, PX_LAMBDA_D, NULL, &dn) != PX_OK)
+    dn = NAN; /* the loader checked the model over 380-780 nm: not reached */
+  if (!rt_plan_has(p, RT_EFFECT_REFRACTION)) {
+    set(p, RT_EFFECT_DISPERSION, 0,
+        "off: material '%s' disperses (dn/dlambda %.3g /nm at the d-line), but refraction is "
+        "off",
+        m->name, dn);
+    return;
+  }
+  int n = s->spectral_bins;
+  if (n < RT_MIN_BINS || n > RT_MAX_BINS)
+    n = RT_DEFAULT_BINS;
+  double w[RT_MAX_BINS][3];
+  if (cs_bins(n, CS_LAMBDA_LO, CS_LAMBDA_HI, p->bin_lambda, w) != 0) {
+    set(p, RT_EFFECT_DISPERSION, 0, "off: the colour-matching functions do not cover %g-%g nm",
+        CS_LAMBDA_LO, CS_LAMBDA_HI);
+    return;
+  }
+  for (int i = 0; i < n; i++)
+    p->bin_weight[i] = rt_rgb(w[i][0], w[i][1], w[i][2]);
+  p->bins = n;
+  set(p, RT_EFFECT_DISPERSION, 1,
+      "on: material '%s' disperses (dn/dlambda %.3g /nm at the d-line): white rays refracting "
+      "at it fan out into %d wavelength bins over %g-%g nm",
+      m->name, dn, n, CS_LAMBDA_LO, CS_LAMBDA_HI);
+}
+
+void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *renderer) {
+  if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
+    return;
+  const rt_material_t *m = used(s, is_dispersive);
+  p->on &= ~(1u << RT_EFFECT_DISPERSION);
+  p->bins = 0;
+  set(p, RT_EFFECT_DISPERSION, 0,
+      "off: material '%s' disperses, but the %s renderer does not draw dispersion yet: it is "
+      "rendered at n_d = %.5g",
+      m ? m->name : "?", renderer, m ? m->ior : 0.0);
+  p->tree_nodes = tree_bound(p);
 }
 
 rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {

@@ -21,7 +21,8 @@ int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_
                       rt_child_t *child, rt_rgb_t *extra_reflect, int *tir) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t wt = rt_rgb_scale(m->transmittance, m->kt);
-  px_interface_t ifc = {.s = ray->d, .nu = px_v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = sf->n2};
+  double n2 = sf->n2; /* at a monochromatic ray's wavelength: spectral() in shade.c */
+  px_interface_t ifc = {.s = ray->d, .nu = px_v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = n2};
   px_vec3_t dir;
   double co;
   px_status_t st = px_interface_outgoing(&ifc, PX_EVENT_REFRACT, &dir, &co);
@@ -31,14 +32,14 @@ int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_
     return 0;
   }
   if (m->fresnel) {
-    double f = rt_fresnel(-px_v3_dot(sf->nf, ray->d), co, sf->n1, sf->n2);
+    double f = rt_fresnel(-px_v3_dot(sf->nf, ray->d), co, sf->n1, n2);
     *extra_reflect = rt_rgb_add(*extra_reflect, rt_rgb(m->kt * f, m->kt * f, m->kt * f));
     wt = rt_rgb_scale(wt, 1.0 - f);
   }
   if (!child) /* the caller wants the reflected share only */
     return 1;
   int skip = s->prim[sf->hit.prim].kind != RT_PRIM_SPHERE ? sf->hit.prim : -1;
-  child->ray = (rt_ray_t){rt__offset_origin(sf, -1.0), dir, 0.0, INFINITY, sf->n2, skip};
+  child->ray = (rt_ray_t){rt__offset_origin(sf, -1.0), dir, 0.0, INFINITY, n2, skip, ray->lambda};
   child->weight = wt;
   child->kind = RT_RAY_REFRACT;
   child->tir = 0;

@@ -55,6 +55,7 @@ void rt_scene_init(rt_scene_t *s) {
   s->spp = 1;
   s->shadows = 1;
   s->ior = 1.0;
+  s->spectral_bins = RT_DEFAULT_BINS;
 }
 
 static void drop_accel(rt_scene_t *s) {

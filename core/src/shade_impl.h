@@ -13,6 +13,10 @@ px_vec3_t rt__offset_origin(const rt_surface_t *sf, double side);
  *  a refracted ray exists (child NULL: only says whether); adds to *extra_reflect the weight
  *  that reflects instead (Fresnel share, or everything after total internal reflection, when
  *  *tir is set). */
+/** The index of m's interior at lambda nm (its model; m->ior should the model fail, which the
+ *  scene loader rules out over 380-780 nm). */
+double rt__index_at(const rt_material_t *m, double lambda);
+
 int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                       rt_child_t *child, rt_rgb_t *extra_reflect, int *tir);
 

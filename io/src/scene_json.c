@@ -29,8 +29,8 @@ static int parse_camera(io_parse_t *P, json_t *c) {
 }
 
 static int parse_settings(io_parse_t *P, json_t *o) {
-  static const char *const keys[] = {"ambient", "background", "max_depth", "spp",
-                                     "shadows", "ior",        "caustics",  NULL};
+  static const char *const keys[] = {"ambient", "background", "max_depth",     "spp", "shadows",
+                                     "ior",     "caustics",   "spectral_bins", NULL};
   rt_scene_t *s = P->scene;
   io_push_key(P, "settings");
   int ok = io_check_keys(P, o, keys) && io_get_rgb(P, o, "ambient", s->ambient, &s->ambient) &&
@@ -38,7 +38,9 @@ static int parse_settings(io_parse_t *P, json_t *o) {
            io_get_int(P, o, "max_depth", 0, s->max_depth, 0, 32, &s->max_depth) &&
            io_get_int(P, o, "spp", 0, s->spp, 1, RT_MAX_SPP, &s->spp) &&
            io_get_bool(P, o, "shadows", 1, &s->shadows) &&
-           io_get_number(P, o, "ior", 0, 1.0, 0.0, 100.0, 1, &s->ior);
+           io_get_number(P, o, "ior", 0, 1.0, 0.0, 100.0, 1, &s->ior) &&
+           io_get_int(P, o, "spectral_bins", 0, s->spectral_bins, RT_MIN_BINS, RT_MAX_BINS,
+                      &s->spectral_bins);
   const char *caustics = NULL;
   ok = ok && io_get_string(P, o, "caustics", 0, &caustics);
   if (ok && caustics && strcmp(caustics, "off") == 0) {

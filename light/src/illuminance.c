@@ -409,7 +409,7 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
 
 /* The receiver landing of path `sig` of the ray from `origin` along d (or 0 when it has none). */
 static int landing(worker_t *W, px_vec3_t origin, px_vec3_t d, uint64_t sig, double uv[2]) {
-  rt_ray_t r = {origin, d, 0.0, INFINITY, W->C.s->ior, -1};
+  rt_ray_t r = {origin, d, 0.0, INFINITY, W->C.s->ior, -1, 0.0f};
   lt_arrivals_t x;
   lt__trace(&W->C, &r, &x);
   const lt_arrival_t *e = find(&x, sig, -1);

@@ -48,7 +48,7 @@ static int on_receiver(const pg_t *P, int object) {
 static int children(const pg_t *P, int g, px_vec3_t o, px_vec3_t d, double ior, px_vec3_t x,
                     int depth, rt_child_t ch[2]) {
   const bm_face_t *f = &P->b->face[g];
-  rt_ray_t ray = {o, d, 0.0, INFINITY, ior, -1};
+  rt_ray_t ray = {o, d, 0.0, INFINITY, ior, -1, 0.0f};
   rt_hit_t hit = {px_v3_norm(px_v3_sub(x, o)), x, f->n, f->prim, f->object};
   rt_surface_t sf;
   rt_shade_surface(P->C->s, &hit, &ray, &sf);
@@ -75,7 +75,7 @@ static void photon(pg_t *P, const px_poly2_t *r, const bm_path_t *path, rt_rgb_t
     for (int k = 0; k < path->n; k++)
       if (path->step[k].event == PX_EVENT_REFRACT)
         ior = path->step[k].n2;
-    ray = (rt_ray_t){o, d, 0.0, INFINITY, ior, P->b->face[path->step[path->n - 1].face].prim};
+    ray = (rt_ray_t){o, d, 0.0, INFINITY, ior, P->b->face[path->step[path->n - 1].face].prim, 0.0f};
   }
   lt_arrivals_t arr;
   lt__trace_from(P->C, &ray, w, depth, &arr);

@@ -134,7 +134,7 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
     if (!pt_node_ray(par, bxi[j], &p, &d) || !pt_node_hit(C->s, par, p, d, &hit))
       return INFINITY;
     rt_hit_t h = {0.0, hit, rt_prim_normal(C->s, par->prim, hit), par->prim, par->object};
-    rt_ray_t ray = {hit, d, 0.0, INFINITY, par->ior, -1};
+    rt_ray_t ray = {hit, d, 0.0, INFINITY, par->ior, -1, 0.0f};
     rt_surface_t sf;
     rt_child_t ch;
     rt_shade_surface(C->s, &h, &ray, &sf);

@@ -284,7 +284,7 @@ static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, 
                          rt_surface_t *sf) {
   const pt_node_t *n = &E->C->paths.node[k];
   rt_hit_t h = {0.0, hit, rt_prim_normal(E->C->s, n->prim, hit), n->prim, n->object};
-  *ray = (rt_ray_t){hit, d, 0.0, INFINITY, n->ior, -1};
+  *ray = (rt_ray_t){hit, d, 0.0, INFINITY, n->ior, -1, 0.0f};
   rt_shade_surface(E->C->s, &h, ray, sf);
 }
 

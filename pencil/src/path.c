@@ -107,7 +107,7 @@ int pt_node_hit(const rt_scene_t *s, const pt_node_t *n, px_vec3_t p, px_vec3_t 
   *hit = px_v3_axpy(t, d, p);
   if (pr->kind == RT_PRIM_POLYGON) { /* inside test: a short segment straddling the plane */
     double h = 1e-6 * (1.0 + fabs(hit->x) + fabs(hit->y) + fabs(hit->z));
-    rt_ray_t seg = {px_v3_axpy(-h, d, *hit), d, 0.0, 2.0 * h, 1.0, -1};
+    rt_ray_t seg = {px_v3_axpy(-h, d, *hit), d, 0.0, 2.0 * h, 1.0, -1, 0.0f};
     double tt;
     if (!rt_prim_intersect(s, n->prim, &seg, 2.0 * h, &tt))
       return 0;

@@ -76,4 +76,5 @@ const rn_renderer_t rn_exact_entry = {
     .errors = NULL,
     .rho = NULL,
     .thread_bytes = thread_bytes,
+    .dispersion = 1,
 };

@@ -44,6 +44,13 @@ static const char *const channels[] = {"pencil.error", "pencil.method", "pencil.
 
 static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_common_t *c,
                           const void *options, rn_output_t *out) {
+  if (rt_plan_has(plan, RT_EFFECT_DISPERSION)) {
+    snprintf(
+        out->why, sizeof out->why,
+        "the plan asks for dispersion, which the pencil renderer does not draw (rn_plan_make() "
+        "turns it off)");
+    return RT_EINVAL;
+  }
   pt_options_t o = *(const pt_options_t *)options;
   o.spp_side = c->spp_side;
   o.threads = c->threads;

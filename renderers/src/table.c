@@ -27,6 +27,13 @@ const rn_renderer_t *rn_find(const char *name) {
   return NULL;
 }
 
+rt_plan_t rn_plan_make(const rn_renderer_t *r, const rt_scene_t *s, int spp) {
+  rt_plan_t p = rt_plan_make(s, spp);
+  if (!r->dispersion)
+    rt_plan_no_dispersion(&p, s, r->name);
+  return p;
+}
+
 const rn_renderer_t *rn_exact(void) {
   return &rn_exact_entry;
 }

@@ -18,7 +18,8 @@ int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   double ec[MAXR], ew[MAXR], pc[MAXR], pw[MAXR];
   if (runs < 1 || runs > MAXR)
     return -1;
-  rt_plan_t plan = rt_plan_make(s, spp);
+  /* one plan for both renderers: what the pencil renderer draws (dispersion off) */
+  rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp);
   rt_image_t img;
   if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
     return -1;
@@ -161,7 +162,8 @@ int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_e
     rt_image_alloc(&pi, w, h);
   if (own_x)
     rt_image_alloc(&ei, w, h);
-  rt_plan_t plan = rt_plan_make(s, spp);
+  /* one plan for both renderers: what the pencil renderer draws (dispersion off) */
+  rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp);
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = side_of(spp);
   c.threads = threads;

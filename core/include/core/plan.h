@@ -22,8 +22,9 @@ typedef enum {
   RT_EFFECT_SUPERSAMPLING, /**< s x s sub-pixel grid with a box filter */
   RT_EFFECT_CAUSTICS,      /**< light through specular and transparent objects from illuminance
                                 maps (1987 Eq. 8; core/caustics.h) */
-  RT_EFFECT_DISPERSION,    /**< wavelength-dependent index; later */
-  RT_EFFECT_STAR_FILTER,   /**< star filter post-process; later */
+  RT_EFFECT_DISPERSION,    /**< wavelength-dependent index: white rays refracting into a
+                                dispersive material fan out into wavelength bins (core/shade.h) */
+  RT_EFFECT_STAR_FILTER,   /**< the cross-screen filter after rendering (post/star.h) */
   RT_EFFECT_COUNT
 } rt_effect_t;
 
@@ -43,11 +44,20 @@ typedef struct {
   /** 1 when the scene has an area light (its mesh points shade with their own shadow rays,
    *  core/shade.c): shading takes that branch only then, so that other scenes pay nothing. */
   int area_lights;
+  /** With RT_EFFECT_DISPERSION: the bins of the spectral fan, their centres (nm) and RGB weights
+   *  (colour/colour.h, cs_bins(): each channel's weights sum to 1). 0 bins otherwise. */
+  int bins;
+  double bin_lambda[RT_MAX_BINS];
+  rt_rgb_t bin_weight[RT_MAX_BINS];
 } rt_plan_t;
 
 /** Decide the plan for scene `s` rendered with `spp` samples per pixel. Pure function of its
  *  inputs; the scene need not be prepared. */
 rt_plan_t rt_plan_make(const rt_scene_t *s, int spp);
+
+/** Turn dispersion off for a renderer that does not draw it (`renderer` names it in the reason:
+ *  the dispersive material is then rendered at its index at the d-line). No-op when it is off. */
+void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *renderer);
 
 /** 1 when effect e runs. */
 static inline int rt_plan_has(const rt_plan_t *p, rt_effect_t e) {

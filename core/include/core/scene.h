@@ -157,6 +157,12 @@ typedef struct {
 #define RT_MAX_SPP_SIDE 16
 #define RT_MAX_SPP (RT_MAX_SPP_SIDE * RT_MAX_SPP_SIDE)
 
+/** Wavelength bins of a spectral fan (scene setting "spectral_bins"): 4..RT_MAX_BINS, default
+ *  RT_DEFAULT_BINS (docs/spectral.md). */
+#define RT_MIN_BINS 4
+#define RT_MAX_BINS 400
+#define RT_DEFAULT_BINS 40
+
 struct rt_bvh;
 
 /** The cross-screen (star) filter a scene asks for (`"post": {"star": {...}}`, docs/star.md; the
@@ -180,6 +186,8 @@ typedef struct {
   int caustics;        /**< rt_caustics_t: whether the scene wants light through specular and
                             transparent objects drawn as caustics */
   rt_star_t star;      /**< the star filter after rendering (star.on = 0: none) */
+  int spectral_bins;   /**< wavelength bins over 380-780 nm where a white ray refracts into a
+                            dispersive material (RT_EFFECT_DISPERSION), 4..RT_MAX_BINS */
 
   rt_material_t *material;
   int nmaterial, cap_material;

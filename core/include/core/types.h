@@ -63,8 +63,12 @@ typedef struct {
   px_vec3_t d;   /**< direction, unit length */
   double tmin;   /**< nearest accepted distance (>= 0) */
   double tmax;   /**< farthest accepted distance (INFINITY for an unbounded ray) */
-  double ior;    /**< refractive index of the medium the ray travels in */
+  double ior;    /**< refractive index of the medium the ray travels in (at `lambda` when the ray
+                      is monochromatic) */
   int skip_prim; /**< planar primitive the ray leaves (it cannot meet it again), or -1 */
+  float lambda;  /**< 0: a white (RGB) ray; else the wavelength, nm, of a monochromatic ray below
+                      a spectral fan (core/shade.h; in the padding after skip_prim, so rays stay
+                      80 bytes) */
 } rt_ray_t;
 
 /** The nearest surface point a ray meets. */

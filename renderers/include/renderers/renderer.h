@@ -179,6 +179,9 @@ typedef struct {
   /** Bytes of the working buffers the renderer allocates for each thread before it starts
    *  (ray trees, per-domain state), for plan, common and its options; NULL when it has none. */
   size_t (*thread_bytes)(const rt_plan_t *plan, const rn_common_t *common, const void *options);
+  /** 1 when the renderer draws RT_EFFECT_DISPERSION (the spectral fan of core/shade.h); a plan
+   *  made by rn_plan_make() for another renderer has it off, with the reason. */
+  int dispersion;
 } rn_renderer_t;
 
 /** The table, in the order `pencil render --help` lists it; rn_count() entries. */
@@ -189,6 +192,11 @@ const rn_renderer_t *rn_find(const char *name);
 /** The exact renderer's entry (the reference every other renderer is timed and measured
  *  against). */
 const rn_renderer_t *rn_exact(void);
+
+/** The effects plan of scene s for renderer r at spp samples per pixel: rt_plan_make(), with the
+ *  effects r does not draw turned off and the reason saying so (dispersion: rendered at n_d).
+ *  Renderers refuse a plan asking for an effect they do not draw (RT_EINVAL, out->why). */
+rt_plan_t rn_plan_make(const rn_renderer_t *r, const rt_scene_t *s, int spp);
 
 /** The option of `r` called `name` ("--rho"), or NULL. */
 const rn_option_t *rn_option_find(const rn_renderer_t *r, const char *name);
