@@ -393,7 +393,7 @@ static int render(const args_t *a, rt_scene_t *s) {
     s->star = (rt_star_t){1,         d.directions, d.angle_deg, d.ratio,    d.sigma1, d.sigma2,
                           d.weight2, d.ior,        d.focal_mm,  d.frame_mm, 1.0,      4.0};
   }
-  rt_plan_t plan = rn_plan_make(a->r, s, spp);
+  rt_plan_t plan = rn_plan_make(a->r, s, spp, a->opt);
   /* the star filter's kernel before a long render: a plate too coarse for the image is a scene
    * error found now */
   pp_kernel_t kernel;

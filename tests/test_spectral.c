@@ -186,12 +186,12 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
   assert_true(rt_plan_has(&p, RT_EFFECT_DISPERSION));
   assert_int_equal(p.tree_nodes, 4807);
   assert_non_null(strstr(p.why[RT_EFFECT_DISPERSION], "40 wavelength bins"));
-  rt_plan_t px = rn_plan_make(rn_find("exact"), &s, 1);
+  rt_plan_t px = rn_plan_make(rn_find("exact"), &s, 1, NULL);
   assert_true(rt_plan_has(&px, RT_EFFECT_DISPERSION) && px.bins == 40);
   const char *others[2] = {"pencil", "beam"};
   for (int k = 0; k < 2; k++) {
     const rn_renderer_t *r = rn_find(others[k]);
-    rt_plan_t q = rn_plan_make(r, &s, 1);
+    rt_plan_t q = rn_plan_make(r, &s, 1, NULL);
     assert_false(rt_plan_has(&q, RT_EFFECT_DISPERSION));
     assert_int_equal(q.bins, 0);
     assert_int_equal(q.tree_nodes, 127); /* the binary tree of depth 6 */
@@ -224,11 +224,77 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
   rt_scene_free(&s);
 }
 
+/* The exact renderer's --wavelengths: Takagi et al.'s wavelength supersampling (each primary ray
+ * once per bin) gives the fan's image (each ray meets the same indices: within float rounding),
+ * at several times its rays; "off" gives the image of the same glass with its index at the d-line
+ * as a number, bit for bit; --bins sets the bins. */
+static void wavelengths_primary_equals_the_fan(void **state) {
+  (void)state;
+  rt_scene_t s, plain;
+  dispersive_fig8(&s);
+  s.camera.width = s.camera.height = 40;
+  rt_scene_init(&plain);
+  assert_int_equal(rt_builtin_fig8(&plain), RT_OK);
+  plain.camera = s.camera;
+  int g = rt_scene_find_material(&plain, "glass");
+  plain.material[g].ior = s.material[g].ior;
+  plain.material[g].index = px_index_constant(s.material[g].ior);
+  const rn_renderer_t *x = rn_find("exact");
+  const char *modes[3] = {"fan", "primary", "off"};
+  rt_image_t img[4];
+  rt_stats_t st[4];
+  for (int k = 0; k < 4; k++) {
+    unsigned char opt[64];
+    char err[200];
+    rn_defaults(x, opt);
+    const rt_scene_t *sc = k < 3 ? &s : &plain;
+    if (k < 3) {
+      assert_int_equal(rn_set(x, opt, "--wavelengths", modes[k], err, sizeof err), 1);
+      assert_int_equal(rn_set(x, opt, "--bins", "9", err, sizeof err), 1);
+    }
+    rt_plan_t p = rn_plan_make(x, sc, 1, opt);
+    assert_int_equal(p.bins, k < 2 ? 9 : 0);
+    if (k == 1)
+      assert_non_null(strstr(p.why[RT_EFFECT_DISPERSION], "every primary ray traced at 9"));
+    if (k == 2)
+      assert_non_null(strstr(p.why[RT_EFFECT_DISPERSION], "--wavelengths off"));
+    rn_common_t c = RN_COMMON_DEFAULT;
+    c.aux = 0;
+    c.threads = 2;
+    assert_int_equal(rt_image_alloc(&img[k], 40, 40), RT_OK);
+    rn_output_t out;
+    memset(&out, 0, sizeof out);
+    out.image = &img[k];
+    out.stats = &st[k];
+    assert_int_equal(x->render(sc, &p, &c, opt, &out), RT_OK);
+  }
+  double fan_primary = 0.0, off_plain = 0.0, fan_plain = 0.0;
+  for (int ch = RT_CH_R; ch <= RT_CH_B; ch++)
+    for (int q = 0; q < 40 * 40; q++) {
+      fan_primary = fmax(fan_primary, fabs(img[0].ch[ch][q] - img[1].ch[ch][q]));
+      off_plain = fmax(off_plain, fabs(img[2].ch[ch][q] - img[3].ch[ch][q]));
+      fan_plain = fmax(fan_plain, fabs(img[0].ch[ch][q] - img[3].ch[ch][q]));
+    }
+  print_message("fan against primary %.2e (rays %llu against %llu); off against the number %.2e; "
+                "fan against the number %.2e\n",
+                fan_primary, (unsigned long long)rt_stats_total(&st[0]),
+                (unsigned long long)rt_stats_total(&st[1]), off_plain, fan_plain);
+  assert_true(fan_primary < 1e-5);
+  assert_true(off_plain == 0.0);
+  assert_true(fan_plain > 1e-3); /* the dispersion shows */
+  assert_true(rt_stats_total(&st[1]) > 3 * rt_stats_total(&st[2]));
+  for (int k = 0; k < 4; k++)
+    rt_image_free(&img[k]);
+  rt_scene_free(&s);
+  rt_scene_free(&plain);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fan_children),
       cmocka_unit_test(fan_of_a_glass_that_does_not_disperse),
       cmocka_unit_test(plan_turns_the_fan_on_for_exact_only),
+      cmocka_unit_test(wavelengths_primary_equals_the_fan),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

@@ -169,7 +169,7 @@ static int is_dispersive(const rt_material_t *m) {
 /* Dispersion: on where refraction runs and a transparent material's index varies with wavelength
  * (the scene's own index, settings.ior, is a number). White rays that refract into or out of such
  * a material fan out into the scene's bins (docs/spectral.md, section 3). */
-static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s) {
+static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s, int n) {
   const rt_material_t *m = used(s, is_dispersive);
   double dn = 0.0;
   if (!m) {
@@ -185,7 +185,6 @@ static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s) {
         m->name, dn);
     return;
   }
-  int n = s->spectral_bins;
   if (n < RT_MIN_BINS || n > RT_MAX_BINS)
     n = RT_DEFAULT_BINS;
   double w[RT_MAX_BINS][3];
@@ -203,16 +202,23 @@ static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s) {
       m->name, dn, n, CS_LAMBDA_LO, CS_LAMBDA_HI);
 }
 
-void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *renderer) {
+void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *why) {
   if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
     return;
   const rt_material_t *m = used(s, is_dispersive);
   p->on &= ~(1u << RT_EFFECT_DISPERSION);
   p->bins = 0;
   set(p, RT_EFFECT_DISPERSION, 0,
-      "off: material '%s' disperses, but the %s renderer does not draw dispersion yet: it is "
-      "rendered at n_d = %.5g",
-      m ? m->name : "?", renderer, m ? m->ior : 0.0);
+      "off: material '%s' disperses, but %s: it is rendered at n_d = %.5g", m ? m->name : "?", why,
+      m ? m->ior : 0.0);
+  p->tree_nodes = tree_bound(p);
+}
+
+void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n) {
+  if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
+    return;
+  p->on &= ~(1u << RT_EFFECT_DISPERSION);
+  plan_dispersion(p, s, n);
   p->tree_nodes = tree_bound(p);
 }
 
@@ -228,7 +234,7 @@ rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {
   plan_caustics(&p, s);
   for (int l = 0; l < s->nlight; l++)
     p.area_lights |= s->light[l].kind == RT_LIGHT_AREA;
-  plan_dispersion(&p, s);
+  plan_dispersion(&p, s, s->spectral_bins);
   if (s->star.on)
     set(&p, RT_EFFECT_STAR_FILTER, 1,
         "on: a cross-screen filter of %d scratch direction(s), B = %g, slopes %g and %g, after "

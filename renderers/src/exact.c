@@ -1,26 +1,75 @@
 /* exact.c -- the renderer table's entry for the exact renderer: recursive (Whitted) ray tracing
  * with the exact Snell-law tracer (render/render.h; textbook "Recursive Ray Tracing",
- * course notes "Ray Tracing"). It has no options of its own and adds no channels: every other
- * renderer is timed and measured against it. */
+ * course notes "Ray Tracing"). Its options say how it draws dispersion; it adds no channels:
+ * every other renderer is timed and measured against it. */
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
 #include "entries.h"
 #include "render/render.h"
 
-/** The exact renderer has no options; the struct keeps the table's generic code uniform. */
+/** How the exact renderer draws dispersion (docs/spectral.md). */
+typedef enum {
+  WL_FAN = 0, /**< white rays fan out into the bins where they refract at a dispersive glass */
+  WL_PRIMARY, /**< Takagi et al.'s wavelength supersampling: each primary ray once per bin */
+  WL_OFF      /**< dispersive glass at its index at the d-line (as the other renderers) */
+} wavelengths_t;
+
 typedef struct {
-  int unused; /**< always 0 */
+  int wavelengths; /**< wavelengths_t */
+  int bins;        /**< 0: the scene's settings.spectral_bins; else RT_MIN_BINS..RT_MAX_BINS */
 } exact_options_t;
 
-static const exact_options_t defaults = {0};
+static const exact_options_t defaults = {WL_FAN, 0};
+
+static const char *const wavelength_names[] = {"fan", "primary", "off", NULL};
+
+static const rn_option_t options_[] = {
+    {"--wavelengths", RN_OPT_CHOICE, offsetof(exact_options_t, wavelengths), 0, 0, 0, 0,
+     wavelength_names, "W",
+     "dispersion (a scene whose glass disperses): fan (default) splits a\n"
+     "white ray into the bins where it refracts at such glass; primary traces\n"
+     "every primary ray once per bin (Takagi et al.'s wavelength supersampling,\n"
+     "the 1989 paper's conventional method); off draws the glass at n_d"},
+    {"--bins", RN_OPT_INT, offsetof(exact_options_t, bins), 0, RT_MIN_BINS, RT_MAX_BINS, 0, NULL,
+     "N", "wavelength bins over 380-780 nm (default: the scene's spectral_bins, 40)"},
+};
+
+static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
+  const exact_options_t *o = options;
+  if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
+    return;
+  if (o->wavelengths == WL_OFF) {
+    rt_plan_no_dispersion(p, s, "the exact renderer was asked for --wavelengths off");
+    return;
+  }
+  if (o->bins > 0)
+    rt_plan_set_bins(p, s, o->bins);
+  if (o->wavelengths == WL_PRIMARY) {
+    const rt_material_t *m = NULL; /* the glass the plan names, for the reason */
+    for (int i = 0; i < s->nobject && !m; i++) {
+      const rt_material_t *c = &s->material[s->object[i].material];
+      if (c->kt > 0.0 && px_index_disperses(&c->index))
+        m = c;
+    }
+    snprintf(p->why[RT_EFFECT_DISPERSION], RT_PLAN_WHY_MAX,
+             "on: material '%.40s' disperses: every primary ray traced at %d wavelengths over "
+             "380-780 nm (Takagi et al.)",
+             m ? m->name : "?", p->bins);
+  }
+}
 
 static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_common_t *c,
                           const void *options, rn_output_t *out) {
-  (void)options;
+  const exact_options_t *eo = options;
   xr_options_t o = XR_OPTIONS_DEFAULT;
   o.spp_side = c->spp_side;
   o.threads = c->threads;
   o.aux = c->aux;
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
+  o.per_wavelength = eo->wavelengths == WL_PRIMARY;
   rt_plan_t run;
   rt_caustic_maps_t maps;
   rt_status_t r = rn__caustics_make(s, plan, c, LT_METHOD_PHOTONS, &run, &maps, out->caustics);
@@ -37,9 +86,12 @@ static size_t thread_bytes(const rt_plan_t *plan, const rn_common_t *c, const vo
 }
 
 static int describe(const void *options, rn_attr_t *attrs) {
-  (void)options;
-  (void)attrs;
-  return 0;
+  const exact_options_t *o = options;
+  attrs[0].key = "exact:wavelengths";
+  snprintf(attrs[0].value, sizeof attrs[0].value, "%s", wavelength_names[o->wavelengths]);
+  attrs[1].key = "exact:bins";
+  snprintf(attrs[1].value, sizeof attrs[1].value, "%d", o->bins);
+  return 2;
 }
 
 static void report(FILE *f, const rn_report_t *r) {
@@ -63,8 +115,8 @@ const rn_renderer_t rn_exact_entry = {
         "depth limit. The reference every other renderer is timed and measured against.",
     .options_size = sizeof(exact_options_t),
     .defaults = &defaults,
-    .options = NULL,
-    .noptions = 0,
+    .options = options_,
+    .noptions = (int)(sizeof options_ / sizeof options_[0]),
     .channels = NULL,
     .nchannels = 0,
     .error_channel = -1,
@@ -77,4 +129,5 @@ const rn_renderer_t rn_exact_entry = {
     .rho = NULL,
     .thread_bytes = thread_bytes,
     .dispersion = 1,
+    .adapt_plan = adapt_plan,
 };

@@ -27,10 +27,15 @@ const rn_renderer_t *rn_find(const char *name) {
   return NULL;
 }
 
-rt_plan_t rn_plan_make(const rn_renderer_t *r, const rt_scene_t *s, int spp) {
+rt_plan_t rn_plan_make(const rn_renderer_t *r, const rt_scene_t *s, int spp, const void *options) {
   rt_plan_t p = rt_plan_make(s, spp);
-  if (!r->dispersion)
-    rt_plan_no_dispersion(&p, s, r->name);
+  if (!r->dispersion) {
+    char why[80];
+    snprintf(why, sizeof why, "the %s renderer does not draw dispersion yet", r->name);
+    rt_plan_no_dispersion(&p, s, why);
+  }
+  if (r->adapt_plan)
+    r->adapt_plan(&p, s, options ? options : r->defaults);
   return p;
 }
 

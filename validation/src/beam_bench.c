@@ -160,7 +160,7 @@ static int make_scene(const bench_case_t *bc, const val_beam_bench_opts_t *o, in
 static int render(const rt_scene_t *s, const variant_t *v, const val_beam_bench_opts_t *o, int runs,
                   rt_image_t *img, result_t *r) {
   const rn_renderer_t *rn = rn_find(v->renderer);
-  rt_plan_t plan = rn_plan_make(rn, s, v->side * v->side);
+  rt_plan_t plan = rn_plan_make(rn, s, v->side * v->side, NULL);
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = v->side;
   c.threads = o->threads;
@@ -261,7 +261,7 @@ typedef struct {
 } fig10_t;
 
 static int measure(const rt_scene_t *s, const val_beam_bench_opts_t *o, int certified, fig10_t *m) {
-  rt_plan_t plan = rn_plan_make(rn_find("beam"), s, 1);
+  rt_plan_t plan = rn_plan_make(rn_find("beam"), s, 1, NULL);
   bt_options_t bo = BT_OPTIONS_DEFAULT;
   bo.rho = o->rho;
   bo.certified = certified;

@@ -115,7 +115,7 @@ static int render(const rt_scene_t *s0, const variant_t *v, const val_caustic_be
   if (!v->caustics)
     s.caustics = RT_CAUSTICS_OFF;
   int spp = s.spp;
-  rt_plan_t plan = rn_plan_make(rn, &s, spp);
+  rt_plan_t plan = rn_plan_make(rn, &s, spp, NULL);
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = (int)lrint(sqrt(spp));
   c.threads = o->threads;

@@ -19,7 +19,7 @@ int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   if (runs < 1 || runs > MAXR)
     return -1;
   /* one plan for both renderers: what the pencil renderer draws (dispersion off) */
-  rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp);
+  rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp, NULL);
   rt_image_t img;
   if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
     return -1;
@@ -163,7 +163,7 @@ int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_e
   if (own_x)
     rt_image_alloc(&ei, w, h);
   /* one plan for both renderers: what the pencil renderer draws (dispersion off) */
-  rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp);
+  rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp, NULL);
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = side_of(spp);
   c.threads = threads;

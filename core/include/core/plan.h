@@ -55,9 +55,13 @@ typedef struct {
  *  inputs; the scene need not be prepared. */
 rt_plan_t rt_plan_make(const rt_scene_t *s, int spp);
 
-/** Turn dispersion off for a renderer that does not draw it (`renderer` names it in the reason:
- *  the dispersive material is then rendered at its index at the d-line). No-op when it is off. */
-void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *renderer);
+/** Turn dispersion off, `why` saying in the reason who does not draw it ("the pencil renderer does
+ *  not draw dispersion yet"): the dispersive material is then rendered at its index at the d-line.
+ *  No-op when it is off. */
+void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *why);
+
+/** Re-make the bins with n of them (RT_MIN_BINS..RT_MAX_BINS) when dispersion is on. */
+void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n);
 
 /** 1 when effect e runs. */
 static inline int rt_plan_has(const rt_plan_t *p, rt_effect_t e) {

@@ -26,8 +26,17 @@ static rt_rgb_t sample(const job_t *J, xr_exact_t *ex, rt_tree_t *tree, int reco
   int s = J->opt->spp_side;
   double x = a < 0 ? i + 0.5 : i + (a + 0.5) / s, y = b < 0 ? j + 0.5 : j + (b + 0.5) / s;
   rt_ray_t r = rt_view_ray(J->view, x, y, J->s->ior);
-  ex->tree = record ? tree : NULL;
-  rt_rgb_t c = xr_exact_primary(ex, &r);
+  rt_rgb_t c = rt_rgb(0, 0, 0);
+  int nb = J->opt->per_wavelength ? J->plan->bins : 0;
+  for (int k = 0; k < nb; k++) { /* Takagi's wavelength supersampling */
+    r.lambda = (float)J->plan->bin_lambda[k];
+    ex->tree = record && k == nb / 2 ? tree : NULL;
+    c = rt_rgb_add(c, rt_rgb_mul(J->plan->bin_weight[k], xr_exact_primary(ex, &r)));
+  }
+  if (nb == 0) {
+    ex->tree = record ? tree : NULL;
+    c = xr_exact_primary(ex, &r);
+  }
   ex->tree = NULL;
   if (record && J->opt->on_sample)
     J->opt->on_sample(J->opt->sample_ctx, i, j, a, b, tree, c);

@@ -182,6 +182,9 @@ typedef struct {
   /** 1 when the renderer draws RT_EFFECT_DISPERSION (the spectral fan of core/shade.h); a plan
    *  made by rn_plan_make() for another renderer has it off, with the reason. */
   int dispersion;
+  /** Adjust the plan to the options (the exact renderer's --wavelengths and --bins); may be
+   *  NULL. Called by rn_plan_make(). */
+  void (*adapt_plan)(rt_plan_t *plan, const rt_scene_t *s, const void *options);
 } rn_renderer_t;
 
 /** The table, in the order `pencil render --help` lists it; rn_count() entries. */
@@ -193,10 +196,11 @@ const rn_renderer_t *rn_find(const char *name);
  *  against). */
 const rn_renderer_t *rn_exact(void);
 
-/** The effects plan of scene s for renderer r at spp samples per pixel: rt_plan_make(), with the
- *  effects r does not draw turned off and the reason saying so (dispersion: rendered at n_d).
- *  Renderers refuse a plan asking for an effect they do not draw (RT_EINVAL, out->why). */
-rt_plan_t rn_plan_make(const rn_renderer_t *r, const rt_scene_t *s, int spp);
+/** The effects plan of scene s for renderer r with its options (NULL: its defaults) at spp samples
+ *  per pixel: rt_plan_make(), with the effects r does not draw turned off and the reason saying so
+ *  (dispersion: rendered at n_d), adjusted to the options (rn_renderer_t.adapt_plan). Renderers
+ *  refuse a plan asking for an effect they do not draw (RT_EINVAL, out->why). */
+rt_plan_t rn_plan_make(const rn_renderer_t *r, const rt_scene_t *s, int spp, const void *options);
 
 /** The option of `r` called `name` ("--rho"), or NULL. */
 const rn_option_t *rn_option_find(const rn_renderer_t *r, const char *name);

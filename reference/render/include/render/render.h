@@ -54,10 +54,17 @@ typedef struct {
    *  touch per-pixel state or synchronise itself. The tree is valid during the call only. */
   void (*on_sample)(void *ctx, int i, int j, int a, int b, const rt_tree_t *tree, rt_rgb_t c);
   void *sample_ctx;
+  /** 1: wavelength supersampling as Takagi et al. (the 1989 paper's [9]): under a plan with bins
+   *  (RT_EFFECT_DISPERSION), every sample's primary ray is traced once per bin, monochromatic at
+   *  the bin's centre, and the results summed with the bins' RGB weights, instead of fanning out
+   *  where a white ray refracts. The image is the fan's (each ray's wavelength meets the same
+   *  indices); the cost is the bins' count times the whole tree. The tree recorded for the
+   *  auxiliary channels and on_sample is the middle bin's. */
+  int per_wavelength;
 } xr_options_t;
 
 #define XR_OPTIONS_DEFAULT                                                                         \
-  { 1, 0, 1, NULL, NULL, NULL, NULL }
+  { 1, 0, 1, NULL, NULL, NULL, NULL, 0 }
 
 /** Render the prepared scene with `plan` into img (allocated by the caller at the camera's
  *  size). Pixels are independent, so the image does not depend on the thread count.

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# `pencil bench dispersion` contracts (issue 22, the 1989 Fig. 14 table): --quick renders
+# scenes/fig14.json by every method, writes fig14-METHOD.exr and .png into --out and a JSON
+# summary whose keys scripts read (methods[]: method, renderer, wavelengths, bins, seconds,
+# over_exact_nd, rays, delta_e2000_mean, delta_e2000_p99, delta_e2000_max); Takagi's wavelength
+# supersampling and the fan of as many bins give the same colours; the error falls as the bins
+# grow, and drawing the glass at n_d errs most; bad options exit 2 before any rendering. DIR
+# (argument 2) keeps the outputs.
+set -u
+pencil=$1
+out=${2:-}
+fail=0
+py=/usr/bin/python3
+check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+[ -n "$out" ] || out=$tmp/out
+
+$pencil bench dispersion --quick --threads 2 --out "$out" --json "$out/dispersion.json" \
+  >"$tmp/log" 2>"$tmp/err"; rc=$?
+check "bench dispersion --quick exits 0" "[ $rc -eq 0 ]"
+for m in reference pencil exact-nd exact-takagi9 exact-fan9 exact-fan40 exact-fan50; do
+  check "fig14-$m.exr and .png written" "[ -s '$out/fig14-$m.exr' ] && [ -s '$out/fig14-$m.png' ]"
+  check "the table has $m" "grep -q '^$m ' '$tmp/log'"
+done
+check "JSON: every method with its numbers; errors fall with the bins" "$py - '$out/dispersion.json' <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d['benchmark'] == 'dispersion' and 'provenance' in d and d['quick'] is True
+assert d['reference_bins'] == 100 and d['size'] == 48
+m = {r['method']: r for r in d['methods']}
+assert set(m) == {'reference', 'pencil', 'exact-nd', 'exact-takagi9', 'exact-fan9',
+                  'exact-fan40', 'exact-fan50'}, set(m)
+assert m['reference']['delta_e2000_mean'] is None
+for k, r in m.items():
+    assert r['seconds'] > 0 and r['over_exact_nd'] > 0, r
+    if k != 'reference':
+        assert 0 <= r['delta_e2000_mean'] <= r['delta_e2000_p99'] <= r['delta_e2000_max'], r
+assert abs(m['exact-takagi9']['delta_e2000_mean'] - m['exact-fan9']['delta_e2000_mean']) < 1e-3
+assert m['exact-takagi9']['rays'] > m['exact-fan9']['rays'] > m['exact-nd']['rays']
+e = [m[k]['delta_e2000_mean'] for k in ('exact-nd', 'exact-fan9', 'exact-fan40', 'exact-fan50')]
+assert e == sorted(e, reverse=True) and e[-1] < 1.0, e
+assert m['pencil']['wavelengths'] is None and m['exact-nd']['wavelengths'] == 'off'
+PY"
+$pencil bench dispersion --reference-bins 4 >"$tmp/o" 2>"$tmp/e"; rc=$?
+check "--reference-bins 4: exit 2 naming the option" "[ $rc -eq 2 ] && grep -q -- '--reference-bins' '$tmp/e' && [ ! -s '$tmp/o' ]"
+$pencil bench dispersion --json "$tmp/no/such/dir/x.json" >"$tmp/o" 2>"$tmp/e"; rc=$?
+check "--json in a missing directory: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q -- '--json' '$tmp/e' && [ ! -s '$tmp/o' ]"
+$pencil bench dispersion --help >"$tmp/h"; rc=$?
+check "--help" "[ $rc -eq 0 ] && grep -q 'usage: pencil bench dispersion' '$tmp/h'"
+echo "cli_bench_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
+exit $fail

@@ -1,0 +1,36 @@
+/* dispersion_bench.h -- `pencil bench dispersion`: the 1989 paper's Fig. 14 table (section 3.3:
+ * a dispersive polyhedron of 120 polygons, 1.2 min by dispersive pencil tracing against 1.0 min
+ * non-dispersive and 57.9 min by a conventional non-dispersive ray tracer), reproduced with what
+ * is built: each method's time on scenes/fig14.json and its colour error against a converged
+ * spectral reference, per pixel CIEDE2000 (mean, 99th percentile, largest).
+ *
+ * Methods (exact renderer options of docs/spectral.md):
+ *  - pencil: the pencil renderer, the glass at its index at the d-line (non-dispersive pencil);
+ *  - exact-nd: the exact renderer with --wavelengths off (the conventional non-dispersive tracer);
+ *  - exact-takagi9: every primary ray traced at 9 wavelengths (Takagi et al., the paper's [9]:
+ *    its conventional dispersive method);
+ *  - exact-fan9, exact-fan40: the spectral fan with 9 and 40 bins;
+ *  - exact-fanR/2: the fan with half the reference's bins (how far the reference has converged);
+ *  - reference: the fan with R bins (default 400), timed once.
+ * Dispersive pencil tracing is not built yet; its row will join this table. */
+#ifndef VALIDATION_DISPERSION_BENCH_H
+#define VALIDATION_DISPERSION_BENCH_H
+
+#include <stdio.h>
+
+typedef struct {
+  int quick;          /**< 48 x 48, the reference at 100 bins, one run (tests) */
+  int threads;        /**< OpenMP threads, 0 = all */
+  int runs;           /**< timed runs per method (the median is reported), >= 1 */
+  int size;           /**< image side in pixels (0: 256; quick: 48) */
+  int ref_bins;       /**< the reference's bins (0: 400; quick: 100), RT_MIN_BINS..RT_MAX_BINS */
+  const char *json;   /**< summary path or NULL */
+  const char *out;    /**< directory for the images (fig14-METHOD.exr and .png), or NULL */
+  const char *scenes; /**< directory holding fig14.json, or NULL for the source tree's */
+  FILE *report;       /**< table (stdout) or NULL */
+} val_dispersion_bench_opts_t;
+
+/** Run the benchmark; 0 on success, -1 on an error (message on stderr). */
+int val_bench_dispersion(const val_dispersion_bench_opts_t *o);
+
+#endif

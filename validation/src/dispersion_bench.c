@@ -1,0 +1,210 @@
+/* dispersion_bench.c -- `pencil bench dispersion` (dispersion_bench.h). */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "colour/colour.h"
+#include "io/image_io.h"
+#include "io/json.h"
+#include "io/scene_json.h"
+#include "renderers/renderer.h"
+#include "validation/dispersion_bench.h"
+#include "validation/timing.h"
+
+#ifndef PENCIL_SOURCE_DIR
+#define PENCIL_SOURCE_DIR "."
+#endif
+
+#define SIZE 256
+#define QUICK_SIZE 48
+#define REF_BINS 400
+#define QUICK_REF_BINS 100
+
+typedef struct {
+  char name[32];
+  const char *renderer, *wavelengths; /* wavelengths: the exact renderer's --wavelengths */
+  int bins;                           /* its --bins (0: the scene's) */
+} method_t;
+
+typedef struct {
+  double seconds, mean, p99, max;
+  unsigned long long rays; /* the exact renderer's rays (0 for pencil) */
+} result_t;
+
+static int cmp(const void *x, const void *y) {
+  double a = *(const double *)x, b = *(const double *)y;
+  return (a > b) - (a < b);
+}
+
+/* Per-pixel CIEDE2000 of a against the reference b (linear sRGB, negative values, which the
+ * bins' signed weights can leave at the rounding level, clamped to 0): mean, 99th percentile,
+ * largest. */
+static int delta_e(const rt_image_t *a, const rt_image_t *b, result_t *r) {
+  size_t n = (size_t)a->width * a->height;
+  double *d = malloc(n * sizeof *d);
+  if (!d)
+    return -1;
+  double sum = 0.0, mx = 0.0;
+  for (size_t k = 0; k < n; k++) {
+    double ca[3], cb[3], la[3], lb[3];
+    for (int c = 0; c < 3; c++) {
+      ca[c] = fmax(0.0, a->ch[RT_CH_R + c][k]);
+      cb[c] = fmax(0.0, b->ch[RT_CH_R + c][k]);
+    }
+    cs_lab_from_srgb(ca, la);
+    cs_lab_from_srgb(cb, lb);
+    d[k] = cs_delta_e2000(la, lb);
+    sum += d[k];
+    mx = fmax(mx, d[k]);
+  }
+  r->mean = sum / n;
+  r->max = mx;
+  qsort(d, n, sizeof *d, cmp);
+  r->p99 = d[(size_t)floor(0.99 * (n - 1))];
+  free(d);
+  return 0;
+}
+
+/* Render s by method m into img (allocated here): the median time of `runs` runs. */
+static int render(const rt_scene_t *s, const method_t *m, const val_dispersion_bench_opts_t *o,
+                  int runs, rt_image_t *img, result_t *r) {
+  const rn_renderer_t *rn = rn_find(m->renderer);
+  void *opt = rn ? malloc(rn->options_size) : NULL, *stats = rn ? calloc(1, rn->stats_size) : NULL;
+  char err[200], bins[16];
+  int ok = opt && stats && rt_image_alloc(img, s->camera.width, s->camera.height) == RT_OK;
+  if (ok) {
+    rn_defaults(rn, opt);
+    snprintf(bins, sizeof bins, "%d", m->bins);
+    if (m->wavelengths)
+      ok = rn_set(rn, opt, "--wavelengths", m->wavelengths, err, sizeof err) == 1 &&
+           (m->bins == 0 || rn_set(rn, opt, "--bins", bins, err, sizeof err) == 1);
+    if (!ok)
+      fprintf(stderr, "pencil bench dispersion: %s\n", err);
+  }
+  rt_plan_t plan = rn_plan_make(rn, s, s->spp, ok ? opt : NULL);
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.spp_side = (int)lrint(sqrt(s->spp));
+  c.threads = o->threads;
+  c.aux = 0;
+  double t[32];
+  for (int k = 0; k < runs && ok; k++) {
+    rn_output_t out = {.image = img, .stats = stats};
+    double t0 = val_wall_seconds();
+    rt_status_t st = rn->render(s, &plan, &c, opt, &out);
+    t[k] = val_wall_seconds() - t0;
+    if (st != RT_OK) {
+      fprintf(stderr, "pencil bench dispersion: the %s render failed: %s%s%s\n", m->name,
+              rt_strerror(st), out.why[0] ? ": " : "", out.why);
+      ok = 0;
+    }
+  }
+  if (ok) {
+    r->seconds = val_median(t, runs);
+    r->rays = rn == rn_exact() ? (unsigned long long)rt_stats_total(stats) : 0;
+  }
+  free(opt);
+  free(stats);
+  return ok ? 0 : -1;
+}
+
+static int save(const char *dir, const char *method, const rt_image_t *img) {
+  char path[4096], err[1024];
+  snprintf(path, sizeof path, "%s/fig14-%s.exr", dir, method);
+  io_attr_t a[1] = {{"pencil:method", method}};
+  if (io_render_write(path, img, NULL, 0, a, 1, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench dispersion: %s\n", err);
+    return -1;
+  }
+  return 0;
+}
+
+int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
+  FILE *f = o->report;
+  int side = o->size > 0 ? o->size : o->quick ? QUICK_SIZE : SIZE;
+  int ref = o->ref_bins > 0 ? o->ref_bins : o->quick ? QUICK_REF_BINS : REF_BINS;
+  int runs = o->runs > 0 ? o->runs : 1;
+  if (runs > 32)
+    runs = 32;
+  char path[4096], err[1024];
+  snprintf(path, sizeof path, "%s/fig14.json", o->scenes ? o->scenes : PENCIL_SOURCE_DIR "/scenes");
+  rt_scene_t s;
+  rt_scene_init(&s);
+  if (io_scene_load(path, &s, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench dispersion: %s\n", err);
+    return -1;
+  }
+  s.camera.width = s.camera.height = side;
+  rt_status_t st = rt_scene_prepare(&s);
+  if (st != RT_OK) {
+    fprintf(stderr, "pencil bench dispersion: %s: %s\n", path, rt_strerror(st));
+    rt_scene_free(&s);
+    return -1;
+  }
+  enum { NM = 7 };
+  method_t ms[NM] = {{"reference", "exact", "fan", ref}, {"pencil", "pencil", NULL, 0},
+                     {"exact-nd", "exact", "off", 0},    {"exact-takagi9", "exact", "primary", 9},
+                     {"exact-fan9", "exact", "fan", 9},  {"exact-fan40", "exact", "fan", 40},
+                     {"", "exact", "fan", ref / 2}};
+  snprintf(ms[NM - 1].name, sizeof ms[NM - 1].name, "exact-fan%d", ref / 2);
+  rt_image_t img[NM];
+  result_t res[NM];
+  memset(img, 0, sizeof img);
+  memset(res, 0, sizeof res);
+  if (f)
+    fprintf(f,
+            "pencil bench dispersion: 1989 Fig. 14, %s (120 polygons of SF11) at %dx%d, %d spp;\n"
+            "CIEDE2000 per pixel against the spectral fan with %d bins; times are medians of %d "
+            "run(s)\n",
+            path, side, side, s.spp, ref, runs);
+  int bad = 0;
+  for (int m = 0; m < NM && !bad; m++) {
+    if (ms[m].bins >= RT_MIN_BINS || ms[m].bins == 0)
+      bad = render(&s, &ms[m], o, m == 0 ? 1 : runs, &img[m], &res[m]) != 0 ||
+            (m > 0 && delta_e(&img[m], &img[0], &res[m]) != 0);
+    if (!bad && o->out)
+      bad = save(o->out, ms[m].name, &img[m]) != 0;
+  }
+  int rc = bad ? -1 : 0;
+  if (!bad && f) {
+    fprintf(f, "%-16s %-7s %-8s %5s %9s %8s %12s  %8s %8s %8s\n", "method", "render", "waves",
+            "bins", "s", "/ nd", "rays", "dE mean", "dE p99", "dE max");
+    for (int m = 1; m < NM; m++)
+      fprintf(f, "%-16s %-7s %-8s %5d %9.3f %8.3f %12llu  %8.4f %8.4f %8.4f\n", ms[m].name,
+              ms[m].renderer, ms[m].wavelengths ? ms[m].wavelengths : "-", ms[m].bins,
+              res[m].seconds, res[m].seconds / res[2].seconds, res[m].rays, res[m].mean, res[m].p99,
+              res[m].max);
+    fprintf(f, "%-16s %-7s %-8s %5d %9.3f %8.3f %12llu  (the reference)\n", ms[0].name,
+            ms[0].renderer, ms[0].wavelengths, ms[0].bins, res[0].seconds,
+            res[0].seconds / res[2].seconds, res[0].rays);
+    fprintf(f, "dispersive pencil tracing: not built yet (issue 22)\n");
+    fflush(f);
+  }
+  if (!bad && o->json) {
+    json_t *rows = json_array();
+    for (int m = 0; m < NM; m++)
+      json_array_append_new(
+          rows, json_pack("{s:s, s:s, s:o, s:i, s:f, s:f, s:I, s:o, s:o, s:o}", "method",
+                          ms[m].name, "renderer", ms[m].renderer, "wavelengths",
+                          ms[m].wavelengths ? json_string(ms[m].wavelengths) : json_null(), "bins",
+                          ms[m].bins, "seconds", res[m].seconds, "over_exact_nd",
+                          res[m].seconds / res[2].seconds, "rays", (json_int_t)res[m].rays,
+                          "delta_e2000_mean", m ? json_real(res[m].mean) : json_null(),
+                          "delta_e2000_p99", m ? json_real(res[m].p99) : json_null(),
+                          "delta_e2000_max", m ? json_real(res[m].max) : json_null()));
+    json_t *root =
+        json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:b, s:o, s:s}", "benchmark", "dispersion",
+                  "scene", path, "size", side, "spp", s.spp, "reference_bins", ref, "runs", runs,
+                  "quick", o->quick, "methods", rows, "dispersive_pencil", "not built yet");
+    if (io_json_write(o->json, root, err, sizeof err) != 0) {
+      fprintf(stderr, "pencil bench dispersion: %s\n", err);
+      rc = -1;
+    }
+    json_decref(root);
+  }
+  for (int m = 0; m < NM; m++)
+    rt_image_free(&img[m]);
+  rt_scene_free(&s);
+  return rc;
+}
