@@ -42,6 +42,29 @@ e = [m[k]['delta_e2000_mean'] for k in ('exact-nd', 'exact-fan9', 'exact-fan40',
 assert e == sorted(e, reverse=True) and e[-1] < 1.0, e
 assert m['pencil']['wavelengths'] is None and m['exact-nd']['wavelengths'] == 'off'
 PY"
+src=$(cd "$(dirname "$0")/.." && pwd)
+for b in 9 40 100; do # the prism's spectrum for the notebook: steps or smooth
+  $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --bins $b --no-aux \
+    -o "$out/prism-$b.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism with $b bins"
+done
+check "the prism's band: violet to red over rows, separate slit images at 9 bins, smooth at 100" "$py - '$out' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+def col(b):
+    p = oiio.ImageBuf(f'{sys.argv[1]}/prism-{b}.exr').get_pixels(oiio.FLOAT)[:, :, :3]
+    return p[:, p.shape[1] // 2, :]
+rows = {b: col(b) for b in (9, 40, 100)}
+for b, c in rows.items():
+    lit = c.max(axis=1) > 1e-3
+    assert lit.sum() >= 5, (b, lit.sum())          # a band, not a line
+    top, bottom = np.nonzero(lit)[0][[0, -1]]
+    hue = lambda r: np.argmax(c[r])                # the dominant channel at each end
+    assert hue(top) != hue(bottom), (b, c[top], c[bottom])
+def gaps(c):  # dark pixels inside the band: the slit's separate images with few bins
+    lum = c.max(axis=1)
+    lit = np.nonzero(lum > 0.05 * lum.max())[0]
+    return int((lum[lit[0]:lit[-1] + 1] < 0.05 * lum.max()).sum())
+assert gaps(rows[9]) >= 2 and gaps(rows[100]) == 0, (gaps(rows[9]), gaps(rows[100]))
+PY"
 $pencil bench dispersion --reference-bins 4 >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "--reference-bins 4: exit 2 naming the option" "[ $rc -eq 2 ] && grep -q -- '--reference-bins' '$tmp/e' && [ ! -s '$tmp/o' ]"
 $pencil bench dispersion --json "$tmp/no/such/dir/x.json" >"$tmp/o" 2>"$tmp/e"; rc=$?
