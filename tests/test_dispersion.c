@@ -297,11 +297,69 @@ static void slab_cascade(void **state) {
   assert_true(worst < 1e-7 * size);
 }
 
+/* The paper's scale Lambda (section 3.3) of each catalogue glass about the d-line: the index is
+ * linear in Lambda (n = n_d + n'_d (Lambda - lambda_d) within 1e-14 over 380-780 nm), Lambda equals
+ * lambda to first order there (dLambda/dlambda = 1 within 1e-6), it increases with lambda, and
+ * px_wavescale_from() inverts it within 1e-9 nm; for one refraction out of air into the glass at
+ * 40 degrees, the 5 x 5 column times Lambda - lambda_d predicts the exact direction at 380 nm
+ * better than times lambda - lambda_d (the index's curvature gone, only Snell's own left); a glass
+ * that does not disperse and a Lambda beyond the range are refused. */
+static void wavelength_scale(void **state) {
+  (void)state;
+  const char *names[5] = {"N-BK7", "F2", "SF11", "fused-silica", "diamond"};
+  for (int g = 0; g < 5; g++) {
+    px_index_t m;
+    assert_int_equal(px_index_named(names[g], &m), PX_OK);
+    px_wavescale_t w;
+    assert_int_equal(px_wavescale_make(&m, PX_LAMBDA_D, &w), PX_OK);
+    double prev = -INFINITY;
+    for (double l = 380.0; l <= 780.0; l += 20.0) {
+      double L, n, back;
+      assert_int_equal(px_wavescale_to(&w, l, &L), PX_OK);
+      assert_int_equal(px_index_eval(&m, l, &n, NULL), PX_OK);
+      assert_close(n, w.n0 + w.dn0 * (L - PX_LAMBDA_D), 1e-14, 0.0);
+      assert_true(L > prev);
+      prev = L;
+      assert_int_equal(px_wavescale_from(&w, L, &back), PX_OK);
+      assert_close(back, l, 0.0, 1e-9);
+    }
+    double La, Lb, h = 1e-3;
+    assert_int_equal(px_wavescale_to(&w, PX_LAMBDA_D - h, &La), PX_OK);
+    assert_int_equal(px_wavescale_to(&w, PX_LAMBDA_D + h, &Lb), PX_OK);
+    assert_close((Lb - La) / (2 * h), 1.0, 1e-6, 0.0);
+    /* one refraction, air into the glass at 40 degrees: xi1' = sin of the turn from the d-line's
+     * refracted direction */
+    double th = 40.0 * M_PI / 180.0, nd, dn, n380, L380;
+    assert_int_equal(px_index_eval(&m, PX_LAMBDA_D, &nd, &dn), PX_OK);
+    assert_int_equal(px_index_eval(&m, 380.0, &n380, NULL), PX_OK);
+    assert_int_equal(px_wavescale_to(&w, 380.0, &L380), PX_OK);
+    px_mat5_t t;
+    assert_int_equal(px_element_matrix5_cs(PX_EVENT_REFRACT, cos(th), sin(th), 1.0, nd, 0.0, dn,
+                                           INFINITY, PX_VARIANT_CORRECTED, &t, NULL),
+                     PX_OK);
+    double turn = asin(sin(th) / n380) - asin(sin(th) / nd), col = t.w.v[2];
+    double exact = fabs(sin(turn)), in_l = fabs(col * (380.0 - PX_LAMBDA_D)),
+           in_L = fabs(col * (L380 - PX_LAMBDA_D));
+    print_message("%s: at 380 nm, exact %.4e; linear in lambda %.4e (%.1f%%), in Lambda %.4e "
+                  "(%.2f%%)\n",
+                  names[g], exact, in_l, 100 * fabs(in_l - exact) / exact, in_L,
+                  100 * fabs(in_L - exact) / exact);
+    assert_true(fabs(in_L - exact) < 0.2 * fabs(in_l - exact));
+  }
+  px_wavescale_t w;
+  px_index_t c = px_index_constant(1.5), bk7;
+  assert_int_equal(px_wavescale_make(&c, PX_LAMBDA_D, &w), PX_EINVAL);
+  assert_int_equal(px_index_named("N-BK7", &bk7), PX_OK);
+  assert_int_equal(px_wavescale_make(&bk7, PX_LAMBDA_D, &w), PX_OK);
+  double l;
+  assert_int_equal(px_wavescale_from(&w, 5000.0, &l), PX_EINVAL);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(index_models), cmocka_unit_test(catalogue),
       cmocka_unit_test(mat5_algebra), cmocka_unit_test(column_against_snell),
-      cmocka_unit_test(slab_cascade),
+      cmocka_unit_test(slab_cascade), cmocka_unit_test(wavelength_scale),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

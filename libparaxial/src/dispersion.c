@@ -268,3 +268,42 @@ px_status_t px_cascade_product5(const px_cascade_t *c, const double *dn1, const 
   *out = r;
   return PX_OK;
 }
+
+px_status_t px_wavescale_make(const px_index_t *glass, double lambda0, px_wavescale_t *out) {
+  double n0, dn0;
+  px_status_t st = px_index_eval(glass, lambda0, &n0, &dn0);
+  if (st != PX_OK)
+    return st;
+  if (!(dn0 != 0.0) || !isfinite(dn0))
+    return PX_EINVAL;
+  *out = (px_wavescale_t){*glass, lambda0, n0, dn0};
+  return PX_OK;
+}
+
+px_status_t px_wavescale_to(const px_wavescale_t *w, double lambda, double *Lambda) {
+  double n;
+  px_status_t st = px_index_eval(&w->glass, lambda, &n, NULL);
+  if (st != PX_OK)
+    return st;
+  *Lambda = w->lambda0 + (n - w->n0) / w->dn0;
+  return PX_OK;
+}
+
+px_status_t px_wavescale_from(const px_wavescale_t *w, double Lambda, double *lambda) {
+  double a = w->glass.lo_nm, b = w->glass.hi_nm, La, Lb;
+  if (px_wavescale_to(w, a, &La) != PX_OK || px_wavescale_to(w, b, &Lb) != PX_OK)
+    return PX_EINVAL;
+  if (!(La < Lb) || !(Lambda >= La && Lambda <= Lb))
+    return PX_EINVAL; /* Lambda increases with lambda for a glass with n' of one sign */
+  for (int it = 0; it < 200 && b - a > 1e-13 * fmax(1.0, fabs(b)); it++) {
+    double m = 0.5 * (a + b), Lm;
+    if (px_wavescale_to(w, m, &Lm) != PX_OK)
+      return PX_EINVAL;
+    if (Lm < Lambda)
+      a = m;
+    else
+      b = m;
+  }
+  *lambda = 0.5 * (a + b);
+  return PX_OK;
+}

@@ -39,6 +39,7 @@ typedef struct {
   double printed_err;  /* the printed Eq. (14)'s */
   double lin[NOFF];    /* the linear model's scaled relative error at each offset (NaN: none) */
   double optics[NOFF]; /* the same with the indices linear in wavelength: the optics' share */
+  double scaled[NOFF]; /* the linear model in the paper's Lambda (section 3.3) instead of lambda */
   double column_scale; /* the largest scaled entry of the exact column */
 } result_t;
 
@@ -114,7 +115,7 @@ static double scaled_max(const double a[4], double L) {
 static void check_system(const val_system_t *v, double vd, result_t *r) {
   memset(r, 0, sizeof *r);
   for (int k = 0; k < NOFF; k++)
-    r->lin[k] = r->optics[k] = NAN;
+    r->lin[k] = r->optics[k] = r->scaled[k] = NAN;
   r->rel_err = r->printed_err = NAN;
   ex_system_t sys = val_system_bind(v);
   ex_axial_t ax;
@@ -195,15 +196,28 @@ static void check_system(const val_system_t *v, double vd, result_t *r) {
   double ref = scale > 1e-12 ? scale : 1.0;
   r->rel_err = scaled_max(e, L) / ref;
   r->printed_err = scaled_max(pe, L) / ref;
-  /* how far the linear model holds */
+  /* how far the linear model holds: in lambda, with the indices linear in lambda (the optics'
+   * share), and in the paper's Lambda of one glass (section 3.3). The media are Cauchy models of
+   * one Abbe number, n_m - n_m(lambda_d) proportional to 1/l^2 - 1/l_d^2 for every m, so the
+   * scale of any dispersive medium makes all of them linear in Lambda. */
+  px_wavescale_t ws;
+  int have_ws = 0;
+  for (size_t m = 0; m <= sys.nstage && !have_ws; m++)
+    have_ws =
+        px_index_disperses(&models[m]) && px_wavescale_make(&models[m], PX_LAMBDA_D, &ws) == PX_OK;
   for (int k = 0; k < NOFF && scale > 1e-12; k++)
     for (int tangent = 0; tangent < 2; tangent++) {
-      double psi[4], lin[4];
+      double psi[4], lin[4], Lam;
       if (exact_at(v, models, &ax, offsets[k], tangent, psi) != PX_OK)
         continue;
       for (int i = 0; i < 4; i++)
         lin[i] = psi[i] - t5.w.v[i] * offsets[k];
       (tangent ? r->optics : r->lin)[k] = scaled_max(lin, L) / (scale * fabs(offsets[k]));
+      if (tangent || !have_ws || px_wavescale_to(&ws, PX_LAMBDA_D + offsets[k], &Lam) != PX_OK)
+        continue;
+      for (int i = 0; i < 4; i++)
+        lin[i] = psi[i] - t5.w.v[i] * (Lam - PX_LAMBDA_D);
+      r->scaled[k] = scaled_max(lin, L) / (scale * fabs(offsets[k]));
     }
   r->status = PX_OK;
 }
@@ -218,8 +232,10 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   val_system_t *sw = val_sweep_build(1, o->quick, &n);
   double *lin = sw ? malloc(sizeof(double) * 2 * n * NOFF) : NULL;
   double *opt = sw ? malloc(sizeof(double) * 2 * n * NOFF) : NULL;
-  if (!sw || !lin || !opt) {
+  double *sca = sw ? malloc(sizeof(double) * 2 * n * NOFF) : NULL;
+  if (!sw || !lin || !opt || !sca) {
     free(opt);
+    free(sca);
     fprintf(stderr, "pencil verify dispersion: out of memory building the sweep\n");
     free(sw);
     free(lin);
@@ -233,6 +249,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
       fprintf(stderr, "pencil verify dispersion: %s\n", err);
       free(sw);
       free(lin);
+      free(opt);
+      free(sca);
       return -1;
     }
     csv = ca.f;
@@ -241,11 +259,14 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
       fprintf(csv, ",lin_%+g", offsets[k]);
     for (int k = 0; k < NOFF; k++)
       fprintf(csv, ",optics_%+g", offsets[k]);
+    for (int k = 0; k < NOFF; k++)
+      fprintf(csv, ",lambda_scale_%+g", offsets[k]);
     fprintf(csv, "\n");
   }
   size_t count[VAL_FAMILY_COUNT + 1] = {0}, fails[VAL_FAMILY_COUNT + 1] = {0},
                                   refused[VAL_FAMILY_COUNT + 1] = {0}, printed_fail = 0,
-                                  compared = 0, nlin[NOFF] = {0}, nopt[NOFF] = {0};
+                                  compared = 0, nlin[NOFF] = {0}, nopt[NOFF] = {0},
+                                  nsca[NOFF] = {0};
   double worst[VAL_FAMILY_COUNT + 1] = {0}, printed_worst = 0.0;
   size_t worst_id = 0;
   int worst_glass = 0;
@@ -286,6 +307,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
             lin[(size_t)k * 2 * n + nlin[k]++] = r.lin[k];
           if (!isnan(r.optics[k]))
             opt[(size_t)k * 2 * n + nopt[k]++] = r.optics[k];
+          if (!isnan(r.scaled[k]))
+            sca[(size_t)k * 2 * n + nsca[k]++] = r.scaled[k];
         }
       }
       if (csv) {
@@ -296,6 +319,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
           fprintf(csv, ",%.6e", r.lin[k]);
         for (int k = 0; k < NOFF; k++)
           fprintf(csv, ",%.6e", r.optics[k]);
+        for (int k = 0; k < NOFF; k++)
+          fprintf(csv, ",%.6e", r.scaled[k]);
         fprintf(csv, "\n");
       }
     }
@@ -303,11 +328,14 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   if (io_err)
     fprintf(stderr, "pencil verify dispersion: %s\n", err);
   /* the linearity sweep's quantiles */
-  double q50[NOFF], q90[NOFF], qmax[NOFF], o50[NOFF], o90[NOFF];
+  double q50[NOFF], q90[NOFF], qmax[NOFF], o50[NOFF], o90[NOFF], s50[NOFF], s90[NOFF];
   for (int k = 0; k < NOFF; k++) {
-    double *v = lin + (size_t)k * 2 * n, *w = opt + (size_t)k * 2 * n;
+    double *v = lin + (size_t)k * 2 * n, *w = opt + (size_t)k * 2 * n, *u = sca + (size_t)k * 2 * n;
     qsort(v, nlin[k], sizeof *v, cmp_double);
     qsort(w, nopt[k], sizeof *w, cmp_double);
+    qsort(u, nsca[k], sizeof *u, cmp_double);
+    s50[k] = nsca[k] ? u[nsca[k] / 2] : NAN;
+    s90[k] = nsca[k] ? u[(size_t)floor(0.9 * (nsca[k] - 1))] : NAN;
     q50[k] = nlin[k] ? v[nlin[k] / 2] : NAN;
     q90[k] = nlin[k] ? v[(size_t)floor(0.9 * (nlin[k] - 1))] : NAN;
     qmax[k] = nlin[k] ? v[nlin[k] - 1] : NAN;
@@ -337,12 +365,15 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
     fprintf(f,
             "\nhow far the linear model holds: |exact - column x delta-lambda| / |column x "
             "delta-lambda| (scaled);\n\"optics\": the same with every index linear in "
-            "wavelength (its tangent at the d-line), the refraction's own nonlinearity\n"
-            "%14s %10s %10s %10s %8s | %10s %10s\n",
-            "delta-lambda", "median", "90%", "max", "cases", "optics med", "optics 90%");
+            "wavelength (its tangent at the d-line), the refraction's own nonlinearity;\n"
+            "\"Lambda\": the true indices, the column times Lambda - lambda_d for the paper's "
+            "scale of one glass (section 3.3)\n"
+            "%14s %10s %10s %10s %8s | %10s %10s | %10s %10s\n",
+            "delta-lambda", "median", "90%", "max", "cases", "optics med", "optics 90%",
+            "Lambda med", "Lambda 90%");
     for (int k = 0; k < NOFF; k++)
-      fprintf(f, "%11g nm %10.3e %10.3e %10.3e %8zu | %10.3e %10.3e\n", offsets[k], q50[k], q90[k],
-              qmax[k], nlin[k], o50[k], o90[k]);
+      fprintf(f, "%11g nm %10.3e %10.3e %10.3e %8zu | %10.3e %10.3e | %10.3e %10.3e\n", offsets[k],
+              q50[k], q90[k], qmax[k], nlin[k], o50[k], o90[k], s50[k], s90[k]);
   }
   if (o->json) {
     json_t *fj = json_object();
@@ -354,10 +385,12 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
     json_t *lj = json_array();
     for (int k = 0; k < NOFF; k++)
       json_array_append_new(
-          lj, json_pack("{s:f, s:o, s:o, s:o, s:I, s:o, s:o}", "delta_lambda_nm", offsets[k],
-                        "median", io_json_number(q50[k]), "p90", io_json_number(q90[k]), "max",
-                        io_json_number(qmax[k]), "cases", (json_int_t)nlin[k], "optics_median",
-                        io_json_number(o50[k]), "optics_p90", io_json_number(o90[k])));
+          lj, json_pack("{s:f, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:o}", "delta_lambda_nm",
+                        offsets[k], "median", io_json_number(q50[k]), "p90", io_json_number(q90[k]),
+                        "max", io_json_number(qmax[k]), "cases", (json_int_t)nlin[k],
+                        "optics_median", io_json_number(o50[k]), "optics_p90",
+                        io_json_number(o90[k]), "lambda_scale_median", io_json_number(s50[k]),
+                        "lambda_scale_p90", io_json_number(s90[k])));
     json_t *root = json_pack(
         "{s:s, s:I, s:I, s:I, s:I, s:f, s:f, s:o, s:{s:I, s:f}, s:o}", "verification", "dispersion",
         "cases", (json_int_t)count[VAL_FAMILY_COUNT], "compared", (json_int_t)compared, "refused",
@@ -375,6 +408,7 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   free(sw);
   free(lin);
   free(opt);
+  free(sca);
   if (io_err)
     return -1;
   return failures ? 1 : 0;

@@ -119,6 +119,31 @@ px_status_t px_element_matrix5_cs(px_event_t ev, double c, double s, double n1, 
 px_status_t px_cascade_product5(const px_cascade_t *c, const double *dn1, const double *dn2,
                                 px_variant_t variant, px_mat5_t *out);
 
+/** The paper's non-linear wavelength scale (section 3.3): where every dispersive medium of a
+ *  scene is one glass, Lambda(lambda) = lambda_0 + (n(lambda) - n(lambda_0)) / n'(lambda_0) makes
+ *  the index exactly linear in Lambda (dn/dLambda = n'(lambda_0), constant), equal to lambda to
+ *  first order at lambda_0 (dLambda/dlambda = 1 there), so that the 5 x 5 matrix's column,
+ *  computed as today, is also d psi'/d Lambda at lambda_0 and the extended matrix's linear model
+ *  carries only the refraction's own non-linearity, not the index's. For the same glass scaled
+ *  (n_m = n_m0 + k_m (n - n_0), e.g. Cauchy models of one Abbe number) it serves every medium. */
+typedef struct {
+  px_index_t glass; /**< the scene's one dispersive glass */
+  double lambda0;   /**< the axial wavelength, nm (PX_LAMBDA_D for the renderers) */
+  double n0, dn0;   /**< n and dn/dlambda at lambda0 (dn0 != 0) */
+} px_wavescale_t;
+
+/** The scale of glass about lambda0. PX_EINVAL for a glass that does not disperse at lambda0 or
+ *  lambda0 outside its range; px_index_eval()'s errors. */
+px_status_t px_wavescale_make(const px_index_t *glass, double lambda0, px_wavescale_t *out);
+
+/** Lambda (nm) of lambda (nm, in the glass's range); px_index_eval()'s errors. */
+px_status_t px_wavescale_to(const px_wavescale_t *w, double lambda, double *Lambda);
+
+/** lambda of Lambda, by bisection on the glass's range, within 1e-10 nm; n is taken to be
+ *  monotone there (normal dispersion, as every catalogue glass over 380-780 nm). PX_EINVAL when
+ *  Lambda is outside the image of [lo_nm, hi_nm]. */
+px_status_t px_wavescale_from(const px_wavescale_t *w, double Lambda, double *lambda);
+
 /** A transfer's extended matrix: its column is zero (x_lambda' = x_lambda + z0 xi_lambda comes
  *  from the block). */
 px_mat5_t px_transfer_matrix5(double z0);
