@@ -123,6 +123,17 @@ cat >"$dir/out/verify-dispersion.json" <<'JSON'
  "linearity": [{"delta_lambda_nm": 10, "median": 2.465e-2, "p90": 0.1036, "max": 0.74, "cases": 4085,
                 "optics_median": 5.526e-4, "optics_p90": 8.24e-2}]}
 JSON
+mkdir -p "$dir/out/dispersion"
+cat >"$dir/out/dispersion/dispersion.json" <<'JSON'
+{"benchmark": "dispersion", "scene": "scenes/fig14.json", "size": 256, "spp": 1,
+ "reference_bins": 400, "runs": 3, "quick": false, "dispersive_pencil": "not built yet",
+ "methods": [{"method": "reference", "renderer": "exact", "wavelengths": "fan", "bins": 400,
+              "seconds": 12.925, "over_exact_nd": 279.548, "rays": 79319783,
+              "delta_e2000_mean": null, "delta_e2000_p99": null, "delta_e2000_max": null},
+             {"method": "exact-takagi9", "renderer": "exact", "wavelengths": "primary", "bins": 9,
+              "seconds": 0.319, "over_exact_nd": 6.890, "rays": 3117397,
+              "delta_e2000_mean": 0.6919, "delta_e2000_p99": 13.3169, "delta_e2000_max": 43.8106}]}
+JSON
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -171,6 +182,7 @@ check "illuminance maps: a case's row and Fig. 11's speed-up" "grep -q '| ball, 
 check "illuminance maps: the polygons' row on Fig. 11" "grep -q '20826629 rays in 34.1 s, RMS 3.59e-03 (dim cells 5.57e-02)' '$page'"
 check "fig10: the render's closing lines" \
   "grep -q '^    pencil-traced 1024x682 at 9 spp in 250.000 s' '$page' && grep -q '^    ray interpolation: 696435' '$page' && grep -q '^    caustics: 1 map(s) of 512 cells' '$page' && ! grep -q '^    effects plan' '$page' && ! grep -q '^    caustics       on' '$page'"
+check "dispersion: Takagi's row" "grep -q '| exact-takagi9 | exact | primary | 9 | 0.319 | 6.89 | 3117397 | 0.692 | 13.317 | 43.811 |' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
 check "caustics: the pencil's row and the equal-error line" \
   "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"

@@ -76,6 +76,14 @@ assert lin[10]["optics_median"] < lin[10]["median"] < lin[190]["median"], lin
 for k in (-200, 190):
     assert lin[k]["lambda_scale_median"] < 0.1 * lin[k]["median"], lin[k]
 assert "lambda_scale_+190" in csv.DictReader(open(f"{d}/d.csv")).fieldnames
+# Eq. (15) and 3.2.4 (erratum E8): the derived image-solid vertex errs by the linear model's
+# error, the printed one (absolute wavelength) by factors; the selective estimate printed is twice
+sol = {round(r["delta_lambda_nm"]): r for r in s["image_solids"]}
+assert sol[10]["cases"] >= 100, sol[10]
+assert sol[10]["derived_median"] < 0.1 and sol[10]["printed_median"] > 10, sol[10]
+assert sol[190]["lambda_scale_median"] < 0.2 * sol[190]["derived_median"], sol[190]
+sel = s["selective"]
+assert 0.5 < sel["median"] < 1.2 and sel["printed_median"] > 1.4 * sel["median"], sel
 rows = list(csv.DictReader(open(f"{d}/d.csv")))
 assert len(rows) == s["cases"] and {r["glass"] for r in rows} == {"low", "high"}
 assert any("41.8" in r["label"] and r["status"] == "ok" for r in rows), "no case near the critical angle"

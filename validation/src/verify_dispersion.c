@@ -40,6 +40,13 @@ typedef struct {
   double lin[NOFF];    /* the linear model's scaled relative error at each offset (NaN: none) */
   double optics[NOFF]; /* the same with the indices linear in wavelength: the optics' share */
   double scaled[NOFF]; /* the linear model in the paper's Lambda (section 3.3) instead of lambda */
+  /* Eq. (15), a pinhole pencil's image-solid vertex xi = B^-1 (x' - x_lambda dl) against the
+   * exact direction that reaches x' at lambda_d + dl, relative to how far dispersion moves it:
+   * as derived (dl), in Lambda, and as printed (lambda_j x_lambda, the absolute wavelength) */
+  double solid[NOFF], solid_scaled[NOFF], solid_printed[NOFF];
+  /* section 3.2.4's estimate of the spread over the range, |(l1 - l0) B^-1 x_lambda|, and as
+   * printed, |l1 B^-1 x_lambda|, over the exact spread of the directions (NaN: none) */
+  double select_ratio, select_printed_ratio;
   double column_scale; /* the largest scaled entry of the exact column */
 } result_t;
 
@@ -112,10 +119,86 @@ static double scaled_max(const double a[4], double L) {
   return m;
 }
 
+/* The direction xi of a pinhole pencil (psi = (0, 0, xi)) whose exact ray reaches x' = target on
+ * the system's last plane with the indices at lambda_d + dl: Newton's method from xi0 with the
+ * d-line's B^-1 as the Jacobian's inverse. 0, or -1 when a ray fails or it does not converge. */
+static int reach(const val_system_t *v, const px_index_t *models, const ex_axial_t *ax, double dl,
+                 const double binv[2][2], const double target[2], double L, double xi[2]) {
+  val_system_t s;
+  if (!shifted(v, models, dl, 0, &s))
+    return -1;
+  for (int it = 0; it < 40; it++) {
+    __float128 psi[4] = {0, 0, xi[0], xi[1]}, o[4];
+    if (ex_map_q(&s.sys, ax, psi, o) != PX_OK)
+      return -1;
+    double r0 = (double)o[0] - target[0], r1 = (double)o[1] - target[1];
+    if (fabs(r0) + fabs(r1) < 1e-15 * L)
+      return 0;
+    xi[0] -= binv[0][0] * r0 + binv[0][1] * r1;
+    xi[1] -= binv[1][0] * r0 + binv[1][1] * r1;
+  }
+  return -1;
+}
+
+/* Eq. (15) and section 3.2.4 for a system whose 5 x 5 matrix is t5 (results into r). */
+static void check_solid(const val_system_t *v, const px_index_t *models, const ex_axial_t *ax,
+                        px_mat5_t t5, const px_wavescale_t *ws, double L, result_t *r) {
+  double b00 = t5.t.m[0][2], b01 = t5.t.m[0][3], b10 = t5.t.m[1][2], b11 = t5.t.m[1][3];
+  double det = b00 * b11 - b01 * b10,
+         bn = fmax(fmax(fabs(b00), fabs(b01)), fmax(fabs(b10), fabs(b11)));
+  double xl[2] = {t5.w.v[0], t5.w.v[1]};
+  if (!(fabs(det) > 1e-6 * bn * bn) || !(fabs(xl[0]) + fabs(xl[1]) > 1e-14 * L))
+    return; /* no image of the pencil on the plane (a focus), or no dispersion in position */
+  const double binv[2][2] = {{b11 / det, -b01 / det}, {-b10 / det, b00 / det}};
+  /* a target a paraxial direction of 1e-3 away: x' = B xi_t */
+  const double xt[2] = {6e-4, 8e-4};
+  double target[2] = {b00 * xt[0] + b01 * xt[1], b10 * xt[0] + b11 * xt[1]};
+  double x0[2] = {xt[0], xt[1]}, xk[NOFF][2];
+  int ok[NOFF];
+  if (reach(v, models, ax, 0.0, binv, target, L, x0) != 0)
+    return;
+  for (int k = 0; k < NOFF; k++) {
+    double dl = offsets[k], Lam = PX_LAMBDA_D + dl;
+    xk[k][0] = x0[0];
+    xk[k][1] = x0[1];
+    ok[k] = reach(v, models, ax, dl, binv, target, L, xk[k]) == 0;
+    double moved = hypot(xk[k][0] - x0[0], xk[k][1] - x0[1]);
+    if (!ok[k] || !(moved > 0.0))
+      continue;
+    if (ws)
+      px_wavescale_to(ws, PX_LAMBDA_D + dl, &Lam);
+    const double shifts[3] = {dl, Lam - PX_LAMBDA_D, PX_LAMBDA_D + dl};
+    double *outs[3] = {&r->solid[k], &r->solid_scaled[k], &r->solid_printed[k]};
+    for (int m = 0; m < 3; m++) {
+      if (m == 1 && !ws)
+        continue;
+      double u0 = target[0] - xl[0] * shifts[m], u1 = target[1] - xl[1] * shifts[m];
+      double e0 = binv[0][0] * u0 + binv[0][1] * u1 - xk[k][0],
+             e1 = binv[1][0] * u0 + binv[1][1] * u1 - xk[k][1];
+      *outs[m] = hypot(e0, e1) / moved;
+    }
+  }
+  /* the spread over the range: the offsets' first (-200 nm) and last (+190 nm) */
+  int lo = 0, hi = NOFF - 1;
+  if (ok[lo] && ok[hi]) {
+    double spread = hypot(xk[hi][0] - xk[lo][0], xk[hi][1] - xk[lo][1]);
+    double d0 = binv[0][0] * xl[0] + binv[0][1] * xl[1],
+           d1 = binv[1][0] * xl[0] + binv[1][1] * xl[1];
+    double per_nm = hypot(d0, d1);
+    if (spread > 0.0) {
+      r->select_ratio = (offsets[hi] - offsets[lo]) * per_nm / spread;
+      r->select_printed_ratio = (PX_LAMBDA_D + offsets[hi]) * per_nm / spread;
+    }
+  }
+}
+
 static void check_system(const val_system_t *v, double vd, result_t *r) {
   memset(r, 0, sizeof *r);
   for (int k = 0; k < NOFF; k++)
     r->lin[k] = r->optics[k] = r->scaled[k] = NAN;
+  for (int k = 0; k < NOFF; k++)
+    r->solid[k] = r->solid_scaled[k] = r->solid_printed[k] = NAN;
+  r->select_ratio = r->select_printed_ratio = NAN;
   r->rel_err = r->printed_err = NAN;
   ex_system_t sys = val_system_bind(v);
   ex_axial_t ax;
@@ -219,6 +302,8 @@ static void check_system(const val_system_t *v, double vd, result_t *r) {
         lin[i] = psi[i] - t5.w.v[i] * (Lam - PX_LAMBDA_D);
       r->scaled[k] = scaled_max(lin, L) / (scale * fabs(offsets[k]));
     }
+  if (scale > 1e-12)
+    check_solid(v, models, &ax, t5, have_ws ? &ws : NULL, L, r);
   r->status = PX_OK;
 }
 
@@ -233,9 +318,14 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   double *lin = sw ? malloc(sizeof(double) * 2 * n * NOFF) : NULL;
   double *opt = sw ? malloc(sizeof(double) * 2 * n * NOFF) : NULL;
   double *sca = sw ? malloc(sizeof(double) * 2 * n * NOFF) : NULL;
-  if (!sw || !lin || !opt || !sca) {
+  /* Eq. (15)'s errors (as derived, in Lambda, as printed) and section 3.2.4's ratios */
+  double *sol = sw ? malloc(sizeof(double) * 3 * 2 * n * NOFF) : NULL;
+  double *sel = sw ? malloc(sizeof(double) * 2 * 2 * n) : NULL;
+  if (!sw || !lin || !opt || !sca || !sol || !sel) {
     free(opt);
     free(sca);
+    free(sol);
+    free(sel);
     fprintf(stderr, "pencil verify dispersion: out of memory building the sweep\n");
     free(sw);
     free(lin);
@@ -251,6 +341,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
       free(lin);
       free(opt);
       free(sca);
+      free(sol);
+      free(sel);
       return -1;
     }
     csv = ca.f;
@@ -266,7 +358,7 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   size_t count[VAL_FAMILY_COUNT + 1] = {0}, fails[VAL_FAMILY_COUNT + 1] = {0},
                                   refused[VAL_FAMILY_COUNT + 1] = {0}, printed_fail = 0,
                                   compared = 0, nlin[NOFF] = {0}, nopt[NOFF] = {0},
-                                  nsca[NOFF] = {0};
+                                  nsca[NOFF] = {0}, nsol[3][NOFF] = {{0}}, nsel = 0;
   double worst[VAL_FAMILY_COUNT + 1] = {0}, printed_worst = 0.0;
   size_t worst_id = 0;
   int worst_glass = 0;
@@ -302,6 +394,10 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
           printed_fail += r.printed_err > VAL_DISP_TOL;
           printed_worst = fmax(printed_worst, r.printed_err);
         }
+        if (!isnan(r.select_ratio)) {
+          sel[nsel] = r.select_ratio;
+          sel[2 * n + nsel++] = r.select_printed_ratio;
+        }
         for (int k = 0; k < NOFF; k++) {
           if (!isnan(r.lin[k]))
             lin[(size_t)k * 2 * n + nlin[k]++] = r.lin[k];
@@ -309,6 +405,10 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
             opt[(size_t)k * 2 * n + nopt[k]++] = r.optics[k];
           if (!isnan(r.scaled[k]))
             sca[(size_t)k * 2 * n + nsca[k]++] = r.scaled[k];
+          const double se[3] = {r.solid[k], r.solid_scaled[k], r.solid_printed[k]};
+          for (int m = 0; m < 3; m++)
+            if (!isnan(se[m]))
+              sol[((size_t)m * NOFF + k) * 2 * n + nsol[m][k]++] = se[m];
         }
       }
       if (csv) {
@@ -342,6 +442,22 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
     o50[k] = nopt[k] ? w[nopt[k] / 2] : NAN;
     o90[k] = nopt[k] ? w[(size_t)floor(0.9 * (nopt[k] - 1))] : NAN;
   }
+  double sq[3][NOFF][2]; /* Eq. (15): median and 90% of each form */
+  for (int m = 0; m < 3; m++)
+    for (int k = 0; k < NOFF; k++) {
+      double *u = sol + ((size_t)m * NOFF + k) * 2 * n;
+      size_t c = nsol[m][k];
+      qsort(u, c, sizeof *u, cmp_double);
+      sq[m][k][0] = c ? u[c / 2] : NAN;
+      sq[m][k][1] = c ? u[(size_t)floor(0.9 * (c - 1))] : NAN;
+    }
+  double selq[2][3]; /* 3.2.4: 10%, median, 90% of the estimate over the exact spread */
+  for (int m = 0; m < 2; m++) {
+    double *u = sel + (size_t)m * 2 * n;
+    qsort(u, nsel, sizeof *u, cmp_double);
+    for (int q = 0; q < 3; q++)
+      selq[m][q] = nsel ? u[(size_t)floor((0.1 + 0.4 * q) * (nsel - 1))] : NAN;
+  }
   if (o->report) {
     FILE *f = o->report;
     fprintf(f,
@@ -374,6 +490,22 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
     for (int k = 0; k < NOFF; k++)
       fprintf(f, "%11g nm %10.3e %10.3e %10.3e %8zu | %10.3e %10.3e | %10.3e %10.3e\n", offsets[k],
               q50[k], q90[k], qmax[k], nlin[k], o50[k], o90[k], s50[k], s90[k]);
+    fprintf(f,
+            "\nEq. (15), a pinhole pencil's image-solid vertex B^-1 (x' - x_lambda dl) against the "
+            "exact direction\nthat reaches x' (1e-3 off the axis), |error| / |dispersive shift| "
+            "(median, 90%%): as derived,\nin Lambda, and as printed with the absolute wavelength "
+            "lambda_j x_lambda (docs/errata.md, E8)\n%14s %21s %21s %21s %8s\n",
+            "delta-lambda", "derived", "in Lambda", "printed", "cases");
+    for (int k = 0; k < NOFF; k++)
+      fprintf(f, "%11g nm %10.3e %10.3e %10.3e %10.3e %10.3e %10.3e %8zu\n", offsets[k],
+              sq[0][k][0], sq[0][k][1], sq[1][k][0], sq[1][k][1], sq[2][k][0], sq[2][k][1],
+              nsol[0][k]);
+    fprintf(f,
+            "section 3.2.4's estimate of the spread over %g..%g nm, |(l1 - l0) B^-1 x_lambda|, "
+            "over the exact spread:\n10%% %.3g, median %.3g, 90%% %.3g (%zu cases); as printed, "
+            "|l1 B^-1 x_lambda|: %.3g, %.3g, %.3g (E8)\n",
+            PX_LAMBDA_D + offsets[0], PX_LAMBDA_D + offsets[NOFF - 1], selq[0][0], selq[0][1],
+            selq[0][2], nsel, selq[1][0], selq[1][1], selq[1][2]);
   }
   if (o->json) {
     json_t *fj = json_object();
@@ -391,6 +523,20 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
                         "optics_median", io_json_number(o50[k]), "optics_p90",
                         io_json_number(o90[k]), "lambda_scale_median", io_json_number(s50[k]),
                         "lambda_scale_p90", io_json_number(s90[k])));
+    json_t *sj = json_array();
+    for (int k = 0; k < NOFF; k++)
+      json_array_append_new(
+          sj, json_pack("{s:f, s:I, s:o, s:o, s:o, s:o, s:o, s:o}", "delta_lambda_nm", offsets[k],
+                        "cases", (json_int_t)nsol[0][k], "derived_median",
+                        io_json_number(sq[0][k][0]), "derived_p90", io_json_number(sq[0][k][1]),
+                        "lambda_scale_median", io_json_number(sq[1][k][0]), "lambda_scale_p90",
+                        io_json_number(sq[1][k][1]), "printed_median", io_json_number(sq[2][k][0]),
+                        "printed_p90", io_json_number(sq[2][k][1])));
+    json_t *selj = json_pack("{s:I, s:o, s:o, s:o, s:o, s:o, s:o}", "cases", (json_int_t)nsel,
+                             "p10", io_json_number(selq[0][0]), "median",
+                             io_json_number(selq[0][1]), "p90", io_json_number(selq[0][2]),
+                             "printed_p10", io_json_number(selq[1][0]), "printed_median",
+                             io_json_number(selq[1][1]), "printed_p90", io_json_number(selq[1][2]));
     json_t *root = json_pack(
         "{s:s, s:I, s:I, s:I, s:I, s:f, s:f, s:o, s:{s:I, s:f}, s:o}", "verification", "dispersion",
         "cases", (json_int_t)count[VAL_FAMILY_COUNT], "compared", (json_int_t)compared, "refused",
@@ -398,6 +544,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
         "worst_relative_error", worst[VAL_FAMILY_COUNT], "tolerance", VAL_DISP_TOL, "families", fj,
         "printed", "failures", (json_int_t)printed_fail, "worst_relative_error", printed_worst,
         "linearity", lj);
+    json_object_set_new(root, "image_solids", sj);
+    json_object_set_new(root, "selective", selj);
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil verify dispersion: %s\n", err);
       io_err = 1;
@@ -409,6 +557,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   free(lin);
   free(opt);
   free(sca);
+  free(sol);
+  free(sel);
   if (io_err)
     return -1;
   return failures ? 1 : 0;
