@@ -425,7 +425,8 @@ static int render(const args_t *a, rt_scene_t *s) {
   c.caustic_cells = (int)a->caustic_cells;
   /* the star filter's FFT grid, the unfiltered planes and the preview */
   size_t star_bytes =
-      kernel.k ? pp_star_bytes(&kernel, s->camera.width, s->camera.height) +
+      kernel.k ? pp_star_bytes(&kernel, s->camera.width, s->camera.height,
+                               c.threads > 0 ? c.threads : rt_thread_count(0)) +
                      (size_t)s->camera.width * s->camera.height * 3 * sizeof(float) +
                      (size_t)s->camera.width * s->camera.height * RT_CH_COUNT * sizeof(float)
                : 0;

@@ -53,7 +53,7 @@ static int min_int(int a, int b) {
 /* Render s with entry r at its camera's size and spp_side x spp_side samples, with the Fig. 10
  * measurement when r has one, and check the rules above. */
 static void render_with(const rn_renderer_t *r, const rt_scene_t *s, int spp_side) {
-  rt_plan_t plan = rt_plan_make(s, spp_side * spp_side);
+  rt_plan_t plan = rn_plan_make(r, s, spp_side * spp_side, NULL);
   rt_image_t img;
   rn_output_t out = {.image = &img};
   void *options = malloc(r->options_size);

@@ -227,7 +227,7 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
 /* The exact renderer's --wavelengths: Takagi et al.'s wavelength supersampling (each primary ray
  * once per bin) gives the fan's image (each ray meets the same indices: within float rounding),
  * at several times its rays; "off" gives the image of the same glass with its index at the d-line
- * as a number, bit for bit; --bins sets the bins. */
+ * as a number, bit for bit, also under a plan made without the options; --bins sets the bins. */
 static void wavelengths_primary_equals_the_fan(void **state) {
   (void)state;
   rt_scene_t s, plain;
@@ -279,6 +279,25 @@ static void wavelengths_primary_equals_the_fan(void **state) {
                 "fan against the number %.2e\n",
                 fan_primary, (unsigned long long)rt_stats_total(&st[0]),
                 (unsigned long long)rt_stats_total(&st[1]), off_plain, fan_plain);
+  { /* --wavelengths off holds under a plan made without the options (rt_plan_make) */
+    unsigned char opt[64];
+    char err[200];
+    rn_defaults(x, opt);
+    assert_int_equal(rn_set(x, opt, "--wavelengths", "off", err, sizeof err), 1);
+    rt_plan_t p = rt_plan_make(&s, 1);
+    assert_true(rt_plan_has(&p, RT_EFFECT_DISPERSION));
+    rn_common_t c = RN_COMMON_DEFAULT;
+    c.aux = 0;
+    rt_image_t im;
+    assert_int_equal(rt_image_alloc(&im, 40, 40), RT_OK);
+    rn_output_t out;
+    memset(&out, 0, sizeof out);
+    out.image = &im;
+    assert_int_equal(x->render(&s, &p, &c, opt, &out), RT_OK);
+    for (int ch = RT_CH_R; ch <= RT_CH_B; ch++)
+      assert_memory_equal(im.ch[ch], img[3].ch[ch], sizeof(float) * 40 * 40);
+    rt_image_free(&im);
+  }
   assert_true(fan_primary < 1e-5);
   assert_true(off_plain == 0.0);
   assert_true(fan_plain > 1e-3); /* the dispersion shows */

@@ -169,8 +169,13 @@ static int is_dispersive(const rt_material_t *m) {
 /* Dispersion: on where refraction runs and a transparent material's index varies with wavelength
  * (the scene's own index, settings.ior, is a number). White rays that refract into or out of such
  * a material fan out into the scene's bins (docs/spectral.md, section 3). */
+const rt_material_t *rt_plan_dispersive_material(const rt_scene_t *s) {
+  return used(s, is_dispersive);
+}
+
 static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s, int n) {
   const rt_material_t *m = used(s, is_dispersive);
+  p->bins = 0;
   double dn = 0.0;
   if (!m) {
     set(p, RT_EFFECT_DISPERSION, 0, "off: no transparent material's index varies with wavelength");

@@ -21,7 +21,7 @@ int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_
                       rt_child_t *child, rt_rgb_t *extra_reflect, int *tir) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t wt = rt_rgb_scale(m->transmittance, m->kt);
-  double n2 = sf->n2; /* at a monochromatic ray's wavelength: spectral() in shade.c */
+  double n2 = sf->n2; /* a monochromatic ray's: spectral() in shade.c set it at its wavelength */
   px_interface_t ifc = {.s = ray->d, .nu = px_v3_scale(sf->nf, -1.0), .n1 = sf->n1, .n2 = n2};
   px_vec3_t dir;
   double co;

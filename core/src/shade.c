@@ -20,7 +20,7 @@ void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *
   out->nf = dn < 0.0 ? hit->n : px_v3_scale(hit->n, -1.0);
   out->mat = rt_scene_material_at(s, hit->prim, hit->p, &out->texel);
   out->n1 = ray->ior;
-  out->n2 = out->entering ? out->mat->ior : s->ior; /* a monochromatic ray's: rt__shade_refract */
+  out->n2 = out->entering ? out->mat->ior : s->ior; /* a monochromatic ray's: spectral() below */
 }
 
 double rt__index_at(const rt_material_t *m, double lambda) {

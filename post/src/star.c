@@ -140,18 +140,21 @@ static grid_t grid_of(const pp_kernel_t *k, int w, int h) {
   return g;
 }
 
-size_t pp_star_bytes(const pp_kernel_t *k, int w, int h) {
+size_t pp_star_bytes(const pp_kernel_t *k, int w, int h, int threads) {
   grid_t g = grid_of(k, w, h);
   size_t rows = (size_t)(h > k->side ? h : k->side);
+  size_t nt = (size_t)(threads < 1 ? 1 : threads > 64 ? 64 : threads);
   return rows * (size_t)g.hx * sizeof(fftw_complex) + (size_t)g.hx * g.my * sizeof(double) +
-         2 * (size_t)BATCH * g.my * sizeof(fftw_complex) + 2 * (size_t)g.mx * sizeof(double);
+         nt * ((size_t)BATCH * g.my * sizeof(fftw_complex) + (size_t)(g.mx + 2) * sizeof(double)) +
+         (size_t)k->side * sizeof(int);
 }
 
 /* The linear convolution of one plane by the kernel's real spectrum, pruned: the plane fills the
  * top-left h x w of an my x mx grid, so only its h rows are transformed along x (the others are
  * zero), the hx columns of the half spectrum are transformed along y a batch at a time (gathered
  * into a contiguous buffer, multiplied by the kernel's column, transformed back), and only the h
- * rows the image keeps are transformed back along x. S holds h x hx values; spec is the kernel's
+ * rows the image keeps are transformed back along x. S holds max(h, kernel side) x hx values (the
+ * kernel's rows pass through it first); spec is the kernel's
  * spectrum, column q at spec + q my, scaled by 1 / (mx my). full gets the whole grid's sum. */
 typedef struct {
   grid_t g;

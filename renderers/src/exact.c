@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "colour/colour.h"
 #include "entries.h"
 #include "render/render.h"
 
@@ -47,16 +48,11 @@ static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
   if (o->bins > 0)
     rt_plan_set_bins(p, s, o->bins);
   if (o->wavelengths == WL_PRIMARY) {
-    const rt_material_t *m = NULL; /* the glass the plan names, for the reason */
-    for (int i = 0; i < s->nobject && !m; i++) {
-      const rt_material_t *c = &s->material[s->object[i].material];
-      if (c->kt > 0.0 && px_index_disperses(&c->index))
-        m = c;
-    }
+    const rt_material_t *m = rt_plan_dispersive_material(s);
     snprintf(p->why[RT_EFFECT_DISPERSION], RT_PLAN_WHY_MAX,
              "on: material '%.40s' disperses: every primary ray traced at %d wavelengths over "
-             "380-780 nm (Takagi et al.)",
-             m ? m->name : "?", p->bins);
+             "%g-%g nm (Takagi et al.)",
+             m ? m->name : "?", p->bins, CS_LAMBDA_LO, CS_LAMBDA_HI);
   }
 }
 
@@ -70,6 +66,12 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
   o.per_wavelength = eo->wavelengths == WL_PRIMARY;
+  rt_plan_t mine; /* a plan not made by rn_plan_make(): --wavelengths off still holds */
+  if (eo->wavelengths == WL_OFF && rt_plan_has(plan, RT_EFFECT_DISPERSION)) {
+    mine = *plan;
+    adapt_plan(&mine, s, options);
+    plan = &mine;
+  }
   rt_plan_t run;
   rt_caustic_maps_t maps;
   rt_status_t r = rn__caustics_make(s, plan, c, LT_METHOD_PHOTONS, &run, &maps, out->caustics);
@@ -90,7 +92,10 @@ static int describe(const void *options, rn_attr_t *attrs) {
   attrs[0].key = "exact:wavelengths";
   snprintf(attrs[0].value, sizeof attrs[0].value, "%s", wavelength_names[o->wavelengths]);
   attrs[1].key = "exact:bins";
-  snprintf(attrs[1].value, sizeof attrs[1].value, "%d", o->bins);
+  if (o->bins > 0)
+    snprintf(attrs[1].value, sizeof attrs[1].value, "%d", o->bins);
+  else
+    snprintf(attrs[1].value, sizeof attrs[1].value, "the scene's spectral_bins");
   return 2;
 }
 

@@ -160,9 +160,8 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
             path, side, side, s.spp, ref, runs);
   int bad = 0;
   for (int m = 0; m < NM && !bad; m++) {
-    if (ms[m].bins >= RT_MIN_BINS || ms[m].bins == 0)
-      bad = render(&s, &ms[m], o, m == 0 ? 1 : runs, &img[m], &res[m]) != 0 ||
-            (m > 0 && delta_e(&img[m], &img[0], &res[m]) != 0);
+    bad = render(&s, &ms[m], o, m == 0 ? 1 : runs, &img[m], &res[m]) != 0 ||
+          (m > 0 && delta_e(&img[m], &img[0], &res[m]) != 0);
     if (!bad && o->out)
       bad = save(o->out, ms[m].name, &img[m]) != 0;
   }

@@ -29,7 +29,7 @@ int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   c.threads = threads;
   c.aux = 0;
   rn_output_t out_x = {.image = &img}, out_m = {.image = &img};
-  unsigned char xopt[64]; /* the exact renderer's (empty) options */
+  unsigned char xopt[64]; /* the exact renderer's options (its defaults) */
   int rc = x->options_size <= sizeof xopt ? 0 : -1;
   if (rc == 0)
     rn_defaults(x, xopt);
@@ -100,7 +100,7 @@ int val_image_bias(const rt_scene_t *s, const rt_image_t *P, const rt_image_t *X
 static int render_exact(const rt_scene_t *s, const rt_plan_t *plan, int side, int threads,
                         rt_image_t *img) {
   const rn_renderer_t *x = rn_exact();
-  unsigned char xopt[64]; /* the exact renderer's (empty) options */
+  unsigned char xopt[64]; /* the exact renderer's options (its defaults) */
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = side;
   c.threads = threads;

@@ -23,7 +23,8 @@ typedef enum {
   RT_EFFECT_CAUSTICS,      /**< light through specular and transparent objects from illuminance
                                 maps (1987 Eq. 8; core/caustics.h) */
   RT_EFFECT_DISPERSION,    /**< wavelength-dependent index: white rays refracting into a
-                                dispersive material fan out into wavelength bins (core/shade.h) */
+                                dispersive material fan out into wavelength bins (core/src/shade.c,
+                              docs/spectral.md) */
   RT_EFFECT_STAR_FILTER,   /**< the cross-screen filter after rendering (post/star.h) */
   RT_EFFECT_COUNT
 } rt_effect_t;
@@ -59,6 +60,10 @@ rt_plan_t rt_plan_make(const rt_scene_t *s, int spp);
  *  not draw dispersion yet"): the dispersive material is then rendered at its index at the d-line.
  *  No-op when it is off. */
 void rt_plan_no_dispersion(rt_plan_t *p, const rt_scene_t *s, const char *why);
+
+/** The first material of an object of s that is transparent and disperses (the one the plan's
+ *  dispersion entry names), or NULL. */
+const rt_material_t *rt_plan_dispersive_material(const rt_scene_t *s);
 
 /** Re-make the bins with n of them (RT_MIN_BINS..RT_MAX_BINS) when dispersion is on. */
 void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n);

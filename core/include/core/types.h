@@ -67,7 +67,7 @@ typedef struct {
                       is monochromatic) */
   int skip_prim; /**< planar primitive the ray leaves (it cannot meet it again), or -1 */
   float lambda;  /**< 0: a white (RGB) ray; else the wavelength, nm, of a monochromatic ray below
-                      a spectral fan (core/shade.h; in the padding after skip_prim, so rays stay
+                      a spectral fan (core/src/shade.c; in the padding after skip_prim, so rays stay
                       80 bytes) */
 } rt_ray_t;
 

@@ -88,9 +88,10 @@ typedef struct {
 int pp_star_apply(const pp_kernel_t *k, int w, int h, int n, const float *const *in, float **out,
                   int threads, pp_star_flux_t *flux, char *why, size_t cap);
 
-/** The memory pp_star_apply() allocates for a w x h image and kernel k (the image's rows of the
- *  half spectrum, the kernel's spectrum and two threads' buffers), bytes. */
-size_t pp_star_bytes(const pp_kernel_t *k, int w, int h);
+/** The memory pp_star_apply() allocates for a w x h image and kernel k with `threads` threads
+ *  (its threads argument): the half spectrum's rows, the kernel's spectrum and each thread's
+ *  buffers, bytes. */
+size_t pp_star_bytes(const pp_kernel_t *k, int w, int h, int threads);
 
 /** The same convolution summed directly (O(w h side^2)): the FFT's check on small images. */
 void pp_convolve_direct(const pp_kernel_t *k, int w, int h, const float *in, double *out);

@@ -179,7 +179,7 @@ typedef struct {
   /** Bytes of the working buffers the renderer allocates for each thread before it starts
    *  (ray trees, per-domain state), for plan, common and its options; NULL when it has none. */
   size_t (*thread_bytes)(const rt_plan_t *plan, const rn_common_t *common, const void *options);
-  /** 1 when the renderer draws RT_EFFECT_DISPERSION (the spectral fan of core/shade.h); a plan
+  /** 1 when the renderer draws RT_EFFECT_DISPERSION (the spectral fan of core/src/shade.c); a plan
    *  made by rn_plan_make() for another renderer has it off, with the reason. */
   int dispersion;
   /** Adjust the plan to the options (the exact renderer's --wavelengths and --bins); may be
