@@ -176,11 +176,6 @@ typedef struct {
   double rms, p99, max, flux;
 } diff_t;
 
-static int cmp_double(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return (a > b) - (a < b);
-}
-
 static diff_t compare(const lt_map_t *a, const lt_map_t *ref) {
   size_t n = (size_t)a->width * a->height;
   double mean = 0.0, peak = 0.0, sq = 0.0, fa = 0.0, mx = 0.0;
@@ -197,8 +192,8 @@ static diff_t compare(const lt_map_t *a, const lt_map_t *ref) {
   }
   diff_t r = {sqrt(sq / (double)n) / mean, NAN, mx / peak, fa / mean - 1.0};
   if (d) {
-    qsort(d, n, sizeof *d, cmp_double);
-    r.p99 = d[(size_t)floor(0.99 * (double)(n - 1))] / mean;
+    val_sort(d, n);
+    r.p99 = val_quantile(d, n, 0.99) / mean;
     free(d);
   }
   return r;

@@ -67,11 +67,6 @@ typedef struct {
   int done;
 } result_t;
 
-static int cmp(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return (a > b) - (a < b);
-}
-
 /* Per-pixel differences (largest channel) of a against b: mean, 99th percentile, largest. */
 static int compare(const rt_image_t *a, const rt_image_t *b, result_t *r) {
   size_t n = (size_t)a->width * a->height;
@@ -89,8 +84,8 @@ static int compare(const rt_image_t *a, const rt_image_t *b, result_t *r) {
   }
   r->mean = sum / n;
   r->max = mx;
-  qsort(d, n, sizeof *d, cmp);
-  r->p99 = d[(size_t)floor(0.99 * (n - 1))];
+  val_sort(d, n);
+  r->p99 = val_quantile(d, n, 0.99);
   free(d);
   return 0;
 }

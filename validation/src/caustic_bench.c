@@ -78,11 +78,6 @@ typedef struct {
   int done;
 } result_t;
 
-static int cmp(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return (a > b) - (a < b);
-}
-
 /* Per-pixel differences (largest channel) of a against b: RMS, 99th percentile, largest. */
 static int compare(const rt_image_t *a, const rt_image_t *b, double *rms, double *p99,
                    double *max) {
@@ -101,8 +96,8 @@ static int compare(const rt_image_t *a, const rt_image_t *b, double *rms, double
   }
   *rms = sqrt(s2 / n);
   *max = mx;
-  qsort(d, n, sizeof *d, cmp); /* for the 99th percentile; cheap at these sizes */
-  *p99 = d[(size_t)floor(0.99 * (n - 1))];
+  val_sort(d, n); /* for the 99th percentile; cheap at these sizes */
+  *p99 = val_quantile(d, n, 0.99);
   free(d);
   return 0;
 }

@@ -33,11 +33,6 @@ typedef struct {
   unsigned long long rays; /* the exact renderer's rays (0 for pencil) */
 } result_t;
 
-static int cmp(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return (a > b) - (a < b);
-}
-
 /* Per-pixel CIEDE2000 of a against the reference b (linear sRGB, negative values, which the
  * bins' signed weights can leave at the rounding level, clamped to 0): mean, 99th percentile,
  * largest. */
@@ -61,8 +56,8 @@ static int delta_e(const rt_image_t *a, const rt_image_t *b, result_t *r) {
   }
   r->mean = sum / n;
   r->max = mx;
-  qsort(d, n, sizeof *d, cmp);
-  r->p99 = d[(size_t)floor(0.99 * (n - 1))];
+  val_sort(d, n);
+  r->p99 = val_quantile(d, n, 0.99);
   free(d);
   return 0;
 }

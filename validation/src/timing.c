@@ -1,6 +1,7 @@
 /* timing.c -- clocks, medians and --case lists for the benchmark and figure drivers. */
 #include "validation/timing.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,14 @@ double val_cpu_seconds(void) {
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
+}
+
+void val_sort(double *v, size_t n) {
+  qsort(v, n, sizeof v[0], cmp_double);
+}
+
+double val_quantile(const double *v, size_t n, double q) {
+  return n ? v[(size_t)floor(q * (double)(n - 1))] : NAN;
 }
 
 double val_median(double *v, int n) {

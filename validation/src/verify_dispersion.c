@@ -1,6 +1,7 @@
 /* verify_dispersion.c -- `pencil verify dispersion` (validation/dispersion.h): the wavelength
  * column of the extended system matrix against exact tracing differentiated in wavelength. */
 #include "validation/dispersion.h"
+#include "validation/timing.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -307,11 +308,6 @@ static void check_system(const val_system_t *v, double vd, result_t *r) {
   r->status = PX_OK;
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 int val_verify_dispersion(const val_disp_opts_t *o) {
   size_t n = 0;
   val_system_t *sw = val_sweep_build(1, o->quick, &n);
@@ -431,32 +427,32 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   double q50[NOFF], q90[NOFF], qmax[NOFF], o50[NOFF], o90[NOFF], s50[NOFF], s90[NOFF];
   for (int k = 0; k < NOFF; k++) {
     double *v = lin + (size_t)k * 2 * n, *w = opt + (size_t)k * 2 * n, *u = sca + (size_t)k * 2 * n;
-    qsort(v, nlin[k], sizeof *v, cmp_double);
-    qsort(w, nopt[k], sizeof *w, cmp_double);
-    qsort(u, nsca[k], sizeof *u, cmp_double);
+    val_sort(v, nlin[k]);
+    val_sort(w, nopt[k]);
+    val_sort(u, nsca[k]);
     s50[k] = nsca[k] ? u[nsca[k] / 2] : NAN;
-    s90[k] = nsca[k] ? u[(size_t)floor(0.9 * (nsca[k] - 1))] : NAN;
+    s90[k] = val_quantile(u, nsca[k], 0.9);
     q50[k] = nlin[k] ? v[nlin[k] / 2] : NAN;
-    q90[k] = nlin[k] ? v[(size_t)floor(0.9 * (nlin[k] - 1))] : NAN;
+    q90[k] = val_quantile(v, nlin[k], 0.9);
     qmax[k] = nlin[k] ? v[nlin[k] - 1] : NAN;
     o50[k] = nopt[k] ? w[nopt[k] / 2] : NAN;
-    o90[k] = nopt[k] ? w[(size_t)floor(0.9 * (nopt[k] - 1))] : NAN;
+    o90[k] = val_quantile(w, nopt[k], 0.9);
   }
   double sq[3][NOFF][2]; /* Eq. (15): median and 90% of each form */
   for (int m = 0; m < 3; m++)
     for (int k = 0; k < NOFF; k++) {
       double *u = sol + ((size_t)m * NOFF + k) * 2 * n;
       size_t c = nsol[m][k];
-      qsort(u, c, sizeof *u, cmp_double);
+      val_sort(u, c);
       sq[m][k][0] = c ? u[c / 2] : NAN;
-      sq[m][k][1] = c ? u[(size_t)floor(0.9 * (c - 1))] : NAN;
+      sq[m][k][1] = val_quantile(u, c, 0.9);
     }
   double selq[2][3]; /* 3.2.4: 10%, median, 90% of the estimate over the exact spread */
   for (int m = 0; m < 2; m++) {
     double *u = sel + (size_t)m * 2 * n;
-    qsort(u, nsel, sizeof *u, cmp_double);
+    val_sort(u, nsel);
     for (int q = 0; q < 3; q++)
-      selq[m][q] = nsel ? u[(size_t)floor((0.1 + 0.4 * q) * (nsel - 1))] : NAN;
+      selq[m][q] = val_quantile(u, nsel, 0.1 + 0.4 * q);
   }
   if (o->report) {
     FILE *f = o->report;

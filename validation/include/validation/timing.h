@@ -11,6 +11,11 @@ double val_wall_seconds(void);
 double val_cpu_seconds(void);
 /** Median of v[0..n-1], n >= 1; sorts v in place. */
 double val_median(double *v, int n);
+/** Sort v[0..n-1] ascending. */
+void val_sort(double *v, size_t n);
+/** The q-quantile (0 <= q <= 1) of sorted v[0..n-1] as the benchmarks report it: v[floor(q (n -
+ * 1))]; NaN for n = 0. */
+double val_quantile(const double *v, size_t n, double q);
 
 /** 1 when `name` is an entry of the comma-separated list (NULL: every name is): a benchmark's
  *  --case option. */
