@@ -19,7 +19,8 @@ trap 'rm -rf "$tmp"' EXIT
 $pencil bench dispersion --quick --threads 2 --out "$out" --json "$out/dispersion.json" \
   >"$tmp/log" 2>"$tmp/err"; rc=$?
 check "bench dispersion --quick exits 0" "[ $rc -eq 0 ]"
-for m in reference pencil exact-nd exact-takagi9 exact-fan9 exact-fan40 exact-fan50; do
+for m in reference pencil exact-nd exact-takagi9 exact-fan9 exact-fan40 exact-spectral-pencil \
+  exact-fan50; do
   check "fig14-$m.exr and .png written" "[ -s '$out/fig14-$m.exr' ] && [ -s '$out/fig14-$m.png' ]"
   check "the table has $m" "grep -q '^$m ' '$tmp/log'"
 done
@@ -30,7 +31,7 @@ assert d['benchmark'] == 'dispersion' and 'provenance' in d and d['quick'] is Tr
 assert d['reference_bins'] == 100 and d['size'] == 48
 m = {r['method']: r for r in d['methods']}
 assert set(m) == {'reference', 'pencil', 'exact-nd', 'exact-takagi9', 'exact-fan9',
-                  'exact-fan40', 'exact-fan50'}, set(m)
+                  'exact-fan40', 'exact-spectral-pencil', 'exact-fan50'}, set(m)
 assert m['reference']['delta_e2000_mean'] is None
 for k, r in m.items():
     assert r['seconds'] > 0 and r['over_exact_nd'] > 0, r
@@ -41,6 +42,10 @@ assert m['exact-takagi9']['rays'] > m['exact-fan9']['rays'] > m['exact-nd']['ray
 e = [m[k]['delta_e2000_mean'] for k in ('exact-nd', 'exact-fan9', 'exact-fan40', 'exact-fan50')]
 assert e == sorted(e, reverse=True) and e[-1] < 1.0, e
 assert m['pencil']['wavelengths'] is None and m['exact-nd']['wavelengths'] == 'off'
+sp = m['exact-spectral-pencil']  # within the 40-bin fan's error, in fewer rays
+assert sp['wavelengths'] == 'pencil', sp
+assert sp['delta_e2000_mean'] < m['exact-fan40']['delta_e2000_mean'], (sp, m['exact-fan40'])
+assert sp['rays'] < m['exact-fan40']['rays'], (sp, m['exact-fan40'])
 PY"
 src=$(cd "$(dirname "$0")/.." && pwd)
 for b in 9 40 100; do # the prism's spectrum for the notebook: steps or smooth

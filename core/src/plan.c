@@ -154,8 +154,9 @@ static void plan_caustics(rt_plan_t *p, const rt_scene_t *s) {
 static int tree_bound(const rt_plan_t *p) {
   int r = rt_plan_has(p, RT_EFFECT_REFLECTION), t = rt_plan_has(p, RT_EFFECT_REFRACTION);
   double white = 1.0, mono = 1.0, cap = p->bins > 0 ? (1 << 18) - 1 : (1 << 17) - 1;
+  /* spectral pencils record no tree below the glass (core/src/wpencil.c) */
   for (int d = 1; d <= p->max_depth && (r || t); d++) {
-    double fan = p->bins > 0 ? p->bins * mono : white;
+    double fan = p->bins > 0 && p->spectral == RT_SPECTRAL_FAN ? p->bins * mono : white;
     white = fmin(cap, 1.0 + r * white + t * fan);
     mono = fmin(cap, 1.0 + (r + t) * mono);
   }
@@ -176,6 +177,7 @@ const rt_material_t *rt_plan_dispersive_material(const rt_scene_t *s) {
 static void plan_dispersion(rt_plan_t *p, const rt_scene_t *s, int n) {
   const rt_material_t *m = used(s, is_dispersive);
   p->bins = 0;
+  p->spectral = RT_SPECTRAL_FAN;
   double dn = 0.0;
   if (!m) {
     set(p, RT_EFFECT_DISPERSION, 0, "off: no transparent material's index varies with wavelength");
@@ -225,6 +227,69 @@ void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n) {
   p->on &= ~(1u << RT_EFFECT_DISPERSION);
   plan_dispersion(p, s, n);
   p->tree_nodes = tree_bound(p);
+}
+
+/* 1 when every transparent dispersive material of s has the index model of m. */
+static int one_glass(const rt_scene_t *s, const rt_material_t *m) {
+  for (int i = 0; i < s->nobject; i++) {
+    const rt_object_t *o = &s->object[i];
+    for (int k = 0; k < 2; k++) {
+      int mi = k ? o->material2 : o->material;
+      if (mi < 0)
+        continue;
+      const rt_material_t *q = &s->material[mi];
+      if (is_dispersive(q) && memcmp(&q->index, &m->index, sizeof m->index) != 0)
+        return 0;
+    }
+  }
+  return 1;
+}
+
+int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol) {
+  if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
+    return 0;
+  const rt_material_t *m = used(s, is_dispersive);
+  if (!m || !(tol > 0.0 && tol < 1.0))
+    return -1;
+  rt_wavescale_t *w = &p->wave;
+  memset(w, 0, sizeof *w);
+  w->scaled =
+      one_glass(s, m) && px_wavescale_make(&m->index, PX_LAMBDA_D, &w->scale) == PX_OK ? 1 : 0;
+  int n = RT_MAX_BINS;
+  double wt[RT_MAX_BINS][3], centre[RT_MAX_BINS];
+  if (cs_bins(n, CS_LAMBDA_LO, CS_LAMBDA_HI, centre, wt) != 0)
+    return -1;
+  double step = (CS_LAMBDA_HI - CS_LAMBDA_LO) / n;
+  for (int i = 0; i <= n; i++) {
+    double l = CS_LAMBDA_LO + i * step, u = l;
+    if (w->scaled && px_wavescale_to(&w->scale, l, &u) != PX_OK)
+      return -1;
+    w->u_edge[i] = u;
+    if (i > 0 && !(u > w->u_edge[i - 1]))
+      return -1; /* not monotone: anomalous dispersion, not in the catalogue */
+    w->cum[i] = i ? rt_rgb_add(w->cum[i - 1], rt_rgb(wt[i - 1][0], wt[i - 1][1], wt[i - 1][2]))
+                  : rt_rgb(0, 0, 0);
+  }
+  for (int i = 0; i < n; i++) {
+    p->bin_lambda[i] = centre[i];
+    p->bin_weight[i] = rt_rgb(wt[i][0], wt[i][1], wt[i][2]);
+  }
+  p->bins = n;
+  p->spectral = RT_SPECTRAL_PENCIL;
+  p->spectral_tol = tol;
+  p->pixel_angle = 2.0 * tan(0.5 * s->camera.fov_deg * (M_PI / 180.0)) /
+                   (s->camera.height > 0 ? s->camera.height : 1);
+  double dn = 0.0;
+  if (px_index_eval(&m->index, PX_LAMBDA_D, NULL, &dn) != PX_OK)
+    dn = NAN;
+  set(p, RT_EFFECT_DISPERSION, 1,
+      "on: material '%s' disperses (dn/dlambda %.3g /nm at the d-line): white rays refracting "
+      "at it become spectral pencils over %g-%g nm (%s, tolerance %g)",
+      m->name, dn, CS_LAMBDA_LO, CS_LAMBDA_HI,
+      w->scaled ? "wavelength axis Lambda of its glass" : "wavelength axis lambda: glasses differ",
+      tol);
+  p->tree_nodes = tree_bound(p);
+  return 0;
 }
 
 rt_plan_t rt_plan_make(const rt_scene_t *s, int spp) {

@@ -364,6 +364,23 @@ static __attribute__((noinline)) rt_rgb_t fan(const rt_scene_t *s, const rt_plan
   return c;
 }
 
+/* The fan's place under RT_SPECTRAL_PENCIL: spectral pencils for the refracted light (wpencil.c),
+ * the mirror child white as in fan(). */
+static __attribute__((noinline)) rt_rgb_t pencils(const rt_scene_t *s, const rt_plan_t *plan,
+                                                  const rt_surface_t *sf, const rt_ray_t *ray,
+                                                  int depth, const rt_tracer_t *tr) {
+  const rt_material_t *m = sf->mat;
+  rt_rgb_t wr = rt_rgb(0, 0, 0);
+  if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
+    wr = rt_rgb(m->kr, m->kr, m->kr);
+  int all_tir;
+  rt_rgb_t c = rt__wp_refract(s, plan, sf, ray, depth, tr, &wr, &all_tir);
+  rt_child_t rc;
+  if (reflect_child(s, sf, ray, wr, all_tir, &rc))
+    c = rt_rgb_add(c, rt_rgb_mul(rc.weight, tr->child(tr->ctx, &rc, depth + 1)));
+  return c;
+}
+
 /* Shading under a plan with wavelength bins (out of line: other plans never enter it). A white
  * ray refracting at a dispersive material fans out; a monochromatic ray entering a material takes
  * its index at the ray's wavelength (the surface's n2 is the scalar at the d-line); else as
@@ -374,7 +391,8 @@ static __attribute__((noinline)) rt_rgb_t spectral(const rt_scene_t *s, const rt
   const rt_material_t *m = sf->mat;
   if (ray->lambda == 0.0f && m->kt > 0.0 && depth < plan->max_depth &&
       px_index_disperses(&m->index))
-    return fan(s, plan, sf, ray, depth, tr);
+    return plan->spectral == RT_SPECTRAL_PENCIL ? pencils(s, plan, sf, ray, depth, tr)
+                                                : fan(s, plan, sf, ray, depth, tr);
   rt_surface_t mono = *sf;
   if (ray->lambda > 0.0f && sf->entering && m->kt > 0.0)
     mono.n2 = rt__index_at(m, ray->lambda);

@@ -14,17 +14,19 @@
 typedef enum {
   WL_FAN = 0, /**< white rays fan out into the bins where they refract at a dispersive glass */
   WL_PRIMARY, /**< Takagi et al.'s wavelength supersampling: each primary ray once per bin */
-  WL_OFF      /**< dispersive glass at its index at the d-line (as the other renderers) */
+  WL_OFF,     /**< dispersive glass at its index at the d-line (as the other renderers) */
+  WL_PENCIL   /**< spectral pencils: one axial ray and its wavelength column (core/src/wpencil.c) */
 } wavelengths_t;
 
 typedef struct {
   int wavelengths; /**< wavelengths_t */
   int bins;        /**< 0: the scene's settings.spectral_bins; else RT_MIN_BINS..RT_MAX_BINS */
+  double tol;      /**< WL_PENCIL: rt_plan_t.spectral_tol */
 } exact_options_t;
 
-static const exact_options_t defaults = {WL_FAN, 0};
+static const exact_options_t defaults = {WL_FAN, 0, RT_SPECTRAL_TOL};
 
-static const char *const wavelength_names[] = {"fan", "primary", "off", NULL};
+static const char *const wavelength_names[] = {"fan", "primary", "off", "pencil", NULL};
 
 static const rn_option_t options_[] = {
     {"--wavelengths", RN_OPT_CHOICE, offsetof(exact_options_t, wavelengths), 0, 0, 0, 0,
@@ -32,9 +34,14 @@ static const rn_option_t options_[] = {
      "dispersion (a scene whose glass disperses): fan (default) splits a\n"
      "white ray into the bins where it refracts at such glass; primary traces\n"
      "every primary ray once per bin (Takagi et al.'s wavelength supersampling,\n"
-     "the 1989 paper's conventional method); off draws the glass at n_d"},
+     "the 1989 paper's conventional method); off draws the glass at n_d; pencil\n"
+     "traces one spectral pencil instead of the fan: an axial ray and its\n"
+     "wavelength column (1989 Eq. 13), split where the spectrum parts"},
     {"--bins", RN_OPT_INT, offsetof(exact_options_t, bins), 0, RT_MIN_BINS, RT_MAX_BINS, 0, NULL,
      "N", "wavelength bins over 380-780 nm (default: the scene's spectral_bins, 40)"},
+    {"--spectral-tol", RN_OPT_DOUBLE, offsetof(exact_options_t, tol), 0, 0, 0.5, 1, NULL, "T",
+     "--wavelengths pencil: the linear model's largest error at a pencil's ends,\n"
+     "relative to the dispersive shift it predicts there (default 0.1)"},
 };
 
 static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
@@ -43,6 +50,11 @@ static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
     return;
   if (o->wavelengths == WL_OFF) {
     rt_plan_no_dispersion(p, s, "the exact renderer was asked for --wavelengths off");
+    return;
+  }
+  if (o->wavelengths == WL_PENCIL) {
+    if (rt_plan_spectral_pencils(p, s, o->tol) != 0)
+      rt_plan_no_dispersion(p, s, "its wavelength axis could not be built");
     return;
   }
   if (o->bins > 0)
@@ -96,7 +108,11 @@ static int describe(const void *options, rn_attr_t *attrs) {
     snprintf(attrs[1].value, sizeof attrs[1].value, "%d", o->bins);
   else
     snprintf(attrs[1].value, sizeof attrs[1].value, "the scene's spectral_bins");
-  return 2;
+  if (o->wavelengths != WL_PENCIL)
+    return 2;
+  attrs[2].key = "exact:spectral_tol";
+  snprintf(attrs[2].value, sizeof attrs[2].value, "%.17g", o->tol);
+  return 3;
 }
 
 static void report(FILE *f, const rn_report_t *r) {

@@ -12,6 +12,7 @@
 
 #include "core/caustics.h"
 #include "core/scene.h"
+#include "paraxial/dispersion.h"
 
 typedef enum {
   RT_EFFECT_SHADOWS = 0,   /**< shadow rays towards the lights (textbook 9.1) */
@@ -30,6 +31,27 @@ typedef enum {
 } rt_effect_t;
 
 #define RT_PLAN_WHY_MAX 200
+
+/** How white rays meet dispersive glass under RT_EFFECT_DISPERSION (docs/spectral.md). */
+typedef enum {
+  /** One monochromatic ray per bin where a white ray refracts (the exact reference). */
+  RT_SPECTRAL_FAN = 0,
+  /** One spectral pencil ([P89] section 3.2): an axial ray whose wavelength column (Eq. 13)
+   *  carries the whole spectrum, split only where the spectrum meets different surfaces, squares
+   *  or total internal reflection, or where the linear model errs (core/src/wpencil.c). */
+  RT_SPECTRAL_PENCIL = 1
+} rt_spectral_t;
+
+/** The wavelength axis of spectral pencils: u = Lambda(lambda) of the scene's one dispersive glass
+ *  ([P89] section 3.3, px_wavescale_t), or u = lambda when the glasses differ; and the colour
+ *  weights' integral over u, tabulated at 1 nm. */
+typedef struct {
+  int scaled;                     /**< 1: u = Lambda(lambda) of `scale`; 0: u = lambda */
+  px_wavescale_t scale;           /**< the scale when `scaled` */
+  double u_edge[RT_MAX_BINS + 1]; /**< u at 380, 381, ..., 780 nm (increasing) */
+  rt_rgb_t cum[RT_MAX_BINS + 1];  /**< integral of the RGB weights from 380 nm to u_edge[i]
+                                       (each channel 1 at 780 nm) */
+} rt_wavescale_t;
 
 typedef struct {
   unsigned on;                                /**< bit (1u << e) set when effect e runs */
@@ -50,7 +72,20 @@ typedef struct {
   int bins;
   double bin_lambda[RT_MAX_BINS];
   rt_rgb_t bin_weight[RT_MAX_BINS];
+  /** With RT_EFFECT_DISPERSION: rt_spectral_t; RT_SPECTRAL_FAN from rt_plan_make(). */
+  int spectral;
+  /** RT_SPECTRAL_PENCIL: the largest error of the linear model in wavelength at a pencil's ends,
+   *  relative to the dispersive shift it predicts there, before the pencil is split. */
+  double spectral_tol;
+  /** RT_SPECTRAL_PENCIL: the camera's angle per pixel (radians, at the image centre). An error
+   *  of the model under WP_PIXELS of it, seen from the eye, passes whatever spectral_tol says. */
+  double pixel_angle;
+  rt_wavescale_t wave; /**< RT_SPECTRAL_PENCIL: the wavelength axis */
 } rt_plan_t;
+
+/** Default of rt_plan_t.spectral_tol (docs/spectral.md; docs/journal/2026-12-03-spectral-pencils.md
+ *  measures it). */
+#define RT_SPECTRAL_TOL 0.1
 
 /** Decide the plan for scene `s` rendered with `spp` samples per pixel. Pure function of its
  *  inputs; the scene need not be prepared. */
@@ -67,6 +102,11 @@ const rt_material_t *rt_plan_dispersive_material(const rt_scene_t *s);
 
 /** Re-make the bins with n of them (RT_MIN_BINS..RT_MAX_BINS) when dispersion is on. */
 void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n);
+
+/** Draw dispersion by spectral pencils (RT_SPECTRAL_PENCIL) with tolerance tol (> 0, < 1) instead
+ *  of the fan, when dispersion is on: the bins become the 400 1-nm bins of the weights' table.
+ *  Returns 0, or -1 when the wavelength axis cannot be built (the plan is then unchanged). */
+int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol);
 
 /** 1 when effect e runs. */
 static inline int rt_plan_has(const rt_plan_t *p, rt_effect_t e) {

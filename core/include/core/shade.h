@@ -88,6 +88,10 @@ typedef struct {
    *  shadow ray of a caustic receiver, whose light through other objects comes from a map
    *  (core/caustics.h). A renderer that draws caustics provides it. */
   void (*occluded)(void *ctx, rt_shadow_t *q);
+  /** Optional (NULL: not counted): told of each ray that shading traces itself, not through
+   *  child() or shadow(): the rays of spectral pencils (core/src/wpencil.c), for the caller's
+   *  statistics. */
+  void (*count)(void *ctx, rt_ray_kind_t kind);
 } rt_tracer_t;
 
 /** Orient the hit for shading: facing normal, material and texel, media n1 (ray->ior) and n2. */

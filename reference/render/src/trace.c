@@ -38,8 +38,18 @@ static void occluded_cb(void *ctx, rt_shadow_t *q) {
   shadow_query(ctx, q, 1);
 }
 
+static void count_cb(void *ctx, rt_ray_kind_t kind) {
+  xr_exact_t *ex = ctx;
+  if (kind == RT_RAY_REFRACT)
+    ex->stats.refract++;
+  else if (kind == RT_RAY_REFLECT)
+    ex->stats.reflect++;
+  else if (kind == RT_RAY_SHADOW)
+    ex->stats.shadow++;
+}
+
 rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
-  return (rt_tracer_t){child_cb, shadow_cb, ex, NULL, occluded_cb}; /* every segment traced */
+  return (rt_tracer_t){child_cb, shadow_cb, ex, NULL, occluded_cb, count_cb}; /* every segment */
 }
 
 xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {

@@ -1,0 +1,546 @@
+/* wpencil.c -- spectral pencils: dispersion by one axial ray per interval of wavelengths ([P89]
+ * section 3.2; docs/spectral.md, section 3).
+ *
+ * Where a white ray refracts at a dispersive glass, the fan (shade.c) traces one ray per bin. A
+ * spectral pencil traces one axial ray, at the centre u_c of an interval [u_a, u_b] of the
+ * wavelength axis u (the plan's rt_wavescale_t: Lambda of the scene's one glass, [P89] 3.3, or
+ * lambda), and carries beside it the wavelength column of Eq. (13) as world vectors: do and dd,
+ * the derivatives in u of the ray's origin and unit direction. A neighbouring wavelength's ray is
+ * the model's, o + do h, d + dd h (h = u - u_c). The column is chained surface by surface:
+ *   transfer to a hit at distance t, facing normal m:  dp = P - d (P.m) / (d.m), P = do + t dd
+ *     (where the neighbours meet the tangent plane: x_lambda of Eq. 13);
+ *   refraction d' = eta d + (eta c1 - c2) m, c1 = -d.m, c2 = sqrt(1 - eta^2 (1 - c1^2)), and its
+ *     derivative in d, m and eta: deta from dn/du of both media, dm = dp / r on a sphere, 0 on
+ *     planes and polygons (xi_lambda of Eq. 13; tests/test_wpencil.c checks it against
+ *     differences of Snell's law);
+ *   reflection d' = d - 2 (d.m) m and its derivative.
+ * At each hit the model's rays at the interval's ends are checked without a scene search: they
+ * must meet the hit's primitive (inside the polygon, on the sphere) from the same side, in the
+ * same checker square, with the same total internal reflection, and their exact points and
+ * children's directions (Snell's law at the end's wavelength) must be within tol times the
+ * dispersive shift the model predicts there. Where an end fails, the interval is cut where the
+ * check turns (bisection on the model) or halfway, and the part cut off is traced as a pencil of
+ * its own from the same origin, its axial ray the model's ray at its centre: the dispersion image
+ * solid of [P89] 3.2.2 clipped against the surface's edges. A pencil's radiance is the axial
+ * ray's times the integral of the colour weights over its interval ([P89] 3.2.3's
+ * R = int t r L dlambda, the plan's 1-nm table), so that colour changes smoothly across a band.
+ *
+ * Not checked: an object that hides the hit from the model's rays at the ends (no scene search for
+ * them), and the neighbours of a ray that meets nothing. The subtree is not recorded in the
+ * caller's ray tree; its rays are counted through the tracer's count().
+ */
+#include <math.h>
+
+#include "colour/colour.h"
+#include "core/intersect.h"
+#include "paraxial/vec3.h"
+#include "shade_impl.h"
+#include "wpencil_math.h"
+
+/** Pencils one white ray's spectrum may be cut into. */
+#define WP_BUDGET 256
+/** Narrowest interval cut off, as a fraction of the visible range. */
+#define WP_MIN_FRACTION (1.0 / 1024.0)
+/** Bisection steps for a cut. */
+#define WP_BISECT 20
+/** An error of the model seen under this many pixels from the eye passes the check whatever the
+ *  relative tolerance (rt_plan_t.pixel_angle). */
+#define WP_PIXELS 0.25
+/** A pencil whose spectrum spreads over more than this many pixels (seen from the eye) on a
+ *  surface is halved: the ends are checked, not what lies between them, so that a surface or
+ *  square narrower than this could hide between the ends. */
+#define WP_SPREAD_PIXELS 1.0
+/** A pencil whose weight below the white ray's hit is under this is not cut: its colour can be
+ *  wrong by at most this share of the radiance it carries. */
+#define WP_MIN_WEIGHT 0.05
+
+typedef struct {
+  rt_ray_t ray;                /* the axial ray, at wavelength ray.lambda */
+  const rt_material_t *inside; /* the medium it travels in; NULL: the scene's (settings.ior) */
+  px_vec3_t d_o, d_d;          /* d origin / du, d direction / du */
+  double ua, ub, uc;           /* the interval and the axial ray's u */
+  rt_ray_kind_t kind;
+  double weight; /* largest channel of the weights from the white ray's hit to this ray */
+  double dist;   /* length of the path from the eye to the ray's origin (the white ray's part
+                    straight) */
+  const rt_sphere_t *from; /* the sphere the ray leaves, or NULL (a plane, or do = 0) */
+} wp_t;
+
+typedef struct {
+  const rt_scene_t *s;
+  const rt_plan_t *plan;
+  const rt_tracer_t *tr; /* the caller's: count() */
+  rt_tracer_t inner;     /* shadows of the pencils' hits, traced here */
+  int budget;
+  double min_width;
+  /* a material whose index is the scale's glass (u = Lambda), or NULL; every dispersive
+   * transparent material shares its model (rt_plan_spectral_pencils) */
+  const rt_material_t *glass;
+} wp_run_t;
+
+/* ---- the wavelength axis ------------------------------------------------------------------- */
+
+/* Segment i of the table holding u, and the fraction along it. */
+static int segment(const rt_wavescale_t *w, double u, double *f) {
+  int lo = 0, hi = RT_MAX_BINS;
+  if (!(u > w->u_edge[0])) {
+    *f = 0.0;
+    return 0;
+  }
+  if (!(u < w->u_edge[hi])) {
+    *f = 1.0;
+    return hi - 1;
+  }
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (w->u_edge[mid] <= u)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  *f = (u - w->u_edge[lo]) / (w->u_edge[lo + 1] - w->u_edge[lo]);
+  return lo;
+}
+
+static double lambda_of(const rt_wavescale_t *w, double u) {
+  double f;
+  int i = segment(w, u, &f);
+  return CS_LAMBDA_LO + (i + f) * ((CS_LAMBDA_HI - CS_LAMBDA_LO) / RT_MAX_BINS);
+}
+
+static rt_rgb_t cum_at(const rt_wavescale_t *w, double u) {
+  double f;
+  int i = segment(w, u, &f);
+  return rt_rgb_add(rt_rgb_scale(w->cum[i], 1.0 - f), rt_rgb_scale(w->cum[i + 1], f));
+}
+
+/* The colour weights' integral over [ua, ub]. */
+static rt_rgb_t weight_of(const rt_wavescale_t *w, double ua, double ub) {
+  rt_rgb_t a = cum_at(w, ua), b = cum_at(w, ub);
+  return rt_rgb(b.r - a.r, b.g - a.g, b.b - a.b);
+}
+
+/* Index of medium m (NULL: the scene's) at u (lambda its wavelength), and its derivative in u.
+ * The scale's own glass is linear in Lambda ([P89] 3.3): n = n0 + n'(lambda0) (u - lambda0),
+ * without evaluating its model; another glass by its model and dlambda/du. */
+static void index_du(const wp_run_t *R, const rt_material_t *m, double u, double lambda, double *n,
+                     double *dn) {
+  *dn = 0.0;
+  if (!m) {
+    *n = R->s->ior;
+    return;
+  }
+  const rt_wavescale_t *w = &R->plan->wave;
+  if (m == R->glass) {
+    *n = w->scale.n0 + w->scale.dn0 * (u - w->scale.lambda0);
+    *dn = w->scale.dn0;
+    return;
+  }
+  double dl = 0.0;
+  if (px_index_eval(&m->index, lambda, n, &dl) != PX_OK || !(*n > 0.0)) {
+    *n = m->ior; /* the loader checked every model over 380-780 nm: not reached */
+    return;
+  }
+  double dl_du = 1.0; /* dlambda/du: n'(lambda0) / n'(lambda) of the scale's glass */
+  double dg;
+  if (w->scaled && px_index_eval(&w->scale.glass, lambda, NULL, &dg) == PX_OK && dg != 0.0)
+    dl_du = w->scale.dn0 / dg;
+  *dn = dl * dl_du;
+}
+
+/* The model's ray of pencil w at u. Leaving a sphere, its origin is taken back from the tangent
+ * plane to the sphere (at the axial origin's distance from the centre, which keeps the offset's
+ * side): the tangent plane lies outside the sphere by |do h|^2 / 2r, which would put the origin of
+ * a ray reflected inside it outside. */
+static rt_ray_t model_ray(const wp_t *w, double u) {
+  double h = u - w->uc;
+  rt_ray_t r = w->ray;
+  r.o = px_v3_axpy(h, w->d_o, r.o);
+  if (w->from) {
+    px_vec3_t q = px_v3_sub(r.o, w->from->c);
+    r.o = px_v3_axpy(px_v3_norm(px_v3_sub(w->ray.o, w->from->c)) / px_v3_norm(q), q, w->from->c);
+  }
+  r.d = wp_unit(px_v3_axpy(h, w->d_d, r.d));
+  return r;
+}
+
+/* ---- checks at the interval's ends --------------------------------------------------------- */
+
+/* What the axial hit and the column say, for check(). */
+typedef struct {
+  const wp_t *w;
+  rt_hit_t hit;
+  px_vec3_t m;                /* facing normal */
+  double side;                /* m = side * hit.n */
+  px_vec3_t dp;               /* the hit's column */
+  int checker;                /* 1: a checkerboard plane */
+  double su, sv;              /* its square */
+  int reflect, refract, tir;  /* children checked; total internal reflection at the axial */
+  px_vec3_t dr, ddr, dt, ddt; /* the children's directions and derivatives */
+  const rt_material_t *next;  /* the medium beyond the surface */
+} wp_hit_t;
+
+static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, double *su, double *sv) {
+  const rt_plane_t *pl = &s->prim[prim].plane;
+  double u, v;
+  rt_plane_coords(pl, p, &u, &v);
+  *su = floor(u * pl->inv_check);
+  *sv = floor(v * pl->inv_check);
+}
+
+/* 1 when |a - b|, the model's error at an end, exceeds both tol times the shift it predicts there
+ * and the floor. */
+static int too_far(px_vec3_t a, px_vec3_t b, double shift, double tol, double floor_) {
+  double e = px_v3_norm(px_v3_sub(a, b));
+  return e > tol * shift && e > floor_;
+}
+
+/* What check() finds at a model ray: 0 when it agrees with the axial hit's. */
+enum {
+  WP_OFF = 1,    /* it misses the primitive or meets it from the other side */
+  WP_SQUARE = 2, /* another checker square */
+  WP_TIR = 3,    /* the other side of total internal reflection */
+  WP_LINEAR = 4, /* (only with lin) the model errs by more than the tolerance */
+  WP_SPREAD = 5  /* (only with lin) the spectrum spreads over more than WP_SPREAD_PIXELS */
+};
+
+/* The model's ray at u against the axial hit H. lin (at an end): a scene search for what hides the
+ * hit from it, *occ set to that primitive, and the model's error; else (bisecting) only the
+ * primitive *occ (>= 0) hides. */
+static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *occ) {
+  const rt_scene_t *s = R->s;
+  const wp_t *w = H->w;
+  rt_ray_t r = model_ray(w, u);
+  double t, t2;
+  if (!rt_prim_intersect(s, H->hit.prim, &r, INFINITY, &t))
+    return WP_OFF;
+  rt_ray_t q = r;
+  q.tmax = t * (1.0 - 1e-9);
+  rt_hit_t h2;
+  if (lin && rt_intersect(s, &q, &h2) && h2.prim != H->hit.prim) {
+    *occ = h2.prim;
+    return WP_OFF;
+  }
+  if (!lin && *occ >= 0 && rt_prim_intersect(s, *occ, &q, q.tmax, &t2))
+    return WP_OFF;
+  px_vec3_t p = px_v3_axpy(t, r.d, r.o);
+  px_vec3_t me = px_v3_scale(rt_prim_normal(s, H->hit.prim, p), H->side);
+  if (!(px_v3_dot(me, r.d) < 0.0))
+    return WP_OFF;
+  if (H->checker) {
+    double su, sv;
+    square_of(s, H->hit.prim, p, &su, &sv);
+    if (su != H->su || sv != H->sv)
+      return WP_SQUARE;
+  }
+  double h = u - w->uc, tol = R->plan->spectral_tol;
+  double eps_d = WP_PIXELS * R->plan->pixel_angle, eps_p = eps_d * (w->dist + H->hit.t);
+  int fail = 0;
+  if (lin && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS / WP_PIXELS * eps_p)
+    fail = WP_SPREAD;
+  if (H->refract) {
+    double lambda = lambda_of(&R->plan->wave, u), n1, n2, dn;
+    index_du(R, w->inside, u, lambda, &n1, &dn);
+    index_du(R, H->next, u, lambda, &n2, &dn);
+    px_vec3_t o, dummy, zero = {0, 0, 0};
+    double ct;
+    int ok = wp_refract_du(r.d, zero, me, zero, n1 / n2, 0.0, &o, &dummy, &ct);
+    if (ok != !H->tir)
+      return WP_TIR;
+    if (lin && ok &&
+        too_far(o, wp_unit(px_v3_axpy(h, H->ddt, H->dt)), px_v3_norm(H->ddt) * fabs(h), tol, eps_d))
+      fail = WP_LINEAR;
+  }
+  if (!lin)
+    return 0;
+  double scale = 1.0 + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
+  if (too_far(p, px_v3_axpy(h, H->dp, H->hit.p), px_v3_norm(H->dp) * fabs(h), tol,
+              fmax(eps_p, 1e-9 * scale)))
+    fail = WP_LINEAR;
+  if (H->reflect) {
+    px_vec3_t o = px_v3_axpy(-2.0 * px_v3_dot(r.d, me), me, r.d);
+    if (too_far(o, wp_unit(px_v3_axpy(h, H->ddr, H->dr)), px_v3_norm(H->ddr) * fabs(h), tol, eps_d))
+      fail = WP_LINEAR;
+  }
+  return fail;
+}
+
+/* Where between u_ok (passes) and u_bad (fails the topology) the check turns, by bisection on the
+ * model's rays. */
+static double bisect(const wp_run_t *R, const wp_hit_t *H, double u_ok, double u_bad, int occ) {
+  for (int k = 0; k < WP_BISECT && fabs(u_bad - u_ok) > 0.125 * R->min_width; k++) {
+    double mid = 0.5 * (u_ok + u_bad);
+    if (check(R, H, mid, 0, &occ) != 0)
+      u_bad = mid;
+    else
+      u_ok = mid;
+  }
+  return 0.5 * (u_ok + u_bad);
+}
+
+/* ---- tracing ------------------------------------------------------------------------------- */
+
+static void count(const wp_run_t *R, rt_ray_kind_t kind) {
+  if (R->tr->count)
+    R->tr->count(R->tr->ctx, kind);
+}
+
+static void shadow_cb(void *ctx, rt_shadow_t *q) {
+  wp_run_t *R = ctx;
+  count(R, RT_RAY_SHADOW);
+  q->through = rt_transmittance(R->s, &q->ray);
+}
+
+static void occluded_cb(void *ctx, rt_shadow_t *q) {
+  wp_run_t *R = ctx;
+  count(R, RT_RAY_SHADOW);
+  rt_shadow_occluded(R->s, q);
+}
+
+/* Pencil w re-centred on [ua, ub] (inside its interval), its axial ray the model's. */
+static wp_t recentre(const wp_run_t *R, const wp_t *w, double ua, double ub) {
+  wp_t p = *w;
+  p.ua = ua;
+  p.ub = ub;
+  p.uc = 0.5 * (ua + ub);
+  p.ray = model_ray(w, p.uc);
+  double lambda = lambda_of(&R->plan->wave, p.uc), dn;
+  p.ray.lambda = (float)lambda;
+  index_du(R, w->inside, p.uc, lambda, &p.ray.ior, &dn);
+  return p;
+}
+
+static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth);
+
+/* Cut [cut, ue] off pencil w (cut between its axial u and the end ue), trace it as a pencil of its
+ * own adding its radiance to *c, and shrink w to the rest; 0 when nothing was cut (too narrow, or
+ * the budget is spent). */
+static int cut_off(wp_run_t *R, wp_t *w, double cut, double ue, int depth, rt_rgb_t *c) {
+  if (fabs(cut - w->uc) < 0.5 * R->min_width) /* the axial ray sits at the edge */
+    cut = w->uc + copysign(0.5 * R->min_width, ue - w->uc);
+  if (fabs(ue - cut) < R->min_width || R->budget <= 0)
+    return 0; /* too narrow to cut off: the pencil keeps it */
+  R->budget--;
+  wp_t piece = recentre(R, w, fmin(cut, ue), fmax(cut, ue));
+  if (ue < w->uc)
+    w->ua = cut;
+  else
+    w->ub = cut;
+  count(R, w->kind);
+  *c = rt_rgb_add(*c, trace(R, &piece, depth));
+  return 1;
+}
+
+/* A pencil whose axial ray meets nothing: cut off the ends whose model rays meet something (where
+ * they begin to, by bisection against what they meet). */
+static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
+  rt_rgb_t c = rt_rgb(0, 0, 0);
+  for (int e = 0; e < 2 && w->weight >= WP_MIN_WEIGHT; e++) {
+    for (;;) {
+      double ue = e ? w->ub : w->ua, a = w->uc, b = ue, t;
+      rt_ray_t r = model_ray(w, ue);
+      rt_hit_t h;
+      if (ue == w->uc || !rt_intersect(R->s, &r, &h))
+        break;
+      for (int k = 0; k < WP_BISECT && fabs(b - a) > 0.125 * R->min_width; k++) {
+        double mid = 0.5 * (a + b);
+        r = model_ray(w, mid);
+        if (rt_prim_intersect(R->s, h.prim, &r, INFINITY, &t))
+          b = mid;
+        else
+          a = mid;
+      }
+      if (!cut_off(R, w, 0.5 * (a + b), ue, depth, &c))
+        break;
+    }
+  }
+  return rt_rgb_add(c, rt_rgb_mul(weight_of(&R->plan->wave, w->ua, w->ub), R->s->background));
+}
+
+static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
+  const rt_scene_t *s = R->s;
+  const rt_plan_t *plan = R->plan;
+  rt_hit_t hit;
+  if (!rt_intersect(s, &w->ray, &hit))
+    return miss(R, w, depth);
+  rt_surface_t sf;
+  rt_shade_surface(s, &hit, &w->ray, &sf);
+  const rt_material_t *mat = sf.mat;
+  wp_hit_t H = {.w = w, .hit = hit, .m = sf.nf, .side = sf.entering ? 1.0 : -1.0};
+  H.next = sf.entering ? mat : NULL;
+  double lambda = w->ray.lambda, n1 = w->ray.ior, n2, dn1, dn2, dummy;
+  index_du(R, w->inside, w->uc, lambda, &dummy, &dn1);
+  index_du(R, H.next, w->uc, lambda, &n2, &dn2);
+  sf.n2 = n2;
+  /* the column at the hit */
+  px_vec3_t P = px_v3_axpy(hit.t, w->d_d, w->d_o), dm = {0, 0, 0};
+  H.dp = px_v3_axpy(-px_v3_dot(P, H.m) / px_v3_dot(w->ray.d, H.m), w->ray.d, P);
+  const rt_prim_t *pr = &s->prim[hit.prim];
+  if (pr->kind == RT_PRIM_SPHERE)
+    dm = px_v3_scale(H.dp, H.side / pr->sphere.r);
+  if (pr->kind == RT_PRIM_PLANE && s->object[hit.object].material2 >= 0) {
+    H.checker = 1;
+    square_of(s, hit.prim, hit.p, &H.su, &H.sv);
+  }
+  int more = depth < plan->max_depth;
+  int refract = more && rt_plan_has(plan, RT_EFFECT_REFRACTION) && mat->kt > 0.0;
+  H.reflect = more && (refract || (rt_plan_has(plan, RT_EFFECT_REFLECTION) && mat->kr > 0.0));
+  H.refract = refract;
+  wp_reflect_du(w->ray.d, w->d_d, H.m, dm, &H.dr, &H.ddr);
+  double cos_t = 0.0;
+  if (refract) {
+    double deta = (dn1 * n2 - n1 * dn2) / (n2 * n2);
+    H.tir = !wp_refract_du(w->ray.d, w->d_d, H.m, dm, n1 / n2, deta, &H.dt, &H.ddt, &cos_t);
+  }
+  /* the ends */
+  rt_rgb_t c = rt_rgb(0, 0, 0);
+  for (int e = 0; e < 2 && w->weight >= WP_MIN_WEIGHT; e++) {
+    for (;;) { /* until the end passes: each cut halves the model's error at least */
+      double ue = e ? w->ub : w->ua;
+      int occ = -1, why = ue != w->uc ? check(R, &H, ue, 1, &occ) : 0;
+      if (!why)
+        break;
+      double cut = why >= WP_LINEAR ? 0.5 * (w->uc + ue) : bisect(R, &H, w->uc, ue, occ);
+      if (!cut_off(R, w, cut, ue, depth, &c))
+        break;
+    }
+  }
+  /* this pencil: direct light at the axial hit, then the children */
+  rt_rgb_t W = weight_of(&plan->wave, w->ua, w->ub);
+  c = rt_rgb_add(c, rt_rgb_mul(W, rt_shade_direct(s, plan, &sf, &w->ray, &R->inner)));
+  if (!more)
+    return c;
+  rt_rgb_t wr = rt_rgb(0, 0, 0), wt = rt_rgb(0, 0, 0);
+  if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
+    wr = rt_rgb(mat->kr, mat->kr, mat->kr);
+  if (refract) {
+    wt = rt_rgb_scale(mat->transmittance, mat->kt);
+    if (H.tir) {
+      wr = rt_rgb_add(wr, wt);
+      wt = rt_rgb(0, 0, 0);
+    } else if (mat->fresnel) {
+      double f = rt_fresnel(-px_v3_dot(H.m, w->ray.d), cos_t, n1, n2);
+      wr = rt_rgb_add(wr, rt_rgb(mat->kt * f, mat->kt * f, mat->kt * f));
+      wt = rt_rgb_scale(wt, 1.0 - f);
+    }
+  }
+  int skip = pr->kind != RT_PRIM_SPHERE ? hit.prim : -1;
+  if (rt_rgb_max(wr) > 0.0) {
+    wp_t ch = *w;
+    ch.ray = (rt_ray_t){rt__offset_origin(&sf, 1.0), H.dr, 0.0, INFINITY, n1, skip, w->ray.lambda};
+    ch.d_o = H.dp;
+    ch.d_d = H.ddr;
+    ch.kind = RT_RAY_REFLECT;
+    ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
+    ch.dist = w->dist + hit.t;
+    ch.weight = w->weight * rt_rgb_max(wr);
+    count(R, RT_RAY_REFLECT);
+    c = rt_rgb_add(c, rt_rgb_mul(wr, trace(R, &ch, depth + 1)));
+  }
+  if (rt_rgb_max(wt) > 0.0) {
+    wp_t ch = *w;
+    ch.ray = (rt_ray_t){rt__offset_origin(&sf, -1.0), H.dt, 0.0, INFINITY, n2, skip, w->ray.lambda};
+    ch.inside = H.next;
+    ch.d_o = H.dp;
+    ch.d_d = H.ddt;
+    ch.kind = RT_RAY_REFRACT;
+    ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
+    ch.dist = w->dist + hit.t;
+    ch.weight = w->weight * rt_rgb_max(wt);
+    count(R, RT_RAY_REFRACT);
+    c = rt_rgb_add(c, rt_rgb_mul(wt, trace(R, &ch, depth + 1)));
+  }
+  return c;
+}
+
+/* ---- where a white ray refracts ------------------------------------------------------------ */
+
+/* Snell's law for the white ray at u: 1 and the direction, 0 on total internal reflection. */
+static int white_at(const wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray,
+                    const rt_material_t *inside, const rt_material_t *next, double u,
+                    px_vec3_t *dir, px_vec3_t *ddir, double *n2, double *cos_t) {
+  double lambda = lambda_of(&R->plan->wave, u), n1, dn1, dn2;
+  index_du(R, inside, u, lambda, &n1, &dn1);
+  index_du(R, next, u, lambda, n2, &dn2);
+  px_vec3_t zero = {0, 0, 0};
+  return wp_refract_du(ray->d, zero, sf->nf, zero, n1 / *n2, (dn1 * *n2 - n1 * dn2) / (*n2 * *n2),
+                       dir, ddir, cos_t);
+}
+
+static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, double ua,
+                      double ub, int depth, rt_rgb_t *wr, int *all_tir) {
+  const rt_plan_t *plan = R->plan;
+  const rt_material_t *mat = sf->mat;
+  const rt_material_t *next = sf->entering ? mat : NULL, *inside = sf->entering ? NULL : mat;
+  double uc = 0.5 * (ua + ub), n2, ct;
+  px_vec3_t dt, ddt;
+  int ok = white_at(R, sf, ray, inside, next, uc, &dt, &ddt, &n2, &ct);
+  double cut = NAN;
+  for (int e = 0; e < 2 && isnan(cut); e++) {
+    double ue = e ? ub : ua, n2e, cte;
+    px_vec3_t de, dde;
+    int oke = white_at(R, sf, ray, inside, next, ue, &de, &dde, &n2e, &cte);
+    if (oke != ok) { /* total internal reflection begins inside: find where */
+      double a = uc, b = ue;
+      for (int k = 0; k < WP_BISECT && fabs(b - a) > 0.125 * R->min_width; k++) {
+        double mid = 0.5 * (a + b);
+        if (white_at(R, sf, ray, inside, next, mid, &de, &dde, &n2e, &cte) == ok)
+          a = mid;
+        else
+          b = mid;
+      }
+      cut = 0.5 * (a + b);
+    } else if (ok &&
+               too_far(de, wp_unit(px_v3_axpy(ue - uc, ddt, dt)), px_v3_norm(ddt) * fabs(ue - uc),
+                       plan->spectral_tol, WP_PIXELS * plan->pixel_angle)) {
+      cut = uc;
+    }
+  }
+  if (!isnan(cut) && ub - ua > 2.0 * R->min_width && R->budget > 0) {
+    cut = fmin(fmax(cut, ua + R->min_width), ub - R->min_width);
+    R->budget--;
+    return rt_rgb_add(white(R, sf, ray, ua, cut, depth, wr, all_tir),
+                      white(R, sf, ray, cut, ub, depth, wr, all_tir));
+  }
+  rt_rgb_t W = weight_of(&plan->wave, ua, ub);
+  rt_rgb_t wt = rt_rgb_scale(mat->transmittance, mat->kt);
+  if (!ok) {
+    *wr = rt_rgb_add(*wr, rt_rgb_mul(W, wt));
+    return rt_rgb(0, 0, 0);
+  }
+  *all_tir = 0;
+  if (mat->fresnel) {
+    double f = rt_fresnel(-px_v3_dot(sf->nf, ray->d), ct, ray->ior, n2);
+    *wr = rt_rgb_add(*wr, rt_rgb_scale(W, mat->kt * f));
+    wt = rt_rgb_scale(wt, 1.0 - f);
+  }
+  int skip = R->s->prim[sf->hit.prim].kind != RT_PRIM_SPHERE ? sf->hit.prim : -1;
+  double lambda = lambda_of(&plan->wave, uc);
+  wp_t w = {.ray = {rt__offset_origin(sf, -1.0), dt, 0.0, INFINITY, n2, skip, (float)lambda},
+            .inside = next,
+            .d_o = {0, 0, 0},
+            .d_d = ddt,
+            .ua = ua,
+            .ub = ub,
+            .uc = uc,
+            .kind = RT_RAY_REFRACT,
+            .weight = rt_rgb_max(wt),
+            .dist = px_v3_norm(px_v3_sub(sf->hit.p, R->s->camera.eye))};
+  count(R, RT_RAY_REFRACT);
+  return rt_rgb_mul(wt, trace(R, &w, depth + 1));
+}
+
+rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                        const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
+                        int *all_tir) {
+  const rt_wavescale_t *w = &plan->wave;
+  wp_run_t R = {s,         plan,
+                tr,        {NULL, shadow_cb, NULL, NULL, tr->occluded ? occluded_cb : NULL, NULL},
+                WP_BUDGET, WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),
+                NULL};
+  R.inner.ctx = &R;
+  if (w->scaled && px_index_disperses(&sf->mat->index))
+    R.glass = sf->mat;
+  *all_tir = 1;
+  return white(&R, sf, ray, w->u_edge[0], w->u_edge[RT_MAX_BINS], depth, wr, all_tir);
+}

@@ -1,0 +1,273 @@
+/* test_wpencil.c -- spectral pencils (core/src/wpencil.c; issue 22, docs/spectral.md section 3):
+ * the wavelength column's Snell and mirror derivatives against differences of the exact laws; a
+ * glass that does not disperse renders as in RGB; the exact renderer's --wavelengths pencil
+ * against the 400-bin fan on a curved glass (the Fig. 8 ball in SF11) and on a prism's slit
+ * spectrum, where the spectrum of a pixel spreads over a thin object; the plan's wavelength axis.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "cmocka_main.h"
+#include "colour/colour.h"
+#include "core/builtin.h"
+#include "io/scene_json.h"
+#include "render/render.h"
+#include "renderers/renderer.h"
+#include "wpencil_math.h"
+
+static px_vec3_t perp(px_vec3_t a, px_vec3_t v) { /* v without its component along unit a */
+  return px_v3_axpy(-px_v3_dot(a, v), a, v);
+}
+
+/* Snell's law and the mirror law along d(h) = unit(d + dd h), m(h) = unit(m + dm h),
+ * eta(h) = eta + deta h: the derivatives at h = 0 against central differences (h = 1e-6) over 2,000
+ * random cases within 2e-7 of the derivative's size plus 1e-8 (the differences' own error is
+ * about 1e-10 relative); the refracted direction obeys the tangential Snell law to 1e-14. */
+static void column_matches_differences(void **state) {
+  (void)state;
+  unsigned long long z = 88172645463325252ull;
+  double worst_t = 0.0, worst_r = 0.0;
+  int refracted = 0;
+  for (int k = 0; k < 2000; k++) {
+    double r[12];
+    for (int i = 0; i < 12; i++) {
+      z ^= z << 13, z ^= z >> 7, z ^= z << 17;
+      r[i] = (double)(z >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+    }
+    px_vec3_t m = px_v3_unit(px_vec3(r[0], r[1], r[2]));
+    px_vec3_t d = px_v3_unit(px_v3_axpy(-1.5, m, px_vec3(r[3], r[4], r[5]))); /* towards m's back */
+    if (!(px_v3_dot(d, m) < -0.05))
+      continue;
+    px_vec3_t dd = perp(d, px_vec3(r[6], r[7], r[8])), dm = perp(m, px_vec3(r[9], r[10], r[11]));
+    dm = px_v3_scale(dm, k % 2); /* flat and curved */
+    double eta = k % 3 == 0 ? 1.0 / (1.4 + 0.4 * fabs(r[0])) : 1.4 + 0.4 * fabs(r[1]);
+    double deta = 0.01 * r[2];
+    px_vec3_t o, dout, op, on, dummy;
+    double ct, ctp, ctn, h = 1e-6;
+    wp_reflect_du(d, dd, m, dm, &o, &dout);
+    px_vec3_t dp = px_v3_unit(px_v3_axpy(h, dd, d)), dn = px_v3_unit(px_v3_axpy(-h, dd, d));
+    px_vec3_t mp = px_v3_unit(px_v3_axpy(h, dm, m)), mn = px_v3_unit(px_v3_axpy(-h, dm, m));
+    wp_reflect_du(dp, dd, mp, dm, &op, &dummy);
+    wp_reflect_du(dn, dd, mn, dm, &on, &dummy);
+    px_vec3_t fd = px_v3_scale(px_v3_sub(op, on), 0.5 / h);
+    worst_r = fmax(worst_r, px_v3_norm(px_v3_sub(fd, dout)) / (px_v3_norm(dout) + 0.05));
+    if (!wp_refract_du(d, dd, m, dm, eta, deta, &o, &dout, &ct) ||
+        !wp_refract_du(dp, dd, mp, dm, eta + h * deta, deta, &op, &dummy, &ctp) ||
+        !wp_refract_du(dn, dd, mn, dm, eta - h * deta, deta, &on, &dummy, &ctn) || ct < 0.05)
+      continue;
+    refracted++;
+    px_vec3_t t1 = perp(m, d), t2 = perp(m, o); /* n1 sin = n2 sin': eta t1 = t2 */
+    assert_true(px_v3_norm(px_v3_sub(px_v3_scale(t1, eta), t2)) < 1e-14);
+    assert_true(fabs(px_v3_norm(o) - 1.0) < 1e-14);
+    fd = px_v3_scale(px_v3_sub(op, on), 0.5 / h);
+    worst_t = fmax(worst_t, px_v3_norm(px_v3_sub(fd, dout)) / (px_v3_norm(dout) + 0.05));
+  }
+  print_message("%d refractions: derivative against differences %.2e (refraction), %.2e "
+                "(reflection), relative\n",
+                refracted, worst_t, worst_r);
+  assert_true(refracted > 500);
+  assert_true(worst_t < 2e-7);
+  assert_true(worst_r < 2e-7);
+}
+
+/* The Fig. 8 scene, its ball of SF11 when `glass` is set, at w x w. */
+static void fig8(rt_scene_t *s, int glass, int w) {
+  rt_scene_init(s);
+  assert_int_equal(rt_builtin_fig8(s), RT_OK);
+  s->camera.width = s->camera.height = w;
+  int g = rt_scene_find_material(s, "glass");
+  if (glass) {
+    assert_int_equal(px_index_named("SF11", &s->material[g].index), PX_OK);
+    assert_int_equal(px_index_eval(&s->material[g].index, PX_LAMBDA_D, &s->material[g].ior, NULL),
+                     PX_OK);
+  }
+}
+
+/* Render s with the exact renderer and its options (name, value pairs, NULL-ended). */
+static void render(const rt_scene_t *s, const char *const *opts, rt_image_t *img, rt_stats_t *st) {
+  const rn_renderer_t *x = rn_find("exact");
+  unsigned char opt[64];
+  char err[200];
+  assert_true(x->options_size <= sizeof opt);
+  rn_defaults(x, opt);
+  for (int i = 0; opts[i]; i += 2)
+    assert_int_equal(rn_set(x, opt, opts[i], opts[i + 1], err, sizeof err), 1);
+  rt_plan_t p = rn_plan_make(x, s, 1, opt);
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.aux = 0;
+  c.threads = 2;
+  assert_int_equal(rt_image_alloc(img, s->camera.width, s->camera.height), RT_OK);
+  rn_output_t out;
+  memset(&out, 0, sizeof out);
+  out.image = img;
+  out.stats = st;
+  assert_int_equal(x->render(s, &p, &c, opt, &out), RT_OK);
+}
+
+/* Mean and largest CIEDE2000 of a against b (negative values clamped, as pencil bench
+ * dispersion does). */
+static void delta_e(const rt_image_t *a, const rt_image_t *b, double *mean, double *mx) {
+  size_t n = (size_t)a->width * a->height;
+  double sum = 0.0;
+  *mx = 0.0;
+  for (size_t k = 0; k < n; k++) {
+    double ca[3], cb[3], la[3], lb[3];
+    for (int c = 0; c < 3; c++) {
+      ca[c] = fmax(0.0, a->ch[RT_CH_R + c][k]);
+      cb[c] = fmax(0.0, b->ch[RT_CH_R + c][k]);
+    }
+    cs_lab_from_srgb(ca, la);
+    cs_lab_from_srgb(cb, lb);
+    double d = cs_delta_e2000(la, lb);
+    sum += d;
+    *mx = fmax(*mx, d);
+  }
+  *mean = sum / n;
+}
+
+/* A glass whose index varies by 1e-9 over the visible range renders through spectral pencils as
+ * the same glass of constant index in RGB: every pixel within 1e-6 (one colour of board: no
+ * checker edge for a ray moved by 1e-9 to cross), with about one pencil per white refraction. */
+static void glass_that_does_not_disperse(void **state) {
+  (void)state;
+  rt_scene_t s[2];
+  rt_image_t img[2];
+  rt_stats_t st[2];
+  const char *const pencil[] = {"--wavelengths", "pencil", NULL};
+  for (int k = 0; k < 2; k++) {
+    fig8(&s[k], 0, 48);
+    int g = rt_scene_find_material(&s[k], "glass"), r = rt_scene_find_material(&s[k], "red");
+    s[k].material[r].color = s[k].material[rt_scene_find_material(&s[k], "white")].color;
+    if (k == 1) { /* Cauchy A + B / l^2 with B = 1e-10 um^2, A making n_d = 1.5 */
+      px_index_t *m = &s[k].material[g].index;
+      memset(m, 0, sizeof *m);
+      m->kind = PX_INDEX_CAUCHY;
+      m->b[0] = 1e-10;
+      m->a = 1.5 - 1e-10 / (PX_LAMBDA_D * PX_LAMBDA_D * 1e-6);
+      m->lo_nm = 380.0;
+      m->hi_nm = 780.0;
+    }
+    render(&s[k], pencil, &img[k], &st[k]);
+  }
+  double worst = 0.0;
+  for (int c = RT_CH_R; c <= RT_CH_B; c++)
+    for (int q = 0; q < 48 * 48; q++)
+      worst = fmax(worst, fabs(img[0].ch[c][q] - img[1].ch[c][q]));
+  print_message("RGB against spectral pencils of a glass varying by 1e-9: %.2e at most; rays "
+                "%llu against %llu\n",
+                worst, (unsigned long long)rt_stats_total(&st[1]),
+                (unsigned long long)rt_stats_total(&st[0]));
+  assert_true(worst < 1e-6);
+  assert_true(rt_stats_total(&st[1]) < 1.02 * rt_stats_total(&st[0]));
+  for (int k = 0; k < 2; k++) {
+    rt_image_free(&img[k]);
+    rt_scene_free(&s[k]);
+  }
+}
+
+/* Spectral pencils against the 400-bin fan, beside the 9- and 40-bin fans, on scene s. */
+static void against_reference(rt_scene_t *s, const char *what, double max_mean, double *pencil_mean,
+                              double *fan9_mean) {
+  const char *const ref[] = {"--wavelengths", "fan", "--bins", "400", NULL};
+  const char *const f9[] = {"--wavelengths", "fan", "--bins", "9", NULL};
+  const char *const f40[] = {"--wavelengths", "fan", "--bins", "40", NULL};
+  const char *const pen[] = {"--wavelengths", "pencil", NULL};
+  rt_image_t im[4];
+  rt_stats_t st[4];
+  render(s, ref, &im[0], &st[0]);
+  render(s, f9, &im[1], &st[1]);
+  render(s, f40, &im[2], &st[2]);
+  render(s, pen, &im[3], &st[3]);
+  double mean[4], mx[4];
+  for (int k = 1; k < 4; k++)
+    delta_e(&im[k], &im[0], &mean[k], &mx[k]);
+  print_message("%s, CIEDE2000 against the 400-bin fan (mean, max; rays): fan 9 %.3f %.1f %llu; "
+                "fan 40 %.3f %.1f %llu; spectral pencils %.3f %.1f %llu\n",
+                what, mean[1], mx[1], (unsigned long long)rt_stats_total(&st[1]), mean[2], mx[2],
+                (unsigned long long)rt_stats_total(&st[2]), mean[3], mx[3],
+                (unsigned long long)rt_stats_total(&st[3]));
+  assert_true(mean[3] < max_mean);
+  assert_true(mean[3] < mean[2]);                               /* better than 40 bins */
+  assert_true(rt_stats_total(&st[3]) < rt_stats_total(&st[2])); /* in fewer rays */
+  *pencil_mean = mean[3];
+  *fan9_mean = mean[1];
+  for (int k = 0; k < 4; k++)
+    rt_image_free(&im[k]);
+}
+
+/* A curved glass: the Fig. 8 ball in SF11 at 48 x 48 (the column's dm = dp / r). */
+static void curved_glass_against_reference(void **state) {
+  (void)state;
+  rt_scene_t s;
+  fig8(&s, 1, 48);
+  double pen, f9;
+  against_reference(&s, "Fig. 8 ball of SF11, 48 x 48", 0.2, &pen, &f9);
+  assert_true(pen < 0.5 * f9);
+  rt_scene_free(&s);
+}
+
+/* The prism's slit spectrum (scenes/prism.json at 64 x 64, 1 spp): a pixel's spectrum spreads over
+ * a black screen with a thin white slit in front of it, which the ends of a pencil do not meet;
+ * the spread limit (WP_SPREAD_PIXELS) and the occlusion search find it. */
+static void prism_slit_against_reference(void **state) {
+  (void)state;
+  rt_scene_t s;
+  char err[512];
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load(PENCIL_SOURCE_DIR "/scenes/prism.json", &s, err, sizeof err), 0);
+  s.camera.width = s.camera.height = 64;
+  double pen, f9;
+  against_reference(&s, "prism's slit, 64 x 64", 0.3, &pen, &f9);
+  rt_scene_free(&s);
+}
+
+/* The plan: spectral pencils replace the fan (no fan counted in the ray-tree bound: depth 6,
+ * 127 nodes), on the wavelength axis Lambda of the one glass, or lambda when two glasses differ;
+ * a tolerance outside (0, 1) is refused; a scene without dispersion is left as it is. */
+static void plan_for_spectral_pencils(void **state) {
+  (void)state;
+  rt_scene_t s;
+  fig8(&s, 1, 32);
+  rt_plan_t p = rt_plan_make(&s, 1);
+  assert_int_equal(rt_plan_spectral_pencils(&p, &s, 0.0), -1);
+  assert_int_equal(rt_plan_spectral_pencils(&p, &s, 1.0), -1);
+  assert_int_equal(p.spectral, RT_SPECTRAL_FAN);
+  assert_int_equal(rt_plan_spectral_pencils(&p, &s, 0.1), 0);
+  assert_int_equal(p.spectral, RT_SPECTRAL_PENCIL);
+  assert_int_equal(p.tree_nodes, 127);
+  assert_true(p.wave.scaled);
+  assert_non_null(strstr(p.why[RT_EFFECT_DISPERSION], "spectral pencils"));
+  for (int i = 0; i < RT_MAX_BINS; i++)
+    assert_true(p.wave.u_edge[i + 1] > p.wave.u_edge[i]);
+  assert_true(fabs(p.wave.cum[RT_MAX_BINS].r - 1.0) < 1e-12 &&
+              fabs(p.wave.cum[RT_MAX_BINS].g - 1.0) < 1e-12 &&
+              fabs(p.wave.cum[RT_MAX_BINS].b - 1.0) < 1e-12);
+  /* a second glass of another model: the axis is lambda */
+  int r = rt_scene_find_material(&s, "red");
+  s.material[r].kt = 0.5;
+  assert_int_equal(px_index_named("N-BK7", &s.material[r].index), PX_OK);
+  p = rt_plan_make(&s, 1);
+  assert_int_equal(rt_plan_spectral_pencils(&p, &s, 0.1), 0);
+  assert_false(p.wave.scaled);
+  assert_true(p.wave.u_edge[0] == 380.0 && p.wave.u_edge[RT_MAX_BINS] == 780.0);
+  rt_scene_free(&s);
+  fig8(&s, 0, 32);
+  p = rt_plan_make(&s, 1);
+  assert_int_equal(rt_plan_spectral_pencils(&p, &s, 0.1), 0);
+  assert_false(rt_plan_has(&p, RT_EFFECT_DISPERSION));
+  assert_int_equal(p.spectral, RT_SPECTRAL_FAN);
+  rt_scene_free(&s);
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(column_matches_differences),
+      cmocka_unit_test(glass_that_does_not_disperse),
+      cmocka_unit_test(curved_glass_against_reference),
+      cmocka_unit_test(prism_slit_against_reference),
+      cmocka_unit_test(plan_for_spectral_pencils),
+  };
+  if (argc > 1)
+    cmocka_set_test_filter(argv[1]);
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
