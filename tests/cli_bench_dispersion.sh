@@ -19,8 +19,8 @@ trap 'rm -rf "$tmp"' EXIT
 $pencil bench dispersion --quick --threads 2 --out "$out" --json "$out/dispersion.json" \
   >"$tmp/log" 2>"$tmp/err"; rc=$?
 check "bench dispersion --quick exits 0" "[ $rc -eq 0 ]"
-for m in reference pencil exact-nd exact-takagi9 exact-fan9 exact-fan40 exact-spectral-pencil \
-  exact-fan50; do
+for m in reference pencil pencil-spectral exact-nd exact-takagi9 exact-fan9 exact-fan40 \
+  exact-spectral-pencil exact-fan50; do
   check "fig14-$m.exr and .png written" "[ -s '$out/fig14-$m.exr' ] && [ -s '$out/fig14-$m.png' ]"
   check "the table has $m" "grep -q '^$m ' '$tmp/log'"
 done
@@ -30,8 +30,8 @@ d = json.load(open(sys.argv[1]))
 assert d['benchmark'] == 'dispersion' and 'provenance' in d and d['quick'] is True
 assert d['reference_bins'] == 100 and d['size'] == 48
 m = {r['method']: r for r in d['methods']}
-assert set(m) == {'reference', 'pencil', 'exact-nd', 'exact-takagi9', 'exact-fan9',
-                  'exact-fan40', 'exact-spectral-pencil', 'exact-fan50'}, set(m)
+assert set(m) == {'reference', 'pencil', 'pencil-spectral', 'exact-nd', 'exact-takagi9',
+                  'exact-fan9', 'exact-fan40', 'exact-spectral-pencil', 'exact-fan50'}, set(m)
 assert m['reference']['delta_e2000_mean'] is None
 for k, r in m.items():
     assert r['seconds'] > 0 and r['over_exact_nd'] > 0, r
@@ -41,7 +41,11 @@ assert abs(m['exact-takagi9']['delta_e2000_mean'] - m['exact-fan9']['delta_e2000
 assert m['exact-takagi9']['rays'] > m['exact-fan9']['rays'] > m['exact-nd']['rays']
 e = [m[k]['delta_e2000_mean'] for k in ('exact-nd', 'exact-fan9', 'exact-fan40', 'exact-fan50')]
 assert e == sorted(e, reverse=True) and e[-1] < 1.0, e
-assert m['pencil']['wavelengths'] is None and m['exact-nd']['wavelengths'] == 'off'
+assert m['pencil']['wavelengths'] == 'off' and m['exact-nd']['wavelengths'] == 'off'
+assert m['pencil-spectral']['wavelengths'] == 'pencil'
+# the pencil renderer's dispersion adds no error of its own beyond its error at n_d
+assert (m['pencil-spectral']['delta_e2000_mean'] < m['pencil']['delta_e2000_mean'] -
+        (m['exact-nd']['delta_e2000_mean'] - m['exact-spectral-pencil']['delta_e2000_mean']) + 0.1), m
 sp = m['exact-spectral-pencil']  # within the 40-bin fan's error, in fewer rays
 assert sp['wavelengths'] == 'pencil', sp
 assert sp['delta_e2000_mean'] < m['exact-fan40']['delta_e2000_mean'], (sp, m['exact-fan40'])

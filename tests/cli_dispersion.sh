@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Index models in scene files (issue 22): "ior" as {"glass": NAME} or {"model": ...} loads; the
 # exact renderer draws it through the spectral fan (the effects plan says how many bins), the
-# pencil renderer at its index at the d-line (so its image equals the same scene with that number,
-# and the plan says why); "spectral_bins" sets the bins.
+# pencil renderer by spectral pencils, or with --wavelengths off at its index at the d-line (so its
+# image equals the same scene with that number, and the plan says why); "spectral_bins" sets the
+# bins.
 set -u
 pencil=$1
 fail=0
@@ -27,7 +28,9 @@ scene '{"glass": "SF11"}' >"$tmp/sf11.json"
 $pencil render "$tmp/model.json" --explain >"$tmp/plan" 2>&1; rc=$?
 check "a model loads; the exact renderer's plan fans it out into 40 bins" "[ $rc -eq 0 ] && grep -q \"dispersion     on: material 'glass' disperses (dn/dlambda .* /nm at the d-line): white rays refracting at it fan out into 40 wavelength bins over 380-780 nm\" '$tmp/plan'"
 $pencil render "$tmp/model.json" --method pencil --explain >"$tmp/plan1" 2>&1
-check "the pencil renderer's plan: off, at n_d" "grep -q \"dispersion     off: material 'glass' disperses, but the pencil renderer does not draw dispersion yet: it is rendered at n_d = 1.5\" '$tmp/plan1'"
+check "the pencil renderer's plan: spectral pencils" "grep -q \"dispersion     on: material 'glass' disperses (dn/dlambda .* /nm at the d-line): white rays refracting at it become spectral pencils over 380-780 nm\" '$tmp/plan1'"
+$pencil render "$tmp/model.json" --method pencil --wavelengths off --explain >"$tmp/plan1" 2>&1
+check "the pencil renderer's plan with --wavelengths off: at n_d" "grep -q \"dispersion     off: material 'glass' disperses, but the pencil renderer was asked for --wavelengths off: it is rendered at n_d = 1.5\" '$tmp/plan1'"
 $pencil render "$tmp/number.json" --explain >"$tmp/plan2" 2>&1
 check "a number: no dispersion" "grep -q \"dispersion     off: no transparent material's index varies with wavelength\" '$tmp/plan2'"
 $pencil render "$tmp/sf11.json" --method beam --explain >"$tmp/plan3" 2>&1
@@ -36,11 +39,12 @@ sed 's/"caustics": "off"/"caustics": "off", "spectral_bins": 4/' "$tmp/model.jso
 $pencil render "$tmp/bins4.json" --explain >"$tmp/plan4" 2>&1
 check "spectral_bins sets the bins" "grep -q 'fan out into 4 wavelength bins' '$tmp/plan4'"
 for m in exact pencil; do
-  $pencil render "$tmp/model.json" --method $m --no-aux -o "$tmp/a-$m.exr" >/dev/null 2>&1 &&
+  off=; [ $m = pencil ] && off="--wavelengths off"
+  $pencil render "$tmp/model.json" --method $m $off --no-aux -o "$tmp/a-$m.exr" >/dev/null 2>&1 &&
     $pencil render "$tmp/number.json" --method $m --no-aux -o "$tmp/b-$m.exr" >/dev/null 2>&1 ||
     echo "FAIL: render $m"
 done
-check "the pencil renderer draws a model as its index at the d-line" "$py - '$tmp/a-pencil.exr' '$tmp/b-pencil.exr' <<'PY'
+check "the pencil renderer with --wavelengths off draws a model as its index at the d-line" "$py - '$tmp/a-pencil.exr' '$tmp/b-pencil.exr' <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 a, b = (oiio.ImageBuf(p).get_pixels(oiio.FLOAT)[:, :, :3] for p in sys.argv[1:3])
 assert np.abs(a - b).max() < 1e-5, np.abs(a - b).max()

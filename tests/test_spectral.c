@@ -175,9 +175,10 @@ static void fan_of_a_glass_that_does_not_disperse(void **state) {
 }
 
 /* The plan: dispersion on with the scene's bins, the ray-tree bound counting the fans (depth 6,
- * 40 bins: 4,807 nodes); rn_plan_make() turns it off for the pencil and beam renderers with the
- * reason, keeps it for the exact one; the pencil renderer refuses a plan that asks for it; no
- * dispersion without refraction, or when every index is a number. */
+ * 40 bins: 4,807 nodes); rn_plan_make() turns it off for the beam renderer with the reason, keeps
+ * the fan for the exact one and gives the pencil renderer spectral pencils (no fan in the bound:
+ * 127 nodes), or turns it off with --wavelengths off; the pencil renderer refuses a plan that asks
+ * for the fan; no dispersion without refraction, or when every index is a number. */
 static void plan_turns_the_fan_on_for_exact_only(void **state) {
   (void)state;
   rt_scene_t s;
@@ -188,8 +189,8 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
   assert_non_null(strstr(p.why[RT_EFFECT_DISPERSION], "40 wavelength bins"));
   rt_plan_t px = rn_plan_make(rn_find("exact"), &s, 1, NULL);
   assert_true(rt_plan_has(&px, RT_EFFECT_DISPERSION) && px.bins == 40);
-  const char *others[2] = {"pencil", "beam"};
-  for (int k = 0; k < 2; k++) {
+  const char *others[2] = {"beam", "pencil"};
+  for (int k = 0; k < 1; k++) {
     const rn_renderer_t *r = rn_find(others[k]);
     rt_plan_t q = rn_plan_make(r, &s, 1, NULL);
     assert_false(rt_plan_has(&q, RT_EFFECT_DISPERSION));
@@ -200,7 +201,18 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
   }
   const rn_renderer_t *pen = rn_find("pencil");
   unsigned char opt[4096];
+  char err[200];
   assert_true(pen->options_size <= sizeof opt);
+  rn_defaults(pen, opt);
+  rt_plan_t q = rn_plan_make(pen, &s, 1, NULL);
+  assert_true(rt_plan_has(&q, RT_EFFECT_DISPERSION) && q.spectral == RT_SPECTRAL_PENCIL);
+  assert_int_equal(q.tree_nodes, 127);
+  assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], "spectral pencils"));
+  assert_int_equal(rn_set(pen, opt, "--wavelengths", "off", err, sizeof err), 1);
+  q = rn_plan_make(pen, &s, 1, opt);
+  assert_false(rt_plan_has(&q, RT_EFFECT_DISPERSION));
+  assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], others[1]));
+  assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], "n_d = 1.7847"));
   rn_defaults(pen, opt);
   rn_common_t c = RN_COMMON_DEFAULT;
   c.aux = 0;
@@ -210,7 +222,7 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
   memset(&out, 0, sizeof out);
   out.image = &img;
   assert_int_equal(pen->render(&s, &p, &c, opt, &out), RT_EINVAL);
-  assert_non_null(strstr(out.why, "does not draw"));
+  assert_non_null(strstr(out.why, "spectral fan"));
   rt_image_free(&img);
   s.material[rt_scene_find_material(&s, "glass")].kt = 0.0;
   p = rt_plan_make(&s, 1);

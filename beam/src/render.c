@@ -884,10 +884,7 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->violations += from->violations;
   to->max_bound = fmax(to->max_bound, from->max_bound);
   to->max_ratio = fmax(to->max_ratio, from->max_ratio);
-  to->rays.primary += from->rays.primary;
-  to->rays.reflect += from->rays.reflect;
-  to->rays.refract += from->rays.refract;
-  to->rays.shadow += from->rays.shadow;
+  rt_stats_add(&to->rays, &from->rays);
   to->measured += from->measured;
   to->with_points += from->with_points;
   to->within += from->within;

@@ -1,6 +1,7 @@
 /* image.c -- the float image with RGB and the auxiliary accuracy channels (paper section 5,
  * Fig. 10: errors are distances between checkerboard points of the two tracers). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "core/image.h"
@@ -52,4 +53,17 @@ void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_t
     img->ch[base[p] + 1][k] = (float)v;
     img->ch[base[p] + 2][k] = n >= 0 ? (float)t->node[n].depth : -1.0f;
   }
+}
+
+void rt_stats_spectral_line(const rt_stats_t *s, char *buf, size_t cap) {
+  if (cap == 0)
+    return;
+  buf[0] = '\0';
+  if (s->spectral[0] == 0)
+    return;
+  snprintf(buf, cap,
+           "spectral pencils: %llu white refractions at dispersive glass became %llu pencils "
+           "(%.2f each); dispersion not needed (never cut, within a quarter pixel) at %llu\n",
+           (unsigned long long)s->spectral[0], (unsigned long long)s->spectral[1],
+           (double)s->spectral[1] / (double)s->spectral[0], (unsigned long long)s->spectral[2]);
 }

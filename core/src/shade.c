@@ -364,19 +364,45 @@ static __attribute__((noinline)) rt_rgb_t fan(const rt_scene_t *s, const rt_plan
   return c;
 }
 
-/* The fan's place under RT_SPECTRAL_PENCIL: spectral pencils for the refracted light (wpencil.c),
- * the mirror child white as in fan(). */
-static __attribute__((noinline)) rt_rgb_t pencils(const rt_scene_t *s, const rt_plan_t *plan,
-                                                  const rt_surface_t *sf, const rt_ray_t *ray,
-                                                  int depth, const rt_tracer_t *tr) {
+int rt_shade_spectral_at(const rt_plan_t *plan, const rt_material_t *m, int depth) {
+  return plan->bins > 0 && plan->spectral == RT_SPECTRAL_PENCIL && m->kt > 0.0 &&
+         depth < plan->max_depth && rt_plan_has(plan, RT_EFFECT_REFRACTION) &&
+         px_index_disperses(&m->index);
+}
+
+rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                           const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
+                           rt_child_t *mirror, int *nmirror) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t wr = rt_rgb(0, 0, 0);
   if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
     wr = rt_rgb(m->kr, m->kr, m->kr);
   int all_tir;
   rt_rgb_t c = rt__wp_refract(s, plan, sf, ray, depth, tr, &wr, &all_tir);
+  *nmirror = reflect_child(s, sf, ray, wr, all_tir, mirror);
+  return c;
+}
+
+int rt_shade_spectral_mirror(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                             const rt_ray_t *ray, int depth, rt_child_t *mirror) {
+  const rt_material_t *m = sf->mat;
+  rt_rgb_t wr = rt_rgb(0, 0, 0);
+  if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
+    wr = rt_rgb(m->kr, m->kr, m->kr);
+  int all_tir;
+  rt__wp_refract(s, plan, sf, ray, depth, NULL, &wr, &all_tir);
+  return reflect_child(s, sf, ray, wr, all_tir, mirror);
+}
+
+/* The fan's place under RT_SPECTRAL_PENCIL: spectral pencils for the refracted light (wpencil.c),
+ * the mirror child white as in fan(). */
+static __attribute__((noinline)) rt_rgb_t pencils(const rt_scene_t *s, const rt_plan_t *plan,
+                                                  const rt_surface_t *sf, const rt_ray_t *ray,
+                                                  int depth, const rt_tracer_t *tr) {
   rt_child_t rc;
-  if (reflect_child(s, sf, ray, wr, all_tir, &rc))
+  int n;
+  rt_rgb_t c = rt_shade_spectral(s, plan, sf, ray, depth, tr, &rc, &n);
+  if (n)
     c = rt_rgb_add(c, rt_rgb_mul(rc.weight, tr->child(tr->ctx, &rc, depth + 1)));
   return c;
 }

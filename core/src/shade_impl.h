@@ -20,7 +20,7 @@ double rt__index_at(const rt_material_t *m, double lambda);
 /** Spectral pencils (wpencil.c) for the white ray `ray` refracting at the dispersive surface sf
  *  under a plan with RT_SPECTRAL_PENCIL: the transmitted radiance; adds to *wr what reflects
  *  instead (Fresnel shares, total internal reflection) and clears *all_tir unless every
- *  wavelength reflects totally. */
+ *  wavelength reflects totally. With tr NULL only the latter, nothing traced. */
 rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                         const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
                         int *all_tir);

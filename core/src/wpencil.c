@@ -76,6 +76,8 @@ typedef struct {
   /* a material whose index is the scale's glass (u = Lambda), or NULL; every dispersive
    * transparent material shares its model (rt_plan_spectral_pencils) */
   const rt_material_t *glass;
+  int trace; /* 0: only the shares that reflect (rt__wp_refract with tr NULL) */
+  int shows; /* the spectrum was cut, or spread over more than a quarter pixel somewhere */
 } wp_run_t;
 
 /* ---- the wavelength axis ------------------------------------------------------------------- */
@@ -207,14 +209,16 @@ enum {
 /* The model's ray at u against the axial hit H. lin (at an end): a scene search for what hides the
  * hit from it, *occ set to that primitive, and the model's error; else (bisecting) only the
  * primitive *occ (>= 0) hides. */
-static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *occ) {
+/* The geometric part of check(): the model's ray r meets the hit's primitive from the same side,
+ * nothing nearer (lin: a scene search, *occ set to what it meets; else only *occ), in the same
+ * square; *p and *me its exact point and facing normal there. 0 or check()'s code. */
+static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int lin, int *occ,
+                 px_vec3_t *p, px_vec3_t *me) {
   const rt_scene_t *s = R->s;
-  const wp_t *w = H->w;
-  rt_ray_t r = model_ray(w, u);
   double t, t2;
-  if (!rt_prim_intersect(s, H->hit.prim, &r, INFINITY, &t))
+  if (!rt_prim_intersect(s, H->hit.prim, r, INFINITY, &t))
     return WP_OFF;
-  rt_ray_t q = r;
+  rt_ray_t q = *r;
   q.tmax = t * (1.0 - 1e-9);
   rt_hit_t h2;
   if (lin && rt_intersect(s, &q, &h2) && h2.prim != H->hit.prim) {
@@ -223,17 +227,28 @@ static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *o
   }
   if (!lin && *occ >= 0 && rt_prim_intersect(s, *occ, &q, q.tmax, &t2))
     return WP_OFF;
-  px_vec3_t p = px_v3_axpy(t, r.d, r.o);
-  px_vec3_t me = px_v3_scale(rt_prim_normal(s, H->hit.prim, p), H->side);
-  if (!(px_v3_dot(me, r.d) < 0.0))
+  *p = px_v3_axpy(t, r->d, r->o);
+  *me = px_v3_scale(rt_prim_normal(s, H->hit.prim, *p), H->side);
+  if (!(px_v3_dot(*me, r->d) < 0.0))
     return WP_OFF;
   if (H->checker) {
     double su, sv;
-    square_of(s, H->hit.prim, p, &su, &sv);
+    square_of(s, H->hit.prim, *p, &su, &sv);
     if (su != H->su || sv != H->sv)
       return WP_SQUARE;
   }
-  double h = u - w->uc, tol = R->plan->spectral_tol;
+  return 0;
+}
+
+static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *occ) {
+  const wp_t *w = H->w;
+  rt_ray_t r = model_ray(w, u);
+  double h = u - w->uc;
+  px_vec3_t p, me;
+  int why = meets(R, H, &r, lin, occ, &p, &me);
+  if (why)
+    return why;
+  double tol = R->plan->spectral_tol;
   double eps_d = WP_PIXELS * R->plan->pixel_angle, eps_p = eps_d * (w->dist + H->hit.t);
   int fail = 0;
   if (lin && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS / WP_PIXELS * eps_p)
@@ -280,9 +295,9 @@ static double bisect(const wp_run_t *R, const wp_hit_t *H, double u_ok, double u
 
 /* ---- tracing ------------------------------------------------------------------------------- */
 
-static void count(const wp_run_t *R, rt_ray_kind_t kind) {
-  if (R->tr->count)
-    R->tr->count(R->tr->ctx, kind);
+static void count(const wp_run_t *R, int what) {
+  if (R->tr && R->tr->count)
+    R->tr->count(R->tr->ctx, what);
 }
 
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
@@ -321,12 +336,14 @@ static int cut_off(wp_run_t *R, wp_t *w, double cut, double ue, int depth, rt_rg
   if (fabs(ue - cut) < R->min_width || R->budget <= 0)
     return 0; /* too narrow to cut off: the pencil keeps it */
   R->budget--;
+  R->shows = 1;
   wp_t piece = recentre(R, w, fmin(cut, ue), fmax(cut, ue));
   if (ue < w->uc)
     w->ua = cut;
   else
     w->ub = cut;
   count(R, w->kind);
+  count(R, RT_COUNT_SPECTRAL + 1);
   *c = rt_rgb_add(*c, trace(R, &piece, depth));
   return 1;
 }
@@ -387,6 +404,11 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   H.reflect = more && (refract || (rt_plan_has(plan, RT_EFFECT_REFLECTION) && mat->kr > 0.0));
   H.refract = refract;
   wp_reflect_du(w->ray.d, w->d_d, H.m, dm, &H.dr, &H.ddr);
+  /* selective dispersion ([P89] 3.2.4, corrected): whether the spectrum shows, more than a
+   * quarter pixel apart on some surface */
+  if (px_v3_norm(H.dp) * fmax(w->uc - w->ua, w->ub - w->uc) >
+      WP_PIXELS * plan->pixel_angle * (w->dist + hit.t))
+    R->shows = 1;
   double cos_t = 0.0;
   if (refract) {
     double deta = (dn1 * n2 - n1 * dn2) / (n2 * n2);
@@ -526,7 +548,10 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
             .kind = RT_RAY_REFRACT,
             .weight = rt_rgb_max(wt),
             .dist = px_v3_norm(px_v3_sub(sf->hit.p, R->s->camera.eye))};
+  if (!R->trace)
+    return rt_rgb(0, 0, 0);
   count(R, RT_RAY_REFRACT);
+  count(R, RT_COUNT_SPECTRAL + 1);
   return rt_rgb_mul(wt, trace(R, &w, depth + 1));
 }
 
@@ -535,12 +560,19 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
                         int *all_tir) {
   const rt_wavescale_t *w = &plan->wave;
   wp_run_t R = {s,         plan,
-                tr,        {NULL, shadow_cb, NULL, NULL, tr->occluded ? occluded_cb : NULL, NULL},
+                tr,        {NULL, shadow_cb, NULL, NULL, NULL, NULL},
                 WP_BUDGET, WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),
-                NULL};
+                NULL,      tr != NULL,
+                0};
+  if (tr && tr->occluded)
+    R.inner.occluded = occluded_cb;
   R.inner.ctx = &R;
   if (w->scaled && px_index_disperses(&sf->mat->index))
     R.glass = sf->mat;
   *all_tir = 1;
-  return white(&R, sf, ray, w->u_edge[0], w->u_edge[RT_MAX_BINS], depth, wr, all_tir);
+  count(&R, RT_COUNT_SPECTRAL);
+  rt_rgb_t c = white(&R, sf, ray, w->u_edge[0], w->u_edge[RT_MAX_BINS], depth, wr, all_tir);
+  if (R.trace && !R.shows)
+    count(&R, RT_COUNT_SPECTRAL + 2);
+  return c;
 }

@@ -216,6 +216,12 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
     pt_node_t *n = &C->paths.node[k];
     int par = C->trees.axial.node[k].parent;
     pt_path_topology(C->s, &C->trees.axial, k, par >= 0 ? &C->paths.node[par] : NULL, n);
+    if (C->plan->spectral == RT_SPECTRAL_PENCIL && !n->miss && n->object >= 0) {
+      const rt_object_t *o = &C->s->object[n->object];
+      n->spectral = rt_shade_spectral_at(C->plan, &C->s->material[o->material], n->depth) ||
+                    (o->material2 >= 0 &&
+                     rt_shade_spectral_at(C->plan, &C->s->material[o->material2], n->depth));
+    }
     n->light_agree = C->corners.light[k];
     int parent_ok = par < 0 || C->paths.node[par].mode != PT_NODE_EXACT;
     /* with ray interpolation, a node below an edge is traced along its path at the lattice

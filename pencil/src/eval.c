@@ -188,6 +188,8 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
 /* Whether a child of node n is traced exactly per sample in this evaluation (the domain's tree
  * marks it exact, or the lattice cell's plan traces it below an edge). */
 static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
+  if (n->spectral)
+    return 1;
   for (int c = 0; c < 2; c++) {
     int kc = n->child[c];
     if (kc >= 0 &&
@@ -290,6 +292,23 @@ static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, 
 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from);
 
+/* Node k's light refracted at dispersive glass under spectral pencils (path.h's
+ * pt_node_t.spectral), traced from the sample's hit by rt_shade_spectral() and weighted by w;
+ * counted with the node's own direct term, so that ray interpolation interpolates it where it is
+ * linear over a lattice cell and shades it per sample where not, as a direct term. Black for other
+ * nodes. */
+static rt_rgb_t spectral(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
+                         rt_rgb_t w) {
+  const pt_node_t *n = &E->C->paths.node[k];
+  if (!n->spectral || !rt_shade_spectral_at(E->C->plan, sf->mat, n->depth))
+    return rt_rgb(0, 0, 0);
+  rt_tracer_t ex = xr_exact_tracer(&E->C->ex);
+  rt_child_t mirror;
+  int nm;
+  return rt_rgb_mul(w,
+                    rt_shade_spectral(E->C->s, E->C->plan, sf, ray, n->depth, &ex, &mirror, &nm));
+}
+
 /* The children of node k at surface sf: those the domain's paths cover by eval_node(), the others
  * by the exact tracer (geometry-only evaluations just mark them); `only_exact` skips the former
  * (the caller interpolates them). */
@@ -298,7 +317,12 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   const pt_node_t *n = &E->C->paths.node[k];
   rt_child_t ch[2];
   int nc = -1;
-  if (only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
+  rt_rgb_t sum = rt_rgb(0, 0, 0);
+  if (n->spectral && rt_shade_spectral_at(E->C->plan, sf->mat, n->depth))
+    /* the tree has no refracted child here: its light is part of the node's own (spectral());
+     * the white mirror child as any other */
+    nc = rt_shade_spectral_mirror(E->C->s, E->C->plan, sf, ray, n->depth, &ch[0]);
+  if (nc < 0 && only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
     /* both children are in the domain's tree, so the sample cannot have one it lacks: when only
      * one of them is traced exactly, only that one is built (the other is interpolated) */
     int exact[2];
@@ -311,7 +335,6 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   }
   if (nc < 0)
     nc = rt_shade_children(E->C->s, E->C->plan, sf, ray, n->depth, ch);
-  rt_rgb_t sum = rt_rgb(0, 0, 0);
   for (int i = 0; i < nc; i++) {
     rt_rgb_t wc = rt_rgb_mul(w, ch[i].weight);
     int kc = n->child_kind[0] == (int)ch[i].kind   ? n->child[0]
@@ -417,6 +440,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     } else {
       l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
     }
+    l = rt_rgb_add(l, spectral(E, k, &sf, &ray, w));
     if (g)
       g->l = l;
   }
@@ -460,6 +484,7 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
   if (direct) {
     rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb, NULL};
     sum = rt_rgb_mul(w, rt_shade_direct(E->C->s, E->C->plan, &sf, &ray, &tr));
+    sum = rt_rgb_add(sum, spectral(E, k, &sf, &ray, w));
   }
   if (exact_children)
     sum = rt_rgb_add(sum, children(E, k, &sf, &ray, w, 1));

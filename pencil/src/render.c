@@ -136,10 +136,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
     }
     for (int t = 0; t < nt; t++) {
       stats_add(&total, &ctx[t].st);
-      rays->primary += ctx[t].ex.stats.primary;
-      rays->reflect += ctx[t].ex.stats.reflect;
-      rays->refract += ctx[t].ex.stats.refract;
-      rays->shadow += ctx[t].ex.stats.shadow;
+      rt_stats_add(rays, &ctx[t].ex.stats);
     }
   }
   for (int t = 0; ctx && t < nt; t++)

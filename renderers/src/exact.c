@@ -125,6 +125,9 @@ static void report(FILE *f, const rn_report_t *r) {
           (unsigned long long)total, (unsigned long long)st->primary,
           (unsigned long long)st->reflect, (unsigned long long)st->refract,
           (unsigned long long)st->shadow, (double)total / r->seconds, r->out);
+  char line[256];
+  rt_stats_spectral_line(st, line, sizeof line);
+  fputs(line, f);
 }
 
 const rn_renderer_t rn_exact_entry = {

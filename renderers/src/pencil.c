@@ -19,6 +19,9 @@ static const pt_options_t defaults = PT_OPTIONS_DEFAULT;
 /* pt_bound_t's values in order */
 static const char *const bound_names[] = {"corrected", "printed", "probe", NULL};
 
+/* pt_options_t.wavelengths */
+static const char *const wavelength_names[] = {"pencil", "off", NULL};
+
 static const rn_option_t pencil_options[] = {
     {"--domain", RN_OPT_INT, offsetof(pt_options_t, domain), 0, 1, 32, 0, NULL, "N",
      "initial domain size in pixels, 1..32 (default 5, as the paper)"},
@@ -38,17 +41,35 @@ static const rn_option_t pencil_options[] = {
      NULL, "L",
      "ray interpolation: largest deviation of interpolated from\n"
      "traced brightness on a lattice cell, >= 0 (default 1/1024)"},
+    {"--wavelengths", RN_OPT_CHOICE, offsetof(pt_options_t, wavelengths), 0, 0, 0, 0,
+     wavelength_names, "W",
+     "dispersion (a scene whose glass disperses): pencil (default) traces the\n"
+     "light refracted at such glass by spectral pencils from each sample's hit\n"
+     "(an axial ray and its wavelength column, 1989 Eq. 13); off draws the\n"
+     "glass at n_d"},
+    {"--spectral-tol", RN_OPT_DOUBLE, offsetof(pt_options_t, spectral_tol), 0, 0, 0.5, 1, NULL, "T",
+     "spectral pencils: the linear model's largest error at a pencil's ends,\n"
+     "relative to the dispersive shift it predicts there (default 0.1)"},
 };
+
+static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
+  const pt_options_t *o = options;
+  if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
+    return;
+  if (o->wavelengths == 1)
+    rt_plan_no_dispersion(p, s, "the pencil renderer was asked for --wavelengths off");
+  else if (rt_plan_spectral_pencils(p, s, o->spectral_tol) != 0)
+    rt_plan_no_dispersion(p, s, "its wavelength axis could not be built");
+}
 
 static const char *const channels[] = {"pencil.error", "pencil.method", "pencil.rays"};
 
 static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_common_t *c,
                           const void *options, rn_output_t *out) {
-  if (rt_plan_has(plan, RT_EFFECT_DISPERSION)) {
-    snprintf(
-        out->why, sizeof out->why,
-        "the plan asks for dispersion, which the pencil renderer does not draw (rn_plan_make() "
-        "turns it off)");
+  if (rt_plan_has(plan, RT_EFFECT_DISPERSION) && plan->spectral != RT_SPECTRAL_PENCIL) {
+    snprintf(out->why, sizeof out->why,
+             "the plan asks for dispersion by the spectral fan, which the pencil renderer does "
+             "not draw (rn_plan_make() gives it spectral pencils)");
     return RT_EINVAL;
   }
   pt_options_t o = *(const pt_options_t *)options;
@@ -76,7 +97,11 @@ static int describe(const void *options, rn_attr_t *attrs) {
   snprintf(attrs[1].value, sizeof attrs[1].value, "%s", pt_bound_name(o->bound));
   attrs[2].key = "pencil:certified";
   snprintf(attrs[2].value, sizeof attrs[2].value, "%s", o->certified ? "yes" : "no");
-  return 3;
+  attrs[3].key = "pencil:wavelengths";
+  snprintf(attrs[3].value, sizeof attrs[3].value, "%s", wavelength_names[o->wavelengths]);
+  attrs[4].key = "pencil:spectral_tol";
+  snprintf(attrs[4].value, sizeof attrs[4].value, "%.17g", o->spectral_tol);
+  return 5;
 }
 
 static void report(FILE *f, const rn_report_t *r) {
@@ -111,6 +136,9 @@ static void report(FILE *f, const rn_report_t *r) {
           (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
           (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
           (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
+  char line[256];
+  rt_stats_spectral_line(&st->rays, line, sizeof line);
+  fputs(line, f);
   if (r->common->measure)
     fprintf(f,
             "Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "
@@ -157,7 +185,8 @@ const rn_renderer_t rn_pencil_entry = {
         "ray of each traced exactly with its ray tree, a system matrix per path, edges found\n"
         "by comparing ray trees, the tolerance of Eq. (3) and the spread limit of Eq. (6)\n"
         "deciding between matrices, exact tracing and subdivision; samples by ray\n"
-        "interpolation where e_int allows. Shading is the exact renderer's.\n"
+        "interpolation where e_int allows. Shading is the exact renderer's; light\n"
+        "refracted at dispersive glass is traced per sample by spectral pencils.\n"
         "Adds the channels pencil.error (largest Fig. 10 error of the pixel's samples with\n"
         "--measure), pencil.method (0 exact, 1 matrix, 2 interpolated) and pencil.rays (exact\n"
         "rays traced for the pixel's samples).",
@@ -176,4 +205,6 @@ const rn_renderer_t rn_pencil_entry = {
     .errors = errors,
     .rho = rho,
     .thread_bytes = thread_bytes,
+    .dispersion = 1,
+    .adapt_plan = adapt_plan,
 };

@@ -48,11 +48,30 @@ typedef struct {
   uint64_t reflect;
   uint64_t refract;
   uint64_t shadow;
+  /** Dispersion by spectral pencils (core/src/wpencil.c): [0] white rays drawn by them where
+   *  they refract at dispersive glass, [1] the pencils they became after cuts, [2] those of [0]
+   *  whose spectrum was never cut and stayed within a quarter pixel on every surface: where
+   *  dispersion was not needed ([P89] 3.2.4's selective test, corrected). Not rays:
+   *  rt_stats_total() leaves them out. */
+  uint64_t spectral[3];
 } rt_stats_t;
+
+/** a += b, every count. */
+static inline void rt_stats_add(rt_stats_t *a, const rt_stats_t *b) {
+  a->primary += b->primary;
+  a->reflect += b->reflect;
+  a->refract += b->refract;
+  a->shadow += b->shadow;
+  for (int i = 0; i < 3; i++)
+    a->spectral[i] += b->spectral[i];
+}
 
 static inline uint64_t rt_stats_total(const rt_stats_t *s) {
   return s->primary + s->reflect + s->refract + s->shadow;
 }
+
+/** One line on what spectral pencils did (rt_stats_t.spectral), "" when they did nothing. */
+void rt_stats_spectral_line(const rt_stats_t *s, char *buf, size_t cap);
 
 /** Threads a render with `requested` threads uses: requested when > 0, else the OpenMP
  *  default (1 without OpenMP). */

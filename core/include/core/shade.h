@@ -89,10 +89,14 @@ typedef struct {
    *  (core/caustics.h). A renderer that draws caustics provides it. */
   void (*occluded)(void *ctx, rt_shadow_t *q);
   /** Optional (NULL: not counted): told of each ray that shading traces itself, not through
-   *  child() or shadow(): the rays of spectral pencils (core/src/wpencil.c), for the caller's
-   *  statistics. */
-  void (*count)(void *ctx, rt_ray_kind_t kind);
+   *  child() or shadow() (`what` an rt_ray_kind_t), and of the events of spectral pencils
+   *  (RT_COUNT_*), for the caller's statistics (rt_stats_t; core/src/wpencil.c). */
+  void (*count)(void *ctx, int what);
 } rt_tracer_t;
+
+/** rt_tracer_t.count()'s events of spectral pencils, beside the ray kinds: rt_stats_t.spectral[i]
+ *  for RT_COUNT_SPECTRAL + i (a white ray drawn by them, a pencil, a narrow hit). */
+#define RT_COUNT_SPECTRAL 16
 
 /** Orient the hit for shading: facing normal, material and texel, media n1 (ray->ior) and n2. */
 void rt_shade_surface(const rt_scene_t *s, const rt_hit_t *hit, const rt_ray_t *ray,

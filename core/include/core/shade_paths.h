@@ -25,4 +25,23 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
 int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                    const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_child_t *out);
 
+/** 1 when a white ray of generation `depth` meeting material m draws dispersion by spectral
+ *  pencils under the plan (RT_SPECTRAL_PENCIL; m transparent and dispersive; children possible):
+ *  where rt_shade_hit() calls rt_shade_spectral() instead of spawning the refracted child. */
+int rt_shade_spectral_at(const rt_plan_t *plan, const rt_material_t *m, int depth);
+
+/** At such a hit: the refracted light by spectral pencils (core/src/wpencil.c, docs/spectral.md
+ *  section 3a), returned with its weights (kt T, Fresnel) applied; and the white mirror child in
+ *  *mirror (*nmirror 1, or 0 when it has no weight), weighted by kr plus the shares that reflect
+ *  instead of refracting. rt_shade_hit() adds the mirror child's radiance to the return value;
+ *  a renderer that follows known paths does so itself. tr: its count() and occluded() only. */
+rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                           const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
+                           rt_child_t *mirror, int *nmirror);
+
+/** rt_shade_spectral()'s mirror child alone (returned: 1, or 0 when it has no weight), bit for bit,
+ *  without tracing the refracted light. */
+int rt_shade_spectral_mirror(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                             const rt_ray_t *ray, int depth, rt_child_t *mirror);
+
 #endif

@@ -74,6 +74,9 @@ typedef struct {
   int child[2];         /**< tree indices of the children, -1 when absent */
   int child_kind[2];    /**< their rt_ray_kind_t */
   int mode;             /**< pt_node_mode_t: how the samples' rays of this node are traced */
+  int spectral;         /**< 1: the node's glass disperses under a plan with spectral pencils
+                             (rt_shade_spectral_at()): its refracted light is traced per sample
+                             by spectral pencils from the sample's own hit, an exact child */
   int verify;           /**< PATH with ray interpolation where the corners' trees differ at or
                              above the node: the exact ray along the path must meet the node's
                              own surface first in a scene search, else it is traced exactly */

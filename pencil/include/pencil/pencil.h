@@ -68,10 +68,17 @@ typedef struct {
   /** Called after each finished row of domains with (rows done, rows total), serialised. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
+  /* read by the renderer table's entry when it makes the plan (renderers/src/pencil.c), not by
+   * pt_render(), which draws what the plan says */
+  int wavelengths; /**< 0: dispersion by spectral pencils (RT_SPECTRAL_PENCIL); 1: glass at n_d */
+  double spectral_tol; /**< rt_plan_t.spectral_tol for spectral pencils */
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
-  { 1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL }
+  {                                                                                                \
+    1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL, 0,             \
+        RT_SPECTRAL_TOL                                                                            \
+  }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
 typedef struct {

@@ -67,13 +67,6 @@ static void render_pixel(const job_t *J, xr_exact_t *ex, rt_tree_t *tree, int i,
   J->img->ch[RT_CH_B][k] = (float)(sum.b * w);
 }
 
-static void stats_add(rt_stats_t *a, const rt_stats_t *b) {
-  a->primary += b->primary;
-  a->reflect += b->reflect;
-  a->refract += b->refract;
-  a->shadow += b->shadow;
-}
-
 static void render_rows(const job_t *J, rt_tree_node_t **buf, int nt, rt_stats_t *total) {
   int done = 0, height = J->img->height;
 #pragma omp parallel num_threads(nt)
@@ -94,7 +87,7 @@ static void render_rows(const job_t *J, rt_tree_node_t **buf, int nt, rt_stats_t
       }
     }
 #pragma omp critical(rt_stats)
-    stats_add(total, &ex.stats);
+    rt_stats_add(total, &ex.stats);
   }
 }
 
@@ -113,7 +106,7 @@ rt_status_t xr_render(const rt_scene_t *s, const rt_plan_t *plan, const xr_optio
   for (int t = 0; t < nt && st == RT_OK && (opt->aux || opt->on_sample); t++)
     if (!(buf[t] = malloc((size_t)plan->tree_nodes * sizeof **buf)))
       st = RT_ENOMEM;
-  rt_stats_t total = {0, 0, 0, 0};
+  rt_stats_t total = {0, 0, 0, 0, {0, 0, 0}};
   if (st == RT_OK) {
     job_t J = {s, plan, &view, opt, img};
     render_rows(&J, buf, nt, &total);

@@ -38,14 +38,16 @@ static void occluded_cb(void *ctx, rt_shadow_t *q) {
   shadow_query(ctx, q, 1);
 }
 
-static void count_cb(void *ctx, rt_ray_kind_t kind) {
+static void count_cb(void *ctx, int what) {
   xr_exact_t *ex = ctx;
-  if (kind == RT_RAY_REFRACT)
+  if (what == RT_RAY_REFRACT)
     ex->stats.refract++;
-  else if (kind == RT_RAY_REFLECT)
+  else if (what == RT_RAY_REFLECT)
     ex->stats.reflect++;
-  else if (kind == RT_RAY_SHADOW)
+  else if (what == RT_RAY_SHADOW)
     ex->stats.shadow++;
+  else if (what >= RT_COUNT_SPECTRAL && what < RT_COUNT_SPECTRAL + 3)
+    ex->stats.spectral[what - RT_COUNT_SPECTRAL]++;
 }
 
 rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
@@ -53,7 +55,7 @@ rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
 }
 
 xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
-  return (xr_exact_t){s, plan, tree, -1, {0, 0, 0, 0}, 0};
+  return (xr_exact_t){s, plan, tree, -1, {0, 0, 0, 0, {0, 0, 0}}, 0};
 }
 
 /* Append a node for `ray` (parent = the node being shaded); -1 when the buffer is full or the
