@@ -31,6 +31,7 @@
  */
 #include <math.h>
 
+#include "bvh.h"
 #include "colour/colour.h"
 #include "core/intersect.h"
 #include "paraxial/vec3.h"
@@ -50,6 +51,10 @@
  *  surface is halved: the ends are checked, not what lies between them, so that a surface or
  *  square narrower than this could hide between the ends. */
 #define WP_SPREAD_PIXELS 1.0
+/** Largest difference of the direct term at a pencil's end from its axial hit's, relative. */
+#ifndef WP_LIGHT_TOL
+#define WP_LIGHT_TOL 0.02
+#endif
 /** A pencil whose weight below the white ray's hit is under this is not cut: its colour can be
  *  wrong by at most this share of the radiance it carries. */
 #define WP_MIN_WEIGHT 0.05
@@ -64,6 +69,7 @@ typedef struct {
   double dist;   /* length of the path from the eye to the ray's origin (the white ray's part
                     straight) */
   const rt_sphere_t *from; /* the sphere the ray leaves, or NULL (a plane, or do = 0) */
+  int from_prim;           /* the primitive the ray leaves */
 } wp_t;
 
 typedef struct {
@@ -180,6 +186,8 @@ typedef struct {
   int reflect, refract, tir;  /* children checked; total internal reflection at the axial */
   px_vec3_t dr, ddr, dt, ddt; /* the children's directions and derivatives */
   const rt_material_t *next;  /* the medium beyond the surface */
+  const rt_surface_t *sf;     /* the axial hit for shading */
+  rt_rgb_t direct;            /* its direct term */
 } wp_hit_t;
 
 static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, double *su, double *sv) {
@@ -209,9 +217,185 @@ enum {
 /* The model's ray at u against the axial hit H. lin (at an end): a scene search for what hides the
  * hit from it, *occ set to that primitive, and the model's error; else (bisecting) only the
  * primitive *occ (>= 0) hides. */
+/* ---- what lies between the ends ----------------------------------------------------------- */
+
+/* Whether primitive k is a concave polygon (turning both ways round its normal). */
+static int concave(const rt_scene_t *s, int k) {
+  const rt_prim_t *pr = &s->prim[k];
+  if (pr->kind != RT_PRIM_POLYGON)
+    return 0;
+  const px_vec3_t *v = s->vertex + pr->polygon.first;
+  int c = pr->polygon.count, pos = 0, neg = 0;
+  for (int i = 0; i < c; i++) {
+    double t = px_v3_dot(
+        px_v3_cross(px_v3_sub(v[(i + 1) % c], v[i]), px_v3_sub(v[(i + 2) % c], v[(i + 1) % c])),
+        pr->polygon.n);
+    pos |= t > 0.0;
+    neg |= t < 0.0;
+  }
+  return pos && neg;
+}
+
+/* Whether the segment a-b, its ends excluded, crosses primitive q. */
+static int segment_meets(const rt_scene_t *s, int q, px_vec3_t a, px_vec3_t b) {
+  px_vec3_t d = px_v3_sub(b, a);
+  double len = px_v3_norm(d), t;
+  if (!(len > 0.0))
+    return 0;
+  rt_ray_t r = {a, px_v3_scale(d, 1.0 / len), 1e-9 * len, len * (1.0 - 1e-9), 1.0, -1, 0.0f};
+  return rt_prim_intersect(s, q, &r, r.tmax, &t);
+}
+
+/* Whether the segment a-b crosses the triangle v (Moller and Trumbore's test). */
+static int segment_crosses_triangle(px_vec3_t a, px_vec3_t b, const px_vec3_t v[3]) {
+  px_vec3_t d = px_v3_sub(b, a), e1 = px_v3_sub(v[1], v[0]), e2 = px_v3_sub(v[2], v[0]);
+  px_vec3_t pv = px_v3_cross(d, e2);
+  double det = px_v3_dot(e1, pv);
+  if (fabs(det) < 1e-300)
+    return 0;
+  px_vec3_t tv = px_v3_sub(a, v[0]);
+  double u = px_v3_dot(tv, pv) / det;
+  if (u < 0.0 || u > 1.0)
+    return 0;
+  px_vec3_t qv = px_v3_cross(tv, e1);
+  double w = px_v3_dot(d, qv) / det, t = px_v3_dot(e2, qv) / det;
+  return w >= 0.0 && u + w <= 1.0 && t > 0.0 && t < 1.0;
+}
+
+/* Whether triangle v meets primitive q: for a polygon, an edge of either crosses the other; for a
+ * sphere, its surface comes nearer the triangle than the radius while not every corner lies
+ * inside; for a plane, corners on both sides. */
+static int triangle_meets(const rt_scene_t *s, int q, const px_vec3_t v[3]) {
+  const rt_prim_t *pr = &s->prim[q];
+  if (pr->kind == RT_PRIM_POLYGON) { /* all on one side of its plane (touching at most): apart */
+    double d[3], scale = 0.0;
+    for (int i = 0; i < 3; i++) {
+      d[i] = px_v3_dot(pr->polygon.n, v[i]) - pr->polygon.d;
+      scale = fmax(scale, fabs(px_v3_dot(pr->polygon.n, v[i])) + fabs(pr->polygon.d));
+    }
+    double eps = 1e-9 * (1.0 + scale);
+    if ((d[0] >= -eps && d[1] >= -eps && d[2] >= -eps) ||
+        (d[0] <= eps && d[1] <= eps && d[2] <= eps))
+      return 0;
+  }
+  for (int i = 0; i < 3; i++)
+    if (pr->kind != RT_PRIM_PLANE && segment_meets(s, q, v[i], v[(i + 1) % 3]))
+      return 1;
+  if (pr->kind == RT_PRIM_PLANE) {
+    int pos = 0, neg = 0;
+    for (int i = 0; i < 3; i++) {
+      double d = px_v3_dot(pr->plane.n, px_v3_sub(v[i], pr->plane.p));
+      pos |= d > 0.0;
+      neg |= d < 0.0;
+    }
+    return pos && neg;
+  }
+  if (pr->kind == RT_PRIM_POLYGON) {
+    const rt_polygon_t *pg = &pr->polygon;
+    const px_vec3_t *pv = s->vertex + pg->first;
+    for (int i = 0; i < pg->count; i++)
+      if (segment_crosses_triangle(pv[i], pv[(i + 1) % pg->count], v))
+        return 1;
+    return 0;
+  }
+  /* a sphere: the triangle's nearest point to the centre, by its plane and its edges */
+  const rt_sphere_t *sp = &pr->sphere;
+  int inside = 1;
+  for (int i = 0; i < 3; i++)
+    inside &= px_v3_norm(px_v3_sub(v[i], sp->c)) < sp->r;
+  if (inside)
+    return 0;
+  px_vec3_t n = px_v3_cross(px_v3_sub(v[1], v[0]), px_v3_sub(v[2], v[0]));
+  double nn = px_v3_norm(n);
+  if (nn > 0.0) {
+    n = px_v3_scale(n, 1.0 / nn);
+    px_vec3_t c = px_v3_axpy(-px_v3_dot(n, px_v3_sub(sp->c, v[0])), n, sp->c);
+    if (fabs(px_v3_dot(n, px_v3_sub(sp->c, v[0]))) < sp->r) {
+      int in = 1; /* c inside the triangle: same side of every edge */
+      for (int i = 0; i < 3; i++)
+        in &= px_v3_dot(px_v3_cross(px_v3_sub(v[(i + 1) % 3], v[i]), px_v3_sub(c, v[i])), n) >= 0.0;
+      if (in)
+        return 1;
+    }
+  }
+  return 0; /* an edge crossing the sphere was found above */
+}
+
+static int boxes_overlap(const double alo[3], const double ahi[3], px_vec3_t blo, px_vec3_t bhi) {
+  return alo[0] <= bhi.x && ahi[0] >= blo.x && alo[1] <= bhi.y && ahi[1] >= blo.y &&
+         alo[2] <= bhi.z && ahi[2] >= blo.z;
+}
+
+/* A primitive other than the hit's and the one the rays leave that lies between the axial ray
+ * and the model's ray at an end (origin o, point p), or -1: the two triangles of the band they
+ * span, its corners the origins and the points, tested against every primitive in the BVH
+ * leaves whose boxes meet theirs, and the planes. With it, a pencil spread over more than
+ * WP_SPREAD_PIXELS need not be cut where nothing lies between its ends (a thin slit in front of a
+ * screen does, which the ends alone do not see). */
+static int wedge_blocker(const wp_run_t *R, const wp_hit_t *H, px_vec3_t o, px_vec3_t p) {
+  const rt_scene_t *s = R->s;
+  const wp_t *w = H->w;
+  px_vec3_t tri[2][3] = {{w->ray.o, o, p}, {w->ray.o, p, H->hit.p}};
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; a++) {
+    lo[a] = INFINITY;
+    hi[a] = -INFINITY;
+  }
+  for (int t = 0; t < 2; t++)
+    for (int i = 0; i < 3; i++)
+      for (int a = 0; a < 3; a++) {
+        lo[a] = fmin(lo[a], px_v3_at(tri[t][i], a));
+        hi[a] = fmax(hi[a], px_v3_at(tri[t][i], a));
+      }
+  int skip0 = H->hit.prim, skip1 = w->from_prim;
+  for (int u = 0; u < s->nunbounded; u++) {
+    int q = s->unbounded[u];
+    if (q != skip0 && q != skip1 && (triangle_meets(s, q, tri[0]) || triangle_meets(s, q, tri[1])))
+      return q;
+  }
+  const struct rt_bvh *b = s->bvh;
+  if (!b || b->nnode == 0)
+    return -1;
+  int stack[2 * RT_BVH_MAX_DEPTH + 2], sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const rt_bvh_node_t *nd = &b->node[stack[--sp]];
+    if (!boxes_overlap(lo, hi, px_vec3(nd->lo[0], nd->lo[1], nd->lo[2]),
+                       px_vec3(nd->hi[0], nd->hi[1], nd->hi[2])))
+      continue;
+    if (nd->count == 0) {
+      stack[sp++] = nd->start;
+      stack[sp++] = (int)(nd - b->node) + 1;
+      continue;
+    }
+    for (int i = nd->start; i < nd->start + nd->count; i++) { /* the planes' test rejects most */
+      int q = b->order[i];
+      if (q != skip0 && q != skip1 &&
+          (triangle_meets(s, q, tri[0]) || triangle_meets(s, q, tri[1])))
+        return q;
+    }
+  }
+  return -1;
+}
+
+/* Whether the direct term at the model's point p (ray r, facing normal me) is within
+ * WP_LIGHT_TOL of the axial hit's, relative to the larger plus 1/1024: the axial's stands for the
+ * whole interval, so a shadow edge or a highlight between the ends needs a cut. */
+static int light_agrees(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, px_vec3_t p,
+                        px_vec3_t me) {
+  rt_surface_t sf = *H->sf;
+  sf.hit.p = p;
+  sf.hit.n = px_v3_scale(me, H->side);
+  sf.nf = me;
+  rt_rgb_t l = rt_shade_direct(R->s, R->plan, &sf, r, &R->inner), c = H->direct;
+  double d = fmax(fabs(l.r - c.r), fmax(fabs(l.g - c.g), fabs(l.b - c.b)));
+  return d <= WP_LIGHT_TOL * fmax(rt_rgb_max(l), rt_rgb_max(c)) + 1.0 / 1024.0;
+}
+
 /* The geometric part of check(): the model's ray r meets the hit's primitive from the same side,
  * nothing nearer (lin: a scene search, *occ set to what it meets; else only *occ), in the same
- * square; *p and *me its exact point and facing normal there. 0 or check()'s code. */
+ * square; *p and *me its exact point and facing normal there. 0 or check()'s code. What lies
+ * between the axial ray and the end's is wedge_blocker()'s. */
 static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int lin, int *occ,
                  px_vec3_t *p, px_vec3_t *me) {
   const rt_scene_t *s = R->s;
@@ -251,8 +435,6 @@ static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *o
   double tol = R->plan->spectral_tol;
   double eps_d = WP_PIXELS * R->plan->pixel_angle, eps_p = eps_d * (w->dist + H->hit.t);
   int fail = 0;
-  if (lin && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS / WP_PIXELS * eps_p)
-    fail = WP_SPREAD;
   if (H->refract) {
     double lambda = lambda_of(&R->plan->wave, u), n1, n2, dn;
     index_du(R, w->inside, u, lambda, &n1, &dn);
@@ -277,6 +459,12 @@ static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *o
     if (too_far(o, wp_unit(px_v3_axpy(h, H->ddr, H->dr)), px_v3_norm(H->ddr) * fabs(h), tol, eps_d))
       fail = WP_LINEAR;
   }
+  /* over a pixel apart: something could lie between the ends (a concave polygon's own edge, any
+   * other surface in the band they span), and the direct term at the end must agree */
+  if (!fail && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS / WP_PIXELS * eps_p &&
+      (concave(R->s, H->hit.prim) || wedge_blocker(R, H, r.o, p) >= 0 ||
+       !light_agrees(R, H, &r, p, me)))
+    fail = WP_SPREAD;
   return fail;
 }
 
@@ -414,6 +602,8 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
     double deta = (dn1 * n2 - n1 * dn2) / (n2 * n2);
     H.tir = !wp_refract_du(w->ray.d, w->d_d, H.m, dm, n1 / n2, deta, &H.dt, &H.ddt, &cos_t);
   }
+  H.sf = &sf;
+  H.direct = rt_shade_direct(s, plan, &sf, &w->ray, &R->inner);
   /* the ends */
   rt_rgb_t c = rt_rgb(0, 0, 0);
   for (int e = 0; e < 2 && w->weight >= WP_MIN_WEIGHT; e++) {
@@ -429,7 +619,7 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   }
   /* this pencil: direct light at the axial hit, then the children */
   rt_rgb_t W = weight_of(&plan->wave, w->ua, w->ub);
-  c = rt_rgb_add(c, rt_rgb_mul(W, rt_shade_direct(s, plan, &sf, &w->ray, &R->inner)));
+  c = rt_rgb_add(c, rt_rgb_mul(W, H.direct));
   if (!more)
     return c;
   rt_rgb_t wr = rt_rgb(0, 0, 0), wt = rt_rgb(0, 0, 0);
@@ -454,6 +644,7 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
     ch.d_d = H.ddr;
     ch.kind = RT_RAY_REFLECT;
     ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
+    ch.from_prim = hit.prim;
     ch.dist = w->dist + hit.t;
     ch.weight = w->weight * rt_rgb_max(wr);
     count(R, RT_RAY_REFLECT);
@@ -467,6 +658,7 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
     ch.d_d = H.ddt;
     ch.kind = RT_RAY_REFRACT;
     ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
+    ch.from_prim = hit.prim;
     ch.dist = w->dist + hit.t;
     ch.weight = w->weight * rt_rgb_max(wt);
     count(R, RT_RAY_REFRACT);
@@ -546,6 +738,7 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
             .ub = ub,
             .uc = uc,
             .kind = RT_RAY_REFRACT,
+            .from_prim = sf->hit.prim,
             .weight = rt_rgb_max(wt),
             .dist = px_v3_norm(px_v3_sub(sf->hit.p, R->s->camera.eye))};
   if (!R->trace)
