@@ -251,7 +251,7 @@ int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol) {
   const rt_material_t *m = used(s, is_dispersive);
   if (!m || !(tol > 0.0 && tol < 1.0))
     return -1;
-  rt_wavescale_t *w = &p->wave;
+  rt_wavescale_t wave, *w = &wave; /* into the plan once complete: unchanged on failure */
   memset(w, 0, sizeof *w);
   w->scaled =
       one_glass(s, m) && px_wavescale_make(&m->index, PX_LAMBDA_D, &w->scale) == PX_OK ? 1 : 0;
@@ -270,6 +270,7 @@ int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol) {
     w->cum[i] = i ? rt_rgb_add(w->cum[i - 1], rt_rgb(wt[i - 1][0], wt[i - 1][1], wt[i - 1][2]))
                   : rt_rgb(0, 0, 0);
   }
+  p->wave = wave;
   for (int i = 0; i < n; i++) {
     p->bin_lambda[i] = centre[i];
     p->bin_weight[i] = rt_rgb(wt[i][0], wt[i][1], wt[i][2]);

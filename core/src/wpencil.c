@@ -14,20 +14,22 @@
  *     planes and polygons (xi_lambda of Eq. 13; tests/test_wpencil.c checks it against
  *     differences of Snell's law);
  *   reflection d' = d - 2 (d.m) m and its derivative.
- * At each hit the model's rays at the interval's ends are checked without a scene search: they
- * must meet the hit's primitive (inside the polygon, on the sphere) from the same side, in the
- * same checker square, with the same total internal reflection, and their exact points and
- * children's directions (Snell's law at the end's wavelength) must be within tol times the
- * dispersive shift the model predicts there. Where an end fails, the interval is cut where the
+ * At each hit the model's rays at the interval's ends are checked, without tracing them on: they
+ * must meet the hit's primitive (inside the polygon, on the sphere) from the same side with
+ * nothing nearer (a scene search up to it), in the same checker square, with the same total
+ * internal reflection, and their exact points and children's directions (Snell's law at the
+ * end's wavelength) must be within tol times the dispersive shift the model predicts there. Where
+ * the ends land over a pixel apart, nothing may lie in the band between them and the direct term
+ * must agree (wedge_blocker(), light_agrees()). Where an end fails, the interval is cut where the
  * check turns (bisection on the model) or halfway, and the part cut off is traced as a pencil of
  * its own from the same origin, its axial ray the model's ray at its centre: the dispersion image
  * solid of [P89] 3.2.2 clipped against the surface's edges. A pencil's radiance is the axial
  * ray's times the integral of the colour weights over its interval ([P89] 3.2.3's
  * R = int t r L dlambda, the plan's 1-nm table), so that colour changes smoothly across a band.
  *
- * Not checked: an object that hides the hit from the model's rays at the ends (no scene search for
- * them), and the neighbours of a ray that meets nothing. The subtree is not recorded in the
- * caller's ray tree; its rays are counted through the tracer's count().
+ * Not checked: a shadow or highlight between the ends that the direct term at the ends does not
+ * show. The subtree is not recorded in the caller's ray tree; its rays (the scene searches at the
+ * ends included) are counted through the tracer's count().
  */
 #include <math.h>
 
@@ -38,8 +40,12 @@
 #include "shade_impl.h"
 #include "wpencil_math.h"
 
-/** Pencils one white ray's spectrum may be cut into. */
+/** Pencils one white ray's spectrum may be cut into below its refraction. */
 #define WP_BUDGET 256
+/** Parts the white ray's refraction itself may be cut into (total internal reflection, the
+ *  linear model), a budget of its own: rt_shade_spectral_mirror() cuts as rt_shade_spectral()
+ *  does, whatever the latter's tracing spent. */
+#define WP_WHITE_BUDGET 64
 /** Narrowest interval cut off, as a fraction of the visible range. */
 #define WP_MIN_FRACTION (1.0 / 1024.0)
 /** Bisection steps for a cut. */
@@ -47,9 +53,8 @@
 /** An error of the model seen under this many pixels from the eye passes the check whatever the
  *  relative tolerance (rt_plan_t.pixel_angle). */
 #define WP_PIXELS 0.25
-/** A pencil whose spectrum spreads over more than this many pixels (seen from the eye) on a
- *  surface is halved: the ends are checked, not what lies between them, so that a surface or
- *  square narrower than this could hide between the ends. */
+/** Where a pencil's ends land more than this many pixels apart (seen from the eye) on a surface,
+ *  what lies between them is checked too (wedge_blocker(), light_agrees(), a concave polygon). */
 #define WP_SPREAD_PIXELS 1.0
 /** Largest difference of the direct term at a pencil's end from its axial hit's, relative. */
 #ifndef WP_LIGHT_TOL
@@ -77,7 +82,7 @@ typedef struct {
   const rt_plan_t *plan;
   const rt_tracer_t *tr; /* the caller's: count() */
   rt_tracer_t inner;     /* shadows of the pencils' hits, traced here */
-  int budget;
+  int budget, wbudget;   /* cuts left below the refraction, and of the refraction itself */
   double min_width;
   /* a material whose index is the scale's glass (u = Lambda), or NULL; every dispersive
    * transparent material shares its model (rt_plan_spectral_pencils) */
@@ -214,9 +219,12 @@ enum {
   WP_SPREAD = 5  /* (only with lin) the spectrum spreads over more than WP_SPREAD_PIXELS */
 };
 
-/* The model's ray at u against the axial hit H. lin (at an end): a scene search for what hides the
- * hit from it, *occ set to that primitive, and the model's error; else (bisecting) only the
- * primitive *occ (>= 0) hides. */
+/* Tell the caller's tracer of a ray or an event (rt_tracer_t.count()). */
+static void count(const wp_run_t *R, int what) {
+  if (R->tr && R->tr->count)
+    R->tr->count(R->tr->ctx, what);
+}
+
 /* ---- what lies between the ends ----------------------------------------------------------- */
 
 /* Whether primitive k is a concave polygon (turning both ways round its normal). */
@@ -405,6 +413,8 @@ static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int li
   rt_ray_t q = *r;
   q.tmax = t * (1.0 - 1e-9);
   rt_hit_t h2;
+  if (lin)
+    count(R, H->w->kind);
   if (lin && rt_intersect(s, &q, &h2) && h2.prim != H->hit.prim) {
     *occ = h2.prim;
     return WP_OFF;
@@ -424,6 +434,9 @@ static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int li
   return 0;
 }
 
+/* The model's ray at u against the axial hit H. lin (at an end): a scene search for what hides the
+ * hit from it, *occ set to that primitive, the model's error, and what lies between; else
+ * (bisecting) only the primitive *occ (>= 0) hides. */
 static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *occ) {
   const wp_t *w = H->w;
   rt_ray_t r = model_ray(w, u);
@@ -483,11 +496,6 @@ static double bisect(const wp_run_t *R, const wp_hit_t *H, double u_ok, double u
 
 /* ---- tracing ------------------------------------------------------------------------------- */
 
-static void count(const wp_run_t *R, int what) {
-  if (R->tr && R->tr->count)
-    R->tr->count(R->tr->ctx, what);
-}
-
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
   wp_run_t *R = ctx;
   count(R, RT_RAY_SHADOW);
@@ -507,6 +515,7 @@ static wp_t recentre(const wp_run_t *R, const wp_t *w, double ua, double ub) {
   p.ub = ub;
   p.uc = 0.5 * (ua + ub);
   p.ray = model_ray(w, p.uc);
+  p.d_d = px_v3_axpy(-px_v3_dot(p.ray.d, w->d_d), p.ray.d, w->d_d); /* across the new axis */
   double lambda = lambda_of(&R->plan->wave, p.uc), dn;
   p.ray.lambda = (float)lambda;
   index_du(R, w->inside, p.uc, lambda, &p.ray.ior, &dn);
@@ -545,7 +554,10 @@ static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
       double ue = e ? w->ub : w->ua, a = w->uc, b = ue, t;
       rt_ray_t r = model_ray(w, ue);
       rt_hit_t h;
-      if (ue == w->uc || !rt_intersect(R->s, &r, &h))
+      if (ue == w->uc)
+        break;
+      count(R, w->kind);
+      if (!rt_intersect(R->s, &r, &h))
         break;
       for (int k = 0; k < WP_BISECT && fabs(b - a) > 0.125 * R->min_width; k++) {
         double mid = 0.5 * (a + b);
@@ -669,16 +681,17 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
 
 /* ---- where a white ray refracts ------------------------------------------------------------ */
 
-/* Snell's law for the white ray at u: 1 and the direction, 0 on total internal reflection. */
+/* Snell's law for the white ray at u: 1 and the direction, 0 on total internal reflection; the
+ * indices on both sides in n[0], n[1]. */
 static int white_at(const wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray,
                     const rt_material_t *inside, const rt_material_t *next, double u,
-                    px_vec3_t *dir, px_vec3_t *ddir, double *n2, double *cos_t) {
-  double lambda = lambda_of(&R->plan->wave, u), n1, dn1, dn2;
-  index_du(R, inside, u, lambda, &n1, &dn1);
-  index_du(R, next, u, lambda, n2, &dn2);
+                    px_vec3_t *dir, px_vec3_t *ddir, double n[2], double *cos_t) {
+  double lambda = lambda_of(&R->plan->wave, u), dn1, dn2;
+  index_du(R, inside, u, lambda, &n[0], &dn1);
+  index_du(R, next, u, lambda, &n[1], &dn2);
   px_vec3_t zero = {0, 0, 0};
-  return wp_refract_du(ray->d, zero, sf->nf, zero, n1 / *n2, (dn1 * *n2 - n1 * dn2) / (*n2 * *n2),
-                       dir, ddir, cos_t);
+  return wp_refract_du(ray->d, zero, sf->nf, zero, n[0] / n[1],
+                       (dn1 * n[1] - n[0] * dn2) / (n[1] * n[1]), dir, ddir, cos_t);
 }
 
 static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, double ua,
@@ -686,19 +699,19 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
   const rt_plan_t *plan = R->plan;
   const rt_material_t *mat = sf->mat;
   const rt_material_t *next = sf->entering ? mat : NULL, *inside = sf->entering ? NULL : mat;
-  double uc = 0.5 * (ua + ub), n2, ct;
+  double uc = 0.5 * (ua + ub), n[2], ct;
   px_vec3_t dt, ddt;
-  int ok = white_at(R, sf, ray, inside, next, uc, &dt, &ddt, &n2, &ct);
+  int ok = white_at(R, sf, ray, inside, next, uc, &dt, &ddt, n, &ct);
   double cut = NAN;
   for (int e = 0; e < 2 && isnan(cut); e++) {
-    double ue = e ? ub : ua, n2e, cte;
+    double ue = e ? ub : ua, ne[2], cte;
     px_vec3_t de, dde;
-    int oke = white_at(R, sf, ray, inside, next, ue, &de, &dde, &n2e, &cte);
+    int oke = white_at(R, sf, ray, inside, next, ue, &de, &dde, ne, &cte);
     if (oke != ok) { /* total internal reflection begins inside: find where */
       double a = uc, b = ue;
       for (int k = 0; k < WP_BISECT && fabs(b - a) > 0.125 * R->min_width; k++) {
         double mid = 0.5 * (a + b);
-        if (white_at(R, sf, ray, inside, next, mid, &de, &dde, &n2e, &cte) == ok)
+        if (white_at(R, sf, ray, inside, next, mid, &de, &dde, ne, &cte) == ok)
           a = mid;
         else
           b = mid;
@@ -710,11 +723,12 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
       cut = uc;
     }
   }
-  if (!isnan(cut) && ub - ua > 2.0 * R->min_width && R->budget > 0) {
+  if (!isnan(cut) && ub - ua > 2.0 * R->min_width && R->wbudget > 0) {
     cut = fmin(fmax(cut, ua + R->min_width), ub - R->min_width);
-    R->budget--;
-    return rt_rgb_add(white(R, sf, ray, ua, cut, depth, wr, all_tir),
-                      white(R, sf, ray, cut, ub, depth, wr, all_tir));
+    R->wbudget--;
+    R->shows = 1;
+    rt_rgb_t lo = white(R, sf, ray, ua, cut, depth, wr, all_tir); /* in this order: the budget */
+    return rt_rgb_add(lo, white(R, sf, ray, cut, ub, depth, wr, all_tir));
   }
   rt_rgb_t W = weight_of(&plan->wave, ua, ub);
   rt_rgb_t wt = rt_rgb_scale(mat->transmittance, mat->kt);
@@ -724,13 +738,13 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
   }
   *all_tir = 0;
   if (mat->fresnel) {
-    double f = rt_fresnel(-px_v3_dot(sf->nf, ray->d), ct, ray->ior, n2);
+    double f = rt_fresnel(-px_v3_dot(sf->nf, ray->d), ct, n[0], n[1]);
     *wr = rt_rgb_add(*wr, rt_rgb_scale(W, mat->kt * f));
     wt = rt_rgb_scale(wt, 1.0 - f);
   }
   int skip = R->s->prim[sf->hit.prim].kind != RT_PRIM_SPHERE ? sf->hit.prim : -1;
   double lambda = lambda_of(&plan->wave, uc);
-  wp_t w = {.ray = {rt__offset_origin(sf, -1.0), dt, 0.0, INFINITY, n2, skip, (float)lambda},
+  wp_t w = {.ray = {rt__offset_origin(sf, -1.0), dt, 0.0, INFINITY, n[1], skip, (float)lambda},
             .inside = next,
             .d_o = {0, 0, 0},
             .d_d = ddt,
@@ -752,10 +766,15 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
                         const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
                         int *all_tir) {
   const rt_wavescale_t *w = &plan->wave;
-  wp_run_t R = {s,         plan,
-                tr,        {NULL, shadow_cb, NULL, NULL, NULL, NULL},
-                WP_BUDGET, WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),
-                NULL,      tr != NULL,
+  wp_run_t R = {s,
+                plan,
+                tr,
+                {NULL, shadow_cb, NULL, NULL, NULL, NULL},
+                WP_BUDGET,
+                WP_WHITE_BUDGET,
+                WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),
+                NULL,
+                tr != NULL,
                 0};
   if (tr && tr->occluded)
     R.inner.occluded = occluded_cb;

@@ -294,9 +294,9 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
 
 /* Node k's light refracted at dispersive glass under spectral pencils (path.h's
  * pt_node_t.spectral), traced from the sample's hit by rt_shade_spectral() and weighted by w;
- * counted with the node's own direct term, so that ray interpolation interpolates it where it is
- * linear over a lattice cell and shades it per sample where not, as a direct term. Black for other
- * nodes. */
+ * black for other nodes. An exact child, shaded per sample (the planner's has_exact_children()),
+ * never interpolated: the tree has no refracted child here, so neither the corners' trees nor a
+ * lattice cell's brightness test alone could see an edge behind the glass. */
 static rt_rgb_t spectral(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
                          rt_rgb_t w) {
   const pt_node_t *n = &E->C->paths.node[k];
@@ -318,10 +318,13 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   rt_child_t ch[2];
   int nc = -1;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
-  if (n->spectral && rt_shade_spectral_at(E->C->plan, sf->mat, n->depth))
-    /* the tree has no refracted child here: its light is part of the node's own (spectral());
-     * the white mirror child as any other */
+  if (n->spectral && rt_shade_spectral_at(E->C->plan, sf->mat, n->depth)) {
+    /* the tree has no refracted child here: its light by spectral pencils, an exact child; the
+     * white mirror child as any other */
     nc = rt_shade_spectral_mirror(E->C->s, E->C->plan, sf, ray, n->depth, &ch[0]);
+    if ((E->shade || E->record_sub) && !E->lattice)
+      sum = spectral(E, k, sf, ray, w);
+  }
   if (nc < 0 && only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
     /* both children are in the domain's tree, so the sample cannot have one it lacks: when only
      * one of them is traced exactly, only that one is built (the other is interpolated) */
@@ -440,7 +443,6 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     } else {
       l = rt_rgb_mul(w, rt_shade_direct(C->s, C->plan, &sf, &ray, &tr));
     }
-    l = rt_rgb_add(l, spectral(E, k, &sf, &ray, w));
     if (g)
       g->l = l;
   }
@@ -484,7 +486,6 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
   if (direct) {
     rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb, NULL};
     sum = rt_rgb_mul(w, rt_shade_direct(E->C->s, E->C->plan, &sf, &ray, &tr));
-    sum = rt_rgb_add(sum, spectral(E, k, &sf, &ray, w));
   }
   if (exact_children)
     sum = rt_rgb_add(sum, children(E, k, &sf, &ray, w, 1));

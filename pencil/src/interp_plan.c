@@ -260,7 +260,7 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
 /* Whether a child of node n is traced exactly per sample (the domain's tree marks it exact, or
  * this lattice cell's plan traces it below an edge). */
 static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
-  int exact_children = 0;
+  int exact_children = n->spectral; /* spectral pencils from each sample's hit (eval.c) */
   for (int c = 0; c < 2; c++)
     exact_children |= n->child[c] >= 0 && (C->paths.node[n->child[c]].mode == PT_NODE_EXACT ||
                                            C->lattice.plan.exact_subtree[n->child[c]]);

@@ -38,7 +38,9 @@ static const rn_option_t options_[] = {
      "traces one spectral pencil instead of the fan: an axial ray and its\n"
      "wavelength column (1989 Eq. 13), split where the spectrum parts"},
     {"--bins", RN_OPT_INT, offsetof(exact_options_t, bins), 0, RT_MIN_BINS, RT_MAX_BINS, 0, NULL,
-     "N", "wavelength bins over 380-780 nm (default: the scene's spectral_bins, 40)"},
+     "N",
+     "wavelength bins over 380-780 nm for fan and primary (default: the scene's\n"
+     "spectral_bins, 40)"},
     {"--spectral-tol", RN_OPT_DOUBLE, offsetof(exact_options_t, tol), 0, 0, 0.5, 1, NULL, "T",
      "--wavelengths pencil: the linear model's largest error at a pencil's ends,\n"
      "relative to the dispersive shift it predicts there (default 0.1)"},
@@ -78,8 +80,10 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
   o.per_wavelength = eo->wavelengths == WL_PRIMARY;
-  rt_plan_t mine; /* a plan not made by rn_plan_make(): --wavelengths off still holds */
-  if (eo->wavelengths == WL_OFF && rt_plan_has(plan, RT_EFFECT_DISPERSION)) {
+  rt_plan_t mine; /* a plan not made by rn_plan_make(): --wavelengths off and pencil still hold */
+  if (rt_plan_has(plan, RT_EFFECT_DISPERSION) &&
+      (eo->wavelengths == WL_OFF ||
+       (eo->wavelengths == WL_PENCIL && plan->spectral != RT_SPECTRAL_PENCIL))) {
     mine = *plan;
     adapt_plan(&mine, s, options);
     plan = &mine;
