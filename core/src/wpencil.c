@@ -216,7 +216,7 @@ enum {
   WP_SQUARE = 2, /* another checker square */
   WP_TIR = 3,    /* the other side of total internal reflection */
   WP_LINEAR = 4, /* (only with lin) the model errs by more than the tolerance */
-  WP_SPREAD = 5  /* (only with lin) the spectrum spreads over more than WP_SPREAD_PIXELS */
+  WP_SPREAD = 5  /* (only with lin) over WP_SPREAD_PIXELS apart, with something between the ends */
 };
 
 /* Tell the caller's tracer of a ray or an event (rt_tracer_t.count()). */
