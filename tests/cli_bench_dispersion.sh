@@ -56,12 +56,14 @@ for b in 9 40 100; do # the prism's spectrum for the notebook: steps or smooth
   $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --bins $b --no-aux \
     -o "$out/prism-$b.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism with $b bins"
 done
-check "the prism's band: violet to red over rows, separate slit images at 9 bins, smooth at 100" "$py - '$out' <<'PY'
+$pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --wavelengths pencil --no-aux \
+  -o "$out/prism-pencil.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism by spectral pencils"
+check "the prism's band: violet to red over rows, separate slit images at 9 bins, smooth at 100 and by spectral pencils" "$py - '$out' <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 def col(b):
     p = oiio.ImageBuf(f'{sys.argv[1]}/prism-{b}.exr').get_pixels(oiio.FLOAT)[:, :, :3]
     return p[:, p.shape[1] // 2, :]
-rows = {b: col(b) for b in (9, 40, 100)}
+rows = {b: col(b) for b in (9, 40, 100, 'pencil')}
 for b, c in rows.items():
     lit = c.max(axis=1) > 1e-3
     assert lit.sum() >= 5, (b, lit.sum())          # a band, not a line
@@ -73,6 +75,7 @@ def gaps(c):  # dark pixels inside the band: the slit's separate images with few
     lit = np.nonzero(lum > 0.05 * lum.max())[0]
     return int((lum[lit[0]:lit[-1] + 1] < 0.05 * lum.max()).sum())
 assert gaps(rows[9]) >= 2 and gaps(rows[100]) == 0, (gaps(rows[9]), gaps(rows[100]))
+assert gaps(rows['pencil']) == 0, gaps(rows['pencil'])  # spectral pencils: no bins, no steps
 PY"
 $pencil bench dispersion --reference-bins 4 >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "--reference-bins 4: exit 2 naming the option" "[ $rc -eq 2 ] && grep -q -- '--reference-bins' '$tmp/e' && [ ! -s '$tmp/o' ]"
