@@ -574,6 +574,33 @@ static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
   return rt_rgb_add(c, rt_rgb_mul(weight_of(&R->plan->wave, w->ua, w->ub), R->s->background));
 }
 
+/* The child of pencil w at its hit H (sf) on side `side` of the surface (+1 reflected, -1
+ * refracted), direction d and its derivative dd, in medium `inside` of index n: traced as a pencil
+ * over w's interval and weighted by wc. */
+static rt_rgb_t child(wp_run_t *R, const wp_t *w, const rt_surface_t *sf, const wp_hit_t *H,
+                      double side, px_vec3_t d, px_vec3_t dd, double n, const rt_material_t *inside,
+                      rt_ray_kind_t kind, rt_rgb_t wc, int depth) {
+  const rt_prim_t *pr = &R->s->prim[H->hit.prim];
+  wp_t ch = *w;
+  ch.ray = (rt_ray_t){rt__offset_origin(sf, side),
+                      d,
+                      0.0,
+                      INFINITY,
+                      n,
+                      pr->kind != RT_PRIM_SPHERE ? H->hit.prim : -1,
+                      w->ray.lambda};
+  ch.inside = inside;
+  ch.d_o = H->dp;
+  ch.d_d = dd;
+  ch.kind = kind;
+  ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
+  ch.from_prim = H->hit.prim;
+  ch.dist = w->dist + H->hit.t;
+  ch.weight = w->weight * rt_rgb_max(wc);
+  count(R, kind);
+  return rt_rgb_mul(wc, trace(R, &ch, depth + 1));
+}
+
 static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   const rt_scene_t *s = R->s;
   const rt_plan_t *plan = R->plan;
@@ -648,34 +675,12 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
       wt = rt_rgb_scale(wt, 1.0 - f);
     }
   }
-  int skip = pr->kind != RT_PRIM_SPHERE ? hit.prim : -1;
-  if (rt_rgb_max(wr) > 0.0) {
-    wp_t ch = *w;
-    ch.ray = (rt_ray_t){rt__offset_origin(&sf, 1.0), H.dr, 0.0, INFINITY, n1, skip, w->ray.lambda};
-    ch.d_o = H.dp;
-    ch.d_d = H.ddr;
-    ch.kind = RT_RAY_REFLECT;
-    ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
-    ch.from_prim = hit.prim;
-    ch.dist = w->dist + hit.t;
-    ch.weight = w->weight * rt_rgb_max(wr);
-    count(R, RT_RAY_REFLECT);
-    c = rt_rgb_add(c, rt_rgb_mul(wr, trace(R, &ch, depth + 1)));
-  }
-  if (rt_rgb_max(wt) > 0.0) {
-    wp_t ch = *w;
-    ch.ray = (rt_ray_t){rt__offset_origin(&sf, -1.0), H.dt, 0.0, INFINITY, n2, skip, w->ray.lambda};
-    ch.inside = H.next;
-    ch.d_o = H.dp;
-    ch.d_d = H.ddt;
-    ch.kind = RT_RAY_REFRACT;
-    ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
-    ch.from_prim = hit.prim;
-    ch.dist = w->dist + hit.t;
-    ch.weight = w->weight * rt_rgb_max(wt);
-    count(R, RT_RAY_REFRACT);
-    c = rt_rgb_add(c, rt_rgb_mul(wt, trace(R, &ch, depth + 1)));
-  }
+  if (rt_rgb_max(wr) > 0.0)
+    c = rt_rgb_add(
+        c, child(R, w, &sf, &H, 1.0, H.dr, H.ddr, n1, w->inside, RT_RAY_REFLECT, wr, depth));
+  if (rt_rgb_max(wt) > 0.0)
+    c = rt_rgb_add(c,
+                   child(R, w, &sf, &H, -1.0, H.dt, H.ddt, n2, H.next, RT_RAY_REFRACT, wt, depth));
   return c;
 }
 
