@@ -57,9 +57,7 @@
  *  what lies between them is checked too (wedge_blocker(), light_agrees(), a concave polygon). */
 #define WP_SPREAD_PIXELS 1.0
 /** Largest difference of the direct term at a pencil's end from its axial hit's, relative. */
-#ifndef WP_LIGHT_TOL
 #define WP_LIGHT_TOL 0.02
-#endif
 /** A pencil whose weight below the white ray's hit is under this is not cut: its colour can be
  *  wrong by at most this share of the radiance it carries. */
 #define WP_MIN_WEIGHT 0.05

@@ -292,23 +292,6 @@ static void node_surface(const pt_eval_t *E, int k, px_vec3_t hit, px_vec3_t d, 
 
 static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *from);
 
-/* Node k's light refracted at dispersive glass under spectral pencils (path.h's
- * pt_node_t.spectral), traced from the sample's hit by rt_shade_spectral() and weighted by w;
- * black for other nodes. An exact child, shaded per sample (the planner's has_exact_children()),
- * never interpolated: the tree has no refracted child here, so neither the corners' trees nor a
- * lattice cell's brightness test alone could see an edge behind the glass. */
-static rt_rgb_t spectral(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_ray_t *ray,
-                         rt_rgb_t w) {
-  const pt_node_t *n = &E->C->paths.node[k];
-  if (!n->spectral || !rt_shade_spectral_at(E->C->plan, sf->mat, n->depth))
-    return rt_rgb(0, 0, 0);
-  rt_tracer_t ex = xr_exact_tracer(&E->C->ex);
-  rt_child_t mirror;
-  int nm;
-  return rt_rgb_mul(w,
-                    rt_shade_spectral(E->C->s, E->C->plan, sf, ray, n->depth, &ex, &mirror, &nm));
-}
-
 /* The children of node k at surface sf: those the domain's paths cover by eval_node(), the others
  * by the exact tracer (geometry-only evaluations just mark them); `only_exact` skips the former
  * (the caller interpolates them). */
@@ -319,11 +302,18 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   int nc = -1;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
   if (n->spectral && rt_shade_spectral_at(E->C->plan, sf->mat, n->depth)) {
-    /* the tree has no refracted child here: its light by spectral pencils, an exact child; the
-     * white mirror child as any other */
-    nc = rt_shade_spectral_mirror(E->C->s, E->C->plan, sf, ray, n->depth, &ch[0]);
-    if ((E->shade || E->record_sub) && !E->lattice)
-      sum = spectral(E, k, sf, ray, w);
+    /* Dispersive glass under spectral pencils (path.h's pt_node_t.spectral): the tree has no
+     * refracted child here. Its light is traced from the sample's hit by rt_shade_spectral(), an
+     * exact child shaded per sample (the planner's has_exact_children()), never interpolated:
+     * neither the corners' trees nor a lattice cell's brightness test alone could see an edge
+     * behind the glass. The white mirror child goes on as any other. */
+    if ((E->shade || E->record_sub) && !E->lattice) {
+      rt_tracer_t ex = xr_exact_tracer(&E->C->ex);
+      sum = rt_rgb_mul(w,
+                       rt_shade_spectral(E->C->s, E->C->plan, sf, ray, n->depth, &ex, &ch[0], &nc));
+    } else {
+      nc = rt_shade_spectral_mirror(E->C->s, E->C->plan, sf, ray, n->depth, &ch[0]);
+    }
   }
   if (nc < 0 && only_exact && n->child[0] >= 0 && n->child[1] >= 0) {
     /* both children are in the domain's tree, so the sample cannot have one it lacks: when only
