@@ -260,7 +260,7 @@ static void area_light_sums_its_mesh_points(void **state) {
   rt_surface_t sf;
   rt_shade_surface(&s, &h, &r, &sf);
   area_probe_t probe = {&s, 0, 0, 0.0};
-  rt_tracer_t tr = {probe_child, area_shadow, &probe, NULL, NULL, NULL};
+  rt_tracer_t tr = {probe_child, area_shadow, &probe, NULL, NULL, NULL, 0};
   rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
   /* the sum by hand: the light faces down (edge_u x edge_v = (0, -0.96, 0)) */
   double want = 0.0, tsum = 0.0;
@@ -329,7 +329,7 @@ static void direct_light_follows_illumination_equation(void **state) {
   rt_surface_t sf;
   rt_shade_surface(&s, &h, &r, &sf);
   probe_t probe = {0};
-  rt_tracer_t tr = {probe_child, probe_shadow, &probe, NULL, NULL, NULL};
+  rt_tracer_t tr = {probe_child, probe_shadow, &probe, NULL, NULL, NULL, 0};
   rt_rgb_t c = rt_shade_direct(&s, &plan, &sf, &r, &tr);
   double cosl = 4.0 / 5.0; /* N.L at the origin for a light at (3, 4, 0) */
   assert_close(c.r, 0.3 * 0.5 * 0.8 + 0.25 * 2 * 0.6 * 0.8 * cosl, 1e-14, 0);
@@ -409,8 +409,8 @@ static void two_materials_shaded_at_once_match_each_alone(void **state) {
       sb = sf;
       sb.mat = mat[b];
       probe_t p1 = {0}, p2 = {0};
-      rt_tracer_t t1 = {probe_child, probe_shadow, &p1, NULL, NULL, NULL};
-      rt_tracer_t t2 = {probe_child, probe_shadow, &p2, NULL, NULL, NULL};
+      rt_tracer_t t1 = {probe_child, probe_shadow, &p1, NULL, NULL, NULL, 0};
+      rt_tracer_t t2 = {probe_child, probe_shadow, &p2, NULL, NULL, NULL, 0};
       rt_rgb_t alone[2] = {rt_shade_direct(&s, &plan, &sf, &r, &t1),
                            rt_shade_direct(&s, &plan, &sb, &r, &t1)};
       rt_rgb_t both[2];

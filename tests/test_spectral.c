@@ -69,7 +69,7 @@ static void fan_children(void **state) {
   rt_shade_surface(&s, &hit, &ray, &sf);
   assert_true(sf.entering && sf.mat->kt > 0.0);
   seen_t seen = {0};
-  rt_tracer_t tr = {keep_child, lit, &seen, NULL, NULL, NULL};
+  rt_tracer_t tr = {keep_child, lit, &seen, NULL, NULL, NULL, 0};
   rt_rgb_t c = rt_shade_hit(&s, &plan, &sf, &ray, 0, &tr);
   rt_rgb_t direct = rt_shade_direct(&s, &plan, &sf, &ray, &tr);
   assert_int_equal(seen.n, plan.bins + 1);

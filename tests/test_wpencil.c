@@ -270,6 +270,51 @@ static void pencil_renderer_draws_dispersion(void **state) {
   rt_scene_free(&s);
 }
 
+/* A trace for the ray tree's shape alone (the pencil renderer's axial and corner rays: the exact
+ * tracer's halt, rt_tracer_t.shape) records the same tree as a full trace, node for node, and
+ * traces no spectral pencil; the full trace does, for the rays through the glass. */
+static void shape_only_traces_no_spectral_pencil(void **state) {
+  (void)state;
+  rt_scene_t s;
+  fig8(&s, 1, 32);
+  rt_plan_t p = rt_plan_make(&s, 1);
+  assert_int_equal(rt_plan_spectral_pencils(&p, &s, 0.1), 0);
+  rt_view_t v;
+  assert_int_equal(rt_view_make(&s.camera, &v), RT_OK);
+  rt_tree_node_t nodes[2][256];
+  unsigned long long pencils[2] = {0, 0};
+  int through = 0;
+  for (int y = 0; y < 32; y += 3)
+    for (int x = 0; x < 32; x += 3) {
+      rt_ray_t r = rt_view_ray(&v, x + 0.5, y + 0.5, s.ior);
+      rt_tree_t t[2];
+      for (int h = 0; h < 2; h++) {
+        t[h] = rt_tree_make(nodes[h], 256);
+        xr_exact_t ex = xr_exact_make(&s, &p, &t[h]);
+        ex.halt = h;
+        xr_exact_primary(&ex, &r);
+        pencils[h] += ex.stats.spectral[0];
+      }
+      assert_int_equal(t[0].n, t[1].n);
+      assert_false(t[0].overflow || t[1].overflow);
+      for (int k = 0; k < t[0].n; k++) {
+        assert_int_equal(t[0].node[k].prim, t[1].node[k].prim);
+        assert_int_equal(t[0].node[k].parent, t[1].node[k].parent);
+        assert_int_equal(t[0].node[k].kind, t[1].node[k].kind);
+        assert_true(t[0].node[k].point.x == t[1].node[k].point.x &&
+                    t[0].node[k].point.y == t[1].node[k].point.y &&
+                    t[0].node[k].lit == t[1].node[k].lit);
+      }
+      through += t[0].n > 1;
+    }
+  print_message("%d of 121 rays with children: %llu spectral pencils traced in full, %llu for the "
+                "shape\n",
+                through, pencils[0], pencils[1]);
+  assert_true(pencils[0] > 10);
+  assert_int_equal(pencils[1], 0);
+  rt_scene_free(&s);
+}
+
 /* The plan: spectral pencils replace the fan (no fan counted in the ray-tree bound: depth 6,
  * 127 nodes), on the wavelength axis Lambda of the one glass, or lambda when two glasses differ;
  * a tolerance outside (0, 1) is refused; a scene without dispersion is left as it is. */
@@ -316,6 +361,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(prism_slit_against_reference),
       cmocka_unit_test(pencil_renderer_draws_dispersion),
       cmocka_unit_test(plan_for_spectral_pencils),
+      cmocka_unit_test(shape_only_traces_no_spectral_pencil),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

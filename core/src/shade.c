@@ -401,7 +401,11 @@ static __attribute__((noinline)) rt_rgb_t pencils(const rt_scene_t *s, const rt_
                                                   int depth, const rt_tracer_t *tr) {
   rt_child_t rc;
   int n;
-  rt_rgb_t c = rt_shade_spectral(s, plan, sf, ray, depth, tr, &rc, &n);
+  rt_rgb_t c = rt_rgb(0, 0, 0);
+  if (tr->shape) /* the tree's shape: the white mirror child alone */
+    n = rt_shade_spectral_mirror(s, plan, sf, ray, depth, &rc);
+  else
+    c = rt_shade_spectral(s, plan, sf, ray, depth, tr, &rc, &n);
   if (n)
     c = rt_rgb_add(c, rt_rgb_mul(rc.weight, tr->child(tr->ctx, &rc, depth + 1)));
   return c;

@@ -772,7 +772,7 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
   wp_run_t R = {s,
                 plan,
                 tr,
-                {NULL, shadow_cb, NULL, NULL, NULL, NULL},
+                {NULL, shadow_cb, NULL, NULL, NULL, NULL, 0},
                 WP_BUDGET,
                 WP_WHITE_BUDGET,
                 WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),

@@ -418,7 +418,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
   E->cur = k;
   rt_rgb_t l = rt_rgb(0, 0, 0);
   if (E->shade) {
-    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb, NULL};
+    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb, NULL, 0};
     if (g && E->lattice && n->textured) {
       /* with the direct term of the other square's material too, for interpolation across
        * squares (one shadow query for both) */
@@ -474,7 +474,7 @@ rt_rgb_t pt__eval_local(pt_eval_t *E, int k, rt_rgb_t w, int direct, int exact_c
   E->cur = k;
   rt_rgb_t sum = rt_rgb(0, 0, 0);
   if (direct) {
-    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb, NULL};
+    rt_tracer_t tr = {NULL, shadow_cb, E, known_cb, occluded_cb, NULL, 0};
     sum = rt_rgb_mul(w, rt_shade_direct(E->C->s, E->C->plan, &sf, &ray, &tr));
   }
   if (exact_children)

@@ -92,6 +92,10 @@ typedef struct {
    *  child() or shadow() (`what` an rt_ray_kind_t), and of the events of spectral pencils
    *  (RT_COUNT_*), for the caller's statistics (rt_stats_t; core/src/wpencil.c). */
   void (*count)(void *ctx, int what);
+  /** 1: the caller keeps the shape of the ray tree and not the radiance (the pencil renderer's
+   *  axial and corner rays): shading may skip what only makes radiance and records no node,
+   *  the tracing of spectral pencils (their subtrees are not recorded); 0: the radiance. */
+  int shape;
 } rt_tracer_t;
 
 /** rt_tracer_t.count()'s events of spectral pencils, beside the ray kinds: rt_stats_t.spectral[i]

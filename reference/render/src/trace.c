@@ -51,7 +51,8 @@ static void count_cb(void *ctx, int what) {
 }
 
 rt_tracer_t xr_exact_tracer(xr_exact_t *ex) {
-  return (rt_tracer_t){child_cb, shadow_cb, ex, NULL, occluded_cb, count_cb}; /* every segment */
+  return (rt_tracer_t){child_cb,    shadow_cb, ex,      NULL,
+                       occluded_cb, count_cb,  ex->halt}; /* every segment */
 }
 
 xr_exact_t xr_exact_make(const rt_scene_t *s, const rt_plan_t *plan, rt_tree_t *tree) {
