@@ -160,6 +160,44 @@ static void polyhedron_is_oriented_outwards(void **state) {
   rt_scene_free(&s);
 }
 
+/* rt_object_t.alone: a convex closed object that no other primitive's box or plane meets. The cube
+ * and a far sphere over a plane below them are alone; a plane through the cube's box, a sphere
+ * inside it, and a dent in the cube (its faces as triangles, one corner pushed in) make it not;
+ * a plane never is. */
+static void objects_alone(void **state) {
+  (void)state;
+  for (int c = 0; c < 4; c++) {
+    rt_scene_t s;
+    rt_scene_init(&s);
+    int m = mat_add(&s), cube, ball, floor_, x;
+    char why[200];
+    px_vec3_t v[8];
+    memcpy(v, cube_v, sizeof v);
+    int tri[36], len[12];
+    for (int f = 0; f < 6; f++) { /* each quad as two triangles (a, b, c), (a, c, d) */
+      const int *q = cube_in + 4 * f;
+      int t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+      memcpy(tri + 6 * f, t, sizeof t);
+      len[2 * f] = len[2 * f + 1] = 3;
+    }
+    if (c == 3)
+      v[6] = px_vec3(0.7, 0.7, 0.7); /* the corner (1, 1, 1) pushed in */
+    assert_int_equal(rt_scene_add_polyhedron(&s, v, 8, tri, len, 12, m, &cube, why, sizeof why),
+                     RT_OK);
+    assert_int_equal(rt_scene_add_sphere(&s, px_vec3(5, 2, 0.5), 1.0, m, &ball), RT_OK);
+    assert_int_equal(rt_scene_add_plane(&s, px_vec3(0, c == 1 ? 0.5 : -0.25, 0), px_vec3(0, 1, 0),
+                                        px_vec3(1, 0, 0), m, -1, 1.0, &floor_),
+                     RT_OK);
+    if (c == 2)
+      assert_int_equal(rt_scene_add_sphere(&s, px_vec3(0.5, 0.5, 0.5), 0.1, m, &x), RT_OK);
+    assert_int_equal(rt_scene_prepare(&s), RT_OK);
+    assert_int_equal(s.object[cube].alone, c == 0);
+    assert_int_equal(s.object[ball].alone, 1);
+    assert_int_equal(s.object[floor_].alone, 0);
+    rt_scene_free(&s);
+  }
+}
+
 static void open_or_inconsistent_polyhedron_rejected(void **state) {
   (void)state;
   rt_scene_t s;
@@ -262,6 +300,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(concave_polygon_inside_test),
       cmocka_unit_test(bent_polygon_rejected),
       cmocka_unit_test(polyhedron_is_oriented_outwards),
+      cmocka_unit_test(objects_alone),
       cmocka_unit_test(open_or_inconsistent_polyhedron_rejected),
       cmocka_unit_test(polyhedron_entry_and_exit),
       cmocka_unit_test(bvh_matches_brute_force),

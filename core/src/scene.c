@@ -240,6 +240,62 @@ const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t
   return &s->material[parity == 1 ? o->material2 : o->material];
 }
 
+/* Whether polyhedron o is convex: every vertex of it on the inner side of every face's plane
+ * (within rounding). */
+static int convex(const rt_scene_t *s, const rt_object_t *o) {
+  for (int i = o->first_prim; i < o->first_prim + o->nprim; i++) {
+    const rt_polygon_t *f = &s->prim[i].polygon;
+    double scale = fabs(f->d);
+    for (int j = o->first_prim; j < o->first_prim + o->nprim; j++) {
+      const rt_polygon_t *g = &s->prim[j].polygon;
+      for (int k = 0; k < g->count; k++) {
+        px_vec3_t v = s->vertex[g->first + k];
+        double e = 1e-9 * (scale + fabs(v.x) + fabs(v.y) + fabs(v.z));
+        if (px_v3_dot(f->n, v) - f->d > e)
+          return 0;
+      }
+    }
+  }
+  return 1;
+}
+
+/* rt_object_t.alone of object o. O(faces^2) for its convexity and O(primitives) for its box. */
+static int alone(const rt_scene_t *s, int o) {
+  const rt_object_t *ob = &s->object[o];
+  if (!ob->closed || ob->nprim < 1 ||
+      !(ob->kind == RT_OBJ_SPHERE || (ob->kind == RT_OBJ_POLYHEDRON && convex(s, ob))))
+    return 0;
+  px_vec3_t lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY}, a, b;
+  for (int i = ob->first_prim; i < ob->first_prim + ob->nprim; i++) {
+    if (!rt_prim_bounds(s, i, &a, &b))
+      return 0;
+    lo = (px_vec3_t){fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z)};
+    hi = (px_vec3_t){fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z)};
+  }
+  for (int i = 0; i < s->nprim; i++) {
+    if (i >= ob->first_prim && i < ob->first_prim + ob->nprim)
+      continue;
+    if (rt_prim_bounds(s, i, &a, &b)) {
+      if (a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y && a.z <= hi.z && b.z >= lo.z)
+        return 0;
+      continue;
+    }
+    if (s->prim[i].kind != RT_PRIM_PLANE)
+      return 0;
+    const rt_plane_t *pl = &s->prim[i].plane; /* the box's corners on one side, strictly */
+    int pos = 0, neg = 0;
+    for (int c = 0; c < 8; c++) {
+      px_vec3_t v = {c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z};
+      double d = px_v3_dot(pl->n, px_v3_sub(v, pl->p));
+      pos |= d >= 0.0;
+      neg |= d <= 0.0;
+    }
+    if (pos && neg)
+      return 0;
+  }
+  return 1;
+}
+
 rt_status_t rt_scene_prepare(rt_scene_t *s) {
   const rt_camera_t *c = &s->camera;
   if (!(c->fov_deg > 0.0 && c->fov_deg < 180.0) || c->width < 1 || c->height < 1 ||
@@ -249,5 +305,7 @@ rt_status_t rt_scene_prepare(rt_scene_t *s) {
   if (side * side != s->spp) /* s x s sub-pixel grids only */
     return RT_EINVAL;
   drop_accel(s);
+  for (int o = 0; o < s->nobject; o++)
+    s->object[o].alone = alone(s, o);
   return rt_bvh_build(s, &s->bvh, &s->unbounded, &s->nunbounded);
 }

@@ -16,7 +16,9 @@
  *   reflection d' = d - 2 (d.m) m and its derivative.
  * At each hit the model's rays at the interval's ends are checked, without tracing them on: they
  * must meet the hit's primitive (inside the polygon, on the sphere) from the same side with
- * nothing nearer (a scene search up to it), in the same checker square, with the same total
+ * nothing nearer (a scene search up to it; none inside a convex object that nothing else enters,
+ * rt_object_t.alone, where the band between the ends needs no test either), in the same checker
+ * square, with the same total
  * internal reflection, and their exact points and children's directions (Snell's law at the
  * end's wavelength) must be within tol times the dispersive shift the model predicts there. Where
  * the ends land over a pixel apart, nothing may lie in the band between them and the direct term
@@ -73,6 +75,8 @@ typedef struct {
                     straight) */
   const rt_sphere_t *from; /* the sphere the ray leaves, or NULL (a plane, or do = 0) */
   int from_prim;           /* the primitive the ray leaves */
+  int in_obj; /* the object the ray travels inside when it is alone (rt_object_t.alone), or -1:
+                 its own surface is then the first thing every ray of the pencil meets */
 } wp_t;
 
 typedef struct {
@@ -398,6 +402,13 @@ static int light_agrees(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r,
   return d <= WP_LIGHT_TOL * fmax(rt_rgb_max(l), rt_rgb_max(c)) + 1.0 / 1024.0;
 }
 
+/* Whether the pencil of H travels inside an object that is alone (rt_object_t.alone) and H is on
+ * its surface: a convex body that nothing else enters, so that a ray from inside meets this
+ * surface first, and the band between two of its rays lies inside it, where nothing is. */
+static int inside_alone(const wp_hit_t *H) {
+  return H->w->in_obj >= 0 && H->w->in_obj == H->hit.object;
+}
+
 /* The geometric part of check(): the model's ray r meets the hit's primitive from the same side,
  * nothing nearer (lin: a scene search, *occ set to what it meets; else only *occ), in the same
  * square; *p and *me its exact point and facing normal there. 0 or check()'s code. What lies
@@ -411,6 +422,7 @@ static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int li
   rt_ray_t q = *r;
   q.tmax = t * (1.0 - 1e-9);
   rt_hit_t h2;
+  lin = lin && !inside_alone(H); /* else nothing can hide the hit */
   if (lin)
     count(R, H->w->kind);
   if (lin && rt_intersect(s, &q, &h2) && h2.prim != H->hit.prim) {
@@ -473,7 +485,7 @@ static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *o
   /* over a pixel apart: something could lie between the ends (a concave polygon's own edge, any
    * other surface in the band they span), and the direct term at the end must agree */
   if (!fail && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS / WP_PIXELS * eps_p &&
-      (concave(R->s, H->hit.prim) || wedge_blocker(R, H, r.o, p) >= 0 ||
+      (concave(R->s, H->hit.prim) || (!inside_alone(H) && wedge_blocker(R, H, r.o, p) >= 0) ||
        !light_agrees(R, H, &r, p, me)))
     fail = WP_SPREAD;
   return fail;
@@ -593,6 +605,9 @@ static rt_rgb_t child(wp_run_t *R, const wp_t *w, const rt_surface_t *sf, const 
   ch.kind = kind;
   ch.from = pr->kind == RT_PRIM_SPHERE ? &pr->sphere : NULL;
   ch.from_prim = H->hit.prim;
+  /* a ray refracted into an object that is alone travels inside it; one reflected inside stays */
+  ch.in_obj = side < 0.0 ? (H->side > 0.0 && R->s->object[H->hit.object].alone ? H->hit.object : -1)
+                         : (H->side < 0.0 ? w->in_obj : -1);
   ch.dist = w->dist + H->hit.t;
   ch.weight = w->weight * rt_rgb_max(wc);
   count(R, kind);
@@ -756,6 +771,7 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
             .uc = uc,
             .kind = RT_RAY_REFRACT,
             .from_prim = sf->hit.prim,
+            .in_obj = sf->entering && R->s->object[sf->hit.object].alone ? sf->hit.object : -1,
             .weight = rt_rgb_max(wt),
             .dist = px_v3_norm(px_v3_sub(sf->hit.p, R->s->camera.eye))};
   if (!R->trace)
