@@ -115,8 +115,8 @@ static int parse_ior(io_parse_t *P, json_t *o, rt_material_t *m) {
     x.hi_nm = 780.0;
     ok = io_check_keys(P, v, keys);
     if (ok && (!json_is_array(b) || !json_is_array(c) || json_array_size(b) < 1 ||
-               json_array_size(b) > 3 || json_array_size(b) != json_array_size(c)))
-      ok = io_fail(P, "expected \"B\" and \"C_um2\", arrays of 1 to 3 numbers of equal length");
+               json_array_size(b) > PX_SELLMEIER_TERMS || json_array_size(b) != json_array_size(c)))
+      ok = io_fail(P, "expected \"B\" and \"C_um2\", arrays of 1 to 4 numbers of equal length");
     for (size_t k = 0; ok && k < json_array_size(b); k++) {
       if (!json_is_number(json_array_get(b, k)) || !json_is_number(json_array_get(c, k)))
         ok = io_fail(P, "\"B\" and \"C_um2\" must hold numbers");

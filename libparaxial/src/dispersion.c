@@ -30,7 +30,7 @@ px_status_t px_index_eval(const px_index_t *m, double lambda_nm, double *n, doub
     dn = -2.0 * m->b[0] / (l2 * l) - 4.0 * m->b[1] / (l2 * l2 * l);
     break;
   case PX_INDEX_SELLMEIER: {
-    if (m->nterm < 1 || m->nterm > 3)
+    if (m->nterm < 1 || m->nterm > PX_SELLMEIER_TERMS)
       return PX_EINVAL;
     double s = 1.0, ds = 0.0; /* n^2 and d(n^2)/dl */
     for (int i = 0; i < m->nterm; i++) {
@@ -76,7 +76,7 @@ px_status_t px_index_from_abbe(double nd, double vd, px_index_t *out) {
 static const struct {
   const char *name;
   int nterm;
-  double b[3], c[3], lo_nm, hi_nm;
+  double b[PX_SELLMEIER_TERMS], c[PX_SELLMEIER_TERMS], lo_nm, hi_nm;
 } catalogue[] = {
     /* Schott optical glass data sheets */
     {"N-BK7",
@@ -105,7 +105,15 @@ static const struct {
      210.0,
      3710.0},
     /* Peter 1923: C_i the squares of 0.1060 and 0.1750 um; measured 226-644 nm, used to 780 */
-    {"diamond", 2, {4.3356, 0.3306, 0.0}, {0.1060 * 0.1060, 0.1750 * 0.1750, 0.0}, 380.0, 780.0},
+    {"diamond", 2, {4.3356, 0.3306}, {0.1060 * 0.1060, 0.1750 * 0.1750}, 380.0, 780.0},
+    /* Daimon and Masumura 2007, distilled water at 20.0 C, measured 182-1129 nm: the index
+     * relative to vacuum (the Schott entries are relative to air, which is 2.7e-4 lower here) */
+    {"water",
+     4,
+     {5.684027565e-1, 1.726177391e-1, 2.086189578e-2, 1.130748688e-1},
+     {5.101829712e-3, 1.821153936e-2, 2.620722293e-2, 1.069792721e1},
+     182.0,
+     1129.0},
 };
 
 px_status_t px_index_named(const char *name, px_index_t *out) {
@@ -114,7 +122,7 @@ px_status_t px_index_named(const char *name, px_index_t *out) {
       memset(out, 0, sizeof *out);
       out->kind = PX_INDEX_SELLMEIER;
       out->nterm = catalogue[k].nterm;
-      for (int i = 0; i < 3; i++) {
+      for (int i = 0; i < PX_SELLMEIER_TERMS; i++) {
         out->b[i] = catalogue[k].b[i];
         out->c[i] = catalogue[k].c[i];
       }
@@ -126,7 +134,7 @@ px_status_t px_index_named(const char *name, px_index_t *out) {
 }
 
 const char *px_index_names(void) {
-  return "N-BK7, F2, SF11, fused-silica, diamond";
+  return "N-BK7, F2, SF11, fused-silica, diamond, water";
 }
 
 int px_index_disperses(const px_index_t *m) {

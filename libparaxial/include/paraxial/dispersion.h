@@ -39,6 +39,9 @@ extern "C" {
 #define PX_LAMBDA_F 486.1327
 #define PX_LAMBDA_C 656.2725
 
+/** Sellmeier terms a model may have (water's published fit has four). */
+#define PX_SELLMEIER_TERMS 4
+
 typedef enum {
   PX_INDEX_CONSTANT = 0, /**< n = a */
   PX_INDEX_CAUCHY = 1,   /**< n = a + b[0] / l^2 + b[1] / l^4, l in um (b in um^2, um^4) */
@@ -48,9 +51,9 @@ typedef enum {
 /** A refractive index as a function of wavelength, valid on [lo_nm, hi_nm]. */
 typedef struct {
   px_index_kind_t kind;
-  int nterm;            /**< Sellmeier terms, 1..3 */
-  double a, b[3], c[3]; /**< the coefficients of the kind */
-  double lo_nm, hi_nm;  /**< the range the model holds on */
+  int nterm; /**< Sellmeier terms, 1..PX_SELLMEIER_TERMS */
+  double a, b[PX_SELLMEIER_TERMS], c[PX_SELLMEIER_TERMS]; /**< the coefficients of the kind */
+  double lo_nm, hi_nm;                                    /**< the range the model holds on */
 } px_index_t;
 
 /** A constant index n on every wavelength. */
@@ -67,8 +70,9 @@ px_status_t px_index_from_abbe(double nd, double vd, px_index_t *out);
 
 /** A material of the small catalogue by name (Sellmeier models, range in the entry):
  *  "N-BK7", "F2" and "SF11" (Schott's published coefficients), "fused-silica" (Malitson,
- *  J. Opt. Soc. Am. 55, 1205, 1965) and "diamond" (Peter, Z. Phys. 15, 358, 1923); docs/spectral.md
- *  lists them with their n_d and V_d. PX_EINVAL for another name. */
+ *  J. Opt. Soc. Am. 55, 1205, 1965), "diamond" (Peter, Z. Phys. 15, 358, 1923) and "water"
+ *  (distilled, 20.0 C, absolute index: Daimon and Masumura, Appl. Opt. 46, 3811, 2007);
+ *  docs/spectral.md lists them with their n_d and V_d. PX_EINVAL for another name. */
 px_status_t px_index_named(const char *name, px_index_t *out);
 
 /** The catalogue's names, comma-separated, for messages. */
