@@ -2,7 +2,8 @@
 # `pencil bench dispersion` contracts (issue 22, the 1989 Fig. 14 table): --quick renders
 # scenes/fig14.json by every method, writes fig14-METHOD.exr and .png into --out and a JSON
 # summary whose keys scripts read (methods[]: method, renderer, wavelengths, bins, seconds,
-# over_exact_nd, rays, delta_e2000_mean, delta_e2000_p99, delta_e2000_max); Takagi's wavelength
+# over_exact_nd, rays, delta_e2000_mean, delta_e2000_p99, delta_e2000_max; targets: the issue's
+# time and colour targets with their verdicts); Takagi's wavelength
 # supersampling and the fan of as many bins give the same colours; the error falls as the bins
 # grow, and drawing the glass at n_d errs most; bad options exit 2 before any rendering. DIR
 # (argument 2) keeps the outputs.
@@ -50,7 +51,14 @@ sp = m['exact-spectral-pencil']  # within the 40-bin fan's error, in fewer rays
 assert sp['wavelengths'] == 'pencil', sp
 assert sp['delta_e2000_mean'] < m['exact-fan40']['delta_e2000_mean'], (sp, m['exact-fan40'])
 assert sp['rays'] < m['exact-fan40']['rays'], (sp, m['exact-fan40'])
+t = d['targets']  # the issue's targets, each with its verdict as the numbers give it
+ps = m['pencil-spectral']
+assert abs(t['time_over_pencil'] - ps['seconds'] / m['pencil']['seconds']) < 1e-9, t
+assert t['time_met'] == (t['time_over_pencil'] <= t['time_over_pencil_target'] == 1.3), t
+assert t['delta_e2000_mean'] == ps['delta_e2000_mean'] and t['delta_e_met'] is True, t
+assert t['faster_than_exact_nd'] == (t['time_over_exact_nd'] < 1.0), t
 PY"
+check "the report gives the targets' verdicts" "grep -q '^targets (issue 22): pencil-spectral .* times pencil.s time (target <= 1.3' '$tmp/log'"
 src=$(cd "$(dirname "$0")/.." && pwd)
 for b in 9 40 100; do # the prism's spectrum for the notebook: steps or smooth
   $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --bins $b --no-aux \

@@ -127,6 +127,9 @@ mkdir -p "$dir/out/dispersion"
 cat >"$dir/out/dispersion/dispersion.json" <<'JSON'
 {"benchmark": "dispersion", "scene": "scenes/fig14.json", "size": 256, "spp": 1,
  "reference_bins": 400, "runs": 3, "quick": false, "dispersive_pencil": "not built yet",
+ "targets": {"time_over_pencil": 3.71, "time_over_pencil_target": 1.3, "time_met": false,
+             "delta_e2000_mean": 0.1096, "delta_e2000_mean_target": 1.0, "delta_e_met": true,
+             "time_over_exact_nd": 5.2, "faster_than_exact_nd": false},
  "methods": [{"method": "reference", "renderer": "exact", "wavelengths": "fan", "bins": 400,
               "seconds": 12.925, "over_exact_nd": 279.548, "rays": 79319783,
               "delta_e2000_mean": null, "delta_e2000_p99": null, "delta_e2000_max": null},
@@ -183,6 +186,7 @@ check "illuminance maps: the polygons' row on Fig. 11" "grep -q '20826629 rays i
 check "fig10: the render's closing lines" \
   "grep -q '^    pencil-traced 1024x682 at 9 spp in 250.000 s' '$page' && grep -q '^    ray interpolation: 696435' '$page' && grep -q '^    caustics: 1 map(s) of 512 cells' '$page' && ! grep -q '^    effects plan' '$page' && ! grep -q '^    caustics       on' '$page'"
 check "dispersion: Takagi's row" "grep -q '| exact-takagi9 | exact | primary | 9 | 0.319 | 6.89 | 3117397 | 0.692 | 13.317 | 43.811 |' '$page'"
+check "dispersion: the targets' verdicts" "grep -q 'pencil-spectral 3.71 times pencil.s time (target <= 1.3; the paper: about 1.2): not met; its mean dE2000 0.110 (target <= 1): met; 5.20 times exact-nd.s time .*: not reproduced' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
 check "caustics: the pencil's row and the equal-error line" \
   "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"
