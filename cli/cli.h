@@ -23,7 +23,7 @@ int cli_parse_double_in(const char *opt, const char *text, double lo, double hi,
 /** Parse an integer in [lo, hi] for option `opt`; on failure print an error and return 0. */
 int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *out);
 /** Parse a number of samples per pixel for option `opt` of command `cmd`: a square s x s with
- *  1 <= s <= RT_MAX_SPP_SIDE (1, 4, 9, ..., 256); on failure print an error and return 0. */
+ *  1 <= s <= RT_MAX_SPP_SIDE (1, 4, 9, ..., 1024); on failure print an error and return 0. */
 int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out);
 /** A comma-separated list of such numbers, at most `max`, into out[0 .. *n - 1]. */
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,

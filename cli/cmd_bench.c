@@ -51,7 +51,7 @@ static void help(FILE *f) {
              "options:\n"
              "  --runs N      runs per configuration, 1..101 (default 5)\n"
              "  --size WxH    image size (default 256x256)\n"
-             "  --spp N       samples per pixel, 1, 4, ..., 256 (default 4)\n"
+             "  --spp N       samples per pixel, 1, 4, ..., 1024 (default 4)\n"
              "  --json FILE   also write the results as JSON\n");
 }
 

@@ -53,7 +53,7 @@ static void help(FILE *f) {
          "the table and the JSON, not by the exit code. A scene without such a surface has\n"
          "nothing to measure: a warning says so and no target counts as met.\n\n"
          "options:\n"
-         "  --spp LIST     comma-separated squares 1, 4, ..., 256 (default 49)\n"
+         "  --spp LIST     comma-separated squares 1, 4, ..., 1024 (default 49)\n"
          "  --runs N       timed renders per method and mode, 3..101 (default 5)\n"
          "  --threads N    threads of every render, 1..1024 (default 1, the paper's single CPU)\n"
          "  --rho R        tolerance ratio of Eq. (3), > 0 (default 0.5)\n"

@@ -70,7 +70,7 @@ static void help_sweep(FILE *f) {
          "mode. Writes DIR/sweep.csv, DIR/sweep.json and DIR/sweep.png (plot).\n\n"
          "options:\n"
          "  --rho LIST     comma-separated rho values > 0 (default 0.05,0.1,0.25,0.5,1,2)\n"
-         "  --spp N        samples per pixel, a square 1..256 (default 9)\n"
+         "  --spp N        samples per pixel, a square 1..1024 (default 9)\n"
          "  --out DIR      output directory (default figures)\n"
          "  --quick        64x64 image, rho 0.5,1 (tests)\n"
          "  --method NAME  the renderer compared with exact tracing (default pencil); its\n"

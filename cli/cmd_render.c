@@ -72,7 +72,7 @@ static void help(FILE *f, const rn_renderer_t *r) {
       "                        given alone)\n"
       "  --method NAME         the renderer (default exact); 'pencil render --method NAME\n"
       "                        --help' lists its own options\n"
-      "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 256\n"
+      "  --spp N               samples per pixel on an s x s grid: 1, 4, 9, ..., 1024\n"
       "                        (default: the scene's, 9 for the built-in scene)\n"
       "  --threads N           OpenMP threads (default: all cores)\n"
       "  --size WxH            override the scene's image size (1 <= W, H <= 16384)\n"

@@ -88,12 +88,12 @@ $pencil render -o "$tmp/p.exr" --method pencil --size 20x20 --spp 1 >/dev/null 2
 check "--method pencil renders (exit 0)" "[ $rc -eq 0 ] && [ -s '$tmp/p.exr' ]"
 $pencil render -o "$tmp/c.exr" --spp 5 >/dev/null 2>"$tmp/err"; rc=$?
 check "--spp 5 is a usage error naming --spp" "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err'"
-$pencil render -o "$tmp/c.exr" --spp 289 >/dev/null 2>"$tmp/err"; rc=$?
-check "--spp 289 (17 x 17, above the largest grid) is a usage error naming --spp" \
+$pencil render -o "$tmp/c.exr" --spp 1089 >/dev/null 2>"$tmp/err"; rc=$?
+check "--spp 1089 (33 x 33, above the largest grid) is a usage error naming --spp" \
   "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err' && [ ! -e '$tmp/c.exr' ]"
-for m in exact pencil; do # beyond the paper's 49: the grids up to 16 x 16
-  $pencil render -o "$tmp/g_$m.exr" --method $m --size 6x6 --spp 256 --threads 2 >"$tmp/out" 2>"$tmp/err"; rc=$?
-  check "--method $m --spp 256 renders (exit 0)" "[ $rc -eq 0 ] && [ -s '$tmp/g_$m.exr' ] && grep -q '256 spp' '$tmp/out'"
+for m in exact pencil; do # beyond the paper's 49: the grids up to 32 x 32
+  $pencil render -o "$tmp/g_$m.exr" --method $m --size 6x6 --spp 1024 --threads 2 >"$tmp/out" 2>"$tmp/err"; rc=$?
+  check "--method $m --spp 1024 renders (exit 0)" "[ $rc -eq 0 ] && [ -s '$tmp/g_$m.exr' ] && grep -q '1024 spp' '$tmp/out'"
 done
 $pencil render -o "$tmp/c.exr" --threads 0 >/dev/null 2>"$tmp/err"; rc=$?
 check "--threads 0 is a usage error" "[ $rc -eq 2 ] && grep -q -- '--threads' '$tmp/err'"

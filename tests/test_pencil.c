@@ -526,7 +526,7 @@ static void pencil_image_matches_exact_with_falloff(void **state) {
   rt_scene_free(&s);
 }
 
-/* The largest sample grid (RT_MAX_SPP_SIDE^2 = 256 per pixel, beyond the paper's 49, for Fig. 9
+/* The largest sample grid (RT_MAX_SPP_SIDE^2 = 1024 per pixel, beyond the paper's 49, for Fig. 9
  * extended): the quadtree goes deeper than at 49 spp and the lattice memo fills up sooner. On
  * the glass ball of Fig. 8 every sample is still accounted for, none loses an edge, the area
  * within rho is the paper's 99.8% at least (certified: all), and the image is the exact one's

@@ -155,9 +155,9 @@ typedef struct {
   int height;        /**< pixels, >= 1 */
 } rt_camera_t;
 
-/** Sub-pixel grids: s x s samples per pixel with s = 1..RT_MAX_SPP_SIDE (1, 4, ..., 256). The
- *  paper's Fig. 9 goes to 49 (s = 7); larger grids extend it. */
-#define RT_MAX_SPP_SIDE 16
+/** Sub-pixel grids: s x s samples per pixel with s = 1..RT_MAX_SPP_SIDE (1, 4, ..., 1024). The
+ *  paper's Fig. 9 goes to 49 (s = 7); larger grids extend it (issue 26's curves to 1024). */
+#define RT_MAX_SPP_SIDE 32
 #define RT_MAX_SPP (RT_MAX_SPP_SIDE * RT_MAX_SPP_SIDE)
 
 /** Wavelength bins of a spectral fan (scene setting "spectral_bins"): 4..RT_MAX_BINS, default
