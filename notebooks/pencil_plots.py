@@ -19,6 +19,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 PAPER = {"speedup_9": 7.6, "ratio_49": 0.1, "within": 0.998, "max_error": 0.66}
 
@@ -200,6 +201,40 @@ def plot_sweep(d, show=False):
     ax[0].set_title(f"what accuracy costs ({int(t['spp'][0])} spp)")
     fig.tight_layout()
     fig.savefig(os.path.join(d, "sweep.png"), dpi=100)
+    return fig if show else plt.close(fig)
+
+
+def plot_curves(path, show=False):
+    """Issue 26's curves (scripts/curves' CSV): the ratio pencil / exact against each curve's x,
+    default and certified mode, by CPU time and, where counted, by instructions; saved beside
+    the CSV as curves.png."""
+    t = read_csv(path)
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))  # the instruction columns are empty where not counted
+    names = [c for c in ("spp", "size", "spheres", "rho") if c in set(t["curve"])]
+    xlabel = {"spp": "samples per pixel", "size": "image side (pixels)",
+              "spheres": "spheres over the board", "rho": "rho (pixel intervals)"}
+    fig, ax = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.8), squeeze=False)
+    for a, c in zip(ax[0], names):
+        for i, mode in enumerate(("default", "certified")):
+            m = (t["curve"] == c) & (t["mode"] == mode)
+            if m.any():
+                a.plot(t["x"][m], t["ratio"][m], "o-", color=f"C{i}", label=f"{mode}, CPU time")
+        ins = [(float(r["x"]), float(r["instruction_ratio"])) for r in rows
+               if r["curve"] == c and r["instruction_ratio"] != ""]
+        if ins:
+            a.plot(*zip(*ins), "s--", color="C2", label="default, instructions")
+        a.axhline(PAPER["ratio_49"], color="C3", lw=0.6, ls=":")
+        a.axhline(1.0, color="grey", lw=0.8)
+        a.set_xscale("log")
+        a.set_yscale("log")
+        a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        a.set_xlabel(xlabel[c])
+        a.set_ylabel("pencil / exact")
+        a.set_title(c)
+        a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(os.path.dirname(path), "curves.png"), dpi=100)
     return fig if show else plt.close(fig)
 
 
