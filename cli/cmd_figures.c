@@ -51,7 +51,7 @@ static void help_figures(FILE *f) {
       "  --merge        run nothing: merge DIR/shards/ (all N shards of one run) into the\n"
       "                 outputs a single run writes; takes only --out DIR\n"
       "  --fig9-spp LIST\n"
-      "                 Fig. 9's samples per pixel, increasing squares up to 256 (default the\n"
+      "                 Fig. 9's samples per pixel, increasing squares up to 1024 (default the\n"
       "                 paper's 1,4,9,16,25,36,49; 1,...,49,100,144,256 extends it to where\n"
       "                 the ratio falls below 0.10 here); the targets are read at 49 spp, or\n"
       "                 at the largest when 49 is not listed\n"

@@ -65,7 +65,7 @@ $pencil bench pencil --size 12x12 --spp 1,4 --runs 3 --no-measure --json "$tmp/n
 check "--no-measure: exit 0, four rows, accuracy and verdict null" \
   "[ $rc -eq 0 ] && $py -c 'import json; d=json.load(open(\"$tmp/n.json\")); r=d[\"results\"]; assert d[\"measured\"] is False and [x[\"spp\"] for x in r] == [1,1,4,4] and all(x[\"fraction_within\"] is None and x[\"target_met\"] is None and x[\"ratio\"] > 0 for x in r)'"
 
-for bad in "--runs 2" "--runs 102" "--spp 5" "--spp 4,x" "--spp 289" "--spp 1,4,9,16,25,36,49,64,81" "--spp 4," "--rho 0" "--rho nan" \
+for bad in "--runs 2" "--runs 102" "--spp 5" "--spp 4,x" "--spp 1089" "--spp 1,4,9,16,25,36,49,64,81" "--spp 4," "--rho 0" "--rho nan" \
            "--brightness-tol -1" "--brightness-tol nan" "--brightness-tol x" \
            "--threads 0" "--size 10" "--size 0x8" "--json" "--bogus"; do
   opt=${bad%% *}

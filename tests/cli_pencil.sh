@@ -60,7 +60,7 @@ $pencil sweep --rho 0.5,0 >/dev/null 2>"$tmp/err"; rc=$?
 check "sweep --rho with 0: exit 2 naming --rho" "[ $rc -eq 2 ] && grep -q -- '--rho' '$tmp/err'"
 $pencil sweep --spp 5 >/dev/null 2>"$tmp/err"; rc=$?
 check "sweep --spp 5: exit 2" "[ $rc -eq 2 ] && grep -q -- '--spp' '$tmp/err'"
-for bad in "49,9" "1,9,289" "9,9" "" "1,,4"; do
+for bad in "49,9" "1,9,1089" "9,9" "" "1,,4"; do
   $pencil figures --fig9-spp "$bad" --out "$tmp/bad" >/dev/null 2>"$tmp/err"; rc=$?
   check "figures --fig9-spp '$bad': exit 2 naming --fig9-spp, nothing written" \
     "[ $rc -eq 2 ] && grep -q -- '--fig9-spp' '$tmp/err' && [ ! -e '$tmp/bad' ]"

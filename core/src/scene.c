@@ -240,58 +240,90 @@ const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t
   return &s->material[parity == 1 ? o->material2 : o->material];
 }
 
-/* Whether polyhedron o is convex: every vertex of it on the inner side of every face's plane
- * (within rounding). */
-static int convex(const rt_scene_t *s, const rt_object_t *o) {
+/* Faces of a polyhedron above which rt_object_t.alone is not looked for: its convexity test is
+ * O(faces x vertices), 4 M products at this size (a few ms), and a finer mesh keeps the scene
+ * searches of spectral pencils. */
+#define ALONE_MAX_FACES 1024
+
+/* Whether polyhedron o is convex: every vertex of it on the inner side of every face's plane,
+ * within 1e-9 of the object's size (the faces' normals are outward: polygon.c). */
+static int convex(const rt_scene_t *s, const rt_object_t *o, double size) {
+  double e = 1e-9 * size;
   for (int i = o->first_prim; i < o->first_prim + o->nprim; i++) {
     const rt_polygon_t *f = &s->prim[i].polygon;
-    double scale = fabs(f->d);
     for (int j = o->first_prim; j < o->first_prim + o->nprim; j++) {
       const rt_polygon_t *g = &s->prim[j].polygon;
-      for (int k = 0; k < g->count; k++) {
-        px_vec3_t v = s->vertex[g->first + k];
-        double e = 1e-9 * (scale + fabs(v.x) + fabs(v.y) + fabs(v.z));
-        if (px_v3_dot(f->n, v) - f->d > e)
+      for (int k = 0; k < g->count; k++)
+        if (px_v3_dot(f->n, s->vertex[g->first + k]) - f->d > e)
           return 0;
-      }
     }
   }
   return 1;
 }
 
-/* rt_object_t.alone of object o. O(faces^2) for its convexity and O(primitives) for its box. */
+static int box_meets(const double lo[3], const double hi[3], px_vec3_t a, px_vec3_t b) {
+  return a.x <= hi[0] && b.x >= lo[0] && a.y <= hi[1] && b.y >= lo[1] && a.z <= hi[2] &&
+         b.z >= lo[2];
+}
+
+/* rt_object_t.alone of object o, once the BVH is built: its box against the BVH's leaves and
+ * the unbounded planes. */
 static int alone(const rt_scene_t *s, int o) {
   const rt_object_t *ob = &s->object[o];
   if (!ob->closed || ob->nprim < 1 ||
-      !(ob->kind == RT_OBJ_SPHERE || (ob->kind == RT_OBJ_POLYHEDRON && convex(s, ob))))
+      !(ob->kind == RT_OBJ_SPHERE ||
+        (ob->kind == RT_OBJ_POLYHEDRON && ob->nprim <= ALONE_MAX_FACES)))
     return 0;
-  px_vec3_t lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY}, a, b;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int i = ob->first_prim; i < ob->first_prim + ob->nprim; i++) {
+    px_vec3_t a, b;
     if (!rt_prim_bounds(s, i, &a, &b))
       return 0;
-    lo = (px_vec3_t){fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z)};
-    hi = (px_vec3_t){fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z)};
-  }
-  for (int i = 0; i < s->nprim; i++) {
-    if (i >= ob->first_prim && i < ob->first_prim + ob->nprim)
-      continue;
-    if (rt_prim_bounds(s, i, &a, &b)) {
-      if (a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y && a.z <= hi.z && b.z >= lo.z)
-        return 0;
-      continue;
+    for (int k = 0; k < 3; k++) {
+      lo[k] = fmin(lo[k], px_v3_at(a, k));
+      hi[k] = fmax(hi[k], px_v3_at(b, k));
     }
-    if (s->prim[i].kind != RT_PRIM_PLANE)
+  }
+  double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+  if (ob->kind == RT_OBJ_POLYHEDRON && !convex(s, ob, size))
+    return 0;
+  for (int u = 0; u < s->nunbounded; u++) { /* planes: the box's corners on one side, strictly */
+    int q = s->unbounded[u];
+    if (s->prim[q].kind != RT_PRIM_PLANE)
       return 0;
-    const rt_plane_t *pl = &s->prim[i].plane; /* the box's corners on one side, strictly */
+    const rt_plane_t *pl = &s->prim[q].plane;
     int pos = 0, neg = 0;
     for (int c = 0; c < 8; c++) {
-      px_vec3_t v = {c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z};
+      px_vec3_t v = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
       double d = px_v3_dot(pl->n, px_v3_sub(v, pl->p));
       pos |= d >= 0.0;
       neg |= d <= 0.0;
     }
     if (pos && neg)
       return 0;
+  }
+  const struct rt_bvh *b = s->bvh;
+  if (!b || b->nnode == 0)
+    return 1;
+  int stack[2 * RT_BVH_MAX_DEPTH + 2], sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const rt_bvh_node_t *nd = &b->node[stack[--sp]];
+    if (!box_meets(lo, hi, px_vec3(nd->lo[0], nd->lo[1], nd->lo[2]),
+                   px_vec3(nd->hi[0], nd->hi[1], nd->hi[2])))
+      continue;
+    if (nd->count == 0) {
+      stack[sp++] = nd->start;
+      stack[sp++] = (int)(nd - b->node) + 1;
+      continue;
+    }
+    for (int i = nd->start; i < nd->start + nd->count; i++) {
+      int q = b->order[i];
+      px_vec3_t qa, qb;
+      if ((q < ob->first_prim || q >= ob->first_prim + ob->nprim) &&
+          (!rt_prim_bounds(s, q, &qa, &qb) || box_meets(lo, hi, qa, qb)))
+        return 0;
+    }
   }
   return 1;
 }
@@ -305,7 +337,8 @@ rt_status_t rt_scene_prepare(rt_scene_t *s) {
   if (side * side != s->spp) /* s x s sub-pixel grids only */
     return RT_EINVAL;
   drop_accel(s);
+  rt_status_t st = rt_bvh_build(s, &s->bvh, &s->unbounded, &s->nunbounded);
   for (int o = 0; o < s->nobject; o++)
-    s->object[o].alone = alone(s, o);
-  return rt_bvh_build(s, &s->bvh, &s->unbounded, &s->nunbounded);
+    s->object[o].alone = st == RT_OK && alone(s, o);
+  return st;
 }

@@ -406,7 +406,7 @@ static int light_agrees(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r,
  * its surface: a convex body that nothing else enters, so that a ray from inside meets this
  * surface first, and the band between two of its rays lies inside it, where nothing is. */
 static int inside_alone(const wp_hit_t *H) {
-  return H->w->in_obj >= 0 && H->w->in_obj == H->hit.object;
+  return H->w->in_obj >= 0 && H->w->in_obj == H->hit.object && H->side < 0.0;
 }
 
 /* The geometric part of check(): the model's ray r meets the hit's primitive from the same side,
@@ -607,7 +607,7 @@ static rt_rgb_t child(wp_run_t *R, const wp_t *w, const rt_surface_t *sf, const 
   ch.from_prim = H->hit.prim;
   /* a ray refracted into an object that is alone travels inside it; one reflected inside stays */
   ch.in_obj = side < 0.0 ? (H->side > 0.0 && R->s->object[H->hit.object].alone ? H->hit.object : -1)
-                         : (H->side < 0.0 ? w->in_obj : -1);
+                         : (inside_alone(H) ? w->in_obj : -1);
   ch.dist = w->dist + H->hit.t;
   ch.weight = w->weight * rt_rgb_max(wc);
   count(R, kind);

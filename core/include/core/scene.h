@@ -54,9 +54,10 @@ typedef struct {
   int material;           /**< material index */
   int material2;          /**< checkerboard: material of the odd squares, or -1 (planes only) */
   int closed;             /**< 1 when the object bounds a volume (sphere, polyhedron) */
-  int alone; /**< set by rt_scene_prepare(): 1 when the object is closed and convex and no other
-                  primitive meets its bounding box, so that a ray inside it meets its own
-                  surface before anything else, once */
+  int alone;      /**< set by rt_scene_prepare(): 1 when the object is closed and convex (a sphere,
+                       or a polyhedron of at most 1,024 faces) and no other primitive meets its
+                       bounding box, so that a ray inside it meets its own surface before anything
+                       else, once */
   int first_prim; /**< its primitives are prim[first_prim .. first_prim + nprim - 1] */
   int nprim;
 } rt_object_t;

@@ -26,9 +26,10 @@ typedef struct {
   rt_tree_t *tree; /**< NULL: record nothing */
   int node;        /**< tree node of the ray being shaded (recording only) */
   rt_stats_t stats;
-  int halt; /**< 1: once the tree has overflowed, trace no further ray (the radiance
-                 returned is then incomplete: for callers that want only the shape of a
-                 tree that fits, such as the pencil renderer's axial and corner rays) */
+  int halt; /**< 1: the caller wants only the shape of a tree that fits (the pencil renderer's
+                 axial and corner rays): once the tree has overflowed no further ray is traced,
+                 and shading skips what only makes radiance (rt_tracer_t.shape: spectral
+                 pencils); the radiance returned is then incomplete */
 } xr_exact_t;
 
 /** A tracer over a prepared scene; tree may be NULL. */
