@@ -123,6 +123,16 @@ cat >"$dir/out/verify-dispersion.json" <<'JSON'
  "linearity": [{"delta_lambda_nm": 10, "median": 2.465e-2, "p90": 0.1036, "max": 0.74, "cases": 4085,
                 "optics_median": 5.526e-4, "optics_p90": 8.24e-2}]}
 JSON
+mkdir -p "$dir/out/curves"
+cat >"$dir/out/curves/curves.json" <<'JSON'
+{"benchmark": "curves", "runs": 3, "threads": 1, "instructions": "callgrind, one thread",
+ "rows": [{"curve": "spheres", "x": 1000, "mode": "default", "exact_s": 4.027, "pencil_s": 4.195,
+           "ratio": 1.042, "instruction_ratio": null},
+          {"curve": "spheres", "x": 1000, "mode": "certified", "exact_s": 3.9, "pencil_s": 4.3,
+           "ratio": 1.115, "instruction_ratio": null},
+          {"curve": "rho", "x": 0.05, "mode": "default", "exact_s": 1.17, "pencil_s": 0.426,
+           "ratio": 0.363, "instruction_ratio": 0.2428}]}
+JSON
 mkdir -p "$dir/out/dispersion"
 cat >"$dir/out/dispersion/dispersion.json" <<'JSON'
 {"benchmark": "dispersion", "scene": "scenes/fig14.json", "size": 256, "spp": 1,
@@ -196,6 +206,8 @@ check "beam: a case's row and the Fig. 10 measure" \
   "grep -q '| fig11 | 100 | 1.223 | 4.97e-04 | 1.44e-02 | 2.09e-01 | 0.912 | 5.20e-04 | 1.056 | 8.40e-04 | 1.981 (inside) | 1.62 | 1.07 |' '$page' && grep -q '| certified | 65536 | 100.0000% | 0.104 | 0 |' '$page'"
 check "star: a slope row, a profile row and the bench row" \
   "grep -q '| 1.5 | 0 | 4.58e-09 | -N | 0.1482 | 0.482 | - |' '$page' && grep -q '| 0.02, 0.1 | 3.53e-03 | 1.0129 | 0.00e+00 |' '$page' && grep -q '| 512 | physical | 1 | 0.0412 | 0.0011 | 381 |' '$page'"
+check "curves: default rows by curve, instructions where counted" \
+  "grep -q '| 1000 | 4.027 | 4.195 | 1.042 | - |' '$page' && grep -q '| 0.05 | 1.170 | 0.426 | 0.363 | 0.243 |' '$page' && ! grep -q '| 1000 | 3.900 |' '$page'"
 check "dispersion: the counts and a linearity row" \
   "grep -q '5248 cases compared' '$page' && grep -q 'off in 4085 of them' '$page' && grep -q '| 10 | 2.46e-02 | 1.04e-01 | 5.53e-04 | 8.24e-02 |' '$page'"
 
