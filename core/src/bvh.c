@@ -214,3 +214,26 @@ rt_status_t rt_bvh_build(const rt_scene_t *s, struct rt_bvh **out, int **unbound
   *out = B.b;
   return RT_OK;
 }
+
+int rt_bvh_box_query(const struct rt_bvh *b, const double lo[3], const double hi[3],
+                     int (*visit)(void *ctx, int prim), void *ctx) {
+  if (!b || b->nnode == 0)
+    return -1;
+  int stack[2 * RT_BVH_MAX_DEPTH + 2], sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const rt_bvh_node_t *nd = &b->node[stack[--sp]];
+    if (!(lo[0] <= nd->hi[0] && hi[0] >= nd->lo[0] && lo[1] <= nd->hi[1] && hi[1] >= nd->lo[1] &&
+          lo[2] <= nd->hi[2] && hi[2] >= nd->lo[2]))
+      continue;
+    if (nd->count == 0) {
+      stack[sp++] = nd->start;
+      stack[sp++] = (int)(nd - b->node) + 1;
+      continue;
+    }
+    for (int i = nd->start; i < nd->start + nd->count; i++)
+      if (visit(ctx, b->order[i]))
+        return b->order[i];
+  }
+  return -1;
+}

@@ -40,4 +40,10 @@ rt_status_t rt_bvh_build(const rt_scene_t *s, struct rt_bvh **out, int **unbound
                          int *nunbounded);
 void rt_bvh_free(struct rt_bvh *b);
 
+/** The bounded primitives in the leaves of b whose boxes meet the box [lo, hi], each passed to
+ *  visit() until it returns nonzero; returns that primitive, or -1 when none did (or b is NULL
+ *  or empty). */
+int rt_bvh_box_query(const struct rt_bvh *b, const double lo[3], const double hi[3],
+                     int (*visit)(void *ctx, int prim), void *ctx);
+
 #endif

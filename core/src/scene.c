@@ -266,6 +266,21 @@ static int box_meets(const double lo[3], const double hi[3], px_vec3_t a, px_vec
          b.z >= lo[2];
 }
 
+/* alone()'s test of one primitive of the BVH: another object's whose box meets the object's. */
+typedef struct {
+  const rt_scene_t *s;
+  const rt_object_t *ob;
+  double lo[3], hi[3];
+} other_t;
+
+static int other_meets(void *ctx, int q) {
+  const other_t *o = ctx;
+  px_vec3_t a, b;
+  if (q >= o->ob->first_prim && q < o->ob->first_prim + o->ob->nprim)
+    return 0;
+  return !rt_prim_bounds(o->s, q, &a, &b) || box_meets(o->lo, o->hi, a, b);
+}
+
 /* rt_object_t.alone of object o, once the BVH is built: its box against the BVH's leaves and
  * the unbounded planes. */
 static int alone(const rt_scene_t *s, int o) {
@@ -302,30 +317,8 @@ static int alone(const rt_scene_t *s, int o) {
     if (pos && neg)
       return 0;
   }
-  const struct rt_bvh *b = s->bvh;
-  if (!b || b->nnode == 0)
-    return 1;
-  int stack[2 * RT_BVH_MAX_DEPTH + 2], sp = 0;
-  stack[sp++] = 0;
-  while (sp > 0) {
-    const rt_bvh_node_t *nd = &b->node[stack[--sp]];
-    if (!box_meets(lo, hi, px_vec3(nd->lo[0], nd->lo[1], nd->lo[2]),
-                   px_vec3(nd->hi[0], nd->hi[1], nd->hi[2])))
-      continue;
-    if (nd->count == 0) {
-      stack[sp++] = nd->start;
-      stack[sp++] = (int)(nd - b->node) + 1;
-      continue;
-    }
-    for (int i = nd->start; i < nd->start + nd->count; i++) {
-      int q = b->order[i];
-      px_vec3_t qa, qb;
-      if ((q < ob->first_prim || q >= ob->first_prim + ob->nprim) &&
-          (!rt_prim_bounds(s, q, &qa, &qb) || box_meets(lo, hi, qa, qb)))
-        return 0;
-    }
-  }
-  return 1;
+  other_t q = {s, ob, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+  return rt_bvh_box_query(s->bvh, lo, hi, other_meets, &q) < 0;
 }
 
 rt_status_t rt_scene_prepare(rt_scene_t *s) {

@@ -331,9 +331,17 @@ static int triangle_meets(const rt_scene_t *s, int q, const px_vec3_t v[3]) {
   return 0; /* an edge crossing the sphere was found above */
 }
 
-static int boxes_overlap(const double alo[3], const double ahi[3], px_vec3_t blo, px_vec3_t bhi) {
-  return alo[0] <= bhi.x && ahi[0] >= blo.x && alo[1] <= bhi.y && ahi[1] >= blo.y &&
-         alo[2] <= bhi.z && ahi[2] >= blo.z;
+/* wedge_blocker()'s test of one primitive of the BVH (rt_bvh_box_query()). */
+typedef struct {
+  const rt_scene_t *s;
+  px_vec3_t tri[6]; /* the band's two triangles */
+  int skip0, skip1;
+} wedge_t;
+
+static int wedge_meets(void *ctx, int q) {
+  const wedge_t *w = ctx;
+  return q != w->skip0 && q != w->skip1 &&
+         (triangle_meets(w->s, q, w->tri) || triangle_meets(w->s, q, w->tri + 3));
 }
 
 /* A primitive other than the hit's and the one the rays leave that lies between the axial ray
@@ -363,29 +371,11 @@ static int wedge_blocker(const wp_run_t *R, const wp_hit_t *H, px_vec3_t o, px_v
     if (q != skip0 && q != skip1 && (triangle_meets(s, q, tri[0]) || triangle_meets(s, q, tri[1])))
       return q;
   }
-  const struct rt_bvh *b = s->bvh;
-  if (!b || b->nnode == 0)
-    return -1;
-  int stack[2 * RT_BVH_MAX_DEPTH + 2], sp = 0;
-  stack[sp++] = 0;
-  while (sp > 0) {
-    const rt_bvh_node_t *nd = &b->node[stack[--sp]];
-    if (!boxes_overlap(lo, hi, px_vec3(nd->lo[0], nd->lo[1], nd->lo[2]),
-                       px_vec3(nd->hi[0], nd->hi[1], nd->hi[2])))
-      continue;
-    if (nd->count == 0) {
-      stack[sp++] = nd->start;
-      stack[sp++] = (int)(nd - b->node) + 1;
-      continue;
-    }
-    for (int i = nd->start; i < nd->start + nd->count; i++) { /* the planes' test rejects most */
-      int q = b->order[i];
-      if (q != skip0 && q != skip1 &&
-          (triangle_meets(s, q, tri[0]) || triangle_meets(s, q, tri[1])))
-        return q;
-    }
-  }
-  return -1;
+  wedge_t q = {s,
+               {tri[0][0], tri[0][1], tri[0][2], tri[1][0], tri[1][1], tri[1][2]},
+               skip0,
+               skip1}; /* the planes' test in triangle_meets() rejects most */
+  return rt_bvh_box_query(s->bvh, lo, hi, wedge_meets, &q);
 }
 
 /* Whether the direct term at the model's point p (ray r, facing normal me) is within
