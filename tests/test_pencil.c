@@ -533,7 +533,7 @@ static void pencil_image_matches_exact_with_falloff(void **state) {
  * (RMS < 0.01). */
 static void largest_sample_grid(void **state) {
   (void)state;
-  enum { W = 20, H = 20, S = RT_MAX_SPP_SIDE };
+  enum { W = 12, H = 12, S = RT_MAX_SPP_SIDE };
   rt_scene_t s;
   fx_fig8(&s, W, H);
   s.camera.look_at = px_vec3(0.0, 1.0, 0.0); /* the ball fills the view */
