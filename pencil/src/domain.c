@@ -27,17 +27,21 @@ static int interpolating(const pt_ctx_t *C) {
   return C->opt->interp;
 }
 
+void pt__trace_shape(pt_ctx_t *C, rt_tree_t *t, const rt_ray_t *r) {
+  C->ex.tree = t;
+  C->ex.halt = 1;
+  xr_exact_primary(&C->ex, r);
+  C->ex.tree = NULL;
+  C->ex.halt = 0;
+}
+
 static const pt_ctree_t *corner(pt_ctx_t *C, int x, int y) {
   int side = C->opt->domain + 1;
   pt_ctree_t *ct = &C->corners.tree[(y - C->corners.y0) * side + (x - C->corners.x0)];
   if (ct->n < 0) { /* traced no further than the paths may hold (the tree alone is wanted) */
     rt_ray_t r = rt_view_ray(C->view, x, y, C->s->ior);
     rt_tree_t t = rt_tree_make(C->trees.probe.node, C->cap);
-    C->ex.tree = &t;
-    C->ex.halt = 1;
-    xr_exact_primary(&C->ex, &r);
-    C->ex.tree = NULL;
-    C->ex.halt = 0;
+    pt__trace_shape(C, &t, &r);
     pt_ctree_from(ct, &t);
     C->st.exact_traces++;
   }
@@ -289,11 +293,7 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   }
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
-  C->ex.tree = &C->trees.axial;
-  C->ex.halt = 1; /* its radiance is not used: a tree too deep for the paths need not be finished */
-  xr_exact_primary(&C->ex, &axial);
-  C->ex.tree = NULL;
-  C->ex.halt = 0;
+  pt__trace_shape(C, &C->trees.axial, &axial); /* a tree too deep for the paths is not finished */
   st->exact_traces++;
   /* step 3: smoothness, node by node; the primary ray must meet the same surface everywhere */
   const int xs[4] = {x0, x1, x1, x0}, ys[4] = {y0, y0, y1, y1};

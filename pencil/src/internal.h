@@ -201,6 +201,11 @@ void pt__sample_free(pt_sample_t *x);
 int pt__ctx_alloc(pt_ctx_t *C, int tree_nodes, int n);
 void pt__ctx_free(pt_ctx_t *C);
 
+/** Trace the exact tree of ray r into t for its shape alone (xr_exact_t.halt: no spectral
+ *  pencils, no ray past the tree's capacity), its radiance dropped: the axial and corner rays,
+ *  the auxiliary channels' and the measure's trees (domain.c). */
+void pt__trace_shape(pt_ctx_t *C, rt_tree_t *t, const rt_ray_t *r);
+
 enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
 
 /** Subtrees traced exactly that one sample's measurement can hold, in whole trees (the subtrees

@@ -117,11 +117,7 @@ static int sub_has(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, int x) 
 }
 
 int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]) {
-  C->ex.tree = &C->trees.probe;
-  C->ex.halt = 1; /* the exact tree's points are compared, not its radiance */
-  xr_exact_primary(&C->ex, ray);
-  C->ex.halt = 0;
-  C->ex.tree = NULL;
+  pt__trace_shape(C, &C->trees.probe, ray); /* its points are compared, not its radiance */
   const rt_tree_t *A = &C->trees.axial, *X = &C->trees.probe;
   e[0] = e[1] = e[2] = 0.0;
   int last, next, points = 0;

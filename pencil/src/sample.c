@@ -40,11 +40,7 @@ void pt__write_pixel(pt_ctx_t *C, int i, int j, rt_rgb_t sum, pt_method_t m, dou
  * renderer writes them; the tree's shape alone: xr_exact_t.halt). */
 void pt__aux_exact(pt_ctx_t *C, int i, int j) {
   rt_ray_t r = rt_view_ray(C->view, i + 0.5, j + 0.5, C->s->ior);
-  C->ex.tree = &C->trees.probe;
-  C->ex.halt = 1;
-  xr_exact_primary(&C->ex, &r);
-  C->ex.halt = 0;
-  C->ex.tree = NULL;
+  pt__trace_shape(C, &C->trees.probe, &r);
   const rt_tree_t *t = &C->trees.probe;
   rt_image_set_aux(C->img, C->s, pt__pixel_index(C, i, j), t);
 }
