@@ -245,7 +245,8 @@ static void trace_tree(const rt_scene_t *s, const rt_plan_t *plan, const rt_view
 
 /* Step 3: trees that differ only in checker squares agree (texture does not bend rays), a ray
  * off the ball disagrees with one on it at the primary node, two close rays on the ball agree
- * at the primary node. */
+ * at the primary node. The corners' own test, pt_ctree_same_root(), says the same at the primary
+ * node without the axial tree, and an invalid (overflowed) tree agrees with nothing. */
 static void tree_agreement_edges_not_textures(void **state) {
   (void)state;
   rt_scene_t s;
@@ -254,9 +255,9 @@ static void tree_agreement_edges_not_textures(void **state) {
   rt_view_t v;
   rt_view_make(&s.camera, &v);
   static rt_tree_node_t ba[256], bb[256];
-  static pt_cnode_t cb[256];
+  static pt_cnode_t cb[256], cab[256];
   rt_tree_t a = rt_tree_make(ba, plan.tree_nodes), b = rt_tree_make(bb, plan.tree_nodes);
-  pt_ctree_t c = {cb, 256, 0, 0};
+  pt_ctree_t c = {cb, 256, 0, 0}, ca = {cab, 256, 0, 0};
   const pt_ctree_t *cs[1] = {&c};
   int map[256];
   uint8_t agree[256];
@@ -273,18 +274,26 @@ static void tree_agreement_edges_not_textures(void **state) {
   pt_ctree_from(&c, &b);
   assert_true(pt_tree_agree(&a, cs, 1, map, agree, light));
   assert_true(pt_tree_same_paths(&a, &b));
+  pt_ctree_from(&ca, &a);
+  assert_true(pt_ctree_same_root(&ca, &c));
   /* on and off the ball */
   trace_tree(&s, &plan, &v, BALL_X, BALL_Y, &a);
   trace_tree(&s, &plan, &v, 20.5, BALL_Y, &b);
   pt_ctree_from(&c, &b);
   assert_false(pt_tree_agree(&a, cs, 1, map, agree, light));
   assert_int_equal(agree[0], 0);
+  pt_ctree_from(&ca, &a);
+  assert_false(pt_ctree_same_root(&ca, &c));
+  assert_false(pt_ctree_same_root(&c, &ca));
   /* two close rays on the ball */
   trace_tree(&s, &plan, &v, BALL_X + 0.25, BALL_Y, &b);
   pt_ctree_from(&c, &b);
   pt_tree_agree(&a, cs, 1, map, agree, light);
   assert_int_equal(agree[0], 1);
   assert_int_equal(light[0], ~0u);
+  assert_true(pt_ctree_same_root(&ca, &c));
+  ca.valid = 0;
+  assert_false(pt_ctree_same_root(&ca, &c));
   rt_scene_free(&s);
 }
 

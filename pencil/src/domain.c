@@ -293,31 +293,39 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   }
   double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
   rt_ray_t axial = rt_view_ray(C->view, cx, cy, C->s->ior);
-  pt__trace_shape(C, &C->trees.axial, &axial); /* a tree too deep for the paths is not finished */
-  st->exact_traces++;
-  /* step 3: smoothness, node by node; the primary ray must meet the same surface everywhere */
+  /* step 3 first where it needs no axial tree: the corners must meet one surface first (the
+   * primary node agrees nowhere else), and the guard looks at the primary cone alone */
   const int xs[4] = {x0, x1, x1, x0}, ys[4] = {y0, y0, y1, y1};
   const pt_ctree_t *ct[4];
-  int deep = C->trees.axial.overflow;
+  int deep = 0, edge = px_frame_from_z(axial.d, C->view->down, &C->paths.frame) != PX_OK;
   for (int i = 0; i < 4 && !deep; i++) {
     ct[i] = corner(C, xs[i], ys[i]);
     deep = !ct[i]->valid; /* a corner tree is invalid only when it has more than cap nodes */
+  }
+  for (int i = 1; i < 4 && !edge && !deep; i++)
+    edge = !pt_ctree_same_root(ct[0], ct[i]);
+  double xi_domain = 0.0;
+  for (int i = 0; i < 4 && !edge && !deep; i++)
+    xi_domain = fmax(xi_domain, xi_norm(C, xs[i], ys[i]));
+  if (!edge && !deep && C->nguard &&
+      pt_guard_fires(C->guard, C->nguard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
+    edge = 1;
+    st->domains_guard++;
+  }
+  if (!edge && !deep) { /* step 2's axial tree (unfinished when too deep for the paths), and
+                           step 3 node by node */
+    pt__trace_shape(C, &C->trees.axial, &axial);
+    st->exact_traces++;
+    deep = C->trees.axial.overflow;
+    if (!deep) {
+      pt_tree_agree(&C->trees.axial, ct, 4, C->corners.map, C->corners.agree, C->corners.light);
+      edge = C->trees.axial.n == 0 || !C->corners.agree[0];
+    }
   }
   if (deep) { /* more nodes than the paths may have: no pencil, and no subdivision either */
     st->domains_deep++;
     pt__exact_domain(C, x0, y0, x1, y1);
     return;
-  }
-  pt_tree_agree(&C->trees.axial, ct, 4, C->corners.map, C->corners.agree, C->corners.light);
-  int edge = C->trees.axial.n == 0 || !C->corners.agree[0] ||
-             px_frame_from_z(axial.d, C->view->down, &C->paths.frame) != PX_OK;
-  double xi_domain = 0.0;
-  for (int i = 0; i < 4 && !edge; i++)
-    xi_domain = fmax(xi_domain, xi_norm(C, xs[i], ys[i]));
-  if (!edge && C->nguard &&
-      pt_guard_fires(C->guard, C->nguard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
-    edge = 1;
-    st->domains_guard++;
   }
   if (edge) {
     st->domains_edge++;

@@ -48,6 +48,13 @@ int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b) {
   return 1;
 }
 
+int pt_ctree_same_root(const pt_ctree_t *a, const pt_ctree_t *b) {
+  if (!a->valid || !b->valid || (a->n == 0) != (b->n == 0))
+    return 0;
+  return a->n == 0 || (a->node[0].object == b->node[0].object &&
+                       a->node[0].prim == b->node[0].prim && a->node[0].flags == b->node[0].flags);
+}
+
 /* The child of node m of c whose ray is of `kind`, or -1. */
 static int child_of(const pt_ctree_t *c, int m, int kind) {
   for (int j = m + 1; j < c->n; j++)

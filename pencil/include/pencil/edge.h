@@ -43,6 +43,10 @@ int pt_tree_same_paths(const rt_tree_t *a, const rt_tree_t *b);
 /** The same between a full tree and a compact one. */
 int pt_ctree_same(const rt_tree_t *a, const pt_ctree_t *b);
 
+/** 1 when the primary rays of two compact trees met the same surface and primitive with the
+ *  same flags (node 0 of both; two empty trees agree, an invalid one agrees with nothing). */
+int pt_ctree_same_root(const pt_ctree_t *a, const pt_ctree_t *b);
+
 /** Node-by-node agreement of tree `a` (the cell's axial tree) with `nc` compact trees (its
  *  corners), each node of a followed in them along its path (the kinds of rays from the root):
  *  agree[k] = 1 when node k and all its ancestors met the same object and primitive with the
