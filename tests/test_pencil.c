@@ -494,6 +494,56 @@ static void pencil_image_matches_exact(void **state) {
   rt_scene_free(&s);
 }
 
+/* The image-space tolerance (pt_tolerance_t): with a weight floor of 1 every node's tolerance is
+ * rho and the image is the geometric one to the bit; with the default floor the ball's inner
+ * paths (weights 0.75 x 0.15 and less) get wider tolerances, so that fewer lattice points are
+ * traced, while every measured point stays within its own tolerance as often as the geometric
+ * mode's are within rho (the measure divides by the node's scale), and the image against the
+ * exact one stays as close: a node of weight W erring by rho / W moves its share W of the pixel
+ * about as much as a weight-1 node erring by rho does (measured at 256 x 256 and 49 spp: RMS
+ * 0.01406 -> 0.01414 over the image, docs/journal/2026-12-03-edges.md). */
+static void image_tolerance_weights_nodes(void **state) {
+  (void)state;
+  enum { W = 64, H = 64, SIDE = 3 };
+  rt_scene_t s;
+  fx_fig8(&s, W, H);
+  pt_options_t o = PT_OPTIONS_DEFAULT;
+  rt_image_t g, i1, im;
+  pt_stats_t sg, s1, si;
+  fx_render_pencil(&s, SIDE, 1, &o, &g, NULL, &sg);
+  o.tolerance = PT_TOL_IMAGE;
+  o.weight_floor = 1.0;
+  fx_render_pencil(&s, SIDE, 1, &o, &i1, NULL, &s1);
+  fx_assert_images_equal(&g, &i1);
+  assert_int_equal(s1.lattice_points, sg.lattice_points);
+  o.weight_floor = PT_WEIGHT_FLOOR;
+  fx_render_pencil(&s, SIDE, 1, &o, &im, NULL, &si);
+  fx_diff_t dg = fx_exact_difference(&s, &g, SIDE), di = fx_exact_difference(&s, &im, SIDE);
+  print_message("lattice points %llu -> %llu, paths exact %llu -> %llu; against exact: RMS %.5f "
+                "-> %.5f, worst %.4f -> %.4f, pixels off by > 0.1: %d -> %d\n",
+                (unsigned long long)sg.lattice_points, (unsigned long long)si.lattice_points,
+                (unsigned long long)sg.paths_exact, (unsigned long long)si.paths_exact, dg.rms,
+                di.rms, dg.worst, di.worst, dg.big, di.big);
+  assert_true(si.lattice_points < sg.lattice_points);
+  assert_true(si.paths_exact < sg.paths_exact);
+  assert_true(di.rms <= 1.05 * dg.rms);
+  assert_true(di.big <= dg.big + dg.big / 20 + 1);
+  /* measured: within their own tolerances as the geometric mode's points are within rho */
+  pt_options_t m = o;
+  m.measure = 1;
+  pt_stats_t mi = fx_pencil_stats(&s, SIDE, 1, &m);
+  m.tolerance = PT_TOL_GEOMETRIC;
+  pt_stats_t mg = fx_pencil_stats(&s, SIDE, 1, &m);
+  print_message("within: image %.5f%%, geometric %.5f%%\n", 100.0 * mi.within / mi.measured,
+                100.0 * mg.within / mg.measured);
+  assert_true(mi.measured == mg.measured && mi.within >= mi.measured * 9999 / 10000);
+  assert_int_equal(mi.mismatches, 0);
+  rt_image_free(&g);
+  rt_image_free(&i1);
+  rt_image_free(&im);
+  rt_scene_free(&s);
+}
+
 /* Fig. 8 lit by its light with the inverse-square fall-off (intensity 67 at unit distance: about
  * 1 at the board, 8.2 away): the pencil image still matches the exact one as closely as without
  * it (the same thresholds), though no node may now be interpolated as faint (pt__faint_bound has
@@ -1061,6 +1111,17 @@ static void bad_options_rejected(void **state) {
   o = (pt_options_t)PT_OPTIONS_DEFAULT;
   o.spp_side = RT_MAX_SPP_SIDE + 1;
   assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, NULL), RT_EINVAL);
+  o = (pt_options_t)PT_OPTIONS_DEFAULT;
+  o.tolerance = PT_TOL_IMAGE;
+  o.weight_floor = 0.0;
+  assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, NULL), RT_EINVAL);
+  o.weight_floor = 1.5;
+  assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, NULL), RT_EINVAL);
+  o.weight_floor = NAN;
+  assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, NULL), RT_EINVAL);
+  o = (pt_options_t)PT_OPTIONS_DEFAULT;
+  o.tolerance = (pt_tolerance_t)2;
+  assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, NULL, NULL), RT_EINVAL);
   o = (pt_options_t)PT_OPTIONS_DEFAULT; /* per-sample errors need measure */
   assert_int_equal(pt_render(&s, &plan, &o, &img, NULL, err, NULL), RT_EINVAL);
   pt_bound_t b;
@@ -1178,6 +1239,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(interpolation_error_on_board),
       cmocka_unit_test(biquadratic_cells_stay_within_rho),
       cmocka_unit_test(pencil_image_matches_exact),
+      cmocka_unit_test(image_tolerance_weights_nodes),
       cmocka_unit_test(pencil_image_matches_exact_with_falloff),
       cmocka_unit_test(largest_sample_grid),
       cmocka_unit_test(mirror_ball_reflections_match_exact),

@@ -197,6 +197,17 @@ static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   }
 }
 
+/* Node k's tolerance in units of rho (pt_node_t.tol_scale): with the image-space tolerance,
+ * 1 / W for the weight W with which its light reaches the pixel (the axial ray's, its largest
+ * channel), W taken at least the option's floor and at most 1. */
+static double tol_scale(const pt_ctx_t *C, int k) {
+  if (C->opt->tolerance != PT_TOL_IMAGE)
+    return 1.0;
+  rt_rgb_t w = C->trees.axial.node[k].weight;
+  double m = fmax(w.r, fmax(w.g, w.b)); /* fmax and fmin drop a NaN: then 1 / 1 */
+  return 1.0 / fmax(fmin(m, 1.0), C->opt->weight_floor);
+}
+
 /* Step 2 for every node whose path agrees at the corners: topology for all, matrices for the
  * agreeing ones (a node whose path cannot be re-traced is treated as disagreeing, and so are its
  * descendants). Then step 4 per path: a path is traced with its matrix when the domain's spread is
@@ -237,8 +248,11 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
       *cost += size[k];
     }
     n->guard_r = -1.0;
+    n->tol_scale = tol_scale(C, k);
+    pt_pencil_t pk = *p;
+    pk.rho = p->rho * n->tol_scale;
     if (mode &&
-        pt_path_build(C->s, &C->trees.axial, k, C->paths.node, p, &C->paths.scratch) != PX_OK)
+        pt_path_build(C->s, &C->trees.axial, k, C->paths.node, &pk, &C->paths.scratch) != PX_OK)
       mode = PT_NODE_EXACT;
     if (mode && par >= 0 && segment_guarded(C, k, b)) {
       /* traced exactly per sample (a scene search), as below an edge */

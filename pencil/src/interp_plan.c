@@ -140,7 +140,7 @@ static int plan_hits(planning_t *P, int k) {
   const pt_node_t *n = &C->paths.node[k];
   interp_plan_t *pl = P->pl;
   int cert = P->cert;
-  double rho = P->rho;
+  double rho = P->rho * n->tol_scale; /* this node's share (the image-space tolerance) */
   grid3_t p;
   hits_of(P->R, k, &p);
   double e_mat = matrix_error(n, P->xi2);

@@ -19,7 +19,9 @@
  * the node it hangs from, which may be interpolated: its points (recorded in C->sub.tree) are
  * compared in the same way, in the pixel intervals of the domain's node on the same path (a subtree
  * off the domain's paths has none: there only its surfaces are compared). Samples traced exactly
- * from the eye have no error. */
+ * from the eye have no error. With the image-space tolerance (pencil.h, pt_tolerance_t) a
+ * point's error is divided by its node's tol_scale, so that "within rho" means within the
+ * node's own tolerance; the geometric tolerance's scale is 1. */
 #include <math.h>
 
 #include "internal.h"
@@ -90,9 +92,10 @@ static int measure_sub(const pt_ctx_t *C, int i, const rt_tree_t *X, int xk, dou
     if (xx >= 0 && X->node[xx].prim == sn->prim) {
       d = strict = 0.0;
       if (ka >= 0 && C->paths.node[ka].measured && C->paths.node[ka].prim == sn->prim) {
+        const pt_node_t *n = &C->paths.node[ka];
         px_vec3_t v = px_v3_sub(sn->point, X->node[xx].point);
-        d = pt_pixels(&C->paths.node[ka], v);
-        strict = px_v3_norm(v) / C->paths.node[ka].interval;
+        d = pt_pixels(n, v) / n->tol_scale;
+        strict = px_v3_norm(v) / n->interval / n->tol_scale;
       }
     }
     e[0] = fmax(e[0], d);
@@ -131,8 +134,8 @@ int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e
     double d = INFINITY, strict = INFINITY;
     if (x >= 0 && X->node[x].prim == n->prim) {
       px_vec3_t v = px_v3_sub(rec[k].p, X->node[x].point);
-      d = pt_pixels(n, v);
-      strict = px_v3_norm(v) / n->interval;
+      d = pt_pixels(n, v) / n->tol_scale;
+      strict = px_v3_norm(v) / n->interval / n->tol_scale;
     }
     e[0] = fmax(e[0], d);
     e[2] = fmax(e[2], strict);

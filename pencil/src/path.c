@@ -247,6 +247,7 @@ void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const p
   out->c = 0.0;
   out->xi_max = INFINITY;
   out->tau = INFINITY;
+  out->tol_scale = 1.0;
   out->interval = INFINITY;
   out->e_check = -1.0;
   out->nstep = 0;

@@ -79,7 +79,8 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
 static int options_ok(const pt_options_t *o) {
   return o->spp_side >= 1 && o->spp_side <= RT_MAX_SPP_SIDE && o->threads >= 0 && o->domain >= 1 &&
          o->domain <= 32 && o->rho > 0.0 && isfinite(o->rho) && (unsigned)o->bound <= 2u &&
-         o->brightness_tol >= 0.0 && isfinite(o->brightness_tol);
+         o->brightness_tol >= 0.0 && isfinite(o->brightness_tol) && (unsigned)o->tolerance <= 1u &&
+         o->weight_floor > 0.0 && o->weight_floor <= 1.0;
 }
 
 rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_options_t *opt,

@@ -13,11 +13,15 @@
 
 static_assert(RN_HIST_BINS == PT_HIST_BINS, "one histogram for every renderer");
 static_assert(sizeof(pt_bound_t) == sizeof(int), "--bounds is stored as an int");
+static_assert(sizeof(pt_tolerance_t) == sizeof(int), "--tolerance is stored as an int");
 
 static const pt_options_t defaults = PT_OPTIONS_DEFAULT;
 
 /* pt_bound_t's values in order */
 static const char *const bound_names[] = {"corrected", "printed", "probe", NULL};
+
+/* pt_tolerance_t's values in order */
+static const char *const tolerance_names[] = {"geometric", "image", NULL};
 
 /* pt_options_t.wavelengths */
 static const char *const wavelength_names[] = {"pencil", "off", NULL};
@@ -30,6 +34,16 @@ static const rn_option_t pencil_options[] = {
     {"--bounds", RN_OPT_CHOICE, offsetof(pt_options_t, bound), 0, 0, 0, 0, bound_names, "B",
      "C of Eq. (4): corrected (default), printed, or probe (exact\n"
      "errors on the spread circle; not a bound)"},
+    {"--tolerance", RN_OPT_CHOICE, offsetof(pt_options_t, tolerance), 0, 0, 0, 0, tolerance_names,
+     "T",
+     "what rho bounds on each surface of a sample's tree: geometric (default,\n"
+     "the paper's: rho pixel intervals everywhere) or image (rho / W where the\n"
+     "surface's light reaches the pixel with weight W, the product of the\n"
+     "reflection and transmission coefficients from the eye; the measure then\n"
+     "counts each point's error in its own tolerance)"},
+    {"--weight-floor", RN_OPT_DOUBLE, offsetof(pt_options_t, weight_floor), 0, 0, 1, 1, NULL, "W",
+     "--tolerance image: weights below W count as W, so that no tolerance grows\n"
+     "past rho / W; 0 < W <= 1 (default 1/64)"},
     {"--certified", RN_OPT_FLAG, offsetof(pt_options_t, certified), 1, 0, 0, 0, NULL, NULL,
      "also check every path exactly on each domain's boundary"},
     {"--no-interp", RN_OPT_FLAG, offsetof(pt_options_t, interp), 0, 0, 0, 0, NULL, NULL,
@@ -101,7 +115,11 @@ static int describe(const void *options, rn_attr_t *attrs) {
   snprintf(attrs[3].value, sizeof attrs[3].value, "%s", wavelength_names[o->wavelengths]);
   attrs[4].key = "pencil:spectral_tol";
   snprintf(attrs[4].value, sizeof attrs[4].value, "%.17g", o->spectral_tol);
-  return 5;
+  attrs[5].key = "pencil:tolerance";
+  snprintf(attrs[5].value, sizeof attrs[5].value, "%s", tolerance_names[o->tolerance]);
+  attrs[6].key = "pencil:weight_floor";
+  snprintf(attrs[6].value, sizeof attrs[6].value, "%.17g", o->weight_floor);
+  return 7;
 }
 
 static void report(FILE *f, const rn_report_t *r) {
@@ -110,12 +128,13 @@ static void report(FILE *f, const rn_report_t *r) {
   const rt_scene_t *s = r->scene;
   uint64_t n = st->samples[0] + st->samples[1] + st->samples[2];
   fprintf(f,
-          "pencil-traced %dx%d at %d spp in %.3f s (rho %g, bounds %s%s): samples %.1f%% matrix, "
+          "pencil-traced %dx%d at %d spp in %.3f s (rho %g%s, bounds %s%s): samples %.1f%% matrix, "
           "%.1f%% interpolated, %.1f%% exact; %llu domains (%llu accepted, %llu partly exact, %llu "
           "edge, "
           "%llu split, %llu deep, %llu small), %llu paths exact, %llu guarded (and %llu shadows); "
           "%llu exact rays -> %s\n",
-          s->camera.width, s->camera.height, r->spp, r->seconds, o->rho, pt_bound_name(o->bound),
+          s->camera.width, s->camera.height, r->spp, r->seconds, o->rho,
+          o->tolerance == PT_TOL_IMAGE ? " / W, image tolerance" : "", pt_bound_name(o->bound),
           o->certified ? ", certified" : "", 100.0 * st->samples[1] / n, 100.0 * st->samples[2] / n,
           100.0 * st->samples[0] / n, (unsigned long long)st->domains,
           (unsigned long long)st->domains_accepted, (unsigned long long)st->domains_partial,

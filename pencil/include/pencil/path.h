@@ -92,15 +92,19 @@ typedef struct {
   px_vec3_t e1, e2, ez; /**< output ray frame (world), ez along the arriving axial ray */
   px_vec3_t n;          /**< unit surface normal at O', facing the arriving ray */
   double cos_in;        /**< |n . ez|, cosine of the incidence angle of the axial ray */
-  px_vec3_t j[2];  /**< pixel footprint on the surface: displacement per pixel along screen x, y */
-  double ginv[3];  /**< (J^T J)^-1 as (00, 01, 11), for pt_pixels() */
-  double interval; /**< sigma_min(J): the smallest pixel interval on the surface, scene units */
-  double tau;      /**< rho * interval: the tolerance of Eq. (3) on the surface */
-  double c;        /**< C of Eq. (4) for this path (x0 = 0), scene units; 0 for a transfer */
-  double xi_max;   /**< spread limit of Eq. (6) on the surface: sqrt(tau cos / C), at most
-                        PT_SPREAD_CAP (pt_spread_limit) */
-  double e_check;  /**< certified mode: largest exact error on the cell boundary (surface units,
-                        from ex_map at the corners and edge midpoints), else -1 */
+  px_vec3_t j[2];   /**< pixel footprint on the surface: displacement per pixel along screen x, y */
+  double ginv[3];   /**< (J^T J)^-1 as (00, 01, 11), for pt_pixels() */
+  double interval;  /**< sigma_min(J): the smallest pixel interval on the surface, scene units */
+  double tau;       /**< rho * interval: the tolerance of Eq. (3) on the surface (rho times
+                         tol_scale) */
+  double tol_scale; /**< the node's tolerance in units of rho: 1, or with the image-space
+                         tolerance 1 / max(W, floor) (pencil.h, pt_tolerance_t); set by the
+                         renderer before pt_path_build(), which takes rho as given */
+  double c;         /**< C of Eq. (4) for this path (x0 = 0), scene units; 0 for a transfer */
+  double xi_max;    /**< spread limit of Eq. (6) on the surface: sqrt(tau cos / C), at most
+                         PT_SPREAD_CAP (pt_spread_limit) */
+  double e_check;   /**< certified mode: largest exact error on the cell boundary (surface units,
+                         from ex_map at the corners and edge midpoints), else -1 */
   double xcheck[8][4]; /**< certified mode: the exact ray vectors of the 8 boundary rays in the
                             node's output frame (ex_map's psi'), which its children's checks
                             carry on by one step */

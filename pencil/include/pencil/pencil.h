@@ -45,6 +45,19 @@ typedef enum {
   PT_METHOD_INTERP = 2  /**< ray interpolation from matrix-traced pixel corners (4.1 (2)) */
 } pt_method_t;
 
+/** What rho (Eq. 3) bounds on each node of a domain's tree (issue 26's image-space tolerance). */
+typedef enum {
+  PT_TOL_GEOMETRIC = 0, /**< the paper's: rho pixel intervals on every surface (default) */
+  PT_TOL_IMAGE = 1      /**< rho / W pixel intervals on a node whose light reaches the pixel
+                             with weight W (the largest channel of the product of the reflection
+                             and transmission coefficients from the eye, as the domain's axial ray
+                             has it), at most rho / weight_floor: a node's geometric error counts
+                             as much as the share of the pixel it makes */
+} pt_tolerance_t;
+
+/** Default weight floor of PT_TOL_IMAGE: no node's tolerance grows past 64 rho. */
+#define PT_WEIGHT_FLOOR (1.0 / 64.0)
+
 /** Default brightness tolerance of ray interpolation: a quarter of an 8-bit display step. */
 #define PT_BRIGHTNESS_TOL (1.0 / 1024.0)
 
@@ -71,13 +84,16 @@ typedef struct {
   /* read by the renderer table's entry when it makes the plan (renderers/src/pencil.c), not by
    * pt_render(), which draws what the plan says */
   int wavelengths; /**< 0: dispersion by spectral pencils (RT_SPECTRAL_PENCIL); 1: glass at n_d */
-  double spectral_tol; /**< rt_plan_t.spectral_tol for spectral pencils */
+  double spectral_tol;      /**< rt_plan_t.spectral_tol for spectral pencils */
+  pt_tolerance_t tolerance; /**< what rho bounds per node (default PT_TOL_GEOMETRIC) */
+  double weight_floor;      /**< PT_TOL_IMAGE: the smallest weight a node's tolerance is scaled
+                                 by, in (0, 1] (default PT_WEIGHT_FLOOR) */
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
   {                                                                                                \
     1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL, 0,             \
-        RT_SPECTRAL_TOL                                                                            \
+        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR                                         \
   }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
