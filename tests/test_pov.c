@@ -1,7 +1,8 @@
 /* test_pov.c -- io/pov.h, the POV-Ray 3.7 export (issue 26's peer): the camera written as the
  * exact renderer's pixel-centre rays, the depth and materials as docs/pencil.md maps them, and
- * refusals that name what cannot be mapped. Whether POV-Ray renders the file as we do is
- * tests/cli_export_pov.sh's business (it needs POV-Ray). */
+ * refusals that name what cannot be mapped; and validation/povray.h's reading of POV-Ray's
+ * statistics. Whether POV-Ray renders the file as we do is tests/cli_export_pov.sh's business
+ * (it needs POV-Ray). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include "core/builtin.h"
 #include "core/camera.h"
 #include "io/pov.h"
+#include "validation/povray.h"
 
 /* The file io_pov_write() makes of s, in a malloc'ed string; NULL (with err) when refused. */
 static char *export_text(const rt_scene_t *s, int flat, char *notes, size_t ncap, char *err,
@@ -192,11 +194,40 @@ static void polyhedra_become_meshes(void **state) {
   rt_scene_free(&s);
 }
 
+/* POV-Ray's console statistics (the layout of 3.7.0's "Render Statistics" and "Render Time"
+ * blocks): the counts at the start of their lines, the render threads' CPU seconds of the Trace
+ * Time, not the Parse Time's; a log without the Trace Time is refused naming it. */
+static void povray_statistics_are_read(void **state) {
+  (void)state;
+  const char *log = "Persistence of Vision(tm) Ray Tracer Version 3.7.0.10.unofficial (g++ @\n"
+                    "Parser Time\n"
+                    "  Parse Time:       0 hours  0 minutes  0 seconds (0.012 seconds)\n"
+                    "              using 1 thread(s) with 0.011 CPU-seconds total\n"
+                    "Pixels:            65536   Samples:               0   Smpls/Pxl: 0.00\n"
+                    "Rays:             213460   Saved:                 0   Max Level: 7/7\n"
+                    "Shadow Ray Tests:            187571   Succeeded:                 55731\n"
+                    "Reflected Rays:               73962\n"
+                    "Render Time:\n"
+                    "  Trace Time:       0 hours  0 minutes  0 seconds (0.117 seconds)\n"
+                    "              using 1 thread(s) with 0.108 CPU-seconds total\n";
+  val_povray_run_t r = {0};
+  char version[64], err[256];
+  assert_int_equal(val_povray_parse(log, &r, version, sizeof version, err, sizeof err), 0);
+  assert_close(r.trace_s, 0.108, 0, 0);
+  assert_true(r.rays == 213460 && r.shadow_tests == 187571);
+  assert_string_equal(version, "3.7.0.10.unofficial");
+  char *cut = strdup(log);
+  *strstr(cut, "Render Time:") = '\0';
+  assert_int_equal(val_povray_parse(cut, &r, version, sizeof version, err, sizeof err), -1);
+  assert_non_null(strstr(err, "Trace Time"));
+  free(cut);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(camera_rays_are_ours),      cmocka_unit_test(depth_and_materials_are_mapped),
       cmocka_unit_test(flat_file_encodes_objects), cmocka_unit_test(unmappable_scenes_are_refused),
-      cmocka_unit_test(polyhedra_become_meshes),
+      cmocka_unit_test(polyhedra_become_meshes),   cmocka_unit_test(povray_statistics_are_read),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);
