@@ -244,28 +244,6 @@ static void judge(row_t *r, const args_t *a) {
                                 : "accuracy";
 }
 
-/** POV-Ray as the peer of one row's timed runs (validation/povray.h). */
-typedef struct {
-  val_povray_t *pv;      /**< the installation and its private directory */
-  const rt_scene_t *s;   /**< the scene (its size) */
-  int threads;           /**< POV-Ray's render threads: the bench's --threads */
-  int n;                 /**< runs so far */
-  double process[101];   /**< each run's process CPU seconds (--runs is at most 101) */
-  val_povray_run_t last; /**< the last run's figures */
-} peer_ctx_t;
-
-/* val_peer_t.run: one POV-Ray render of the exported scene; its Trace Time CPU seconds. */
-static int peer_run(void *ctx, int spp, double *seconds) {
-  peer_ctx_t *c = ctx;
-  char err[1024];
-  if (val_povray_render(c->pv, c->s, spp, c->threads, &c->last, err, sizeof err) != 0)
-    return fprintf(stderr, "pencil bench pencil: --peer povray: %s\n", err), -1;
-  if (c->n < 101)
-    c->process[c->n++] = c->last.process_s;
-  *seconds = c->last.trace_s;
-  return 0;
-}
-
 /* Time and measure one row, with POV-Ray beside it when pv is not NULL; 0 ok, -1 a render failed
  * (message printed). */
 static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r, val_povray_t *pv) {
@@ -280,8 +258,9 @@ static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r, val_povray_
       (r->certified && !rn_set(p, &po, "--certified", NULL, err, sizeof err)))
     return fprintf(stderr, "pencil bench pencil: %s\n", err), -1;
   val_method_t m = {p, &po};
-  peer_ctx_t pc = {.pv = pv, .s = s, .threads = (int)a->threads};
-  val_peer_t peer = {peer_run, &pc};
+  val_povray_peer_t pc = {
+      .pv = pv, .s = s, .threads = (int)a->threads, .who = "pencil bench pencil"};
+  val_peer_t peer = {val_povray_peer_run, &pc};
   if (val_time_peer(s, m, r->spp, (int)a->threads, (int)a->runs, pv ? &peer : NULL, &r->t) != 0)
     return -1;
   r->pov = pv != NULL;

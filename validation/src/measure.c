@@ -53,7 +53,7 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
     pc[r] = val_cpu_seconds() - c0;
     pw[r] = val_wall_seconds() - w0;
     w0 = val_wall_seconds();
-    if (rc == 0 && peer && peer->run(peer->ctx, spp, &qc[r]) != 0)
+    if (rc == 0 && peer && peer->run(peer->ctx, spp, &qc[r], &out->peer_rays) != 0)
       rc = -2; /* the peer said why */
     qw[r] = val_wall_seconds() - w0;
   }
@@ -63,6 +63,8 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   if (rc != 0)
     return -1;
   out->exact_rays = rt_stats_total(&xst);
+  if (!peer)
+    out->peer_rays = 0;
   out->peer_s = peer ? val_median(qc, runs) : NAN;
   out->peer_wall = peer ? val_median(qw, runs) : NAN;
   out->spp = spp;

@@ -125,6 +125,18 @@ int val_povray_parse(const char *log, val_povray_run_t *out, char *version, size
   return 0;
 }
 
+int val_povray_peer_run(void *ctx, int spp, double *seconds, uint64_t *rays) {
+  val_povray_peer_t *c = ctx;
+  char err[1024];
+  if (val_povray_render(c->pv, c->s, spp, c->threads, &c->last, err, sizeof err) != 0)
+    return fprintf(stderr, "%s: --peer povray: %s\n", c->who, err), -1;
+  if (c->n < 101)
+    c->process[c->n++] = c->last.process_s;
+  *seconds = c->last.trace_s;
+  *rays = c->last.rays + c->last.shadow_tests;
+  return 0;
+}
+
 int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads,
                       val_povray_run_t *out, char *err, size_t cap) {
   int side = (int)lrint(sqrt((double)spp));

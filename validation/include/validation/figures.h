@@ -29,6 +29,8 @@ typedef struct {
                                        reflected, refracted, shadow; every run traces the same) */
   double peer_s, peer_wall;       /**< val_time_peer(): the peer's median seconds (its own
                                        clock) and median wall seconds; NaN without a peer */
+  uint64_t peer_rays;             /**< the peer's own count of the rays of one render, 0
+                                       without a peer */
 } val_timing_t;
 
 /** A renderer to time or measure: an entry of the renderer table and its options (an options
@@ -47,14 +49,15 @@ int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int
 
 /** A renderer outside this process timed beside the pair (issue 26's peer, POV-Ray): run()
  *  renders the scene at spp samples per pixel and gives the CPU seconds by its own clock in
- *  *seconds; 0, or -1 after a message on stderr. */
+ *  *seconds and the rays it counted in *rays; 0, or -1 after a message on stderr. */
 typedef struct {
-  int (*run)(void *ctx, int spp, double *seconds);
+  int (*run)(void *ctx, int spp, double *seconds, uint64_t *rays);
   void *ctx; /**< run()'s */
 } val_peer_t;
 
 /** val_time_pair() with the peer's render after the exact and m's in each run (so that the three
- *  are interleaved), its medians in out->peer_s and out->peer_wall. peer NULL: val_time_pair(). */
+ *  are interleaved), its medians in out->peer_s and out->peer_wall, the last run's rays in
+ *  out->peer_rays. peer NULL: val_time_pair(). */
 int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
                   const val_peer_t *peer, val_timing_t *out);
 

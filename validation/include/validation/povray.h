@@ -58,6 +58,23 @@ int val_povray_export(val_povray_t *p, const rt_scene_t *s, int spp, const char 
 int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads,
                       val_povray_run_t *out, char *err, size_t cap);
 
+/** POV-Ray as the peer of timed runs (val_peer_t of validation/figures.h, with
+ *  val_povray_peer_run()): the scene exported for the spp first (val_povray_export()). */
+typedef struct {
+  val_povray_t *pv;      /**< the installation and its private directory */
+  const rt_scene_t *s;   /**< the scene (its size) */
+  int threads;           /**< POV-Ray's render threads (+WT) */
+  const char *who;       /**< the command, for messages ("pencil bench pencil") */
+  int n;                 /**< runs so far */
+  double process[101];   /**< each run's process CPU seconds (the first 101) */
+  val_povray_run_t last; /**< the last run's figures */
+} val_povray_peer_t;
+
+/** val_peer_t.run: one val_povray_render() of ctx (a val_povray_peer_t); its Trace Time CPU
+ *  seconds and its own ray count (Rays + Shadow Ray Tests). 0, or -1 after a message on stderr
+ *  naming the command and the log. */
+int val_povray_peer_run(void *ctx, int spp, double *seconds, uint64_t *rays);
+
 /** Parse POV-Ray's console output `log` (NUL-terminated) into *out (process_s untouched) and
  *  the banner's version into version[vcap]. 0, or -1 naming the first figure missing. */
 int val_povray_parse(const char *log, val_povray_run_t *out, char *version, size_t vcap, char *err,
