@@ -14,7 +14,8 @@
 # no pixel of these images does (0 differ, docs/journal/2026-12-03-povray-peer.md), while a
 # half-pixel shift, a flip or a field of view off by a part in a thousand moves hundreds of
 # silhouette pixels. Also the command's contract: --help, usage errors exit 2 naming the option,
-# a refused scene exits 2 naming what is refused, an unwritable path exits 1.
+# a refused scene exits 2 naming what is refused, an unwritable path exits 1; and Fig. 9 with
+# POV-Ray beside it (`pencil figures --peer povray`), in one run and merged from shards.
 # Exit 77 (skipped) when POV-Ray is not installed (scripts/deps installs it).
 set -u
 pencil=$1
@@ -50,6 +51,16 @@ check "unwritable output: exit 1 naming it" "[ $rc -eq 1 ] && grep -q '/nonexist
 $pencil export pov --size 64x48 --spp 9 -o "$tmp/fig8.pov" >"$tmp/out" 2>"$tmp/err"; rc=$?
 check "shaded Fig. 8: exit 0, notes on stderr, header with version, command and render size" \
   "[ $rc -eq 0 ] && grep -q 'note: shadows through' '$tmp/err' && grep -q '^// POV-Ray 3.7 scene written by pencil' '$tmp/fig8.pov' && grep -q '^// command: .*export pov --size 64x48 --spp 9' '$tmp/fig8.pov' && grep -q '+W192 +H144' '$tmp/fig8.pov' && grep -q '^#version 3.7;' '$tmp/fig8.pov'"
+
+# Fig. 9 with --peer povray when POV-Ray is missing from PATH: a note, and its columns nan
+nopov=$tmp/nopov
+mkdir -p "$nopov"
+for t in bash sh python3; do ln -s "$(command -v $t)" "$nopov/$t" 2>/dev/null; done
+PATH=$nopov $pencil figures --quick --only fig9 --size 32x32 --peer povray --out "$tmp/fn" >"$tmp/out" 2>&1; rc=$?
+check "figures --peer povray without POV-Ray: exit 0, a note, fig9.csv's POV-Ray columns nan" \
+  "[ $rc -eq 0 ] && grep -q 'note: --peer povray: povray (POV-Ray 3.7) is not installed' '$tmp/out' && head -1 '$tmp/fn/fig9.csv' | grep -q ',povray_s,povray_rays,pencil_over_povray,exact_over_povray$' && sed -n 2p '$tmp/fn/fig9.csv' | grep -q ',nan,0,nan,nan$'"
+$pencil figures --peer blender --out "$tmp/fb" >/dev/null 2>"$tmp/err"; rc=$?
+check "figures --peer blender: exit 2 naming --peer" "[ $rc -eq 2 ] && grep -q -- '--peer' '$tmp/err'"
 
 if ! command -v povray >/dev/null; then
   [ $fail -ne 0 ] && { echo "cli_export_pov: FAILED"; exit 1; }
@@ -113,6 +124,27 @@ assert differ <= 1e-4 * n, differ
 assert flips <= 1e-4 * nb, flips
 PY"
 done
+
+# Fig. 9 with POV-Ray beside it, in one run and merged from two shards: its columns filled, its
+# ray counts (which do not depend on timing) the same both ways
+$pencil figures --quick --no-sweep --size 32x32 --peer povray --out "$tmp/f1" >"$tmp/out" 2>&1; rc=$?
+check "figures --peer povray: exit 0, the log names POV-Ray's time at each spp" \
+  "[ $rc -eq 0 ] && [ \$(grep -c 'Fig. 9: .* POV-Ray [0-9.]* s, pencil / POV-Ray' '$tmp/out') -eq 3 ]"
+for k in 1 2; do
+  $pencil figures --quick --no-sweep --size 32x32 --peer povray --shard $k/2 --out "$tmp/f2" >/dev/null 2>&1
+done
+$pencil figures --merge --out "$tmp/f2" >/dev/null 2>&1; rc=$?
+check "figures --peer povray: fig9.csv and summary.json hold POV-Ray's figures, merged shards too" \
+  "[ $rc -eq 0 ] && $py - '$tmp/f1' '$tmp/f2' <<'PY'
+import csv, json, sys
+rows = [list(csv.DictReader(open(d + '/fig9.csv'))) for d in sys.argv[1:]]
+for r in rows[0]:
+    assert float(r['povray_s']) >= 0 and int(r['povray_rays']) >= 32 * 32 * int(r['spp']), r
+assert [r['povray_rays'] for r in rows[0]] == [r['povray_rays'] for r in rows[1]], rows
+s = json.load(open(sys.argv[1] + '/summary.json'))
+for t in s['fig9']:
+    assert {'povray_s', 'povray_rays', 'pencil_over_povray', 'exact_over_povray'} <= set(t), t
+PY"
 
 [ $fail -eq 0 ] && echo "cli_export_pov: all passed" || echo "cli_export_pov: FAILED"
 exit $fail

@@ -127,6 +127,10 @@ typedef struct {
                            figures alone and write their outputs */
   int merge;          /**< 1: run nothing; merge DIR/shards/ into the outputs of one run (the
                            configuration comes from the shard files) */
+  int peer;           /**< 1: time POV-Ray 3.7 beside Fig. 9 (`--peer povray`, issue 26;
+                           validation/povray.h): fig9.csv and summary.json get its columns; left
+                           out with a note when povray is not installed or the scene cannot be
+                           exported */
 } val_figures_opts_t;
 
 /** Figures that `--only` selects (val_figures_opts_t.only). */
