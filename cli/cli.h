@@ -86,5 +86,7 @@ int cmd_figures(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 /** `pencil post` (cmd_post.c): post-processing filters, `post star`. */
 int cmd_post(int argc, char **argv);
+/** `pencil export` (cmd_export.c): a scene for another renderer, `export pov`. */
+int cmd_export(int argc, char **argv);
 
 #endif

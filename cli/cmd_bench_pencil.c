@@ -7,7 +7,11 @@
  * and pencil renders interleaved in this process, no auxiliary channels); the ratio is taken
  * within one invocation, never across runs of the command. Accuracy comes from one separate
  * measured render per mode (val_measure: Fig. 10 error of every sample). Speed is measured here,
- * never in a timed test (docs/DEVELOPING.md). A missed target is a result, not a failure. */
+ * never in a timed test (docs/DEVELOPING.md). A missed target is a result, not a failure.
+ *
+ * --peer povray times POV-Ray 3.7 on the same scene beside them (issue 26, "a peer beside the
+ * exact renderer"; validation/povray.h): the scene exported for each spp, POV-Ray run after the
+ * exact and pencil renders of each default-mode run, its "Trace Time" CPU seconds taken. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +24,8 @@
 #include "io/output.h"
 #include "pencil/pencil.h"
 #include "validation/figures.h"
+#include "validation/povray.h"
+#include "validation/timing.h"
 
 /* The targets of issue 5 (the paper's Fig. 9 falls below 0.1 at 49 spp; Fig. 10: 99.8%). */
 #define TARGET_SPP 49
@@ -33,7 +39,7 @@ static void help(FILE *f) {
   fprintf(
       f, "usage: pencil bench pencil [SCENE.json] [--spp 49[,N...]] [--runs N] [--threads N]\n"
          "                           [--rho R] [--brightness-tol L] [--size WxH] [--json FILE]\n"
-         "                           [--no-measure] [--method NAME]\n\n"
+         "                           [--no-measure] [--method NAME] [--peer povray]\n\n"
          "The speed targets of issue 5 on SCENE.json or the built-in Fig. 8 scene (a glass sphere\n"
          "over a checkerboard, 256x256): at 49 samples per pixel, pencil time <= 1/10 of exact\n"
          "time with >= 99.8%% of the samples (the image area) within rho = 1/2, and the certified\n"
@@ -66,6 +72,18 @@ static void help(FILE *f) {
          "  --no-measure   skip the measured renders (times only; no accuracy, no verdict)\n"
          "  --method NAME  the renderer timed and measured against exact tracing (default\n"
          "                 pencil; it must take --rho, --brightness-tol and --certified)\n"
+         "  --peer povray  also time POV-Ray 3.7 on the same scene (pencil export pov): for\n"
+         "                 each spp = s^2 it renders the exported scene at s times the size\n"
+         "                 without anti-aliasing (its pixel centres are the s x s grid), with\n"
+         "                 --threads render threads and no output file, after the exact and\n"
+         "                 pencil renders of each default-mode run; its time is the CPU time\n"
+         "                 of its statistics' Trace Time (parsing and start-up excluded).\n"
+         "                 Skipped with a note when povray is not installed or the scene\n"
+         "                 cannot be exported (default: no peer)\n"
+         "A second table gives rays per second: the exact renderer's rays (primary,\n"
+         "reflected, refracted, shadow) over its time, the same count over the pencil's time\n"
+         "(the rate at which it delivers the exact renderer's image), and POV-Ray's own count\n"
+         "(its Rays and Shadow Ray Tests) over its time; and the time ratios side by side.\n"
          "Exit codes: 0 done (whether or not the targets were met); 1 a render or the JSON file\n"
          "failed; 2 usage or scene error.\n");
 }
@@ -80,6 +98,7 @@ typedef struct {
   double rho;
   double btol; /**< brightness tolerance of the pencil renders */
   int measure; /**< 1: one measured render per mode for the accuracy figures */
+  int peer;    /**< 1: --peer povray */
 } args_t;
 
 /** One row of the table: a sample count and a mode. */
@@ -90,7 +109,19 @@ typedef struct {
   int measured;    /**< 1: e holds a measurement */
   int target;      /**< -1 not applicable, 0 missed, 1 met */
   const char *why; /**< which part of the target was missed (static) or NULL */
+  int pov;         /**< 1: pov and t.peer_s hold POV-Ray's figures at this spp (timed with the
+                        default mode's runs; the certified row shares them) */
+  val_povray_run_t pov_run; /**< POV-Ray's counts (every run the same) and, in process_s, the
+                                 median of its process CPU seconds */
 } row_t;
+
+/** The peer of a bench run: asked for, found, and still timed. */
+typedef struct {
+  int asked;        /**< --peer povray */
+  int timed;        /**< 1 while POV-Ray is timed (installed, the scene exported) */
+  val_povray_t *pv; /**< the installation and its private directory */
+  char why[1024];   /**< why it is not timed, when asked and not timed */
+} peer_t;
 
 static int usage_err(const char *opt, const char *v, const char *want) {
   fprintf(stderr, "pencil bench pencil: %s: expected %s, got '%s'\n", opt, want, v);
@@ -106,7 +137,8 @@ enum {
   OPT_SIZE,
   OPT_JSON,
   OPT_NO_MEASURE,
-  OPT_METHOD
+  OPT_METHOD,
+  OPT_PEER
 };
 
 static const cli_spec_t specs[] = {{"--spp", 0, 1, OPT_SPP},
@@ -117,7 +149,8 @@ static const cli_spec_t specs[] = {{"--spp", 0, 1, OPT_SPP},
                                    {"--size", 0, 1, OPT_SIZE},
                                    {"--json", 0, 1, OPT_JSON},
                                    {"--no-measure", 0, 0, OPT_NO_MEASURE},
-                                   {"--method", 0, 1, OPT_METHOD}};
+                                   {"--method", 0, 1, OPT_METHOD},
+                                   {"--peer", 0, 1, OPT_PEER}};
 
 /* One argument; 1 ok, 0 usage error (printed). */
 static int apply(args_t *a, const cli_arg_t *g) {
@@ -157,6 +190,11 @@ static int apply(args_t *a, const cli_arg_t *g) {
       return usage_err("--method", v,
                        "a renderer that approximates exact tracing with --rho, "
                        "--brightness-tol and --certified (pencil)");
+    return 1;
+  case OPT_PEER:
+    if (strcmp(v, "povray") != 0)
+      return usage_err("--peer", v, "povray (the one peer renderer)");
+    a->peer = 1;
     return 1;
   default:
     a->measure = 0;
@@ -206,8 +244,9 @@ static void judge(row_t *r, const args_t *a) {
                                 : "accuracy";
 }
 
-/* Time and measure one row; 0 ok, -1 a render failed (message printed). */
-static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r) {
+/* Time and measure one row, with POV-Ray beside it when pv is not NULL; 0 ok, -1 a render failed
+ * (message printed). */
+static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r, val_povray_t *pv) {
   const rn_renderer_t *p = a->method;
   pt_options_t po;
   char rho[32], btol[32], err[256];
@@ -219,8 +258,16 @@ static int bench_row(const rt_scene_t *s, const args_t *a, row_t *r) {
       (r->certified && !rn_set(p, &po, "--certified", NULL, err, sizeof err)))
     return fprintf(stderr, "pencil bench pencil: %s\n", err), -1;
   val_method_t m = {p, &po};
-  if (val_time_pair(s, m, r->spp, (int)a->threads, (int)a->runs, &r->t) != 0)
+  val_povray_peer_t pc = {
+      .pv = pv, .s = s, .threads = (int)a->threads, .who = "pencil bench pencil"};
+  val_peer_t peer = {val_povray_peer_run, &pc};
+  if (val_time_peer(s, m, r->spp, (int)a->threads, (int)a->runs, pv ? &peer : NULL, &r->t) != 0)
     return -1;
+  r->pov = pv != NULL;
+  if (pv) {
+    r->pov_run = pc.last;
+    r->pov_run.process_s = val_median(pc.process, pc.n);
+  }
   r->measured = 0;
   if (a->measure) {
     if (val_measure(s, m, r->spp, (int)a->threads, &r->e, NULL, NULL, NULL, NULL) != 0)
@@ -235,7 +282,39 @@ static const char *mode_name(const row_t *r) {
   return r->certified ? "certified" : "default";
 }
 
-static void print_table(const rt_scene_t *s, const args_t *a, const row_t *rows, int n) {
+/* Rays per second and the time ratios side by side (issue 26): the exact renderer's rays over
+ * each of our renderers' time, POV-Ray's own count over its time. */
+static void print_rates(const row_t *rows, int n, const peer_t *peer) {
+  printf("rays per second: exact = its rays / its time; pencil = the exact renderer's rays of the "
+         "same image / pencil time; POV-Ray = its Rays + Shadow Ray Tests / its Trace Time CPU\n");
+  printf("%4s %-10s %12s %12s %12s %9s %12s %12s %8s %8s %8s\n", "spp", "mode", "exact_rays",
+         "exact_rps", "pencil_rps", "povray_s", "povray_rays", "povray_rps", "p/exact", "p/povray",
+         "x/povray");
+  for (int k = 0; k < n; k++) {
+    const row_t *r = &rows[k];
+    double x = (double)r->t.exact_rays;
+    printf("%4d %-10s %12.0f %12.4g %12.4g ", r->spp, mode_name(r), x, x / r->t.exact_s,
+           x / r->t.pencil_s);
+    if (r->pov) {
+      double pr = (double)(r->pov_run.rays + r->pov_run.shadow_tests);
+      printf("%9.4f %12.0f %12.4g %8.3f %8.3f %8.3f\n", r->t.peer_s, pr, pr / r->t.peer_s,
+             r->t.ratio, r->t.pencil_s / r->t.peer_s, r->t.exact_s / r->t.peer_s);
+    } else {
+      printf("%9s %12s %12s %8.3f %8s %8s\n", "-", "-", "-", r->t.ratio, "-", "-");
+    }
+  }
+  if (peer->asked && !peer->timed)
+    printf("POV-Ray not timed: %s\n", peer->why);
+  else if (peer->timed)
+    printf("POV-Ray %s (%s): the exported scene (pencil export pov) at sqrt(spp) times the size, "
+           "no anti-aliasing, no file, %s; median of the runs, timed after the exact and pencil "
+           "renders of each default-mode run (the certified rows share them)\n",
+           peer->pv->version[0] ? peer->pv->version : "3.7", peer->pv->exe,
+           "its render threads = --threads");
+}
+
+static void print_table(const rt_scene_t *s, const args_t *a, const row_t *rows, int n,
+                        const peer_t *peer) {
   printf("pencil bench: %s, %dx%d, rho %g, brightness tolerance %g, %ld thread%s; process CPU "
          "seconds, median of %ld interleaved runs\n",
          a->scene ? a->scene : "built-in Fig. 8 scene", s->camera.width, s->camera.height, a->rho,
@@ -268,12 +347,28 @@ static void print_table(const rt_scene_t *s, const args_t *a, const row_t *rows,
              "error columns compared nothing on this scene\n");
       break;
     }
+  print_rates(rows, n, peer);
   printf("targets at %d spp, rho = %g: ratio <= %.2f; within rho >= %.1f%% (default), 100%% "
          "(certified)%s\n",
          TARGET_SPP, TARGET_RHO, TARGET_RATIO, 100.0 * TARGET_WITHIN,
          !a->measure                   ? "; not judged without measurement"
          : a->btol > PT_BRIGHTNESS_TOL ? "; not judged above the default brightness tolerance"
                                        : "");
+}
+
+/* POV-Ray's figures of a row (issue 26's peer). */
+static json_t *json_povray(const row_t *r) {
+  const val_povray_run_t *p = &r->pov_run;
+  double rays = (double)(p->rays + p->shadow_tests);
+  return json_pack("{s:o, s:o, s:o, s:I, s:I, s:I, s:o, s:o, s:o, s:s}", "seconds",
+                   io_json_number(r->t.peer_s), "wall_seconds", io_json_number(r->t.peer_wall),
+                   "process_seconds", io_json_number(p->process_s), "rays",
+                   (json_int_t)(p->rays + p->shadow_tests), "traced_rays", (json_int_t)p->rays,
+                   "shadow_tests", (json_int_t)p->shadow_tests, "rays_per_second",
+                   io_json_number(rays / r->t.peer_s), "pencil_over_povray",
+                   io_json_number(r->t.pencil_s / r->t.peer_s), "exact_over_povray",
+                   io_json_number(r->t.exact_s / r->t.peer_s), "timed_with",
+                   r->certified ? "the default mode's runs" : "this row's runs");
 }
 
 static json_t *json_row(const row_t *r) {
@@ -308,11 +403,17 @@ static json_t *json_row(const row_t *r) {
     json_object_set_new(j, "image_bias_object", json_integer(r->e.image_bias_object));
   }
   json_object_set_new(j, "target_met", r->target < 0 ? json_null() : json_boolean(r->target));
+  double x = (double)r->t.exact_rays;
+  json_object_set_new(j, "exact_rays", json_integer((json_int_t)r->t.exact_rays));
+  json_object_set_new(j, "exact_rays_per_second", io_json_number(x / r->t.exact_s));
+  json_object_set_new(j, "pencil_rays_per_second", io_json_number(x / r->t.pencil_s));
+  json_object_set_new(j, "povray", r->pov ? json_povray(r) : json_null());
   return j;
 }
 
 /* Write the results to a->json; 0, or -1 when writing failed (message printed). */
-static int write_json(const rt_scene_t *s, const args_t *a, const row_t *rows, int n) {
+static int write_json(const rt_scene_t *s, const args_t *a, const row_t *rows, int n,
+                      const peer_t *peer) {
   int judged = 0, met = 1;
   for (int k = 0; k < n; k++)
     if (rows[k].target >= 0)
@@ -331,12 +432,49 @@ static int write_json(const rt_scene_t *s, const args_t *a, const row_t *rows, i
       "ratio_max", io_json_number(TARGET_RATIO), "fraction_within_default_min",
       io_json_number(TARGET_WITHIN), "fraction_within_certified_min", 1, "results", results,
       "targets_met", judged ? json_boolean(met) : json_null());
+  json_t *pj = json_null();
+  if (root && peer->asked) {
+    int timed = n > 0 && rows[0].pov;
+    pj = json_pack("{s:s, s:s?, s:s?, s:b, s:s?, s:s, s:s}", "name", "povray", "program",
+                   peer->pv->exe[0] ? peer->pv->exe : NULL, "version",
+                   peer->pv->version[0] ? peer->pv->version : NULL, "timed", timed, "why",
+                   peer->timed ? NULL : peer->why, "clock",
+                   "Trace Time CPU-seconds of POV-Ray's statistics (its render threads)", "image",
+                   "sqrt(spp) times the size, no anti-aliasing, no output file");
+  }
+  if (root)
+    json_object_set_new(root, "peer", pj ? pj : json_null());
   char err[1024];
   int rc = root ? io_json_write(a->json, root, err, sizeof err) : -1;
   if (rc != 0)
     fprintf(stderr, "pencil bench pencil: %s\n", root ? err : "out of memory");
   json_decref(root);
   return rc;
+}
+
+/* Find POV-Ray; 0 (timed, or not with a note when it is not installed), -1 when its private
+ * directory cannot be made (message printed). */
+static int peer_open(peer_t *p, const rt_scene_t *s, const args_t *a) {
+  (void)s, (void)a;
+  int r = val_povray_open(p->pv, p->why, sizeof p->why);
+  if (r < 0)
+    return fprintf(stderr, "pencil bench pencil: --peer povray: %s\n", p->why), -1;
+  p->timed = r == 0;
+  if (!p->timed)
+    fprintf(stderr, "pencil bench pencil: note: --peer povray: %s; POV-Ray is not timed\n", p->why);
+  return 0;
+}
+
+/* Export the scene for spp; a refusal turns the peer off with a note (the same scene is refused
+ * at every spp). */
+static void peer_export(peer_t *p, const rt_scene_t *s, const args_t *a, int spp) {
+  char err[900];
+  const char *src = a->scene ? a->scene : "built-in Fig. 8 scene";
+  if (val_povray_export(p->pv, s, spp, src, err, sizeof err) == 0)
+    return;
+  p->timed = 0;
+  snprintf(p->why, sizeof p->why, "the scene cannot be exported: %s", err);
+  fprintf(stderr, "pencil bench pencil: note: --peer povray: %s; POV-Ray is not timed\n", p->why);
 }
 
 static int run(const args_t *a) {
@@ -353,6 +491,12 @@ static int run(const args_t *a) {
     rt_scene_free(&s);
     return CLI_FAIL;
   }
+  static val_povray_t pv; /* kilobytes of paths: not on the stack */
+  peer_t peer = {.asked = a->peer, .pv = &pv};
+  if (a->peer && peer_open(&peer, &s, a) != 0) {
+    rt_scene_free(&s);
+    return CLI_FAIL;
+  }
   row_t rows[2 * MAX_SPP];
   int n = 0, rc = 0, total = 2 * a->nspp;
   void (*progress)(void *, int, int) = isatty(2) ? cli_progress : NULL;
@@ -361,18 +505,27 @@ static int run(const args_t *a) {
   for (int k = 0; k < a->nspp && rc == 0; k++)
     for (int c = 0; c < 2 && rc == 0; c++, n++) {
       rows[n] = (row_t){.spp = a->spp[k], .certified = c};
-      rc = bench_row(&s, a, &rows[n]);
+      if (c == 0 && peer.timed)
+        peer_export(&peer, &s, a, a->spp[k]);
+      rc = bench_row(&s, a, &rows[n], c == 0 && peer.timed ? &pv : NULL);
+      if (c == 1 && rows[n - 1].pov) { /* POV-Ray's figures at this spp, timed with the default */
+        rows[n].pov = 1;
+        rows[n].pov_run = rows[n - 1].pov_run;
+        rows[n].t.peer_s = rows[n - 1].t.peer_s;
+        rows[n].t.peer_wall = rows[n - 1].t.peer_wall;
+      }
       if (progress && rc == 0)
         progress((void *)"pencil bench", n + 1, total);
     }
+  val_povray_close(&pv);
   if (rc != 0) {
     if (progress)
       fputc('\n', stderr);
     rt_scene_free(&s);
     return CLI_FAIL;
   }
-  print_table(&s, a, rows, n);
-  int wrc = a->json ? write_json(&s, a, rows, n) : 0;
+  print_table(&s, a, rows, n, &peer);
+  int wrc = a->json ? write_json(&s, a, rows, n, &peer) : 0;
   rt_scene_free(&s);
   return wrc == 0 ? CLI_OK : CLI_FAIL;
 }

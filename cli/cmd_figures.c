@@ -18,7 +18,7 @@ static void help_figures(FILE *f) {
       f,
       "usage: pencil figures [SCENE.json] [--out DIR] [--quick] [--threads N] [--runs N]\n"
       "                      [--size WxH] [--no-sweep] [--fig9-spp LIST] [--method NAME]\n"
-      "                      [--only LIST] [--shard K/N]\n"
+      "                      [--only LIST] [--shard K/N] [--peer povray]\n"
       "       pencil figures --merge --out DIR\n\n"
       "The paper's section 5 with the pencil renderer, on SCENE.json or the built-in Fig. 8\n"
       "scene (a glass sphere over a checkerboard, 256x256):\n"
@@ -55,6 +55,12 @@ static void help_figures(FILE *f) {
       "                 paper's 1,4,9,16,25,36,49; 1,...,49,100,144,256 extends it to where\n"
       "                 the ratio falls below 0.10 here); the targets are read at 49 spp, or\n"
       "                 at the largest when 49 is not listed\n"
+      "  --peer povray  also time POV-Ray 3.7 at each Fig. 9 spp, after the exact and pencil\n"
+      "                 renders of each run, as 'pencil bench pencil --peer povray' does\n"
+      "                 (the scene exported, sqrt(spp) times the size, no anti-aliasing; its\n"
+      "                 Trace Time CPU seconds): fig9.csv and summary.json get povray_s,\n"
+      "                 povray_rays, pencil_over_povray and exact_over_povray; left out with a\n"
+      "                 note when povray is not installed or the scene cannot be exported\n"
       "Exit codes: 0 done (the table says whether the paper's numbers and the targets were\n"
       "met); 1 a render or a file failed; 2 usage or scene error.\n");
 }
@@ -113,7 +119,8 @@ enum {
   OPT_METHOD,
   OPT_SHARD,
   OPT_MERGE,
-  OPT_ONLY
+  OPT_ONLY,
+  OPT_PEER
 };
 
 static const cli_spec_t figures_specs[] = {
@@ -122,7 +129,7 @@ static const cli_spec_t figures_specs[] = {
     {"--fig9-spp", 0, 1, OPT_FIG9},     {"--quick", 0, 0, OPT_QUICK},
     {"--no-sweep", 0, 0, OPT_NO_SWEEP}, {"--method", 0, 1, OPT_METHOD},
     {"--shard", 0, 1, OPT_SHARD},       {"--merge", 0, 0, OPT_MERGE},
-    {"--only", 0, 1, OPT_ONLY}};
+    {"--only", 0, 1, OPT_ONLY},         {"--peer", 0, 1, OPT_PEER}};
 static const cli_spec_t sweep_specs[] = {
     {"--out", 0, 1, OPT_OUT},     {"--threads", 0, 1, OPT_THREADS}, {"--runs", 0, 1, OPT_RUNS},
     {"--size", 0, 1, OPT_SIZE},   {"--rho", 0, 1, OPT_RHO},         {"--spp", 0, 1, OPT_SPP},
@@ -243,6 +250,10 @@ static int apply(const char *cmd, const cli_arg_t *g, val_figures_opts_t *o, int
     return o->merge = 1;
   case OPT_ONLY:
     return parse_only(v, o);
+  case OPT_PEER:
+    if (strcmp(v, "povray") != 0)
+      return fprintf(stderr, "pencil %s: --peer: expected povray, got '%s'\n", cmd, v), 0;
+    return o->peer = 1;
   default:
     return parse_method(cmd, v, o);
   }

@@ -24,6 +24,7 @@ static const command_t commands[] = {
     {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep"},
     {"sweep", cmd_sweep, "time ratio and errors of the pencil renderer against rho"},
     {"post", cmd_post, "post-processing of HDR images: the cross-screen (star) filter (1989)"},
+    {"export", cmd_export, "a scene for another renderer: 'export pov', POV-Ray 3.7"},
 };
 
 static void usage(FILE *f) {

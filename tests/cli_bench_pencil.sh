@@ -65,7 +65,52 @@ $pencil bench pencil --size 12x12 --spp 1,4 --runs 3 --no-measure --json "$tmp/n
 check "--no-measure: exit 0, four rows, accuracy and verdict null" \
   "[ $rc -eq 0 ] && $py -c 'import json; d=json.load(open(\"$tmp/n.json\")); r=d[\"results\"]; assert d[\"measured\"] is False and [x[\"spp\"] for x in r] == [1,1,4,4] and all(x[\"fraction_within\"] is None and x[\"target_met\"] is None and x[\"ratio\"] > 0 for x in r)'"
 
-for bad in "--runs 2" "--runs 102" "--spp 5" "--spp 4,x" "--spp 1089" "--spp 1,4,9,16,25,36,49,64,81" "--spp 4," "--rho 0" "--rho nan" \
+# --peer povray (issue 26): POV-Ray timed beside them when installed, a note and null figures
+# when not (PATH without it), a note when the scene cannot be exported; the existing keys keep
+# their meaning, the new ones are consistent with them
+nopov=$tmp/nopov
+mkdir -p "$nopov"
+for t in bash sh; do ln -s "$(command -v $t)" "$nopov/$t"; done
+PATH=$nopov $pencil bench pencil --size 8x8 --spp 1 --runs 3 --no-measure --peer povray --json "$tmp/np.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
+check "--peer povray without POV-Ray: exit 0, a note naming scripts/deps, povray null" \
+  "[ $rc -eq 0 ] && grep -q 'note: --peer povray: povray (POV-Ray 3.7) is not installed' '$tmp/err' && grep -q 'POV-Ray not timed' '$tmp/out' && $py -c 'import json; d=json.load(open(\"$tmp/np.json\")); assert d[\"peer\"][\"timed\"] is False and \"scripts/deps\" in d[\"peer\"][\"why\"] and all(x[\"povray\"] is None and x[\"exact_rays\"] > 0 for x in d[\"results\"])'"
+$pencil bench pencil --size 8x8 --spp 1 --runs 3 --no-measure --json "$tmp/nopeer.json" >"$tmp/out"; rc=$?
+check "without --peer: peer null, rays per second of exact and pencil" \
+  "[ $rc -eq 0 ] && grep -q 'exact_rps *pencil_rps' '$tmp/out' && $py -c 'import json; d=json.load(open(\"$tmp/nopeer.json\")); x=d[\"results\"][0]; assert d[\"peer\"] is None and x[\"povray\"] is None and abs(x[\"exact_rays_per_second\"] * x[\"exact_s\"] - x[\"exact_rays\"]) <= 1e-6 * x[\"exact_rays\"]'"
+if command -v povray >/dev/null; then
+  src=$(dirname "$0")/../scenes
+  before=$(ls "${TMPDIR:-/tmp}" | grep -c '^pencil-povray-')
+  $pencil bench pencil "$src/glass.json" --size 8x8 --spp 1 --runs 3 --no-measure --peer povray >"$tmp/out" 2>"$tmp/err"; rc=$?
+  check "--peer povray on a scene the exporter refuses: exit 0, a note with its reason" \
+    "[ $rc -eq 0 ] && grep -q 'the scene cannot be exported: lights\[0\]: an area light' '$tmp/err'"
+  # 64 x 64: POV-Ray prints its CPU seconds to the millisecond, and at 1 spp it takes about 7 ms
+  $pencil bench pencil --size 64x64 --spp 1,4 --runs 3 --no-measure --peer povray --json "$tmp/pv.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  check "--peer povray: exit 0, POV-Ray's columns filled, its JSON consistent with the times" \
+    "[ $rc -eq 0 ] && grep -q 'POV-Ray 3.7' '$tmp/out' && $py - '$tmp/pv.json' <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d['peer']['name'] == 'povray' and d['peer']['timed'] is True and d['peer']['why'] is None, d['peer']
+assert d['peer']['version'].startswith('3.7'), d['peer']
+r = d['results']
+assert [(x['spp'], x['mode']) for x in r] == [(1, 'default'), (1, 'certified'), (4, 'default'), (4, 'certified')]
+for x in r:
+    p = x['povray']
+    assert p['seconds'] > 0 and p['process_seconds'] >= p['seconds'] * 0.5, p
+    assert p['rays'] == p['traced_rays'] + p['shadow_tests'], p
+    # the camera rays alone: one per pixel of the image s times the size
+    assert p['traced_rays'] >= 64 * 64 * x['spp'], (x['spp'], p)
+    assert abs(p['pencil_over_povray'] - x['pencil_s'] / p['seconds']) <= 1e-9 * p['pencil_over_povray']
+    assert abs(p['exact_over_povray'] - x['exact_s'] / p['seconds']) <= 1e-9 * p['exact_over_povray']
+    assert abs(p['rays_per_second'] * p['seconds'] - p['rays']) <= 1e-6 * p['rays']
+assert r[0]['povray']['seconds'] == r[1]['povray']['seconds']  # the certified row shares them
+PY"
+  after=$(ls "${TMPDIR:-/tmp}" | grep -c '^pencil-povray-')
+  check "POV-Ray's private directories removed ($before before, $after after)" "[ $after -le $before ]"
+else
+  echo "note: povray not installed; the timed --peer povray checks are skipped"
+fi
+
+for bad in "--peer blender" "--runs 2" "--runs 102" "--spp 5" "--spp 4,x" "--spp 1089" "--spp 1,4,9,16,25,36,49,64,81" "--spp 4," "--rho 0" "--rho nan" \
            "--brightness-tol -1" "--brightness-tol nan" "--brightness-tol x" \
            "--threads 0" "--size 10" "--size 0x8" "--json" "--bogus"; do
   opt=${bad%% *}

@@ -131,6 +131,35 @@ static void run_reports_exit_status_without_a_shell(void **state) {
   assert_int_equal(io_run(missing, err, sizeof err), -1);
 }
 
+/* A logged child: its output and errors in the log, its environment the one given, its CPU
+ * time reported (a busy loop of the shell's: more than nothing, less than the wall clock's
+ * bound of the test). */
+static void run_logged_keeps_output_environment_and_cpu(void **state) {
+  (void)state;
+  char dir[512], log[600], err[256];
+  temp_dir(dir, sizeof dir);
+  snprintf(log, sizeof log, "%s/child.log", dir);
+  char *argv[] = {"/bin/sh", "-c",
+                  "echo out:$PENCIL_X; echo err >&2; i=0; while [ $i -lt 20000 ]; do "
+                  "i=$((i+1)); done",
+                  NULL};
+  char *envp[] = {"PENCIL_X=42", NULL};
+  double cpu = -1.0;
+  assert_int_equal(io_run_logged(argv, envp, log, &cpu, err, sizeof err), 0);
+  assert_true(cpu > 0.0 && cpu < 60.0);
+  size_t len;
+  char *text = io_read_file(log, &len);
+  assert_non_null(text);
+  assert_non_null(strstr(text, "out:42\n"));
+  assert_non_null(strstr(text, "err\n"));
+  free(text);
+  char *bad[] = {"/bin/sh", "-c", "exit 3", NULL};
+  assert_int_equal(io_run_logged(bad, NULL, log, NULL, err, sizeof err), -1);
+  assert_non_null(strstr(err, "status 3"));
+  unlink(log);
+  rmdir(dir);
+}
+
 static void csv_fields_are_quoted_when_needed(void **state) {
   (void)state;
   char buf[256] = "";
@@ -227,6 +256,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(atomic_write_replaces_whole_or_not_at_all),
       cmocka_unit_test(render_write_keeps_old_files_on_failure),
       cmocka_unit_test(run_reports_exit_status_without_a_shell),
+      cmocka_unit_test(run_logged_keeps_output_environment_and_cpu),
       cmocka_unit_test(csv_fields_are_quoted_when_needed),
       cmocka_unit_test(json_round_trips_any_string_and_carries_provenance),
       cmocka_unit_test(sizes_parse_and_print),

@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -211,6 +212,17 @@ void io_atomic_abort(io_atomic_t *a) {
 
 /* ---- child processes ----------------------------------------------------------------------- */
 
+/* 0 for a child that exited with status 0; else -1 with how it ended. */
+static int exit_status(const char *prog, int status, char *err, size_t cap) {
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
+    return 0;
+  if (WIFEXITED(status))
+    snprintf(err, cap, "%s exited with status %d", prog, WEXITSTATUS(status));
+  else
+    snprintf(err, cap, "%s was killed by signal %d", prog, WTERMSIG(status));
+  return -1;
+}
+
 int io_run(char *const argv[], char *err, size_t cap) {
   pid_t pid;
   int rc = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ), status = 0;
@@ -219,13 +231,33 @@ int io_run(char *const argv[], char *err, size_t cap) {
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR)
       return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
-    return 0;
-  if (WIFEXITED(status))
-    snprintf(err, cap, "%s exited with status %d", argv[0], WEXITSTATUS(status));
-  else
-    snprintf(err, cap, "%s was killed by signal %d", argv[0], WTERMSIG(status));
-  return -1;
+  return exit_status(argv[0], status, err, cap);
+}
+
+int io_run_logged(char *const argv[], char *const envp[], const char *log, double *cpu_s, char *err,
+                  size_t cap) {
+  posix_spawn_file_actions_t fa;
+  pid_t pid;
+  int status = 0, rc = posix_spawn_file_actions_init(&fa);
+  if (rc == 0)
+    rc = posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  if (rc == 0)
+    rc = posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (rc == 0)
+    rc = posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  if (rc == 0)
+    rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, envp ? envp : environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0)
+    return snprintf(err, cap, "%s: cannot start (log %s): %s", argv[0], log, strerror(rc)), -1;
+  struct rusage ru;
+  while (wait4(pid, &status, 0, &ru) < 0)
+    if (errno != EINTR)
+      return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
+  if (cpu_s)
+    *cpu_s = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+             (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
+  return exit_status(argv[0], status, err, cap);
 }
 
 /* ---- CSV ----------------------------------------------------------------------------------- */

@@ -18,6 +18,7 @@
 #include "io/json.h"
 #include "io/output.h"
 #include "io/scene_json.h"
+#include "validation/povray.h"
 
 /* The paper's numbers (section 5). */
 #define PAPER_SPEEDUP_9 7.6
@@ -334,11 +335,16 @@ static int write_fig9(const val_figures_opts_t *o, const results_t *r) {
   FILE *f = open_out(o, "fig9.csv", &a);
   if (!f)
     return -1;
-  fprintf(f, "spp,exact_s,pencil_s,ratio,exact_wall_s,pencil_wall_s\n");
+  fprintf(f, "spp,exact_s,pencil_s,ratio,exact_wall_s,pencil_wall_s%s\n",
+          o->peer ? ",povray_s,povray_rays,pencil_over_povray,exact_over_povray" : "");
   for (int k = 0; k < o->nspp; k++) {
     const val_timing_t *t = &r->fig9[k];
-    fprintf(f, "%d,%.6g,%.6g,%.6g,%.6g,%.6g\n", t->spp, t->exact_s, t->pencil_s, t->ratio,
+    fprintf(f, "%d,%.6g,%.6g,%.6g,%.6g,%.6g", t->spp, t->exact_s, t->pencil_s, t->ratio,
             t->exact_wall, t->pencil_wall);
+    if (o->peer) /* nan where POV-Ray was not timed */
+      fprintf(f, ",%.6g,%llu,%.6g,%.6g", t->peer_s, (unsigned long long)t->peer_rays,
+              t->pencil_s / t->peer_s, t->exact_s / t->peer_s);
+    fputc('\n', f);
   }
   return close_out(&a);
 }
@@ -359,10 +365,17 @@ static int below_spp(const val_figures_opts_t *o, const results_t *r) {
 }
 
 static json_t *json_timing(const val_timing_t *t) {
-  return json_pack("{s:i, s:o, s:o, s:o, s:o, s:o}", "spp", t->spp, "exact_s",
-                   io_json_number(t->exact_s), "pencil_s", io_json_number(t->pencil_s), "ratio",
-                   io_json_number(t->ratio), "exact_wall_s", io_json_number(t->exact_wall),
-                   "pencil_wall_s", io_json_number(t->pencil_wall));
+  json_t *j = json_pack(
+      "{s:i, s:o, s:o, s:o, s:o, s:o}", "spp", t->spp, "exact_s", io_json_number(t->exact_s),
+      "pencil_s", io_json_number(t->pencil_s), "ratio", io_json_number(t->ratio), "exact_wall_s",
+      io_json_number(t->exact_wall), "pencil_wall_s", io_json_number(t->pencil_wall));
+  if (j && !isnan(t->peer_s)) /* POV-Ray timed beside them (--peer povray) */
+    json_object_update_new(j,
+                           json_pack("{s:o, s:I, s:o, s:o}", "povray_s", io_json_number(t->peer_s),
+                                     "povray_rays", (json_int_t)t->peer_rays, "pencil_over_povray",
+                                     io_json_number(t->pencil_s / t->peer_s), "exact_over_povray",
+                                     io_json_number(t->exact_s / t->peer_s)));
+  return j;
 }
 
 static int write_summary(const val_figures_opts_t *o, int width, int height, const results_t *r) {
@@ -529,17 +542,47 @@ static int methods_make(const val_figures_opts_t *o, methods_t *m) {
 }
 
 /* Run one work item into r; 0, or -1 (message on stderr). */
+/** POV-Ray beside Fig. 9 (--peer povray): the installation and whether it is still timed. */
+typedef struct {
+  val_povray_t pv; /**< the installation and its private directory */
+  int timed;       /**< 1 while POV-Ray is timed (installed, the scene exported) */
+} fig_peer_t;
+
+/* Fig. 9 at o->spp[k], with POV-Ray beside it when peer->timed; 0, or -1 (message on stderr). */
+static int run_fig9(const val_figures_opts_t *o, const rt_scene_t *s, const methods_t *m, int k,
+                    fig_peer_t *peer, results_t *r) {
+  int spp = o->spp[k];
+  char err[1024];
+  if (peer->timed && val_povray_export(&peer->pv, s, spp, o->scene ? o->scene : "built-in fig8",
+                                       err, sizeof err) != 0) {
+    peer->timed = 0; /* the same scene is refused at every spp */
+    if (o->log)
+      fprintf(o->log,
+              "  note: --peer povray: the scene cannot be exported: %s; Fig. 9 without "
+              "POV-Ray\n",
+              err);
+  }
+  val_povray_peer_t pc = {.pv = &peer->pv, .s = s, .threads = o->threads, .who = "pencil figures"};
+  val_peer_t vp = {val_povray_peer_run, &pc};
+  val_timing_t *t = &r->fig9[k];
+  int rc = val_time_peer(s, m->plain.m, spp, o->threads, o->runs, peer->timed ? &vp : NULL, t);
+  if (rc == 0 && o->log) {
+    fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f", spp, t->exact_s,
+            o->method->name, t->pencil_s, t->ratio);
+    if (!isnan(t->peer_s))
+      fprintf(o->log, "; POV-Ray %.3f s, %s / POV-Ray %.3f", t->peer_s, o->method->name,
+              t->pencil_s / t->peer_s);
+    fputc('\n', o->log);
+  }
+  return rc;
+}
+
 static int run_item(const val_figures_opts_t *o, const rt_scene_t *s, const methods_t *m,
-                    val_item_t it, results_t *r) {
+                    val_item_t it, fig_peer_t *peer, results_t *r) {
   int spp = r->target_spp, rc = 0;
   switch (it.kind) {
   case VAL_ITEM_FIG9:
-    rc = val_time_pair(s, m->plain.m, o->spp[it.index], o->threads, o->runs, &r->fig9[it.index]);
-    if (rc == 0 && o->log)
-      fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f\n", o->spp[it.index],
-              r->fig9[it.index].exact_s, o->method->name, r->fig9[it.index].pencil_s,
-              r->fig9[it.index].ratio);
-    return rc;
+    return run_fig9(o, s, m, it.index, peer, r);
   case VAL_ITEM_FIG8:
     rc = run_fig8(o, s, &m->plain, r);
     if (rc == 0 && o->log)
@@ -640,9 +683,21 @@ static int run(const val_figures_opts_t *opts, int sweep_only) {
     fprintf(o.log, "pencil %s: %s, %dx%d, %d thread(s), median of %d runs%s -> %s/\n", command,
             o.scene ? o.scene : "built-in Fig. 8 scene", width, height, o.threads, o.runs,
             o.nshards ? " (one shard)" : "", o.out_dir);
+  static fig_peer_t peer; /* kilobytes of paths: not on the stack */
+  memset(&peer, 0, sizeof peer);
+  if (rc == 0 && o.peer && (val__selected(&o, sweep_only) & VAL_ONLY_FIG9)) {
+    char why[512];
+    int pr = val_povray_open(&peer.pv, why, sizeof why);
+    peer.timed = pr == 0;
+    if (pr < 0)
+      fprintf(stderr, "pencil %s: --peer povray: %s\n", command, why), rc = -1;
+    else if (pr > 0 && o.log)
+      fprintf(o.log, "  note: --peer povray: %s; Fig. 9 without POV-Ray\n", why);
+  }
   for (int j = 0; j < nitems && rc == 0; j++)
     if (!o.nshards || j % o.nshards == o.shard - 1)
-      rc = run_item(&o, &s, &m, items[j], r);
+      rc = run_item(&o, &s, &m, items[j], &peer, r);
+  val_povray_close(&peer.pv);
   rt_scene_free(&s);
   if (rc == 0 && o.nshards) {
     json_t *config = val__config_json(&o, command, width, height);

@@ -14,8 +14,13 @@ static int side_of(int spp) {
 
 int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
                   val_timing_t *out) {
+  return val_time_peer(s, m, spp, threads, runs, NULL, out);
+}
+
+int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
+                  const val_peer_t *peer, val_timing_t *out) {
   enum { MAXR = 101 };
-  double ec[MAXR], ew[MAXR], pc[MAXR], pw[MAXR];
+  double ec[MAXR], ew[MAXR], pc[MAXR], pw[MAXR], qc[MAXR], qw[MAXR];
   if (runs < 1 || runs > MAXR)
     return -1;
   /* one plan for both renderers: what the pencil renderer draws (dispersion off) */
@@ -28,7 +33,9 @@ int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   c.spp_side = side_of(spp);
   c.threads = threads;
   c.aux = 0;
-  rn_output_t out_x = {.image = &img}, out_m = {.image = &img};
+  rt_stats_t xst; /* the exact entry's statistics are rt_stats_t (renderers/src/exact.c) */
+  memset(&xst, 0, sizeof xst);
+  rn_output_t out_x = {.image = &img, .stats = &xst}, out_m = {.image = &img};
   unsigned char xopt[64]; /* the exact renderer's options (its defaults) */
   int rc = x->options_size <= sizeof xopt ? 0 : -1;
   if (rc == 0)
@@ -45,12 +52,21 @@ int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int
       rc = -1;
     pc[r] = val_cpu_seconds() - c0;
     pw[r] = val_wall_seconds() - w0;
+    w0 = val_wall_seconds();
+    if (rc == 0 && peer && peer->run(peer->ctx, spp, &qc[r], &out->peer_rays) != 0)
+      rc = -2; /* the peer said why */
+    qw[r] = val_wall_seconds() - w0;
   }
   rt_image_free(&img);
-  if (rc != 0) {
+  if (rc == -1)
     fprintf(stderr, "pencil: a timed render at %d spp failed\n", spp);
+  if (rc != 0)
     return -1;
-  }
+  out->exact_rays = rt_stats_total(&xst);
+  if (!peer)
+    out->peer_rays = 0;
+  out->peer_s = peer ? val_median(qc, runs) : NAN;
+  out->peer_wall = peer ? val_median(qw, runs) : NAN;
   out->spp = spp;
   out->exact_s = val_median(ec, runs);
   out->exact_wall = val_median(ew, runs);

@@ -57,6 +57,13 @@ void val__item_name(val_item_t it, const val_figures_opts_t *o, char *buf, size_
 }
 
 void val__results_init(const val_figures_opts_t *o, val_results_t *r) {
+  /* no peer timed until one is (val_time_peer() sets them) */
+  for (int k = 0; k < VAL_MAX_SPP; k++)
+    r->fig9[k].peer_s = r->fig9[k].peer_wall = NAN;
+  r->tc49.peer_s = r->tc49.peer_wall = r->floor.peer_s = r->floor.peer_wall = NAN;
+  r->cfloor.peer_s = r->cfloor.peer_wall = NAN;
+  for (int k = 0; k < 3 * VAL_MAX_RHO; k++)
+    r->sweep[k].t.peer_s = r->sweep[k].t.peer_wall = NAN;
   r->fig8_spp = 9;
   r->target_spp = o->nspp > 0 ? o->spp[o->nspp - 1] : 0;
   for (int k = 0; k < o->nspp; k++)
@@ -102,14 +109,25 @@ static int count_in(json_t *j, uint64_t *x) {
 }
 
 static json_t *timing_json(const val_timing_t *t) {
-  return json_pack("{s:i, s:o, s:o, s:o, s:o, s:o}", "spp", t->spp, "exact_s", num(t->exact_s),
-                   "pencil_s", num(t->pencil_s), "exact_wall", num(t->exact_wall), "pencil_wall",
-                   num(t->pencil_wall), "ratio", num(t->ratio));
+  json_t *j = json_pack("{s:i, s:o, s:o, s:o, s:o, s:o}", "spp", t->spp, "exact_s", num(t->exact_s),
+                        "pencil_s", num(t->pencil_s), "exact_wall", num(t->exact_wall),
+                        "pencil_wall", num(t->pencil_wall), "ratio", num(t->ratio));
+  if (j && !isnan(t->peer_s)) /* POV-Ray beside Fig. 9 (--peer povray) */
+    json_object_update_new(j, json_pack("{s:o, s:o, s:I}", "peer_s", num(t->peer_s), "peer_wall",
+                                        num(t->peer_wall), "peer_rays", (json_int_t)t->peer_rays));
+  return j;
 }
 
 static int timing_in(json_t *j, val_timing_t *t) {
   json_t *spp = json_object_get(j, "spp");
   t->spp = json_is_integer(spp) ? (int)json_integer_value(spp) : -1;
+  t->peer_s = t->peer_wall = NAN;
+  t->peer_rays = 0;
+  json_t *peer = json_object_get(j, "peer_s");
+  if (peer &&
+      !(num_in(peer, &t->peer_s) && num_in(json_object_get(j, "peer_wall"), &t->peer_wall) &&
+        count_in(json_object_get(j, "peer_rays"), &t->peer_rays)))
+    return 0;
   return t->spp >= 0 && num_in(json_object_get(j, "exact_s"), &t->exact_s) &&
          num_in(json_object_get(j, "pencil_s"), &t->pencil_s) &&
          num_in(json_object_get(j, "exact_wall"), &t->exact_wall) &&
@@ -176,11 +194,11 @@ json_t *val__config_json(const val_figures_opts_t *o, const char *command, int w
     json_array_append_new(spp, json_integer(o->spp[k]));
   for (int k = 0; k < o->nrho; k++)
     json_array_append_new(rho, num(o->rho[k]));
-  return json_pack("{s:s, s:o, s:s, s:i, s:i, s:i, s:i, s:b, s:o, s:o, s:i, s:b}", "command",
+  return json_pack("{s:s, s:o, s:s, s:i, s:i, s:i, s:i, s:b, s:o, s:o, s:i, s:b, s:b}", "command",
                    command, "scene", o->scene ? json_string(o->scene) : json_null(), "method",
                    o->method->name, "width", width, "height", height, "threads", o->threads, "runs",
                    o->runs, "quick", o->quick, "spp", spp, "rho", rho, "sweep_spp", o->sweep_spp,
-                   "sweep", o->sweep);
+                   "sweep", o->sweep, "peer", o->peer);
 }
 
 /* Options of the run from its configuration (o->scene points into c). */
@@ -202,6 +220,7 @@ static int config_in(json_t *c, val_figures_opts_t *o, int *width, int *height) 
   o->quick = json_is_true(json_object_get(c, "quick"));
   o->sweep_spp = (int)json_integer_value(json_object_get(c, "sweep_spp"));
   o->sweep = json_is_true(json_object_get(c, "sweep"));
+  o->peer = json_is_true(json_object_get(c, "peer"));
   o->only = (unsigned)json_integer_value(json_object_get(c, "only"));
   o->nspp = (int)json_array_size(spp);
   for (int k = 0; k < o->nspp; k++)

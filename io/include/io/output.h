@@ -63,6 +63,14 @@ void io_cleanup_on_signals(void);
  *  how it ended). */
 int io_run(char *const argv[], char *err, size_t cap);
 
+/** io_run() with the child's environment envp (NULL-terminated; NULL: this process's), its
+ *  standard input /dev/null and its standard output and error both written to the file `log`
+ *  (created or truncated), for a child whose report is read afterwards (POV-Ray's statistics).
+ *  *cpu_s (may be NULL) gets the child's user + system CPU seconds (wait4's rusage), whatever
+ *  its exit status. */
+int io_run_logged(char *const argv[], char *const envp[], const char *log, double *cpu_s, char *err,
+                  size_t cap);
+
 /** Memory this process may still use without swapping: MemAvailable of /proc/meminfo (Linux),
  *  else the free physical pages. 0 when neither can be read (then nothing can be judged). */
 size_t io_memory_available(void);

@@ -25,6 +25,12 @@ typedef struct {
   double exact_s, pencil_s;       /**< median process CPU seconds */
   double exact_wall, pencil_wall; /**< median wall seconds */
   double ratio;                   /**< pencil_s / exact_s */
+  uint64_t exact_rays;            /**< rays of one exact render (rt_stats_total(): primary,
+                                       reflected, refracted, shadow; every run traces the same) */
+  double peer_s, peer_wall;       /**< val_time_peer(): the peer's median seconds (its own
+                                       clock) and median wall seconds; NaN without a peer */
+  uint64_t peer_rays;             /**< the peer's own count of the rays of one render, 0
+                                       without a peer */
 } val_timing_t;
 
 /** A renderer to time or measure: an entry of the renderer table and its options (an options
@@ -40,6 +46,20 @@ typedef struct {
  *  stderr). */
 int val_time_pair(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
                   val_timing_t *out);
+
+/** A renderer outside this process timed beside the pair (issue 26's peer, POV-Ray): run()
+ *  renders the scene at spp samples per pixel and gives the CPU seconds by its own clock in
+ *  *seconds and the rays it counted in *rays; 0, or -1 after a message on stderr. */
+typedef struct {
+  int (*run)(void *ctx, int spp, double *seconds, uint64_t *rays);
+  void *ctx; /**< run()'s */
+} val_peer_t;
+
+/** val_time_pair() with the peer's render after the exact and m's in each run (so that the three
+ *  are interleaved), its medians in out->peer_s and out->peer_wall, the last run's rays in
+ *  out->peer_rays. peer NULL: val_time_pair(). */
+int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
+                  const val_peer_t *peer, val_timing_t *out);
 
 /** Objects covering fewer pixels than this are not judged by val_errors_t.image_bias. */
 #define VAL_BIAS_PIXELS 100
@@ -107,6 +127,10 @@ typedef struct {
                            figures alone and write their outputs */
   int merge;          /**< 1: run nothing; merge DIR/shards/ into the outputs of one run (the
                            configuration comes from the shard files) */
+  int peer;           /**< 1: time POV-Ray 3.7 beside Fig. 9 (`--peer povray`, issue 26;
+                           validation/povray.h): fig9.csv and summary.json get its columns; left
+                           out with a note when povray is not installed or the scene cannot be
+                           exported */
 } val_figures_opts_t;
 
 /** Figures that `--only` selects (val_figures_opts_t.only). */

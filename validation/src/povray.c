@@ -1,0 +1,165 @@
+/* povray.c -- POV-Ray 3.7 as a peer of the exact renderer (validation/povray.h; issue 26): the
+ * program found, its private directory, the export, the render and its statistics read back. */
+#include "validation/povray.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "io/output.h"
+#include "io/pov.h"
+
+/* The executable `name` in a directory of PATH, as an absolute path; 0 when none. */
+static int find_on_path(const char *name, char *out, size_t cap) {
+  const char *path = getenv("PATH");
+  for (const char *p = path ? path : ""; *p;) {
+    const char *e = strchr(p, ':');
+    size_t n = e ? (size_t)(e - p) : strlen(p);
+    struct stat st;
+    if (n > 0 && p[0] == '/' && (size_t)snprintf(out, cap, "%.*s/%s", (int)n, p, name) < cap &&
+        stat(out, &st) == 0 && S_ISREG(st.st_mode) && access(out, X_OK) == 0)
+      return 1;
+    p += n + (e != NULL);
+  }
+  out[0] = '\0';
+  return 0;
+}
+
+/* An empty file at DIR/rel. */
+static int touch(const char *dir, const char *rel) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/%s", dir, rel);
+  FILE *f = fopen(path, "w");
+  return f && fclose(f) == 0 ? 0 : -1;
+}
+
+int val_povray_open(val_povray_t *p, char *err, size_t cap) {
+  memset(p, 0, sizeof *p);
+  if (!find_on_path("povray", p->exe, sizeof p->exe)) {
+    snprintf(err, cap,
+             "povray (POV-Ray 3.7) is not installed (not on PATH; scripts/deps "
+             "installs Debian's package povray)");
+    return 1;
+  }
+  const char *tmp = getenv("TMPDIR");
+  snprintf(p->dir, sizeof p->dir, "%s/pencil-povray-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
+  if (!mkdtemp(p->dir)) {
+    snprintf(err, cap, "%s: cannot make POV-Ray's private directory", p->dir);
+    p->dir[0] = '\0';
+    return -1;
+  }
+  char conf[4200];
+  snprintf(conf, sizeof conf, "%s/.povray/3.7", p->dir);
+  if (io_make_dirs(conf) != 0 || touch(p->dir, ".povray/3.7/povray.conf") != 0 ||
+      touch(p->dir, "povray.ini") != 0) {
+    snprintf(err, cap, "%s: cannot write POV-Ray's empty configuration", p->dir);
+    val_povray_close(p);
+    return -1;
+  }
+  return 0;
+}
+
+void val_povray_close(val_povray_t *p) {
+  if (!p->dir[0])
+    return;
+  char path[4400];
+  DIR *d = opendir(p->dir); /* the .pov and .log files, povray.ini */
+  for (struct dirent *e; d && (e = readdir(d));)
+    if (e->d_name[0] != '.') {
+      snprintf(path, sizeof path, "%s/%s", p->dir, e->d_name);
+      remove(path);
+    }
+  if (d)
+    closedir(d);
+  static const char *const conf[] = {".povray/3.7/povray.conf", ".povray/3.7", ".povray", ""};
+  for (int k = 0; k < 4; k++) {
+    snprintf(path, sizeof path, "%s/%s", p->dir, conf[k]);
+    remove(path);
+  }
+  p->dir[0] = '\0';
+}
+
+int val_povray_export(val_povray_t *p, const rt_scene_t *s, int spp, const char *source, char *err,
+                      size_t cap) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/scene-%d.pov", p->dir, spp);
+  io_pov_options_t o = IO_POV_OPTIONS_DEFAULT;
+  o.spp = spp;
+  o.source = source;
+  return io_pov_export(path, s, &o, NULL, 0, err, cap);
+}
+
+/* The unsigned number after `key` at the start of a line of log; 0 when there is none. */
+static int count_after(const char *log, const char *key, uint64_t *v) {
+  size_t n = strlen(key);
+  for (const char *p = log; p; p = strchr(p, '\n')) {
+    p += *p == '\n';
+    unsigned long long x;
+    if (strncmp(p, key, n) == 0 && sscanf(p + n, " %llu", &x) == 1) {
+      *v = x;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+int val_povray_parse(const char *log, val_povray_run_t *out, char *version, size_t vcap, char *err,
+                     size_t cap) {
+  const char *t = strstr(log, "Trace Time:");
+  const char *w = t ? strstr(t, " with ") : NULL;
+  if (!w || sscanf(w, " with %lf CPU-seconds total", &out->trace_s) != 1 || !(out->trace_s >= 0.0))
+    return snprintf(err, cap, "no \"Trace Time: ... CPU-seconds total\" line"), -1;
+  if (!count_after(log, "Rays:", &out->rays))
+    return snprintf(err, cap, "no \"Rays:\" line"), -1;
+  if (!count_after(log, "Shadow Ray Tests:", &out->shadow_tests))
+    out->shadow_tests = 0; /* POV-Ray leaves the line out when it traced no shadow ray */
+  const char *v = strstr(log, "Ray Tracer Version ");
+  char word[64] = "";
+  if (version && vcap > 0)
+    snprintf(version, vcap, "%s",
+             v && sscanf(v + strlen("Ray Tracer Version "), "%63s", word) == 1 ? word : "");
+  return 0;
+}
+
+int val_povray_peer_run(void *ctx, int spp, double *seconds, uint64_t *rays) {
+  val_povray_peer_t *c = ctx;
+  char err[1024];
+  if (val_povray_render(c->pv, c->s, spp, c->threads, &c->last, err, sizeof err) != 0)
+    return fprintf(stderr, "%s: --peer povray: %s\n", c->who, err), -1;
+  if (c->n < 101)
+    c->process[c->n++] = c->last.process_s;
+  *seconds = c->last.trace_s;
+  *rays = c->last.rays + c->last.shadow_tests;
+  return 0;
+}
+
+int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads,
+                      val_povray_run_t *out, char *err, size_t cap) {
+  int side = (int)lrint(sqrt((double)spp));
+  char in[4200], log[4200], w[32], h[32], wt[32], home[4200], ini[4200];
+  snprintf(in, sizeof in, "+I%s/scene-%d.pov", p->dir, spp);
+  snprintf(log, sizeof log, "%s/scene-%d.log", p->dir, spp);
+  snprintf(w, sizeof w, "+W%d", side * s->camera.width);
+  snprintf(h, sizeof h, "+H%d", side * s->camera.height);
+  snprintf(wt, sizeof wt, "+WT%d", threads);
+  snprintf(home, sizeof home, "HOME=%s", p->dir);
+  snprintf(ini, sizeof ini, "POVINI=%s/povray.ini", p->dir);
+  char *argv[] = {p->exe, in, w, h, "-A", wt, "-F", "-D", "-V", NULL};
+  char *envp[] = {home, ini, NULL};
+  char why[512];
+  if (io_run_logged(argv, envp, log, &out->process_s, why, sizeof why) != 0)
+    return snprintf(err, cap, "%s (its output: %s)", why, log), -1;
+  size_t len;
+  char *text = io_read_file(log, &len);
+  if (!text)
+    return snprintf(err, cap, "%s: cannot read POV-Ray's output", log), -1;
+  int rc = val_povray_parse(text, out, p->version, sizeof p->version, why, sizeof why);
+  free(text);
+  if (rc != 0)
+    snprintf(err, cap, "%s: POV-Ray's statistics: %s", log, why);
+  return rc;
+}
