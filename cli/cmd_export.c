@@ -43,7 +43,8 @@ static void help_pov(FILE *f) {
          "  --spp N               samples per pixel the file is for (1, 4, 9, ..., 1024): POV-Ray\n"
          "                        renders it at sqrt(N) times the width and height without\n"
          "                        anti-aliasing, and each sqrt(N) x sqrt(N) block averaged is\n"
-         "                        one pixel of the exact renderer's N-sample grid (default 1)\n"
+         "                        one pixel of the exact renderer's N-sample grid (default: the\n"
+         "                        scene's, as pencil render; 9 for the built-in scene)\n"
          "Exit codes: 0 written; 1 the file could not be written; 2 usage or scene error, or a\n"
          "scene the exporter refuses.\n");
 }
@@ -98,7 +99,7 @@ static int export_pov(int argc, char **argv) {
                              help_pov, &n, &rc);
   if (!args)
     return rc;
-  args_t a = {.spp = 1};
+  args_t a = {.spp = 0}; /* 0: the scene's */
   int ok = 1;
   for (int k = 0; ok && k < n; k++)
     ok = apply(&a, &args[k]);
@@ -120,7 +121,7 @@ static int export_pov(int argc, char **argv) {
   }
   io_pov_options_t o = IO_POV_OPTIONS_DEFAULT;
   o.flat = a.flat;
-  o.spp = (int)a.spp;
+  o.spp = a.spp > 0 ? (int)a.spp : s.spp;
   o.source = a.scene ? a.scene : "built-in Fig. 8 scene";
   rc = CLI_OK;
   if (io_pov_check(&s, &o, notes, sizeof notes, err, sizeof err) != 0) {
@@ -132,9 +133,9 @@ static int export_pov(int argc, char **argv) {
   } else {
     for (char *p = strtok(notes, "\n"); p; p = strtok(NULL, "\n"))
       fprintf(stderr, "pencil export pov: note: %s\n", p);
-    printf("wrote %s: %s, %d object%s, %dx%d at %ld spp\n", a.out,
+    printf("wrote %s: %s, %d object%s, %dx%d at %d spp\n", a.out,
            a.flat ? "flat (the export check's)" : "shaded", s.nobject, s.nobject == 1 ? "" : "s",
-           s.camera.width, s.camera.height, a.spp);
+           s.camera.width, s.camera.height, o.spp);
   }
   rt_scene_free(&s);
   return rc;

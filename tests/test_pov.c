@@ -107,6 +107,25 @@ static void depth_and_materials_are_mapped(void **state) {
   rt_scene_free(&s);
 }
 
+/* Names go into // comments: a newline or carriage return in one cannot end the comment and
+ * start scene code (a #debug line here would be run by POV-Ray). */
+static void names_cannot_inject_code(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(rt_builtin_fig8(&s), RT_OK);
+  snprintf(s.material[2].name, sizeof s.material[2].name, "glass\n#debug \"M\"\r#debug \"R\"");
+  rt_scene_name_object(&s, 1, "ball\n#debug \"O\"\n");
+  char err[512], notes[1024];
+  char *t = export_text(&s, 0, notes, sizeof notes, err, sizeof err);
+  assert_non_null(t);
+  assert_null(strstr(t, "\n#debug"));
+  assert_null(strstr(t, "\r"));
+  assert_non_null(strstr(t, "// material 'glass #debug \"M\" #debug \"R\"'"));
+  free(t);
+  rt_scene_free(&s);
+}
+
 /* Flat files: codes object + 1, the odd squares' bit, no lights, black, one level. */
 static void flat_file_encodes_objects(void **state) {
   (void)state;
@@ -228,6 +247,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(camera_rays_are_ours),      cmocka_unit_test(depth_and_materials_are_mapped),
       cmocka_unit_test(flat_file_encodes_objects), cmocka_unit_test(unmappable_scenes_are_refused),
       cmocka_unit_test(polyhedra_become_meshes),   cmocka_unit_test(povray_statistics_are_read),
+      cmocka_unit_test(names_cannot_inject_code),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

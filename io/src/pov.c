@@ -267,14 +267,24 @@ static double scene_size(const rt_scene_t *s) {
   return fmax(r, 1.0);
 }
 
+/* Text from outside (a command line, a path, a name) in a // comment: its control characters as
+ * spaces, so that a newline in a name cannot end the comment and start scene code. */
+static void comment_text(FILE *f, const char *text) {
+  for (const unsigned char *c = (const unsigned char *)text; *c; c++)
+    fputc(*c < 0x20 || *c == 0x7f ? ' ' : *c, f);
+}
+
 static void write_header(FILE *f, const rt_scene_t *s, const io_pov_options_t *o,
                          const char *notes) {
   const io_provenance_t *pv = io_provenance();
   int side = (int)lrint(sqrt((double)o->spp));
   fprintf(f, "// POV-Ray 3.7 scene written by pencil %s (%s) on %s\n", pv->version, pv->commit,
           pv->date);
-  fprintf(f, "// command: %s\n", pv->command_line);
-  fprintf(f, "// scene: %s\n", o->source ? o->source : "(unnamed)");
+  fprintf(f, "// command: ");
+  comment_text(f, pv->command_line);
+  fprintf(f, "\n// scene: ");
+  comment_text(f, o->source ? o->source : "(unnamed)");
+  fputc('\n', f);
   fprintf(f, "// %s\n",
           o->flat ? "flat: each object's colour encodes its index (io/pov.h)"
                   : "shaded as the exact renderer shades it (io/src/pov.c)");
@@ -287,7 +297,10 @@ static void write_header(FILE *f, const rt_scene_t *s, const io_pov_options_t *o
   for (const char *p = notes; p && *p;) {
     const char *e = strchr(p, '\n');
     int n = e ? (int)(e - p) : (int)strlen(p);
-    fprintf(f, "// note: %.*s\n", n, p);
+    fprintf(f, "// note: ");
+    for (int i = 0; i < n; i++) /* a name in a note: control characters as spaces */
+      fputc((unsigned char)p[i] < 0x20 || p[i] == 0x7f ? ' ' : p[i], f);
+    fputc('\n', f);
     p += n + (e != NULL);
   }
   fprintf(f, "#version 3.7;\n\n");
@@ -343,7 +356,9 @@ static void write_lights(FILE *f, const rt_scene_t *s) {
 static void write_material(FILE *f, const rt_scene_t *s, int m) {
   const rt_material_t *mt = &s->material[m];
   double opacity = 1.0 - mt->kt; /* > 0 when ka or kd is: check_material() */
-  fprintf(f, "// material '%s'\n#declare PencilTex%d = texture {\n  pigment { ", mt->name, m);
+  fprintf(f, "// material '");
+  comment_text(f, mt->name);
+  fprintf(f, "'\n#declare PencilTex%d = texture {\n  pigment { ", m);
   if (!(mt->kt > 0.0)) {
     fprintf(f, "rgb ");
     rgb(f, mt->color);
@@ -437,7 +452,9 @@ static void write_object(FILE *f, const rt_scene_t *s, const io_pov_options_t *o
   const rt_object_t *ob = &s->object[k];
   const rt_prim_t *p = &s->prim[ob->first_prim];
   char lab[96];
-  fprintf(f, "// %s\n", object_label(s, k, lab, sizeof lab));
+  fprintf(f, "// ");
+  comment_text(f, object_label(s, k, lab, sizeof lab));
+  fputc('\n', f);
   switch (ob->kind) {
   case RT_OBJ_SPHERE:
     fprintf(f, "sphere { ");

@@ -341,7 +341,9 @@ static int write_fig9(const val_figures_opts_t *o, const results_t *r) {
     const val_timing_t *t = &r->fig9[k];
     fprintf(f, "%d,%.6g,%.6g,%.6g,%.6g,%.6g", t->spp, t->exact_s, t->pencil_s, t->ratio,
             t->exact_wall, t->pencil_wall);
-    if (o->peer) /* nan where POV-Ray was not timed */
+    if (o->peer && isnan(t->peer_s)) /* POV-Ray not timed: nan in every column of it */
+      fprintf(f, ",nan,nan,nan,nan");
+    else if (o->peer)
       fprintf(f, ",%.6g,%llu,%.6g,%.6g", t->peer_s, (unsigned long long)t->peer_rays,
               t->pencil_s / t->peer_s, t->exact_s / t->peer_s);
     fputc('\n', f);
@@ -566,6 +568,15 @@ static int run_fig9(const val_figures_opts_t *o, const rt_scene_t *s, const meth
   val_peer_t vp = {val_povray_peer_run, &pc};
   val_timing_t *t = &r->fig9[k];
   int rc = val_time_peer(s, m->plain.m, spp, o->threads, o->runs, peer->timed ? &vp : NULL, t);
+  if (rc == 1) { /* POV-Ray failed (it said why): Fig. 9 goes on without it */
+    peer->timed = 0;
+    rc = 0;
+    if (o->log)
+      fprintf(o->log,
+              "  note: --peer povray: POV-Ray failed at %d spp; Fig. 9 without it from "
+              "there on\n",
+              spp);
+  }
   if (rc == 0 && o->log) {
     fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f", spp, t->exact_s,
             o->method->name, t->pencil_s, t->ratio);

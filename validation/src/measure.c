@@ -36,7 +36,8 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   rt_stats_t xst; /* the exact entry's statistics are rt_stats_t (renderers/src/exact.c) */
   memset(&xst, 0, sizeof xst);
   rn_output_t out_x = {.image = &img, .stats = &xst}, out_m = {.image = &img};
-  unsigned char xopt[64]; /* the exact renderer's options (its defaults) */
+  unsigned char xopt[64];     /* the exact renderer's options (its defaults) */
+  int peer_ok = peer != NULL; /* the peer is still timed */
   int rc = x->options_size <= sizeof xopt ? 0 : -1;
   if (rc == 0)
     rn_defaults(x, xopt);
@@ -53,27 +54,27 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
     pc[r] = val_cpu_seconds() - c0;
     pw[r] = val_wall_seconds() - w0;
     w0 = val_wall_seconds();
-    if (rc == 0 && peer && peer->run(peer->ctx, spp, &qc[r], &out->peer_rays) != 0)
-      rc = -2; /* the peer said why */
+    if (rc == 0 && peer_ok && peer->run(peer->ctx, spp, &qc[r], &out->peer_rays) != 0)
+      peer_ok = 0; /* it said why; the pair goes on without it */
     qw[r] = val_wall_seconds() - w0;
   }
   rt_image_free(&img);
-  if (rc == -1)
+  if (rc != 0) {
     fprintf(stderr, "pencil: a timed render at %d spp failed\n", spp);
-  if (rc != 0)
     return -1;
+  }
   out->exact_rays = rt_stats_total(&xst);
-  if (!peer)
+  if (!peer_ok)
     out->peer_rays = 0;
-  out->peer_s = peer ? val_median(qc, runs) : NAN;
-  out->peer_wall = peer ? val_median(qw, runs) : NAN;
+  out->peer_s = peer_ok ? val_median(qc, runs) : NAN;
+  out->peer_wall = peer_ok ? val_median(qw, runs) : NAN;
   out->spp = spp;
   out->exact_s = val_median(ec, runs);
   out->exact_wall = val_median(ew, runs);
   out->pencil_s = val_median(pc, runs);
   out->pencil_wall = val_median(pw, runs);
   out->ratio = out->pencil_s / out->exact_s;
-  return 0;
+  return peer && !peer_ok ? 1 : 0;
 }
 
 static int cmp_float(const void *a, const void *b) {

@@ -47,6 +47,12 @@ int val_povray_open(val_povray_t *p, char *err, size_t cap) {
   }
   const char *tmp = getenv("TMPDIR");
   snprintf(p->dir, sizeof p->dir, "%s/pencil-povray-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
+  if (strchr(p->dir, '"')) { /* POV-Ray's +I"..." cannot quote one */
+    snprintf(err, cap, "%s: a directory name with '\"' cannot be given to POV-Ray (set TMPDIR)",
+             p->dir);
+    p->dir[0] = '\0';
+    return -1;
+  }
   if (!mkdtemp(p->dir)) {
     snprintf(err, cap, "%s: cannot make POV-Ray's private directory", p->dir);
     p->dir[0] = '\0';
@@ -137,11 +143,37 @@ int val_povray_peer_run(void *ctx, int spp, double *seconds, uint64_t *rays) {
   return 0;
 }
 
+/* The last lines of file `path` (at most cap - 1 characters, lines joined by " | ", control
+ * characters as spaces), or "(none)". */
+static void log_tail(const char *path, char *out, size_t cap) {
+  size_t len = 0;
+  char *text = io_read_file(path, &len);
+  snprintf(out, cap, "(none)");
+  if (!text)
+    return;
+  while (len > 0 && (text[len - 1] == '\n' || text[len - 1] == '\r' || text[len - 1] == ' '))
+    len--;
+  size_t start = len > cap - 1 ? len - (cap - 1) : 0, o = 0;
+  for (size_t i = start; i < len && o + 3 < cap; i++) {
+    unsigned char ch = (unsigned char)text[i];
+    if (ch == '\n') {
+      memcpy(out + o, " | ", 3);
+      o += 3;
+    } else
+      out[o++] = ch < 0x20 || ch == 0x7f ? ' ' : (char)ch;
+  }
+  out[o] = '\0';
+  if (o == 0)
+    snprintf(out, cap, "(none)");
+  free(text);
+}
+
 int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads,
                       val_povray_run_t *out, char *err, size_t cap) {
   int side = (int)lrint(sqrt((double)spp));
   char in[4200], log[4200], w[32], h[32], wt[32], home[4200], ini[4200];
-  snprintf(in, sizeof in, "+I%s/scene-%d.pov", p->dir, spp);
+  /* quoted: POV-Ray splits an unquoted switch at a space (open() refused a '"' in dir) */
+  snprintf(in, sizeof in, "+I\"%s/scene-%d.pov\"", p->dir, spp);
   snprintf(log, sizeof log, "%s/scene-%d.log", p->dir, spp);
   snprintf(w, sizeof w, "+W%d", side * s->camera.width);
   snprintf(h, sizeof h, "+H%d", side * s->camera.height);
@@ -151,8 +183,11 @@ int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads
   char *argv[] = {p->exe, in, w, h, "-A", wt, "-F", "-D", "-V", NULL};
   char *envp[] = {home, ini, NULL};
   char why[512];
-  if (io_run_logged(argv, envp, log, &out->process_s, why, sizeof why) != 0)
-    return snprintf(err, cap, "%s (its output: %s)", why, log), -1;
+  if (io_run_logged(argv, envp, log, &out->process_s, why, sizeof why) != 0) {
+    char tail[400]; /* the log goes with the private directory: its last lines into the message */
+    log_tail(log, tail, sizeof tail);
+    return snprintf(err, cap, "%s; the end of its output: %s", why, tail), -1;
+  }
   size_t len;
   char *text = io_read_file(log, &len);
   if (!text)

@@ -57,7 +57,9 @@ typedef struct {
 
 /** val_time_pair() with the peer's render after the exact and m's in each run (so that the three
  *  are interleaved), its medians in out->peer_s and out->peer_wall, the last run's rays in
- *  out->peer_rays. peer NULL: val_time_pair(). */
+ *  out->peer_rays. peer NULL: val_time_pair(). Returns 0; 1 when the peer failed (its run() said
+ *  why): the pair is timed without it and out->peer_s, peer_wall are NaN; -1 when a render of the
+ *  pair failed. */
 int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int runs,
                   const val_peer_t *peer, val_timing_t *out);
 
