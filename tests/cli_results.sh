@@ -123,6 +123,13 @@ cat >"$dir/out/verify-dispersion.json" <<'JSON'
  "linearity": [{"delta_lambda_nm": 10, "median": 2.465e-2, "p90": 0.1036, "max": 0.74, "cases": 4085,
                 "optics_median": 5.526e-4, "optics_p90": 8.24e-2}]}
 JSON
+for t in geometric image; do
+  cat >"$dir/out/bench-pencil-$t.json" <<JSON
+{"benchmark": "pencil", "tolerance": "$t", "results": [{"spp": 49, "mode": "default",
+ "exact_s": 1.25, "pencil_s": 0.25, "ratio": 0.2, "fraction_within": 0.999908,
+ "max_error": 0.597, "image_rms": 0.01406, "image_max": 0.1261, "image_bias": 0.00031}]}
+JSON
+done
 mkdir -p "$dir/out/curves"
 cat >"$dir/out/curves/curves.json" <<'JSON'
 {"benchmark": "curves", "runs": 3, "threads": 1, "instructions": "callgrind, one thread",
@@ -151,7 +158,9 @@ cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
  "fig8": {"spp": 9, "speedup": 2.345},
- "fig9": [{"spp": 9, "ratio": 0.4321}, {"spp": 49, "ratio": 0.1789}],
+ "fig9": [{"spp": 9, "ratio": 0.4321},
+          {"spp": 49, "ratio": 0.1789, "exact_s": 1.2, "pencil_s": 0.21468, "povray_s": 5.0,
+           "povray_rays": 19653840, "pencil_over_povray": 0.042936, "exact_over_povray": 0.24}],
  "fig9_below_0_1_from_spp": null,
  "fig10": {"rho": 0.5, "spp": 9, "samples": 589824, "fraction_within": 0.99987654,
            "max_error": 0.5584, "p99": 0.351, "mismatches": 0, "image_rms": 0.0207},
@@ -198,6 +207,10 @@ check "fig10: the render's closing lines" \
 check "dispersion: Takagi's row" "grep -q '| exact-takagi9 | exact | primary | 9 | 0.319 | 6.89 | 3117397 | 0.692 | 13.317 | 43.811 |' '$page'"
 check "dispersion: the targets' verdicts" "grep -q 'pencil-spectral 3.71 times pencil.s time (target <= 1.3; the paper: about 1.2): not met; its mean dE2000 0.110 (target <= 1): met; 5.20 times exact-nd.s time .*: not reproduced' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
+check "Fig. 9 beside POV-Ray: the 49-spp row" \
+  "grep -q '| 49 | 1.200 | 0.215 | 5.000 | 0.179 | 0.043 | 0.240 |' '$page'"
+check "image-space tolerance: a row per tolerance" \
+  "grep -q '| geometric | default | 49 | 1.250 | 0.250 | 0.200 | 99.9908% | 0.597 | 0.0141 | 0.1261 | 0.00031 |' '$page' && grep -q '| image | default | 49 |' '$page'"
 check "caustics: the pencil's row and the equal-error line" \
   "grep -q '| pencil | grid-pencil | 1403172 | 3.256 | 5.17e-03 | 2.10e-02 | 3.00e-01 | reference |' '$page' && grep -q 'with about 8.9e+07 rays in 28.6 s, 9.75 times' '$page'"
 check "area: a row and the size sweep" \
