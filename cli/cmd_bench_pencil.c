@@ -314,10 +314,13 @@ static void print_rates(const row_t *rows, int n, const peer_t *peer) {
     double x = (double)r->t.exact_rays;
     printf("%4d %-10s %12.0f %12.4g %12.4g ", r->spp, mode_name(r), x, x / r->t.exact_s,
            x / r->t.pencil_s);
-    if (r->pov) {
+    if (r->pov && r->t.peer_s > 0.0) {
       double pr = (double)(r->pov_run.rays + r->pov_run.shadow_tests);
       printf("%9.4f %12.0f %12.4g %8.3f %8.3f %8.3f\n", r->t.peer_s, pr, pr / r->t.peer_s,
              r->t.ratio, r->t.pencil_s / r->t.peer_s, r->t.exact_s / r->t.peer_s);
+    } else if (r->pov) { /* under POV-Ray's millisecond: no rate, no ratio */
+      printf("%9.4f %12.0f %12s %8.3f %8s %8s\n", r->t.peer_s,
+             (double)(r->pov_run.rays + r->pov_run.shadow_tests), "-", r->t.ratio, "-", "-");
     } else {
       printf("%9s %12s %12s %8.3f %8s %8s\n", "-", "-", "-", r->t.ratio, "-", "-");
     }

@@ -343,6 +343,8 @@ static int write_fig9(const val_figures_opts_t *o, const results_t *r) {
             t->exact_wall, t->pencil_wall);
     if (o->peer && isnan(t->peer_s)) /* POV-Ray not timed: nan in every column of it */
       fprintf(f, ",nan,nan,nan,nan");
+    else if (o->peer && !(t->peer_s > 0.0)) /* under POV-Ray's millisecond: no ratios */
+      fprintf(f, ",%.6g,%llu,nan,nan", t->peer_s, (unsigned long long)t->peer_rays);
     else if (o->peer)
       fprintf(f, ",%.6g,%llu,%.6g,%.6g", t->peer_s, (unsigned long long)t->peer_rays,
               t->pencil_s / t->peer_s, t->exact_s / t->peer_s);
@@ -580,9 +582,11 @@ static int run_fig9(const val_figures_opts_t *o, const rt_scene_t *s, const meth
   if (rc == 0 && o->log) {
     fprintf(o->log, "  Fig. 9: %2d spp: exact %.3f s, %s %.3f s, ratio %.3f", spp, t->exact_s,
             o->method->name, t->pencil_s, t->ratio);
-    if (!isnan(t->peer_s))
+    if (t->peer_s > 0.0)
       fprintf(o->log, "; POV-Ray %.3f s, %s / POV-Ray %.3f", t->peer_s, o->method->name,
               t->pencil_s / t->peer_s);
+    else if (!isnan(t->peer_s))
+      fprintf(o->log, "; POV-Ray under its 1 ms resolution");
     fputc('\n', o->log);
   }
   return rc;
