@@ -83,6 +83,10 @@ check "--shard 3/2 is refused" "[ $rc -eq 2 ] && grep -q 'K/N' err"
 $pencil figures "${fig[@]}" --only fig9 --out only9 >/dev/null 2>&1; rc=$?
 check "--only fig9 times Fig. 9 alone" \
   "[ $rc -eq 0 ] && [ -s only9/fig9.csv ] && [ ! -e only9/fig8.exr ] && $py -c 'import json,sys; d=json.load(open(\"only9/summary.json\")); sys.exit(not (d[\"only\"] == [\"fig9\"] and \"fig9\" in d and \"fig10\" not in d and \"targets\" not in d))'"
+for k in 1 2; do $pencil figures "${fig[@]}" --only fig9 --out only9s --shard $k/2 >/dev/null 2>&1; done
+$pencil figures --merge --out only9s >/dev/null 2>"err"; rc=$?
+check "--only fig9 in 2 shards merges to the single run's (times aside)" \
+  "[ $rc -eq 0 ] && same_json only9/summary.json only9s/summary.json && same_csv only9/fig9.csv only9s/fig9.csv"
 $pencil figures "${fig[@]}" --only fig10 --out only10 >/dev/null 2>&1; rc=$?
 check "--only fig10 makes Figs. 8 and 10 alone, equal to the full run's" \
   "[ $rc -eq 0 ] && [ -s only10/fig8.exr ] && [ ! -e only10/fig9.csv ] && cmp -s f1/fig10_hist.csv only10/fig10_hist.csv"

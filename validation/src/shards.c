@@ -194,11 +194,12 @@ json_t *val__config_json(const val_figures_opts_t *o, const char *command, int w
     json_array_append_new(spp, json_integer(o->spp[k]));
   for (int k = 0; k < o->nrho; k++)
     json_array_append_new(rho, num(o->rho[k]));
-  return json_pack("{s:s, s:o, s:s, s:i, s:i, s:i, s:i, s:b, s:o, s:o, s:i, s:b, s:b}", "command",
-                   command, "scene", o->scene ? json_string(o->scene) : json_null(), "method",
-                   o->method->name, "width", width, "height", height, "threads", o->threads, "runs",
-                   o->runs, "quick", o->quick, "spp", spp, "rho", rho, "sweep_spp", o->sweep_spp,
-                   "sweep", o->sweep, "peer", o->peer);
+  return json_pack("{s:s, s:o, s:s, s:i, s:i, s:i, s:i, s:b, s:o, s:o, s:i, s:b, s:b, s:I}",
+                   "command", command, "scene", o->scene ? json_string(o->scene) : json_null(),
+                   "method", o->method->name, "width", width, "height", height, "threads",
+                   o->threads, "runs", o->runs, "quick", o->quick, "spp", spp, "rho", rho,
+                   "sweep_spp", o->sweep_spp, "sweep", o->sweep, "peer", o->peer, "only",
+                   (json_int_t)o->only);
 }
 
 /* Options of the run from its configuration (o->scene points into c). */
