@@ -95,41 +95,7 @@ PATH=$fake:$PATH $pencil bench pencil --size 8x8 --spp 1,4 --runs 3 --no-measure
 check "--peer povray with a POV-Ray that fails: exit 0, its end of output named, rows kept, povray null" \
   "[ $rc -eq 0 ] && grep -q 'killed by signal 11; the end of its output: Parse Error: a stand-in' '$tmp/err' && grep -q 'not timed from there on' '$tmp/err' && $py -c 'import json; d=json.load(open(\"$tmp/fp.json\")); r=d[\"results\"]; assert d[\"peer\"][\"timed\"] is False and len(r) == 4 and all(x[\"povray\"] is None and x[\"exact_s\"] > 0 for x in r)'"
 
-if command -v povray >/dev/null; then
-  src=$(dirname "$0")/../scenes
-  ptmp="$tmp/povray tmp" # POV-Ray's private directories go here, where no other run makes any;
-  # a space in the path, which POV-Ray's +I switch must be given quoted
-  mkdir -p "$ptmp"
-  # (the prism: its dispersive glass is refused, and it renders in milliseconds at 8 x 8)
-  $pencil bench pencil "$src/prism.json" --size 8x8 --spp 1 --runs 3 --no-measure --peer povray >"$tmp/out" 2>"$tmp/err"; rc=$?
-  check "--peer povray on a scene the exporter refuses: exit 0, a note with its reason" \
-    "[ $rc -eq 0 ] && grep -q \"the scene cannot be exported: material 'sf11': a dispersive index\" '$tmp/err'"
-  # 64 x 64: POV-Ray prints its CPU seconds to the millisecond, and at 1 spp it takes about 7 ms
-  TMPDIR="$ptmp" $pencil bench pencil --size 64x64 --spp 1,4 --runs 3 --no-measure --peer povray --json "$tmp/pv.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
-  check "--peer povray: exit 0, POV-Ray's columns filled, its JSON consistent with the times" \
-    "[ $rc -eq 0 ] && grep -q 'POV-Ray 3.7' '$tmp/out' && $py - '$tmp/pv.json' <<'PY'
-import json, sys
-d = json.load(open(sys.argv[1]))
-assert d['peer']['name'] == 'povray' and d['peer']['timed'] is True and d['peer']['why'] is None, d['peer']
-assert d['peer']['version'].startswith('3.7'), d['peer']
-r = d['results']
-assert [(x['spp'], x['mode']) for x in r] == [(1, 'default'), (1, 'certified'), (4, 'default'), (4, 'certified')]
-for x in r:
-    p = x['povray']
-    assert p['seconds'] > 0 and p['process_seconds'] >= p['seconds'] * 0.5, p
-    assert p['rays'] == p['traced_rays'] + p['shadow_tests'], p
-    # the camera rays alone: one per pixel of the image s times the size
-    assert p['traced_rays'] >= 64 * 64 * x['spp'], (x['spp'], p)
-    assert abs(p['pencil_over_povray'] - x['pencil_s'] / p['seconds']) <= 1e-9 * p['pencil_over_povray']
-    assert abs(p['exact_over_povray'] - x['exact_s'] / p['seconds']) <= 1e-9 * p['exact_over_povray']
-    assert abs(p['rays_per_second'] * p['seconds'] - p['rays']) <= 1e-6 * p['rays']
-assert r[0]['povray']['seconds'] == r[1]['povray']['seconds']  # the certified row shares them
-PY"
-  left=$(ls -A "$ptmp" | wc -l)
-  check "POV-Ray's private directories removed ($left left in TMPDIR)" "[ $left -eq 0 ]"
-else
-  echo "note: povray not installed; the timed --peer povray checks are skipped"
-fi
+# the checks that need POV-Ray itself: tests/cli_bench_pencil_povray.sh (skipped without it)
 
 for bad in "--tolerance pixel" "--peer blender" "--runs 2" "--runs 102" "--spp 5" "--spp 4,x" "--spp 1089" "--spp 1,4,9,16,25,36,49,64,81" "--spp 4," "--rho 0" "--rho nan" \
            "--brightness-tol -1" "--brightness-tol nan" "--brightness-tol x" \
