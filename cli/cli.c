@@ -67,6 +67,16 @@ int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out)
   return 1;
 }
 
+int cli_parse_wxh(const char *cmd, const char *opt, const char *text, long max, long *w, long *h) {
+  char tail;
+  if (sscanf(text, "%ldx%ld%c", w, h, &tail) != 2 || *w < 1 || *h < 1 || *w > max || *h > max) {
+    fprintf(stderr, "pencil %s: %s: expected WxH with 1 <= W, H <= %ld, got '%s'\n", cmd, opt, max,
+            text);
+    return 0;
+  }
+  return 1;
+}
+
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
                        int *n) {
   *n = 0;

@@ -25,6 +25,9 @@ int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *ou
 /** Parse a number of samples per pixel for option `opt` of command `cmd`: a square s x s with
  *  1 <= s <= RT_MAX_SPP_SIDE (1, 4, 9, ..., 1024); on failure print an error and return 0. */
 int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out);
+/** Parse "WxH" for option `opt` of command `cmd`, both in 1..max; on failure print an error
+ *  naming the option and return 0. */
+int cli_parse_wxh(const char *cmd, const char *opt, const char *text, long max, long *w, long *h);
 /** A comma-separated list of such numbers, at most `max`, into out[0 .. *n - 1]. */
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
                        int *n);

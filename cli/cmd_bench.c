@@ -765,16 +765,14 @@ int cmd_bench(int argc, char **argv) {
     return rc;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const char *v = args[k].value; /* points into argv, not into args */
-    char tail, err[1024];
+    char err[1024];
     int id = args[k].spec ? args[k].spec->id : 0;
     if (id == 0) {
       fprintf(stderr, "pencil bench render: unexpected argument '%s' (see --help)\n", v);
       rc = CLI_USAGE;
     } else if (id == 1 && !cli_parse_long("--runs", v, 1, MAX_RUNS, &runs)) {
       rc = CLI_USAGE;
-    } else if (id == 2 && (sscanf(v, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 ||
-                           w > 4096 || h > 4096)) {
-      fprintf(stderr, "pencil bench: --size: expected WxH with 1 <= W, H <= 4096, got '%s'\n", v);
+    } else if (id == 2 && !cli_parse_wxh("bench", "--size", v, 4096, &w, &h)) {
       rc = CLI_USAGE;
     } else if (id == 3 && !cli_parse_spp("bench", "--spp", v, &spp)) {
       rc = CLI_USAGE;

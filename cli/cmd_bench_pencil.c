@@ -165,7 +165,6 @@ static const cli_spec_t specs[] = {{"--spp", 0, 1, OPT_SPP},
 /* One argument; 1 ok, 0 usage error (printed). */
 static int apply(args_t *a, const cli_arg_t *g) {
   const char *v = g->value;
-  char tail;
   if (!g->spec) {
     if (a->scene)
       return fprintf(stderr, "pencil bench pencil: unexpected argument '%s' (see --help)\n", v), 0;
@@ -186,10 +185,7 @@ static int apply(args_t *a, const cli_arg_t *g) {
     return cli_parse_double("--brightness-tol", v, &a->btol) &&
            (a->btol >= 0.0 || usage_err("--brightness-tol", v, "a number >= 0"));
   case OPT_SIZE:
-    if (sscanf(v, "%ldx%ld%c", &a->width, &a->height, &tail) != 2 || a->width < 1 ||
-        a->height < 1 || a->width > 4096 || a->height > 4096)
-      return usage_err("--size", v, "WxH with 1 <= W, H <= 4096");
-    return 1;
+    return cli_parse_wxh("bench pencil", "--size", v, 4096, &a->width, &a->height);
   case OPT_JSON:
     a->json = v;
     return 1;

@@ -65,7 +65,6 @@ typedef struct {
 
 /* One argument; 1 ok, 0 usage error (printed). */
 static int apply(args_t *a, const cli_arg_t *g) {
-  char tail;
   if (!g->spec) {
     if (a->scene)
       return fprintf(stderr, "pencil export pov: unexpected argument '%s' (see --help)\n",
@@ -81,13 +80,7 @@ static int apply(args_t *a, const cli_arg_t *g) {
   case OPT_FLAT:
     return a->flat = 1;
   case OPT_SIZE:
-    if (sscanf(g->value, "%ldx%ld%c", &a->width, &a->height, &tail) != 2 || a->width < 1 ||
-        a->height < 1 || a->width > 16384 || a->height > 16384)
-      return fprintf(stderr,
-                     "pencil export pov: --size: expected WxH with 1 <= W, H <= 16384, got '%s'\n",
-                     g->value),
-             0;
-    return 1;
+    return cli_parse_wxh("export pov", "--size", g->value, 16384, &a->width, &a->height);
   default:
     return cli_parse_spp("export pov", "--spp", g->value, &a->spp);
   }

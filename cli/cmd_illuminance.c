@@ -148,14 +148,7 @@ bad:
 }
 
 static int parse_grid(const char *v, long *w, long *h) {
-  char tail;
-  if (sscanf(v, "%ldx%ld%c", w, h, &tail) != 2 || *w < 1 || *h < 1 || *w > LT_MAX_GRID ||
-      *h > LT_MAX_GRID) {
-    fprintf(stderr, "pencil illuminance: --grid: expected WxH with 1 <= W, H <= %d, got '%s'\n",
-            LT_MAX_GRID, v);
-    return 0;
-  }
-  return 1;
+  return cli_parse_wxh("illuminance", "--grid", v, LT_MAX_GRID, w, h);
 }
 
 static int parse(int argc, char **argv, args_t *a) {

@@ -121,12 +121,7 @@ typedef struct {
 } args_t;
 
 static int parse_size(const char *v, long *w, long *h) {
-  char tail;
-  if (sscanf(v, "%ldx%ld%c", w, h, &tail) != 2 || *w < 1 || *h < 1 || *w > 16384 || *h > 16384) {
-    fprintf(stderr, "pencil render: --size: expected WxH with 1 <= W, H <= 16384, got '%s'\n", v);
-    return 0;
-  }
-  return 1;
+  return cli_parse_wxh("render", "--size", v, 16384, w, h);
 }
 
 /* The specs of the common options and of every renderer's (one spec per name). */
