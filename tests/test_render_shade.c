@@ -501,8 +501,10 @@ static void children_weights_fresnel_and_tir(void **state) {
 /* rt_shade_child() returns exactly the child of rt_shade_children() of its kind, bit for bit,
  * and nothing when there is none: both kinds at an entry (Fresnel split), after total internal
  * reflection (the mirror child carries kt, no refracted child), up to the depth limit, for a
- * material without a mirror term (kr = 0, no Fresnel: no reflected child) and in a plan
- * without refraction. */
+ * material without a mirror term (kr = 0, no Fresnel: no reflected child) and in plans without
+ * refraction or without reflection (a mirror child then only from the Fresnel share or total
+ * internal reflection). rt_shade_child_ray() returns its ray, bit for bit, exactly where it
+ * returns one. */
 static void one_child_is_the_child_of_its_kind(void **state) {
   (void)state;
   rt_scene_t s;
@@ -511,14 +513,15 @@ static void one_child_is_the_child_of_its_kind(void **state) {
   rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, gi, NULL);
   rt_scene_add_sphere(&s, px_vec3(0, 0, 10), 1.0, ci, NULL);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
-  rt_plan_t plans[2] = {rt_plan_make(&s, 1), rt_plan_make(&s, 1)};
+  rt_plan_t plans[3] = {rt_plan_make(&s, 1), rt_plan_make(&s, 1), rt_plan_make(&s, 1)};
   plans[1].on &= ~(1u << RT_EFFECT_REFRACTION);
+  plans[2].on &= ~(1u << RT_EFFECT_REFLECTION);
   const rt_ray_t rays[3] = {
       ray_to(px_vec3(0.3, 0.2, -5), px_vec3(0, 0, 0)), /* enters the glass ball */
       {px_vec3(0.9, 0, 0), px_vec3(0, 0, 1), 0, INFINITY, 1.5, -1, 0.0f}, /* inside it: TIR */
       ray_to(px_vec3(0.2, 0, 5), px_vec3(0, 0, 10))}; /* the clear ball: kr = 0 */
   int seen[3] = {0, 0, 0}; /* children returned: reflected, refracted, with TIR */
-  for (int p = 0; p < 2; p++)
+  for (int p = 0; p < 3; p++)
     for (int i = 0; i < 3; i++)
       for (int d = 0; d < 3; d++) { /* the first generation, the last, beyond the last */
         int depth = d ? plans[p].max_depth - 2 + d : 0;
@@ -535,8 +538,15 @@ static void one_child_is_the_child_of_its_kind(void **state) {
           memset(&one, 0xa5, sizeof one);
           int got = rt_shade_child(&s, &plans[p], &sf, &rays[i], depth, kind, &one);
           assert_int_equal(got, m < n);
+          rt_ray_t r;
+          memset(&r, 0x5a, sizeof r);
+          assert_int_equal(rt_shade_child_ray(&s, &plans[p], &sf, &rays[i], depth, kind, &r), got);
           if (!got)
             continue;
+          assert_memory_equal(&r.o, &one.ray.o, sizeof r.o);
+          assert_memory_equal(&r.d, &one.ray.d, sizeof r.d);
+          assert_true(r.tmin == one.ray.tmin && r.tmax == one.ray.tmax && r.ior == one.ray.ior);
+          assert_true(r.skip_prim == one.ray.skip_prim && r.lambda == one.ray.lambda);
           assert_memory_equal(&one.ray.o, &ch[m].ray.o, sizeof one.ray.o);
           assert_memory_equal(&one.ray.d, &ch[m].ray.d, sizeof one.ray.d);
           assert_true(one.ray.tmin == ch[m].ray.tmin && one.ray.tmax == ch[m].ray.tmax);

@@ -324,6 +324,31 @@ int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_
   return reflect_child(s, sf, ray, wr, tir, out);
 }
 
+int rt_shade_child_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                       const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_ray_t *out) {
+  if (depth >= plan->max_depth)
+    return 0;
+  const rt_material_t *m = sf->mat;
+  if (kind == RT_RAY_REFRACT) /* split(): exists unless total internal reflection */
+    return rt_plan_has(plan, RT_EFFECT_REFRACTION) && m->kt > 0.0 &&
+           rt__refract_ray(s, sf, ray, out);
+  if (kind != RT_RAY_REFLECT)
+    return 0;
+  rt_child_t ch;
+  if (!(rt_plan_has(plan, RT_EFFECT_REFLECTION) && m->kr > 0.0)) {
+    /* the mirror child's weight is what the refraction passes on: it decides */
+    if (!rt_shade_child(s, plan, sf, ray, depth, kind, &ch))
+      return 0;
+    *out = ch.ray;
+    return 1;
+  }
+  /* kr > 0 and the refraction's shares are not negative: the weight is positive */
+  if (!reflect_child(s, sf, ray, rt_rgb(m->kr, m->kr, m->kr), 0, &ch))
+    return 0;
+  *out = ch.ray;
+  return 1;
+}
+
 /* The spectral fan (docs/spectral.md, section 3): a white ray refracting at a dispersive material
  * becomes one monochromatic refracted child per bin i of the plan, each with its own direction
  * (Snell's law with the indices at the bin's centre), Fresnel split and total internal reflection,

@@ -25,6 +25,10 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
                         const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
                         int *all_tir);
 
+/** The refracted ray of rt__shade_refract() alone (0 under total internal reflection). */
+int rt__refract_ray(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
+                    rt_ray_t *out);
+
 int rt__shade_refract(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                       rt_child_t *child, rt_rgb_t *extra_reflect, int *tir);
 

@@ -168,12 +168,11 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
       return x;
     rt_ray_t ray;
     rt_surface_t sf;
-    rt_child_t ch; /* only the child of the path's kind (shading builds both) */
     node_surface(E, n->parent, px->p, px->d, &ray, &sf);
-    if (!rt_shade_child(C->s, C->plan, &sf, &ray, C->paths.node[n->parent].depth,
-                        (rt_ray_kind_t)n->kind, &ch))
+    /* only the ray of the path's kind, without its weight (shading builds both children) */
+    if (!rt_shade_child_ray(C->s, C->plan, &sf, &ray, C->paths.node[n->parent].depth,
+                            (rt_ray_kind_t)n->kind, &r))
       return x;
-    r = ch.ray;
   }
   double t;
   if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t) ||

@@ -25,6 +25,13 @@ void rt_shade_direct2(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
 int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                    const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_child_t *out);
 
+/** rt_shade_child()'s ray alone, bit for bit, for walks that need only where a known path goes
+ *  (the pencil's exact walks along its paths): its weight is not computed where it cannot decide
+ *  whether the child exists (a refraction's Fresnel split; a mirror child with kr > 0 under a plan
+ *  with reflection). Returns 0 exactly where rt_shade_child() does. */
+int rt_shade_child_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                       const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_ray_t *out);
+
 /** 1 when a white ray of generation `depth` meeting material m draws dispersion by spectral
  *  pencils under the plan (RT_SPECTRAL_PENCIL; m transparent and dispersive; children possible):
  *  where rt_shade_hit() calls rt_shade_spectral() instead of spawning the refracted child. */
