@@ -46,6 +46,31 @@ PY"
 left=$(ls -A "$ptmp" | wc -l)
 check "POV-Ray's private directories removed ($left left in TMPDIR)" "[ $left -eq 0 ]"
 
+# interrupted while POV-Ray runs (SIGTERM to pencil alone, as a batch system sends it): POV-Ray
+# is stopped and the private directory removed; pencil dies of the signal
+itmp="$tmp/interrupted"
+mkdir -p "$itmp"
+TMPDIR="$itmp" $pencil bench pencil --size 256x256 --spp 49 --runs 3 --no-measure --peer povray \
+  >"$tmp/out" 2>"$tmp/err" &
+pid=$!
+child=""
+for _ in $(seq 600); do # up to 60 s for the exact and pencil runs before POV-Ray's
+  child=$(pgrep -P $pid -x povray || true)
+  [ -n "$child" ] && break
+  sleep 0.1
+done
+check "POV-Ray started under bench pencil (child pid '${child}')" "[ -n '$child' ]"
+kill -TERM $pid
+wait $pid; rc=$?
+gone=0
+for _ in $(seq 50); do
+  if [ -n "$child" ] && ! kill -0 "$child" 2>/dev/null; then gone=1; break; fi
+  sleep 0.1
+done
+left=$(ls -A "$itmp" | wc -l)
+check "SIGTERM: pencil dies of it (rc $rc), POV-Ray stopped, no private directory left ($left)" \
+  "[ $rc -eq 143 ] && [ $gone -eq 1 ] && [ $left -eq 0 ]"
+
 if [ $fail -ne 0 ]; then
   echo "cli_bench_pencil_povray: FAILED"
   exit 1

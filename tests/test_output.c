@@ -229,6 +229,50 @@ static void interrupted_write_leaves_no_temporary(void **state) {
   rmdir(dir);
 }
 
+/* Registered temporaries of a child process's private directory go on a signal: files, then the
+ * directories they emptied, nested, whatever the order of registration (here a file is
+ * registered after its directory is unregistered and registered again, so its slot comes first);
+ * an unregistered path stays. */
+static void interrupted_run_removes_registered_directories(void **state) {
+  (void)state;
+  char dir[512], sub[600], deep[700], f1[800], f2[800], keep[600];
+  temp_dir(dir, sizeof dir);
+  snprintf(sub, sizeof sub, "%s/private", dir);
+  snprintf(deep, sizeof deep, "%s/a", sub);
+  snprintf(f1, sizeof f1, "%s/x.pov", deep);
+  snprintf(f2, sizeof f2, "%s/y.log", sub);
+  snprintf(keep, sizeof keep, "%s/kept", dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    io_cleanup_on_signals();
+    if (mkdir(sub, 0700) != 0 || mkdir(deep, 0700) != 0)
+      _exit(3);
+    io_temp_register(sub);
+    io_temp_register(deep);
+    io_temp_register(f2);
+    io_temp_unregister(sub); /* its slot is taken again after its contents' */
+    io_temp_register(f1);
+    io_temp_register(sub);
+    io_temp_register(f1); /* twice: held once */
+    FILE *a = fopen(f1, "w"), *b = fopen(f2, "w"), *c = fopen(keep, "w");
+    if (!a || !b || !c)
+      _exit(4);
+    fclose(a);
+    fclose(b);
+    fclose(c);
+    raise(SIGTERM);
+    _exit(5); /* not reached */
+  }
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  assert_int_equal(access(sub, F_OK), -1);
+  assert_int_equal(access(keep, F_OK), 0);
+  remove(keep);
+  rmdir(dir);
+}
+
 static void sizes_parse_and_print(void **state) {
   (void)state;
   size_t b = 0;
@@ -261,6 +305,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(json_round_trips_any_string_and_carries_provenance),
       cmocka_unit_test(sizes_parse_and_print),
       cmocka_unit_test(interrupted_write_leaves_no_temporary),
+      cmocka_unit_test(interrupted_run_removes_registered_directories),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

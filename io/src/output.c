@@ -95,17 +95,24 @@ int io_output_not_input(const char *out, const char *in, char *err, size_t cap) 
 
 /* ---- temporary files and signals ----------------------------------------------------------- */
 
-enum { MAX_TEMPS = 16 };
+/* Paths the signal handler removes (files, then the directories they emptied), and the child
+ * process it stops first. */
+enum { MAX_TEMPS = 64 };
 static char temps[MAX_TEMPS][4096];
 static volatile sig_atomic_t temp_used[MAX_TEMPS];
+static volatile sig_atomic_t child_pid; /* a running child of io_run*, or 0 */
 
 static void temp_register(const char *tmp) {
+  sigset_t all, old; /* the handler never sees a half-copied path */
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
   for (int k = 0; k < MAX_TEMPS; k++)
     if (!temp_used[k]) {
       memcpy(temps[k], tmp, strlen(tmp) + 1);
       temp_used[k] = 1;
-      return;
+      break;
     }
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
 }
 
 static void temp_unregister(const char *tmp) {
@@ -114,10 +121,25 @@ static void temp_unregister(const char *tmp) {
       temp_used[k] = 0;
 }
 
-static void on_signal(int sig) {
+void io_temp_register(const char *path) {
   for (int k = 0; k < MAX_TEMPS; k++)
-    if (temp_used[k])
-      unlink(temps[k]); /* async-signal-safe */
+    if (temp_used[k] && strcmp(temps[k], path) == 0)
+      return; /* held already */
+  if (strlen(path) < sizeof temps[0])
+    temp_register(path);
+}
+
+void io_temp_unregister(const char *path) {
+  temp_unregister(path);
+}
+
+static void on_signal(int sig) {
+  if (child_pid > 0)
+    kill((pid_t)child_pid, SIGTERM);   /* all three are async-signal-safe */
+  for (int pass = 0; pass < 4; pass++) /* nested directories empty one level a pass */
+    for (int k = MAX_TEMPS - 1; k >= 0; k--)
+      if (temp_used[k] && (unlink(temps[k]) == 0 || rmdir(temps[k]) == 0))
+        temp_used[k] = 0;
   signal(sig, SIG_DFL);
   raise(sig);
 }
@@ -228,9 +250,13 @@ int io_run(char *const argv[], char *err, size_t cap) {
   int rc = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ), status = 0;
   if (rc != 0)
     return snprintf(err, cap, "%s: cannot start: %s", argv[0], strerror(rc)), -1;
+  child_pid = pid;
   while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR)
+    if (errno != EINTR) {
+      child_pid = 0;
       return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
+    }
+  child_pid = 0;
   return exit_status(argv[0], status, err, cap);
 }
 
@@ -250,10 +276,14 @@ int io_run_logged(char *const argv[], char *const envp[], const char *log, doubl
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0)
     return snprintf(err, cap, "%s: cannot start (log %s): %s", argv[0], log, strerror(rc)), -1;
+  child_pid = pid;
   struct rusage ru;
   while (wait4(pid, &status, 0, &ru) < 0)
-    if (errno != EINTR)
+    if (errno != EINTR) {
+      child_pid = 0;
       return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
+    }
+  child_pid = 0;
   if (cpu_s)
     *cpu_s = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
              (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;

@@ -29,12 +29,21 @@ static int find_on_path(const char *name, char *out, size_t cap) {
   return 0;
 }
 
-/* An empty file at DIR/rel. */
+/* An empty file at DIR/rel, registered for the signal clean-up. */
 static int touch(const char *dir, const char *rel) {
   char path[4200];
   snprintf(path, sizeof path, "%s/%s", dir, rel);
+  io_temp_register(path);
   FILE *f = fopen(path, "w");
   return f && fclose(f) == 0 ? 0 : -1;
+}
+
+/* DIR/rel registered for the signal clean-up (an interrupted run leaves no private directory;
+ * io_cleanup_on_signals also stops POV-Ray). */
+static void hold(const char *dir, const char *rel) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/%s", dir, rel);
+  io_temp_register(path);
 }
 
 int val_povray_open(val_povray_t *p, char *err, size_t cap) {
@@ -58,6 +67,9 @@ int val_povray_open(val_povray_t *p, char *err, size_t cap) {
     p->dir[0] = '\0';
     return -1;
   }
+  io_temp_register(p->dir);
+  hold(p->dir, ".povray");
+  hold(p->dir, ".povray/3.7");
   char conf[4200];
   snprintf(conf, sizeof conf, "%s/.povray/3.7", p->dir);
   if (io_make_dirs(conf) != 0 || touch(p->dir, ".povray/3.7/povray.conf") != 0 ||
@@ -78,6 +90,7 @@ void val_povray_close(val_povray_t *p) {
     if (e->d_name[0] != '.') {
       snprintf(path, sizeof path, "%s/%s", p->dir, e->d_name);
       remove(path);
+      io_temp_unregister(path);
     }
   if (d)
     closedir(d);
@@ -85,7 +98,9 @@ void val_povray_close(val_povray_t *p) {
   for (int k = 0; k < 4; k++) {
     snprintf(path, sizeof path, "%s/%s", p->dir, conf[k]);
     remove(path);
+    io_temp_unregister(path);
   }
+  io_temp_unregister(p->dir);
   p->dir[0] = '\0';
 }
 
@@ -93,6 +108,7 @@ int val_povray_export(val_povray_t *p, const rt_scene_t *s, int spp, const char 
                       size_t cap) {
   char path[4200];
   snprintf(path, sizeof path, "%s/scene-%d.pov", p->dir, spp);
+  io_temp_register(path);
   io_pov_options_t o = IO_POV_OPTIONS_DEFAULT;
   o.spp = spp;
   o.source = source;
@@ -175,6 +191,7 @@ int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads
   /* quoted: POV-Ray splits an unquoted switch at a space (open() refused a '"' in dir) */
   snprintf(in, sizeof in, "+I\"%s/scene-%d.pov\"", p->dir, spp);
   snprintf(log, sizeof log, "%s/scene-%d.log", p->dir, spp);
+  io_temp_register(log);
   snprintf(w, sizeof w, "+W%d", side * s->camera.width);
   snprintf(h, sizeof h, "+H%d", side * s->camera.height);
   snprintf(wt, sizeof wt, "+WT%d", threads);

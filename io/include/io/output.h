@@ -55,8 +55,16 @@ int io_atomic_commit(io_atomic_t *a, char *err, size_t cap);
 void io_atomic_abort(io_atomic_t *a);
 
 /** Remove registered temporary files when SIGINT, SIGTERM or SIGHUP arrives, then die of the
- *  signal as before. Install once, from main(). */
+ *  signal as before; a child process that io_run() or io_run_logged() is waiting for is sent
+ *  SIGTERM first. Install once, from main(). */
 void io_cleanup_on_signals(void);
+
+/** Register a temporary file or directory of the caller's for that clean-up, and unregister it
+ *  once it is removed or kept. Files go first, then the directories they leave empty (nested up
+ *  to four deep); a directory with unregistered contents stays. 64 paths at most are held (more
+ *  are not removed); paths of 4096 bytes or longer are not registered. */
+void io_temp_register(const char *path);
+void io_temp_unregister(const char *path);
 
 /** Run argv[0] (an absolute path) with the arguments argv[1..] (NULL-terminated) as a child
  *  process, no shell, and wait for it. 0 when it exited with status 0; -1 otherwise (err says
