@@ -145,6 +145,54 @@ static void flat_file_encodes_objects(void **state) {
   rt_scene_free(&s);
 }
 
+/* Lights are placed about the scene, not the origin: far from the origin, POV-Ray's fade of an
+ * inverse-square light, 2 / (1 + (d / f)^2) times the written colour, is 1 / d^2 times the
+ * light's intensity at the ball's nearest point (d = 4) to 1e-6; a parallel light's location lies
+ * behind the ball and the eye along its direction. */
+static void lights_are_placed_about_the_scene(void **state) {
+  (void)state;
+  rt_scene_t s;
+  char err[512];
+  rt_scene_init(&s);
+  const px_vec3_t c = px_vec3(1e5, 2.0, 3.0), dir = px_v3_unit(px_vec3(1.0, -1.0, 0.5));
+  rt_material_t m = rt_material_default("white");
+  int mi;
+  assert_int_equal(rt_scene_add_material(&s, &m, &mi), RT_OK);
+  assert_int_equal(rt_scene_add_sphere(&s, c, 1.0, mi, NULL), RT_OK);
+  s.camera.eye = px_v3_add(c, px_vec3(0, 0, -10));
+  s.camera.look_at = c;
+  rt_light_t point = {RT_LIGHT_POINT,
+                      px_v3_add(c, px_vec3(0, 5, 0)),
+                      {2, 2, 2},
+                      RT_FALLOFF_INVERSE_SQUARE,
+                      {0, 0, 0},
+                      {0, 0, 0},
+                      0};
+  rt_light_t par = {RT_LIGHT_PARALLEL, dir, {1, 1, 1}, RT_FALLOFF_NONE, {0, 0, 0}, {0, 0, 0}, 0};
+  assert_int_equal(rt_scene_add_light(&s, &point), RT_OK);
+  assert_int_equal(rt_scene_add_light(&s, &par), RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  char *t = export_text(&s, 0, NULL, 0, err, sizeof err);
+  assert_non_null(t);
+  const char *l0 = strstr(t, "light_source {");
+  assert_non_null(l0);
+  const char *l1 = strstr(l0 + 1, "light_source {");
+  assert_non_null(l1);
+  px_vec3_t loc = vector_after(l0, "light_source {"), col = vector_after(l0, "rgb");
+  const char *fd = strstr(l0, "fade_distance");
+  double f = NAN, d = 4.0;
+  assert_true(fd && fd < l1 && sscanf(fd, "fade_distance %lf fade_power 2", &f) == 1);
+  assert_close(loc.y, point.v.y, 0, 0);
+  double pov = col.x * 2.0 / (1.0 + (d / f) * (d / f)), ours = point.intensity.r / (d * d);
+  assert_close(pov, ours, 1e-6, 0);
+  px_vec3_t at = vector_after(l1, "light_source {");
+  assert_non_null(strstr(l1, "parallel point_at"));
+  assert_true(px_v3_dot(px_v3_sub(c, at), dir) > 1.0 + 10.0); /* beyond the ball and the eye */
+  assert_true(px_v3_dot(px_v3_sub(s.camera.eye, at), dir) > 10.0);
+  free(t);
+  rt_scene_free(&s);
+}
+
 /* What cannot be mapped is refused naming it; a flat file needs only the geometry. */
 static void unmappable_scenes_are_refused(void **state) {
   (void)state;
@@ -244,10 +292,14 @@ static void povray_statistics_are_read(void **state) {
 
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(camera_rays_are_ours),      cmocka_unit_test(depth_and_materials_are_mapped),
-      cmocka_unit_test(flat_file_encodes_objects), cmocka_unit_test(unmappable_scenes_are_refused),
-      cmocka_unit_test(polyhedra_become_meshes),   cmocka_unit_test(povray_statistics_are_read),
+      cmocka_unit_test(camera_rays_are_ours),
+      cmocka_unit_test(depth_and_materials_are_mapped),
+      cmocka_unit_test(flat_file_encodes_objects),
+      cmocka_unit_test(unmappable_scenes_are_refused),
+      cmocka_unit_test(polyhedra_become_meshes),
+      cmocka_unit_test(povray_statistics_are_read),
       cmocka_unit_test(names_cannot_inject_code),
+      cmocka_unit_test(lights_are_placed_about_the_scene),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

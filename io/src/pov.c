@@ -22,10 +22,10 @@
  *               (u, v) axes in units of the square, half a square off the plane along the normal
  *               (floor() of the normal coordinate is then 0 on the plane, away from rounding).
  *   lights      point lights as they are (no fade: the textbook's model), inverse-square ones
- *               with fade_power 2 and a fade_distance 1e-4 of the scene's size (POV-Ray's
- *               2 / (1 + (d / f)^2) is then 2 f^2 / d^2 within (f / d)^2); parallel lights from a
- *               location far beyond the scene along their direction. "shadows": false makes
- *               every object no_shadow (a shadowless light would lose its highlights). */
+ *               with fade_power 2 and a fade_distance f 1e-4 of the radius of the scene's box
+ *               (POV-Ray's 2 / (1 + (d / f)^2) is then 2 f^2 / d^2 within (f / d)^2); parallel
+ *               lights from a location 1000 radii behind the box's centre along their direction.
+ * "shadows": false makes every object no_shadow (a shadowless light would lose its highlights). */
 #include "io/pov.h"
 
 #include <math.h>
@@ -245,7 +245,7 @@ static void shading_notes(const rt_scene_t *s, char *notes, size_t ncap) {
   if (fade)
     note(notes, ncap,
          "inverse-square lights: POV-Ray's fade within (f / d)^2 of 1 / d^2, f = 1e-4 of the "
-         "scene's size");
+         "radius of the scene's box");
   if (s->star.on)
     note(notes, ncap, "the scene's star filter (a post-process) is not part of the file");
 }
@@ -253,18 +253,28 @@ static void shading_notes(const rt_scene_t *s, char *notes, size_t ncap) {
 /* ---- writing ----------------------------------------------------------------------------------
  */
 
-/* Largest distance from the origin of the finite geometry, the eye and the point lights. */
-static double scene_size(const rt_scene_t *s) {
-  double r = px_v3_norm(s->camera.eye);
+/* The box of the finite geometry, the eye and the point lights: its centre *c and the radius
+ * about it (the half-diagonal; at least 1e-6 of the centre's distance from the origin, so that a
+ * scene of one point still has a size). Measured about the scene, not the origin: a scene far from
+ * the origin is as well placed as one about it. */
+static double scene_bounds(const rt_scene_t *s, px_vec3_t *c) {
+  px_vec3_t lo = s->camera.eye, hi = s->camera.eye;
+#define GROW(p, r)                                                                                 \
+  do {                                                                                             \
+    lo = px_vec3(fmin(lo.x, (p).x - (r)), fmin(lo.y, (p).y - (r)), fmin(lo.z, (p).z - (r)));       \
+    hi = px_vec3(fmax(hi.x, (p).x + (r)), fmax(hi.y, (p).y + (r)), fmax(hi.z, (p).z + (r)));       \
+  } while (0)
   for (int q = 0; q < s->nprim; q++)
     if (s->prim[q].kind == RT_PRIM_SPHERE)
-      r = fmax(r, px_v3_norm(s->prim[q].sphere.c) + s->prim[q].sphere.r);
+      GROW(s->prim[q].sphere.c, s->prim[q].sphere.r);
   for (int k = 0; k < s->nvertex; k++)
-    r = fmax(r, px_v3_norm(s->vertex[k]));
+    GROW(s->vertex[k], 0.0);
   for (int l = 0; l < s->nlight; l++)
     if (s->light[l].kind == RT_LIGHT_POINT)
-      r = fmax(r, px_v3_norm(s->light[l].v));
-  return fmax(r, 1.0);
+      GROW(s->light[l].v, 0.0);
+#undef GROW
+  *c = px_v3_scale(px_v3_add(lo, hi), 0.5);
+  return fmax(0.5 * px_v3_norm(px_v3_sub(hi, lo)), 1e-6 * (1.0 + px_v3_norm(*c)));
 }
 
 /* Text from outside (a command line, a path, a name) in a // comment: its control characters as
@@ -327,12 +337,14 @@ static void write_globals(FILE *f, const rt_scene_t *s, const io_pov_options_t *
 }
 
 static void write_lights(FILE *f, const rt_scene_t *s) {
-  double far = 1000.0 * scene_size(s), fd = 1e-4 * scene_size(s);
+  px_vec3_t centre;
+  double size = scene_bounds(s, &centre), far = 1000.0 * size, fd = 1e-4 * size;
   for (int l = 0; l < s->nlight; l++) {
     const rt_light_t *L = &s->light[l];
     fprintf(f, "light_source { ");
     if (L->kind == RT_LIGHT_PARALLEL) {
-      px_vec3_t at = px_v3_scale(L->v, -far); /* v is the unit direction the light travels in */
+      /* v is the unit direction the light travels in: from far behind the scene's box */
+      px_vec3_t at = px_v3_axpy(-far, L->v, centre);
       vec(f, at);
       fprintf(f, ", rgb ");
       rgb(f, L->intensity);
