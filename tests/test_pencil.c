@@ -297,6 +297,16 @@ static void tree_agreement_edges_not_textures(void **state) {
   rt_scene_free(&s);
 }
 
+/* Guards of the one sphere b, valid until eight more calls (a ring of them). */
+static const pt_guards_t *one(const pt_bsphere_t *b) {
+  static pt_guards_t ring[8];
+  static int next;
+  pt_guards_t *g = &ring[next++ % 8];
+  pt_guards_free(g);
+  assert_true(pt_guards_make(b, 1, g));
+  return g;
+}
+
 /* The small-object guard: a sphere much smaller than the cone inside it fires; one far outside
  * does not; a cone inside a large sphere's disk does not (no silhouette crosses it). For a
  * secondary segment: a sphere within the capsule's radius fires, unless it is one of the two
@@ -307,29 +317,29 @@ static void guard_catches_small_objects(void **state) {
   pt_bsphere_t small = {px_vec3(0.02, 0, 10), 0.01, 0};
   pt_bsphere_t far = {px_vec3(5, 0, 10), 0.01, 0};
   pt_bsphere_t big = {px_vec3(0, 0, 10), 5.0, 0};
-  assert_true(pt_guard_fires(&small, 1, eye, axis, 0.01));
-  assert_false(pt_guard_fires(&far, 1, eye, axis, 0.01));
-  assert_false(pt_guard_fires(&big, 1, eye, axis, 0.01));
-  assert_true(pt_guard_fires(&big, 1, eye, px_vec3(sin(0.5), 0, cos(0.5)), 0.05));
+  assert_true(pt_guard_fires(one(&small), eye, axis, 0.01));
+  assert_false(pt_guard_fires(one(&far), eye, axis, 0.01));
+  assert_false(pt_guard_fires(one(&big), eye, axis, 0.01));
+  assert_true(pt_guard_fires(one(&big), eye, px_vec3(sin(0.5), 0, cos(0.5)), 0.05));
   /* a secondary segment's capsule: near its middle, beyond its end, one of its own objects */
   px_vec3_t p = px_vec3(0, 0, 0), q = px_vec3(0, 0, 4);
   pt_bsphere_t mid = {px_vec3(0.3, 0, 2), 0.1, 7}, end = {px_vec3(0, 0, 4.35), 0.1, 7};
-  assert_true(pt_guard_segment(&mid, 1, p, q, 0.25, 1, 2));
-  assert_false(pt_guard_segment(&mid, 1, p, q, 0.15, 1, 2));
-  assert_false(pt_guard_segment(&mid, 1, p, q, 0.25, 7, 2));
-  assert_false(pt_guard_segment(&mid, 1, p, q, 0.25, 1, 7));
-  assert_false(pt_guard_segment(&end, 1, p, q, 0.2, 1, 2)); /* 0.35 from q: beyond 0.1 + 0.2 */
-  assert_true(pt_guard_segment(&end, 1, p, q, 0.3, 1, 2));
-  assert_true(pt_guard_segment(&mid, 1, p, q, NAN, 1, 2)); /* an unknown radius fires */
+  assert_true(pt_guard_segment(one(&mid), p, q, 0.25, 1, 2));
+  assert_false(pt_guard_segment(one(&mid), p, q, 0.15, 1, 2));
+  assert_false(pt_guard_segment(one(&mid), p, q, 0.25, 7, 2));
+  assert_false(pt_guard_segment(one(&mid), p, q, 0.25, 1, 7));
+  assert_false(pt_guard_segment(one(&end), p, q, 0.2, 1, 2)); /* 0.35 from q: beyond 0.1 + 0.2 */
+  assert_true(pt_guard_segment(one(&end), p, q, 0.3, 1, 2));
+  assert_true(pt_guard_segment(one(&mid), p, q, NAN, 1, 2)); /* an unknown radius fires */
   /* a ray leaving the scene: its cone from within r of p */
   px_vec3_t z = px_vec3(0, 0, 1);
   pt_bsphere_t ahead = {px_vec3(0.5, 0, 10), 0.1, 7}, behind = {px_vec3(0, 0, -10), 0.1, 7};
-  assert_true(pt_guard_cone(&ahead, 1, p, 0.0, z, 0.05, 1));  /* 0.05 rad from the axis */
-  assert_false(pt_guard_cone(&ahead, 1, p, 0.0, z, 0.02, 1)); /* the disk is 0.04-0.06 off */
-  assert_true(pt_guard_cone(&ahead, 1, p, 0.2, z, 0.02, 1));  /* grown by the apex radius */
-  assert_false(pt_guard_cone(&ahead, 1, p, 0.0, z, 0.05, 7)); /* the ray's own start */
-  assert_false(pt_guard_cone(&behind, 1, p, 0.0, z, 0.5, 1)); /* behind the rays */
-  assert_true(pt_guard_cone(&ahead, 1, p, 0.0, z, NAN, 1));   /* an unknown spread fires */
+  assert_true(pt_guard_cone(one(&ahead), p, 0.0, z, 0.05, 1));  /* 0.05 rad from the axis */
+  assert_false(pt_guard_cone(one(&ahead), p, 0.0, z, 0.02, 1)); /* the disk is 0.04-0.06 off */
+  assert_true(pt_guard_cone(one(&ahead), p, 0.2, z, 0.02, 1));  /* grown by the apex radius */
+  assert_false(pt_guard_cone(one(&ahead), p, 0.0, z, 0.05, 7)); /* the ray's own start */
+  assert_false(pt_guard_cone(one(&behind), p, 0.0, z, 0.5, 1)); /* behind the rays */
+  assert_true(pt_guard_cone(one(&ahead), p, 0.0, z, NAN, 1));   /* an unknown spread fires */
   /* shadow rays from within 0.1 of the origin to a light at (0, 0, 10): an occluder smaller than
    * the gap between the traced points fires, a larger one or one beside the rays does not */
   rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 10}, {1, 1, 1}, RT_FALLOFF_NONE,
@@ -338,28 +348,157 @@ static void guard_catches_small_objects(void **state) {
                     {0, 0, 0},         {0, 0, 0},  0};
   pt_bsphere_t tiny = {px_vec3(0.02, 0, 5), 0.01, 7}, wide = {px_vec3(0.1, 0, 5), 1.0, 7};
   pt_bsphere_t aside = {px_vec3(3, 0, 5), 0.01, 7}, past = {px_vec3(0, 0, -3), 0.01, 7};
-  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &lamp, 1));
-  assert_false(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &lamp, 7)); /* the hit's own object */
-  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, &lamp, 1));
-  assert_false(pt_guard_shadow(&aside, 1, p, 0.1, 0.05, NULL, &lamp, 1));
-  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, &lamp, 1)); /* beyond the hits */
-  assert_true(pt_guard_shadow(&tiny, 1, p, 0.1, 0.05, NULL, &sun, 1));   /* a parallel light */
-  assert_false(pt_guard_shadow(&wide, 1, p, 0.1, 0.05, NULL, &sun, 1));
-  assert_false(pt_guard_shadow(&past, 1, p, 0.1, 0.05, NULL, &sun, 1));
+  assert_true(pt_guard_shadow(one(&tiny), p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(
+      pt_guard_shadow(one(&tiny), p, 0.1, 0.05, NULL, &lamp, 7)); /* the hit's own object */
+  assert_false(pt_guard_shadow(one(&wide), p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(one(&aside), p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(one(&past), p, 0.1, 0.05, NULL, &lamp, 1)); /* beyond the hits */
+  assert_true(pt_guard_shadow(one(&tiny), p, 0.1, 0.05, NULL, &sun, 1));   /* a parallel light */
+  assert_false(pt_guard_shadow(one(&wide), p, 0.1, 0.05, NULL, &sun, 1));
+  assert_false(pt_guard_shadow(one(&past), p, 0.1, 0.05, NULL, &sun, 1));
   assert_true(
-      pt_guard_shadow(&aside, 1, p, NAN, 0.05, NULL, &lamp, 1)); /* an unknown reach fires */
+      pt_guard_shadow(one(&aside), p, NAN, 0.05, NULL, &lamp, 1)); /* an unknown reach fires */
   /* on a plane lit at 60 degrees a shadow is twice as long as wide: one that fits the light's
    * view of the gap no longer fits the gap */
   pt_bsphere_t medium = {px_vec3(0.02, 0, 5), 0.02, 7};
   px_vec3_t tilted = px_vec3(sin(M_PI / 3), 0, cos(M_PI / 3));
-  assert_true(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, NULL, &lamp, 1));
-  assert_false(pt_guard_shadow(&medium, 1, p, 0.1, 0.05, &tilted, &lamp, 1));
+  assert_true(pt_guard_shadow(one(&medium), p, 0.1, 0.05, NULL, &lamp, 1));
+  assert_false(pt_guard_shadow(one(&medium), p, 0.1, 0.05, &tilted, &lamp, 1));
   /* spheres of the Fig. 8 scene: one, exact */
   rt_scene_t s;
   fx_fig8(&s, 8, 8);
   pt_bsphere_t b[4];
   assert_int_equal(pt_guard_spheres(&s, b, 4), 1);
   assert_close(b[0].r, 1.0, 0.0, 0.0);
+  rt_scene_free(&s);
+}
+
+/* A uniform number in [a, b) from a 64-bit LCG (the test's own, so that it runs the same
+ * everywhere). */
+static double uniform(uint64_t *x, double a, double b) {
+  *x = *x * 6364136223846793005ull + 1442695040888963407ull;
+  return a + (b - a) * (double)(*x >> 11) * 0x1p-53;
+}
+
+static px_vec3_t random_unit(uint64_t *x) {
+  px_vec3_t v;
+  do
+    v = px_vec3(uniform(x, -1, 1), uniform(x, -1, 1), uniform(x, -1, 1));
+  while (px_v3_dot(v, v) > 1.0 || px_v3_dot(v, v) < 1e-6);
+  return px_v3_unit(v);
+}
+
+/* The guards' hierarchy answers every query as the scan over every sphere does (guards without
+ * nodes): 400 spheres of radii from 1e-3 to 1 in a box of side 20, and 4,000 queries of each
+ * kind, a quarter of them (segments, cones, parallel shadows) tuned to within a relative 1e-12 of
+ * where a chosen sphere starts to fire, which the hierarchy's margins must cover. Both answers
+ * occur, and a scene's every object is guarded, past the 4,096 the renderer once held. */
+static void guard_hierarchy_answers_as_the_scan(void **state) {
+  (void)state;
+  enum { N = 400, Q = 4000 };
+  static pt_bsphere_t b[N];
+  uint64_t x = 12345;
+  for (int i = 0; i < N; i++)
+    b[i] = (pt_bsphere_t){px_vec3(uniform(&x, -10, 10), uniform(&x, -10, 10), uniform(&x, -10, 10)),
+                          exp(uniform(&x, log(1e-3), 0.0)), i % 50};
+  pt_guards_t g, flat = {b, N, NULL, 0}; /* flat: the spheres one by one, no hierarchy */
+  assert_true(pt_guards_make(b, N, &g));
+  assert_int_equal(g.n, N);
+  int seen[4][2] = {{0}}, tuned[4] = {0};
+  rt_light_t lamp = {RT_LIGHT_POINT, {0, 0, 0}, {1, 1, 1}, RT_FALLOFF_NONE,
+                     {0, 0, 0},      {0, 0, 0}, 0};
+  for (int kind = 0; kind < 4; kind++)
+    for (int k = 0; k < Q; k++) {
+      px_vec3_t p = px_vec3(uniform(&x, -12, 12), uniform(&x, -12, 12), uniform(&x, -12, 12));
+      px_vec3_t q = px_v3_axpy(uniform(&x, 0.1, 8.0), random_unit(&x), p);
+      px_vec3_t axis = random_unit(&x);
+      double r = exp(uniform(&x, log(1e-4), log(0.5))), half = exp(uniform(&x, log(1e-4), -1.0));
+      double gap = exp(uniform(&x, log(1e-4), -1.0));
+      int skip = (int)uniform(&x, 0, 50), skip2 = (int)uniform(&x, 0, 50);
+      const pt_bsphere_t *t = &b[(int)uniform(&x, 0, N)]; /* tuned: on its firing boundary */
+      int tune = k % 4 == 0;
+      double eps = uniform(&x, -1e-12, 1e-12);
+      if (tune && kind == 1) { /* the capsule just reaching t */
+        px_vec3_t pq = px_v3_sub(q, p), v = px_v3_sub(t->c, p);
+        double s = fmax(0.0, fmin(1.0, px_v3_dot(v, pq) / px_v3_dot(pq, pq)));
+        r = fmax(0.0, px_v3_norm(px_v3_sub(v, px_v3_scale(pq, s))) - t->r) * (1.0 + eps);
+        skip = skip2 = -1;
+      }
+      if (tune && (kind == 0 || kind == 2)) { /* the cone's rim on t's disk */
+        px_vec3_t v = px_v3_sub(t->c, p);
+        double d = px_v3_norm(v), grown = t->r + (kind == 2 ? r : 0.0);
+        if (d > grown) {
+          double gamma = asin(grown / d);
+          axis = px_v3_unit(px_v3_axpy(0.3, random_unit(&x), px_v3_scale(v, 1.0 / d)));
+          half = fmax(0.0,
+                      (acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / d))) - gamma) * (1.0 + eps));
+        }
+        skip = -1;
+      }
+      if (kind == 3) { /* shadow pencils of width about a sphere's */
+        r = uniform(&x, 0.05, 2.0);
+        gap = uniform(&x, 0.01, 1.0);
+      }
+      lamp.kind = kind == 3 && (k / 4) % 2 ? RT_LIGHT_PARALLEL : RT_LIGHT_POINT;
+      lamp.v = lamp.kind == RT_LIGHT_PARALLEL ? axis : q;
+      if (tune && kind == 3 && lamp.kind == RT_LIGHT_PARALLEL) {
+        /* the cylinder of radius r about the ray from p towards the light just touching t */
+        px_vec3_t u = px_v3_unit(
+            px_v3_sub(random_unit(&x), px_v3_scale(axis, px_v3_dot(random_unit(&x), axis))));
+        u = px_v3_unit(px_v3_sub(u, px_v3_scale(axis, px_v3_dot(u, axis))));
+        p = px_v3_axpy(-(t->r + r) * (1.0 + eps), u, px_v3_axpy(uniform(&x, 0.0, 3.0), axis, t->c));
+        skip = -1;
+      }
+      const pt_guards_t *o = &flat;
+      int want = kind == 0   ? pt_guard_fires(o, p, axis, half)
+                 : kind == 1 ? pt_guard_segment(o, p, q, r, skip, skip2)
+                 : kind == 2 ? pt_guard_cone(o, p, r, axis, half, skip)
+                             : pt_guard_shadow(o, p, r, gap, NULL, &lamp, skip);
+      int got = kind == 0   ? pt_guard_fires(&g, p, axis, half)
+                : kind == 1 ? pt_guard_segment(&g, p, q, r, skip, skip2)
+                : kind == 2 ? pt_guard_cone(&g, p, r, axis, half, skip)
+                            : pt_guard_shadow(&g, p, r, gap, NULL, &lamp, skip);
+      if (got != want)
+        fail_msg("query kind %d, number %d: the hierarchy says %d, the scan %d", kind, k, got,
+                 want);
+      /* the chosen sphere alone, where its node's sphere is as tight as can be */
+      pt_guards_t flat1 = {(pt_bsphere_t *)t, 1, NULL, 0};
+      const pt_guards_t *h1 = one(t);
+      int want1 = kind == 0   ? pt_guard_fires(&flat1, p, axis, half)
+                  : kind == 1 ? pt_guard_segment(&flat1, p, q, r, skip, skip2)
+                  : kind == 2 ? pt_guard_cone(&flat1, p, r, axis, half, skip)
+                              : pt_guard_shadow(&flat1, p, r, gap, NULL, &lamp, skip);
+      int got1 = kind == 0   ? pt_guard_fires(h1, p, axis, half)
+                 : kind == 1 ? pt_guard_segment(h1, p, q, r, skip, skip2)
+                 : kind == 2 ? pt_guard_cone(h1, p, r, axis, half, skip)
+                             : pt_guard_shadow(h1, p, r, gap, NULL, &lamp, skip);
+      if (got1 != want1)
+        fail_msg("query kind %d, number %d, its sphere alone: the hierarchy says %d, the scan %d",
+                 kind, k, got1, want1);
+      tuned[kind] += tune && want1;
+      seen[kind][got]++;
+    }
+  for (int kind = 0; kind < 4; kind++) /* both answers; tuned queries that fire */
+    assert_true(seen[kind][0] > Q / 20 && seen[kind][1] > Q / 20 && tuned[kind] > Q / 40);
+  pt_guards_free(&g);
+  /* every object of a scene, beyond the 4,096 the renderer once held */
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t m = rt_material_default("white");
+  int mi;
+  assert_int_equal(rt_scene_add_material(&s, &m, &mi), RT_OK);
+  for (int i = 0; i < 5000; i++)
+    assert_int_equal(rt_scene_add_sphere(&s, px_vec3(i % 100, i / 100, 10.0), 0.25, mi, NULL),
+                     RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  assert_true(pt_guards_of_scene(&s, &g));
+  assert_int_equal(g.n, 5000);
+  int last = 0; /* the last object is among them */
+  for (int i = 0; i < g.n; i++)
+    last |= g.b[i].object == 4999;
+  assert_true(last);
+  pt_guards_free(&g);
   rt_scene_free(&s);
 }
 
@@ -1226,6 +1365,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(axis_ray_meets_axial_hit),
       cmocka_unit_test(tree_agreement_edges_not_textures),
       cmocka_unit_test(guard_catches_small_objects),
+      cmocka_unit_test(guard_hierarchy_answers_as_the_scan),
       cmocka_unit_test(guard_catches_objects_seen_in_mirrors),
       cmocka_unit_test(guard_catches_small_shadows),
       cmocka_unit_test(faint_shadow_edges_interpolated),

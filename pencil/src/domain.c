@@ -160,17 +160,17 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
 static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
   pt_node_t *n = &C->paths.node[k], *par = &C->paths.node[n->parent];
   int any = 0;
-  for (int i = 0; i < C->nguard && !any; i++)
-    any = C->guard[i].object != n->object && C->guard[i].object != par->object;
+  for (int i = 0; i < C->guard->n && !any; i++)
+    any = C->guard->b[i].object != n->object && C->guard->b[i].object != par->object;
   if (!any)
     return 0;
   if (n->miss) {
     px_vec3_t axis = C->trees.axial.node[k].dir;
-    return pt_guard_cone(C->guard, C->nguard, par->o, hit_radius(C, par, b), axis,
+    return pt_guard_cone(C->guard, par->o, hit_radius(C, par, b), axis,
                          miss_spread(C, n, par, axis, b), par->object);
   }
   double r = fmax(hit_radius(C, par, b), hit_radius(C, n, b));
-  return pt_guard_segment(C->guard, C->nguard, par->o, n->o, r, par->object, n->object);
+  return pt_guard_segment(C->guard, par->o, n->o, r, par->object, n->object);
 }
 
 /* The small-object guard for node n's shadow rays: a light whose visibility the domain's corners
@@ -180,15 +180,15 @@ static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
  * points trace their shadow rays, and interp.c's shadow_guarded() decides per lattice cell. */
 static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   int any = 0;
-  for (int i = 0; i < C->nguard && !any; i++)
-    any = C->guard[i].object != n->object;
+  for (int i = 0; i < C->guard->n && !any; i++)
+    any = C->guard->b[i].object != n->object;
   for (int l = 0; any && l < C->s->nlight && l < 32; l++) {
     uint32_t bit = 1u << l;
     if (!(n->light_agree & bit))
       continue;
     double r = hit_radius(C, n, b); /* the corners and the centre leave no larger gap */
     const px_vec3_t *plane = C->s->prim[n->prim].kind == RT_PRIM_PLANE ? &n->n : NULL;
-    if (pt_guard_shadow(C->guard, C->nguard, n->o, r, r / PT_GUARD_INFLATE, plane, &C->s->light[l],
+    if (pt_guard_shadow(C->guard, n->o, r, r / PT_GUARD_INFLATE, plane, &C->s->light[l],
                         n->object)) {
       n->light_agree &= ~bit;
       n->light_guard |= bit;
@@ -321,8 +321,8 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   double xi_domain = 0.0;
   for (int i = 0; i < 4 && !edge && !deep; i++)
     xi_domain = fmax(xi_domain, xi_norm(C, xs[i], ys[i]));
-  if (!edge && !deep && C->nguard &&
-      pt_guard_fires(C->guard, C->nguard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
+  if (!edge && !deep && C->guard->n &&
+      pt_guard_fires(C->guard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
     edge = 1;
     st->domains_guard++;
   }

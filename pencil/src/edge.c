@@ -5,6 +5,8 @@
 #include "pencil/edge.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "core/intersect.h"
 #include "paraxial/vec3.h"
@@ -116,98 +118,298 @@ int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
   return n;
 }
 
-int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half) {
-  for (int i = 0; i < n; i++) {
-    px_vec3_t v = px_v3_sub(b[i].c, eye);
+/* ---- the hierarchy ------------------------------------------------------------------------ */
+
+/* Spheres a leaf holds at most. */
+#define GUARD_LEAF 4
+
+/* The sphere about the box of b[0..n) holding all of them, grown by a margin for rounding: the
+ * queries below skip a node on tests whose rounding the margin covers. */
+static void enclose(const pt_bsphere_t *b, int n, pt_gnode_t *nd) {
+  px_vec3_t lo = b[0].c, hi = b[0].c;
+  for (int i = 1; i < n; i++) {
+    lo = px_v3(fmin(lo.x, b[i].c.x), fmin(lo.y, b[i].c.y), fmin(lo.z, b[i].c.z));
+    hi = px_v3(fmax(hi.x, b[i].c.x), fmax(hi.y, b[i].c.y), fmax(hi.z, b[i].c.z));
+  }
+  nd->c = px_v3_scale(px_v3_add(lo, hi), 0.5);
+  double r = 0.0;
+  for (int i = 0; i < n; i++) /* a NaN radius makes the node's NaN: it is always visited */
+    r = r > px_v3_norm(px_v3_sub(b[i].c, nd->c)) + b[i].r
+            ? r
+            : px_v3_norm(px_v3_sub(b[i].c, nd->c)) + b[i].r;
+  nd->r = r * (1.0 + 1e-9) + 1e-9 * (1.0 + px_v3_norm(nd->c));
+}
+
+/* qsort() orders of spheres by their centres' x, y and z (NaN compares equal). */
+static int by_x(const void *a, const void *b) {
+  double u = ((const pt_bsphere_t *)a)->c.x, v = ((const pt_bsphere_t *)b)->c.x;
+  return (u > v) - (u < v);
+}
+static int by_y(const void *a, const void *b) {
+  double u = ((const pt_bsphere_t *)a)->c.y, v = ((const pt_bsphere_t *)b)->c.y;
+  return (u > v) - (u < v);
+}
+static int by_z(const void *a, const void *b) {
+  double u = ((const pt_bsphere_t *)a)->c.z, v = ((const pt_bsphere_t *)b)->c.z;
+  return (u > v) - (u < v);
+}
+
+/* Node k over b[first .. first + n): split in halves along the longest side of the centres' box.
+ * The queries are exact whatever the split; a good one only makes them visit fewer nodes. */
+static void build(pt_guards_t *g, int k, int first, int n) {
+  pt_gnode_t *nd = &g->node[k];
+  enclose(g->b + first, n, nd);
+  if (n <= GUARD_LEAF) {
+    nd->first = first;
+    nd->count = n;
+    return;
+  }
+  px_vec3_t lo = g->b[first].c, hi = lo;
+  for (int i = first + 1; i < first + n; i++) {
+    lo = px_v3(fmin(lo.x, g->b[i].c.x), fmin(lo.y, g->b[i].c.y), fmin(lo.z, g->b[i].c.z));
+    hi = px_v3(fmax(hi.x, g->b[i].c.x), fmax(hi.y, g->b[i].c.y), fmax(hi.z, g->b[i].c.z));
+  }
+  px_vec3_t ext = px_v3_sub(hi, lo);
+  qsort(g->b + first, (size_t)n, sizeof *g->b,
+        ext.x >= ext.y && ext.x >= ext.z ? by_x
+        : ext.y >= ext.z                 ? by_y
+                                         : by_z);
+  int m = n / 2;
+  int left = g->nnode;
+  g->nnode += 2;
+  nd->first = left;
+  nd->count = 0;
+  build(g, left, first, m);
+  build(g, left + 1, first + m, n - m);
+}
+
+int pt_guards_make(const pt_bsphere_t *b, int n, pt_guards_t *g) {
+  *g = (pt_guards_t){0};
+  if (n <= 0)
+    return 1;
+  g->b = malloc((size_t)n * sizeof *g->b);
+  g->node = malloc((size_t)(2 * n) * sizeof *g->node); /* at most 2n - 1 nodes */
+  if (!g->b || !g->node) {
+    pt_guards_free(g);
+    return 0;
+  }
+  memcpy(g->b, b, (size_t)n * sizeof *b);
+  g->n = n;
+  g->nnode = 1;
+  build(g, 0, 0, n);
+  return 1;
+}
+
+int pt_guards_of_scene(const rt_scene_t *s, pt_guards_t *g) {
+  *g = (pt_guards_t){0};
+  if (s->nobject <= 0)
+    return 1;
+  pt_bsphere_t *b = malloc((size_t)s->nobject * sizeof *b);
+  if (!b)
+    return 0;
+  int ok = pt_guards_make(b, pt_guard_spheres(s, b, s->nobject), g);
+  free(b);
+  return ok;
+}
+
+void pt_guards_free(pt_guards_t *g) {
+  free(g->b);
+  free(g->node);
+  *g = (pt_guards_t){0};
+}
+
+/* ---- the queries --------------------------------------------------------------------------- */
+
+/* Margin of the angular tests that skip a node: acos() of a cosine near 1 is good to about
+ * 1e-8 radians only. */
+#define GUARD_ANGLE_SLACK 1e-6
+
+/* Angle between v (length dist) and the unit axis. */
+static double angle_to(px_vec3_t v, double dist, px_vec3_t axis) {
+  return acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
+}
+
+enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW };
+
+typedef struct {
+  int kind;
+  px_vec3_t p, q, axis; /* the apex or start, the segment's end, the unit axis */
+  double r, half, len2; /* apex radius, half-angle, |q - p|^2 */
+  int skip_a, skip_b;   /* objects whose spheres do not count */
+  /* Q_SHADOW */
+  const rt_light_t *light;
+  int parallel;
+  double dist, gap; /* the light to p (INFINITY for a parallel light); the narrowed gap */
+} query_t;
+
+/* Whether sphere (c, R) may hold a sphere that fires (1 also when unsure: NaN). */
+static int may(const query_t *q, px_vec3_t c, double R) {
+  switch (q->kind) {
+  case Q_FIRES: {
+    px_vec3_t v = px_v3_sub(c, q->p);
     double dist = px_v3_norm(v);
-    if (dist <= b[i].r)
-      continue; /* the eye is inside: the object surrounds every cone */
-    double gamma = asin(b[i].r / dist);
-    double ang = acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
-    if (ang < gamma + half && ang + half > gamma)
-      return 1; /* intersects the cone without containing it */
+    return !(dist > R) ||
+           !(angle_to(v, dist, q->axis) >= asin(fmin(1.0, R / dist)) + q->half + GUARD_ANGLE_SLACK);
   }
-  return 0;
-}
-
-int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, double r, int skip_a,
-                     int skip_b) {
-  px_vec3_t pq = px_v3_sub(q, p);
-  double len2 = px_v3_dot(pq, pq);
-  for (int i = 0; i < n; i++) {
-    if (b[i].object == skip_a || b[i].object == skip_b)
-      continue;
-    px_vec3_t v = px_v3_sub(b[i].c, p);
-    double t = len2 > 0.0 ? fmax(0.0, fmin(1.0, px_v3_dot(v, pq) / len2)) : 0.0;
-    double dist =
-        px_v3_norm(px_v3_sub(v, px_v3_scale(pq, t))); /* centre to the nearest segment point */
-    if (!(dist > b[i].r + r))                         /* a NaN radius fires */
+  case Q_SEGMENT: {
+    px_vec3_t pq = px_v3_sub(q->q, q->p), v = px_v3_sub(c, q->p);
+    double t = q->len2 > 0.0 ? fmax(0.0, fmin(1.0, px_v3_dot(v, pq) / q->len2)) : 0.0;
+    double dist = px_v3_norm(px_v3_sub(v, px_v3_scale(pq, t)));
+    return !(dist > (R + q->r) * (1.0 + 1e-9) + 1e-9 * dist);
+  }
+  case Q_CONE: {
+    px_vec3_t v = px_v3_sub(c, q->p);
+    double dist = px_v3_norm(v), grown = R + q->r;
+    return !(dist > grown) || !(angle_to(v, dist, q->axis) >=
+                                asin(fmin(1.0, grown / dist)) + q->half + GUARD_ANGLE_SLACK);
+  }
+  default: { /* Q_SHADOW */
+    if (q->parallel) {
+      px_vec3_t w = px_v3_sub(c, q->p);
+      double t = px_v3_dot(w, q->axis), rho = px_v3_norm(px_v3_sub(w, px_v3_scale(q->axis, t)));
+      double m = (R + q->r) * (1.0 + 1e-9) + 1e-9 * px_v3_norm(w);
+      return !(t < -m) && !(rho >= m);
+    }
+    px_vec3_t v = px_v3_sub(c, q->light->v);
+    double dc = px_v3_norm(v);
+    if (!(dc > R))
       return 1;
+    if (dc - R >= (q->dist + q->r) * (1.0 + 1e-9) + 1e-9 * dc)
+      return 0;
+    return !(angle_to(v, dc, q->axis) >= asin(fmin(1.0, R / dc)) + q->half + GUARD_ANGLE_SLACK);
   }
-  return 0;
+  }
 }
 
-int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t axis, double half,
-                  int skip) {
-  for (int i = 0; i < n; i++) {
-    if (b[i].object == skip)
-      continue;
-    px_vec3_t v = px_v3_sub(b[i].c, p);
-    double dist = px_v3_norm(v), grown = b[i].r + r;
+/* Whether sphere b fires: the tests of the scans over every sphere, unchanged. */
+static int fires(const query_t *q, const pt_bsphere_t *b) {
+  switch (q->kind) {
+  case Q_FIRES: {
+    px_vec3_t v = px_v3_sub(b->c, q->p);
+    double dist = px_v3_norm(v);
+    if (dist <= b->r)
+      return 0; /* the eye is inside: the object surrounds every cone */
+    double gamma = asin(b->r / dist), ang = angle_to(v, dist, q->axis);
+    return ang < gamma + q->half && ang + q->half > gamma; /* meets the cone, not containing it */
+  }
+  case Q_SEGMENT: {
+    if (b->object == q->skip_a || b->object == q->skip_b)
+      return 0;
+    px_vec3_t pq = px_v3_sub(q->q, q->p), v = px_v3_sub(b->c, q->p);
+    double t = q->len2 > 0.0 ? fmax(0.0, fmin(1.0, px_v3_dot(v, pq) / q->len2)) : 0.0;
+    double dist = px_v3_norm(px_v3_sub(v, px_v3_scale(pq, t))); /* to the nearest point */
+    return !(dist > b->r + q->r);                               /* a NaN radius fires */
+  }
+  case Q_CONE: {
+    if (b->object == q->skip_a)
+      return 0;
+    px_vec3_t v = px_v3_sub(b->c, q->p);
+    double dist = px_v3_norm(v), grown = b->r + q->r;
     if (!(dist > grown)) /* also a NaN radius */
       return 1;
-    double gamma = asin(grown / dist);
-    double ang = acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
-    if (!(ang > gamma + half)) /* also a NaN half-angle */
-      return 1;
+    double gamma = asin(grown / dist), ang = angle_to(v, dist, q->axis);
+    return !(ang > gamma + q->half); /* also a NaN half-angle */
   }
-  return 0;
-}
-
-int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
-                    const px_vec3_t *normal, const rt_light_t *light, int skip) {
-  if (!(r >= 0.0) || !(gap >= 0.0))
-    return 1;
-  int parallel = light->kind == RT_LIGHT_PARALLEL;
-  px_vec3_t axis = px_v3_scale(light->v, -1.0); /* parallel: towards the light */
-  double dist = INFINITY, half = 0.0;
-  if (!parallel) { /* the cone from the light through the ball of radius r about p */
-    px_vec3_t d = px_v3_sub(p, light->v);
-    dist = px_v3_norm(d);
-    if (!(dist > r))
-      return 1;
-    axis = px_v3_scale(d, 1.0 / dist);
-    half = asin(r / dist);
-  }
-  /* on a plane a shadow is stretched by 1 / cos of the light's incidence: a gap holds it only
-   * when its narrow width, the light's view of the gap shrunk by that cosine, exceeds it */
-  if (normal)
-    gap *= fabs(px_v3_dot(*normal, axis));
-  for (int i = 0; i < n; i++) {
-    if (b[i].object == skip)
-      continue;
-    double R = b[i].r;
-    if (parallel) { /* the cylinder of radius r about the ray from p */
-      px_vec3_t w = px_v3_sub(b[i].c, p);
-      double t = px_v3_dot(w, axis), rho = px_v3_norm(px_v3_sub(w, px_v3_scale(axis, t)));
-      if (t < -(R + r) || !(rho < R + r))
-        continue; /* behind the hits, or beside the rays */
-      if (R >= gap && t - R > r)
-        continue; /* too large to fall between the traced rays (wholly towards the light) */
-      return 1;
+  default: { /* Q_SHADOW */
+    if (b->object == q->skip_a)
+      return 0;
+    double R = b->r;
+    if (q->parallel) { /* the cylinder of radius r about the ray from p */
+      px_vec3_t w = px_v3_sub(b->c, q->p);
+      double t = px_v3_dot(w, q->axis), rho = px_v3_norm(px_v3_sub(w, px_v3_scale(q->axis, t)));
+      if (t < -(R + q->r) || !(rho < R + q->r))
+        return 0; /* behind the hits, or beside the rays */
+      /* too large to fall between the traced rays (wholly towards the light) */
+      return !(R >= q->gap && t - R > q->r);
     }
-    px_vec3_t v = px_v3_sub(b[i].c, light->v);
+    px_vec3_t v = px_v3_sub(b->c, q->light->v);
     double dc = px_v3_norm(v);
     if (!(dc > R))
       return 1; /* the light is inside it */
-    if (dc - R >= dist + r)
-      continue; /* wholly beyond the hits */
-    double gamma = asin(R / dc), ang = acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dc)));
-    if (!(ang < gamma + half))
-      continue; /* beside the rays */
-    if (gamma >= asin(fmin(1.0, gap / dist)) && dc + R < dist - r)
-      continue; /* too large to fall between the traced rays (wholly between them and the light) */
-    return 1;
+    if (dc - R >= q->dist + q->r)
+      return 0; /* wholly beyond the hits */
+    double gamma = asin(R / dc), ang = angle_to(v, dc, q->axis);
+    if (!(ang < gamma + q->half))
+      return 0; /* beside the rays */
+    /* too large to fall between the traced rays (wholly between them and the light) */
+    return !(gamma >= asin(fmin(1.0, q->gap / q->dist)) && dc + R < q->dist - q->r);
+  }
+  }
+}
+
+/* Whether some sphere of g fires, visiting the nodes that may hold one. */
+static int any_fires(const pt_guards_t *g, const query_t *q) {
+  if (g->nnode == 0) { /* no hierarchy: every sphere */
+    for (int i = 0; i < g->n; i++)
+      if (fires(q, &g->b[i]))
+        return 1;
+    return 0;
+  }
+  int stack[128], sp = 0; /* median splits: depth about log2(n) */
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const pt_gnode_t *nd = &g->node[stack[--sp]];
+    if (!may(q, nd->c, nd->r))
+      continue;
+    if (nd->count > 0) {
+      for (int i = nd->first; i < nd->first + nd->count; i++)
+        if (fires(q, &g->b[i]))
+          return 1;
+    } else if (sp + 2 <= (int)(sizeof stack / sizeof stack[0])) {
+      stack[sp++] = nd->first + 1;
+      stack[sp++] = nd->first;
+    } else { /* deeper than a median split can make: every sphere below, one by one */
+      for (int i = 0; i < g->n; i++)
+        if (fires(q, &g->b[i]))
+          return 1;
+      return 0;
+    }
   }
   return 0;
+}
+
+int pt_guard_fires(const pt_guards_t *g, px_vec3_t eye, px_vec3_t axis, double half) {
+  query_t q = {.kind = Q_FIRES, .p = eye, .axis = axis, .half = half};
+  return any_fires(g, &q);
+}
+
+int pt_guard_segment(const pt_guards_t *g, px_vec3_t p, px_vec3_t q, double r, int skip_a,
+                     int skip_b) {
+  px_vec3_t pq = px_v3_sub(q, p);
+  query_t Q = {.kind = Q_SEGMENT,
+               .p = p,
+               .q = q,
+               .r = r,
+               .len2 = px_v3_dot(pq, pq),
+               .skip_a = skip_a,
+               .skip_b = skip_b};
+  return any_fires(g, &Q);
+}
+
+int pt_guard_cone(const pt_guards_t *g, px_vec3_t p, double r, px_vec3_t axis, double half,
+                  int skip) {
+  query_t q = {.kind = Q_CONE, .p = p, .r = r, .axis = axis, .half = half, .skip_a = skip};
+  return any_fires(g, &q);
+}
+
+int pt_guard_shadow(const pt_guards_t *g, px_vec3_t p, double r, double gap,
+                    const px_vec3_t *normal, const rt_light_t *light, int skip) {
+  if (!(r >= 0.0) || !(gap >= 0.0))
+    return 1;
+  query_t q = {.kind = Q_SHADOW, .p = p, .r = r, .skip_a = skip, .light = light};
+  q.parallel = light->kind == RT_LIGHT_PARALLEL;
+  q.axis = px_v3_scale(light->v, -1.0); /* parallel: towards the light */
+  q.dist = INFINITY;
+  if (!q.parallel) { /* the cone from the light through the ball of radius r about p */
+    px_vec3_t d = px_v3_sub(p, light->v);
+    q.dist = px_v3_norm(d);
+    if (!(q.dist > r))
+      return 1;
+    q.axis = px_v3_scale(d, 1.0 / q.dist);
+    q.half = asin(r / q.dist);
+  }
+  /* on a plane a shadow is stretched by 1 / cos of the light's incidence: a gap holds it only
+   * when its narrow width, the light's view of the gap shrunk by that cosine, exceeds it */
+  q.gap = normal ? gap * fabs(px_v3_dot(*normal, q.axis)) : gap;
+  return any_fires(g, &q);
 }

@@ -157,29 +157,28 @@ typedef struct {
  *  buffers, each allocated once before the screen loop (pt__ctx_alloc) so that no ray
  *  allocates. */
 typedef struct {
-  const rt_scene_t *s;       /**< the prepared scene */
-  const rt_plan_t *plan;     /**< the render plan (effects, tree size) */
-  const rt_view_t *view;     /**< the camera's rays */
-  const pt_options_t *opt;   /**< the caller's options */
-  rt_image_t *img;           /**< the image being written */
-  pt_extra_t *extra;         /**< the caller's extra channels (or NULL) */
-  float *sample_error;       /**< the caller's per-sample errors (or NULL) */
-  const pt_bsphere_t *guard; /**< the small-object guard's bounding spheres ... */
-  int nguard;                /**< ... and their number */
-  int weights_vary;          /**< the weights W_k vary with the hits (a Fresnel split): a
-                                  lattice cell's nodes shaded per sample count the error of
-                                  their interpolated W_k (interp_error.c) */
-  int cap;                   /**< ray-tree capacity of the domain's parts: plan->tree_nodes,
-                                  at most PT_MAX_TREE_NODES */
-  size_t bytes;              /**< bytes of the buffers below (pt__ctx_alloc) */
-  xr_exact_t ex;             /**< the exact tracer (axial, corner, fallback and edge rays) */
-  pt_trees_t trees;          /**< its exact trees */
-  pt_subtrees_t sub;         /**< measure: one sample's subtrees traced exactly */
-  pt_corners_t corners;      /**< step 3 for the current domain */
-  pt_paths_t paths;          /**< step 2 for the current domain */
-  pt_lattice_t lattice;      /**< ray interpolation of the current domain */
-  pt_sample_t sample;        /**< one sample's evaluation */
-  pt_stats_t st;             /**< this thread's counters */
+  const rt_scene_t *s;      /**< the prepared scene */
+  const rt_plan_t *plan;    /**< the render plan (effects, tree size) */
+  const rt_view_t *view;    /**< the camera's rays */
+  const pt_options_t *opt;  /**< the caller's options */
+  rt_image_t *img;          /**< the image being written */
+  pt_extra_t *extra;        /**< the caller's extra channels (or NULL) */
+  float *sample_error;      /**< the caller's per-sample errors (or NULL) */
+  const pt_guards_t *guard; /**< the small-object guard's bounding spheres */
+  int weights_vary;         /**< the weights W_k vary with the hits (a Fresnel split): a
+                                 lattice cell's nodes shaded per sample count the error of
+                                 their interpolated W_k (interp_error.c) */
+  int cap;                  /**< ray-tree capacity of the domain's parts: plan->tree_nodes,
+                                 at most PT_MAX_TREE_NODES */
+  size_t bytes;             /**< bytes of the buffers below (pt__ctx_alloc) */
+  xr_exact_t ex;            /**< the exact tracer (axial, corner, fallback and edge rays) */
+  pt_trees_t trees;         /**< its exact trees */
+  pt_subtrees_t sub;        /**< measure: one sample's subtrees traced exactly */
+  pt_corners_t corners;     /**< step 3 for the current domain */
+  pt_paths_t paths;         /**< step 2 for the current domain */
+  pt_lattice_t lattice;     /**< ray interpolation of the current domain */
+  pt_sample_t sample;       /**< one sample's evaluation */
+  pt_stats_t st;            /**< this thread's counters */
 } pt_ctx_t;
 
 /* context.c: each part's buffers for trees of `cap` nodes and domains of n x n pixels; an

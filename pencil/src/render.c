@@ -10,8 +10,6 @@
 
 #include "internal.h"
 
-#define PT_MAX_GUARD 4096
-
 /* One initial domain. Corner trees are cached per domain; the left column of a domain is the
  * right column of the one before it in the row, so those trees move over (dx > 0). */
 static void initial_domain(pt_ctx_t *C, int dx, int dy) {
@@ -94,10 +92,10 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
     return RT_EINVAL;
   int nt = rt_thread_count(opt->threads), n = opt->domain;
   int nx = (img->width + n - 1) / n, ny = (img->height + n - 1) / n;
-  pt_bsphere_t *guard = malloc(PT_MAX_GUARD * sizeof *guard);
+  pt_guards_t guard;
+  int guarded = pt_guards_of_scene(s, &guard);
   pt_ctx_t *ctx = calloc((size_t)nt, sizeof *ctx);
-  rt_status_t st = guard && ctx ? RT_OK : RT_ENOMEM;
-  int nguard = guard ? pt_guard_spheres(s, guard, PT_MAX_GUARD) : 0;
+  rt_status_t st = guarded && ctx ? RT_OK : RT_ENOMEM;
   for (int t = 0; t < nt && st == RT_OK; t++) {
     ctx[t] = (pt_ctx_t){.s = s,
                         .plan = plan,
@@ -106,8 +104,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
                         .img = img,
                         .extra = extra,
                         .sample_error = sample_error,
-                        .guard = guard,
-                        .nguard = nguard,
+                        .guard = &guard,
                         .weights_vary = rt_plan_has(plan, RT_EFFECT_FRESNEL),
                         .ex = xr_exact_make(s, plan, NULL)};
     if (!pt__ctx_alloc(&ctx[t], plan->tree_nodes, n))
@@ -143,7 +140,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
   for (int t = 0; ctx && t < nt; t++)
     pt__ctx_free(&ctx[t]);
   free(ctx);
-  free(guard);
+  pt_guards_free(&guard);
   if (stats)
     *stats = total;
   return st;

@@ -65,27 +65,56 @@ typedef struct {
 } pt_bsphere_t;
 
 /** Bounding spheres of the scene's bounded objects (spheres exactly; polygons and polyhedra
- *  around their bounding boxes) into out[cap]; returns how many were written. */
+ *  around their bounding boxes) into out[cap]; returns how many were written (s->nobject is
+ *  always enough). */
 int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap);
+
+/** A node of the guards' hierarchy: a sphere holding every sphere below it; a leaf holds
+ *  spheres first .. first + count - 1, an inner node (count 0) the nodes `first` and `first + 1`.
+ */
+typedef struct {
+  px_vec3_t c;
+  double r;
+  int first, count;
+} pt_gnode_t;
+
+/** The guard's bounding spheres and a hierarchy of spheres over them, so that each query below
+ *  visits the spheres near its pencil, not all of them: the guard's cost does not grow with the
+ *  number of objects that are nowhere near. A query answers exactly as a scan over every sphere
+ *  would (an inner node is skipped only when no sphere inside it can make the query fire, with a
+ *  margin for rounding). */
+typedef struct {
+  pt_bsphere_t *b;  /**< the spheres, in the hierarchy's order */
+  int n;            /**< their number */
+  pt_gnode_t *node; /**< the hierarchy; node 0 is the root (none when n is 0) */
+  int nnode;        /**< nodes; 0 with n > 0: the spheres are scanned one by one (a reference
+                         for the hierarchy's tests) */
+} pt_guards_t;
+
+/** The guards of n spheres b (copied); 0 when out of memory (g then empty). */
+int pt_guards_make(const pt_bsphere_t *b, int n, pt_guards_t *g);
+/** The guards of the scene's bounded objects (pt_guard_spheres); 0 when out of memory. */
+int pt_guards_of_scene(const rt_scene_t *s, pt_guards_t *g);
+void pt_guards_free(pt_guards_t *g);
 
 /** The small-object guard for primary rays: 1 when the silhouette of some bounding sphere may
  *  cross the cone of directions from `eye` with unit axis `axis` and half-angle `half` (radians),
  *  i.e. the sphere's angular disk neither misses the cone nor contains it. Such a cone may hold
  *  an object, or part of one, that none of its traced rays met. */
-int pt_guard_fires(const pt_bsphere_t *b, int n, px_vec3_t eye, px_vec3_t axis, double half);
+int pt_guard_fires(const pt_guards_t *g, px_vec3_t eye, px_vec3_t axis, double half);
 
 /** The small-object guard for a secondary ray segment: 1 when some bounding sphere, other than
  *  those of objects `skip_a` and `skip_b` (where the segment starts and ends), comes within
  *  `r` of the segment from p to q: the segment's pencil, every ray from a ball of radius r about
  *  p to one about q, lies in that capsule, so an object outside it cannot meet the pencil. */
-int pt_guard_segment(const pt_bsphere_t *b, int n, px_vec3_t p, px_vec3_t q, double r, int skip_a,
+int pt_guard_segment(const pt_guards_t *g, px_vec3_t p, px_vec3_t q, double r, int skip_a,
                      int skip_b);
 
 /** The same for a ray that leaves the scene: 1 when some bounding sphere, other than that of
  *  object `skip`, may meet a ray from within `r` of p in a direction within `half` radians of the
  *  unit `axis` (the sphere, grown by r, seen from p, overlaps that cone; or p is within r of it).
  */
-int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t axis, double half,
+int pt_guard_cone(const pt_guards_t *g, px_vec3_t p, double r, px_vec3_t axis, double half,
                   int skip);
 
 /** The same for shadow rays from within `r` of the hit p towards `light` (point or parallel),
@@ -96,7 +125,7 @@ int pt_guard_cone(const pt_bsphere_t *b, int n, px_vec3_t p, double r, px_vec3_t
  *  the gap narrowed by the cosine of the light's incidence when the points lie on a plane of
  *  unit `normal` (NULL for a curved surface). A larger object's shadow has an edge across the
  *  pencil, which the traced points' visibility sees, as the corners see other edges. */
-int pt_guard_shadow(const pt_bsphere_t *b, int n, px_vec3_t p, double r, double gap,
+int pt_guard_shadow(const pt_guards_t *g, px_vec3_t p, double r, double gap,
                     const px_vec3_t *normal, const rt_light_t *light, int skip);
 
 #endif
