@@ -64,7 +64,9 @@ kill -TERM $pid
 wait $pid; rc=$?
 gone=0
 for _ in $(seq 50); do
-  if [ -n "$child" ] && ! kill -0 "$child" 2>/dev/null; then gone=1; break; fi
+  # gone, or a zombie that no one reaps (a container whose PID 1 does not): it runs no more
+  if [ -n "$child" ] && { ! kill -0 "$child" 2>/dev/null ||
+    ps -o stat= -p "$child" 2>/dev/null | grep -q Z; }; then gone=1; break; fi
   sleep 0.1
 done
 left=$(ls -A "$itmp" | wc -l)

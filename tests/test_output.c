@@ -273,6 +273,66 @@ static void interrupted_run_removes_registered_directories(void **state) {
   rmdir(dir);
 }
 
+/* Whether process pid is gone (or a zombie no one reaps yet: it runs no more). */
+static int gone(pid_t pid) {
+  char path[64], stat[256] = "";
+  snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
+  FILE *f = fopen(path, "r");
+  if (!f)
+    return kill(pid, 0) != 0;
+  size_t n = fread(stat, 1, sizeof stat - 1, f);
+  fclose(f);
+  stat[n] = '\0';
+  const char *end = strrchr(stat, ')'); /* "pid (comm) S ..." */
+  return end && end[1] == ' ' && end[2] == 'Z';
+}
+
+/* A child that io_run() waits for is stopped by the signal clean-up: the process dies of SIGTERM
+ * and the child (a shell that wrote its pid and became `sleep 30`) is gone within 5 s. */
+static void interrupted_run_stops_its_child(void **state) {
+  (void)state;
+  char dir[512], pidf[600], tmp[620], cmd[2000], err[256];
+  temp_dir(dir, sizeof dir);
+  snprintf(pidf, sizeof pidf, "%s/pid", dir);
+  snprintf(tmp, sizeof tmp, "%s/pid.tmp", dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    io_cleanup_on_signals();
+    snprintf(cmd, sizeof cmd, "echo $$ > '%s' && mv '%s' '%s' && exec sleep 30", tmp, tmp, pidf);
+    char *argv[] = {"/bin/sh", "-c", cmd, NULL};
+    io_run(argv, err, sizeof err);
+    _exit(3); /* not reached: the signal ends this process */
+  }
+  int sleeper = 0;
+  for (int k = 0; k < 1000 && !sleeper; k++) { /* up to 10 s for the shell to start */
+    FILE *f = fopen(pidf, "r");
+    if (f) {
+      if (fscanf(f, "%d", &sleeper) != 1)
+        sleeper = 0;
+      fclose(f);
+    }
+    if (!sleeper)
+      usleep(10000);
+  }
+  assert_true(sleeper > 0);
+  assert_int_equal(kill(pid, SIGTERM), 0);
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  int stopped = 0;
+  for (int k = 0; k < 500 && !stopped; k++) {
+    stopped = gone(sleeper);
+    if (!stopped)
+      usleep(10000);
+  }
+  if (!stopped)
+    kill(sleeper, SIGKILL); /* leave nothing running, then fail */
+  assert_true(stopped);
+  remove(pidf);
+  rmdir(dir);
+}
+
 static void sizes_parse_and_print(void **state) {
   (void)state;
   size_t b = 0;
@@ -306,6 +366,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(sizes_parse_and_print),
       cmocka_unit_test(interrupted_write_leaves_no_temporary),
       cmocka_unit_test(interrupted_run_removes_registered_directories),
+      cmocka_unit_test(interrupted_run_stops_its_child),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

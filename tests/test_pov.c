@@ -191,6 +191,23 @@ static void lights_are_placed_about_the_scene(void **state) {
   assert_true(px_v3_dot(px_v3_sub(s.camera.eye, at), dir) > 10.0);
   free(t);
   rt_scene_free(&s);
+  /* planes alone: the parallel light far behind the view (eye 5 from what it looks at), not at
+   * the eye (the box of the eye alone) */
+  rt_scene_init(&s);
+  assert_int_equal(rt_scene_add_material(&s, &m, &mi), RT_OK);
+  assert_int_equal(
+      rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, -1, 1, NULL),
+      RT_OK);
+  s.camera.eye = px_vec3(0, 3, -4);
+  s.camera.look_at = px_vec3(0, 0, 0);
+  assert_int_equal(rt_scene_add_light(&s, &par), RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  t = export_text(&s, 0, NULL, 0, err, sizeof err);
+  assert_non_null(t);
+  at = vector_after(strstr(t, "light_source {"), "light_source {");
+  assert_true(px_v3_dot(px_v3_sub(s.camera.eye, at), dir) > 100.0 * 5.0);
+  free(t);
+  rt_scene_free(&s);
 }
 
 /* What cannot be mapped is refused naming it; a flat file needs only the geometry. */

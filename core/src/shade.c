@@ -335,14 +335,17 @@ int rt_shade_child_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_surf
   if (kind != RT_RAY_REFLECT)
     return 0;
   rt_child_t ch;
-  if (!(rt_plan_has(plan, RT_EFFECT_REFLECTION) && m->kr > 0.0)) {
-    /* the mirror child's weight is what the refraction passes on: it decides */
+  if (!(rt_plan_has(plan, RT_EFFECT_REFLECTION) && m->kr > 0.0 && m->kt >= 0.0 &&
+        m->transmittance.r >= 0.0 && m->transmittance.g >= 0.0 && m->transmittance.b >= 0.0)) {
+    /* the mirror child's weight is what the refraction passes on (or, for a material made
+     * through the C API with a negative share, could take away): it decides */
     if (!rt_shade_child(s, plan, sf, ray, depth, kind, &ch))
       return 0;
     *out = ch.ray;
     return 1;
   }
-  /* kr > 0 and the refraction's shares are not negative: the weight is positive */
+  /* kr > 0 and the refraction's shares (kt T, kt F with 0 <= F <= 1) are not negative: the
+   * weight is positive */
   if (!reflect_child(s, sf, ray, rt_rgb(m->kr, m->kr, m->kr), 0, &ch))
     return 0;
   *out = ch.ray;

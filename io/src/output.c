@@ -133,6 +133,21 @@ void io_temp_unregister(const char *path) {
   temp_unregister(path);
 }
 
+void io_temp_unregister_under(const char *dir) {
+  size_t n = strlen(dir);
+  for (int k = 0; k < MAX_TEMPS; k++)
+    if (temp_used[k] && strncmp(temps[k], dir, n) == 0 && (temps[k][n] == '/' || !temps[k][n]))
+      temp_used[k] = 0;
+}
+
+/* The signals the clean-up handles. */
+static void cleanup_signals(sigset_t *set) {
+  sigemptyset(set);
+  sigaddset(set, SIGINT);
+  sigaddset(set, SIGTERM);
+  sigaddset(set, SIGHUP);
+}
+
 static void on_signal(int sig) {
   if (child_pid > 0)
     kill((pid_t)child_pid, SIGTERM);   /* all three are async-signal-safe */
@@ -150,7 +165,7 @@ void io_cleanup_on_signals(void) {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
+    cleanup_signals(&sa.sa_mask); /* a second signal waits for the first's clean-up */
     sigaction(sigs[k], &sa, NULL);
   }
 }
@@ -245,45 +260,76 @@ static int exit_status(const char *prog, int status, char *err, size_t cap) {
   return -1;
 }
 
-int io_run(char *const argv[], char *err, size_t cap) {
-  pid_t pid;
-  int rc = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ), status = 0;
+/* Run argv (file actions fa, may be NULL; environment envp) and wait for it into *status and *ru.
+ * The signal clean-up knows the child from before it can run (the signals are blocked across
+ * posix_spawn, the child getting the caller's mask back) until it has exited, and never after it
+ * is reaped (waitid() without reaping first), so that it stops this child and no other process.
+ * 0; else an errno value, *started telling whether the child ran. */
+static int spawn_wait(char *const argv[], char *const envp[], const posix_spawn_file_actions_t *fa,
+                      int *status, struct rusage *ru, int *started) {
+  *started = 0;
+  sigset_t sigs, old;
+  cleanup_signals(&sigs);
+  posix_spawnattr_t at;
+  int rc = posix_spawnattr_init(&at);
   if (rc != 0)
-    return snprintf(err, cap, "%s: cannot start: %s", argv[0], strerror(rc)), -1;
-  child_pid = pid;
-  while (waitpid(pid, &status, 0) < 0)
+    return rc;
+  pthread_sigmask(SIG_BLOCK, &sigs, &old);
+  rc = posix_spawnattr_setsigmask(&at, &old);
+  if (rc == 0)
+    rc = posix_spawnattr_setflags(&at, POSIX_SPAWN_SETSIGMASK);
+  pid_t pid = 0;
+  if (rc == 0)
+    rc = posix_spawn(&pid, argv[0], fa, &at, argv, envp);
+  if (rc == 0)
+    child_pid = pid;
+  pthread_sigmask(SIG_SETMASK, &old, NULL); /* a signal that came meanwhile stops the child */
+  posix_spawnattr_destroy(&at);
+  if (rc != 0)
+    return rc;
+  *started = 1;
+  siginfo_t si;
+  while (waitid(P_PID, pid, &si, WEXITED | WNOWAIT) < 0)
     if (errno != EINTR) {
       child_pid = 0;
-      return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
+      return errno;
     }
   child_pid = 0;
+  while (wait4(pid, status, 0, ru) < 0)
+    if (errno != EINTR)
+      return errno;
+  return 0;
+}
+
+int io_run(char *const argv[], char *err, size_t cap) {
+  int status = 0, started;
+  struct rusage ru;
+  int rc = spawn_wait(argv, environ, NULL, &status, &ru, &started);
+  if (rc != 0)
+    return snprintf(err, cap, "%s: %s%s", argv[0], started ? "" : "cannot start: ", strerror(rc)),
+           -1;
   return exit_status(argv[0], status, err, cap);
 }
 
 int io_run_logged(char *const argv[], char *const envp[], const char *log, double *cpu_s, char *err,
                   size_t cap) {
   posix_spawn_file_actions_t fa;
-  pid_t pid;
-  int status = 0, rc = posix_spawn_file_actions_init(&fa);
-  if (rc == 0)
-    rc = posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  int status = 0, started = 0, rc = posix_spawn_file_actions_init(&fa);
+  if (rc != 0)
+    return snprintf(err, cap, "%s: cannot start (log %s): %s", argv[0], log, strerror(rc)), -1;
+  rc = posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
   if (rc == 0)
     rc = posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (rc == 0)
     rc = posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  if (rc == 0)
-    rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, envp ? envp : environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0)
-    return snprintf(err, cap, "%s: cannot start (log %s): %s", argv[0], log, strerror(rc)), -1;
-  child_pid = pid;
   struct rusage ru;
-  while (wait4(pid, &status, 0, &ru) < 0)
-    if (errno != EINTR) {
-      child_pid = 0;
-      return snprintf(err, cap, "%s: %s", argv[0], strerror(errno)), -1;
-    }
-  child_pid = 0;
+  if (rc == 0)
+    rc = spawn_wait(argv, envp ? envp : environ, &fa, &status, &ru, &started);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0 && !started)
+    return snprintf(err, cap, "%s: cannot start (log %s): %s", argv[0], log, strerror(rc)), -1;
+  if (rc != 0)
+    return snprintf(err, cap, "%s: %s", argv[0], strerror(rc)), -1;
   if (cpu_s)
     *cpu_s = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
              (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;

@@ -253,10 +253,11 @@ static void shading_notes(const rt_scene_t *s, char *notes, size_t ncap) {
 /* ---- writing ----------------------------------------------------------------------------------
  */
 
-/* The box of the finite geometry, the eye and the point lights: its centre *c and the radius
- * about it (the half-diagonal; at least 1e-6 of the centre's distance from the origin, so that a
- * scene of one point still has a size). Measured about the scene, not the origin: a scene far from
- * the origin is as well placed as one about it. */
+/* The box of the finite geometry, the planes' anchor points, the eye, the point it looks at and
+ * the point lights: its centre *c and the radius about it (the half-diagonal; at least 1e-6 of the
+ * centre's distance from the origin, so that a scene of one point still has a size). Measured about
+ * the scene, not the origin: a scene far from the origin is as well placed as one about it; and a
+ * scene of planes alone still has the size of the view. */
 static double scene_bounds(const rt_scene_t *s, px_vec3_t *c) {
   px_vec3_t lo = s->camera.eye, hi = s->camera.eye;
 #define GROW(p, r)                                                                                 \
@@ -264,9 +265,12 @@ static double scene_bounds(const rt_scene_t *s, px_vec3_t *c) {
     lo = px_vec3(fmin(lo.x, (p).x - (r)), fmin(lo.y, (p).y - (r)), fmin(lo.z, (p).z - (r)));       \
     hi = px_vec3(fmax(hi.x, (p).x + (r)), fmax(hi.y, (p).y + (r)), fmax(hi.z, (p).z + (r)));       \
   } while (0)
+  GROW(s->camera.look_at, 0.0);
   for (int q = 0; q < s->nprim; q++)
     if (s->prim[q].kind == RT_PRIM_SPHERE)
       GROW(s->prim[q].sphere.c, s->prim[q].sphere.r);
+    else if (s->prim[q].kind == RT_PRIM_PLANE)
+      GROW(s->prim[q].plane.p, 0.0);
   for (int k = 0; k < s->nvertex; k++)
     GROW(s->vertex[k], 0.0);
   for (int l = 0; l < s->nlight; l++)

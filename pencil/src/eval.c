@@ -149,9 +149,9 @@ static int verified(pt_eval_t *E, const pt_node_t *n, const rt_ray_t *r, double 
 }
 
 /* Node k's exact geometry for the sample in MATRIX mode: the sample's primary ray carried
- * exactly through the surfaces of the node's path (at each exact hit, the child of the path's
- * kind from shade.h's rt_shade_child(), the ray rt_shade_children() spawns), each met as the
- * path's own primitive, without a scene search. Memoised per evaluation; 0 when the ray leaves
+ * exactly through the surfaces of the node's path (at each exact hit, the ray of the path's
+ * kind from shade_paths.h's rt_shade_child_ray(), the ray rt_shade_children() spawns), each met as
+ * the path's own primitive, without a scene search. Memoised per evaluation; 0 when the ray leaves
  * the path (misses a primitive or lacks the child). */
 static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   pt_ctx_t *C = E->C;

@@ -90,7 +90,6 @@ void val_povray_close(val_povray_t *p) {
     if (e->d_name[0] != '.') {
       snprintf(path, sizeof path, "%s/%s", p->dir, e->d_name);
       remove(path);
-      io_temp_unregister(path);
     }
   if (d)
     closedir(d);
@@ -98,9 +97,8 @@ void val_povray_close(val_povray_t *p) {
   for (int k = 0; k < 4; k++) {
     snprintf(path, sizeof path, "%s/%s", p->dir, conf[k]);
     remove(path);
-    io_temp_unregister(path);
   }
-  io_temp_unregister(p->dir);
+  io_temp_unregister_under(p->dir); /* also what was registered and never made */
   p->dir[0] = '\0';
 }
 

@@ -65,6 +65,9 @@ void io_cleanup_on_signals(void);
  *  are not removed); paths of 4096 bytes or longer are not registered. */
 void io_temp_register(const char *path);
 void io_temp_unregister(const char *path);
+/** Unregister `dir` and every registered path below it (what a caller removed with it, or never
+ *  created). The registry is the main thread's: call these from outside parallel regions. */
+void io_temp_unregister_under(const char *dir);
 
 /** Run argv[0] (an absolute path) with the arguments argv[1..] (NULL-terminated) as a child
  *  process, no shell, and wait for it. 0 when it exited with status 0; -1 otherwise (err says
