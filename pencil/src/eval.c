@@ -169,10 +169,21 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
     rt_ray_t ray;
     rt_surface_t sf;
     node_surface(E, n->parent, px->p, px->d, &ray, &sf);
-    /* only the ray of the path's kind, without its weight (shading builds both children) */
-    if (!rt_shade_child_ray(C->s, C->plan, &sf, &ray, C->paths.node[n->parent].depth,
-                            (rt_ray_kind_t)n->kind, &r))
+    const pt_node_t *pn = &C->paths.node[n->parent];
+    if (pn->spectral && rt_shade_spectral_at(C->plan, sf.mat, pn->depth)) {
+      /* dispersive glass under spectral pencils: the tree's only child there is the white
+       * mirror child of rt_shade_spectral_mirror() (children() below), whose existence counts
+       * total internal reflection only where every wavelength has it */
+      rt_child_t m;
+      if (n->kind != RT_RAY_REFLECT ||
+          !rt_shade_spectral_mirror(C->s, C->plan, &sf, &ray, pn->depth, &m))
+        return x;
+      r = m.ray;
+    } else if (!rt_shade_child_ray(C->s, C->plan, &sf, &ray, pn->depth, (rt_ray_kind_t)n->kind,
+                                   &r)) {
+      /* only the ray of the path's kind, without its weight (shading builds both children) */
       return x;
+    }
   }
   double t;
   if (n->miss || !rt_prim_intersect(C->s, n->prim, &r, r.tmax, &t) ||
