@@ -133,10 +133,10 @@ static void enclose(const pt_bsphere_t *b, int n, pt_gnode_t *nd) {
   }
   nd->c = px_v3_scale(px_v3_add(lo, hi), 0.5);
   double r = 0.0;
-  for (int i = 0; i < n; i++) /* a NaN radius makes the node's NaN: it is always visited */
-    r = r > px_v3_norm(px_v3_sub(b[i].c, nd->c)) + b[i].r
-            ? r
-            : px_v3_norm(px_v3_sub(b[i].c, nd->c)) + b[i].r;
+  for (int i = 0; i < n; i++) { /* a NaN radius makes the node's NaN: it is always visited */
+    double reach = px_v3_norm(px_v3_sub(b[i].c, nd->c)) + b[i].r;
+    r = r > reach ? r : reach;
+  }
   nd->r = r * (1.0 + 1e-9) + 1e-9 * (1.0 + px_v3_norm(nd->c));
 }
 
@@ -345,7 +345,9 @@ static int any_fires(const pt_guards_t *g, const query_t *q) {
         return 1;
     return 0;
   }
-  int stack[128], sp = 0; /* median splits: depth about log2(n) */
+  /* halving splits: at most 31 levels for an int count of spheres, and a visit leaves at most
+   * one pending node a level besides the two it pushes */
+  int stack[64], sp = 0;
   stack[sp++] = 0;
   while (sp > 0) {
     const pt_gnode_t *nd = &g->node[stack[--sp]];
@@ -355,14 +357,9 @@ static int any_fires(const pt_guards_t *g, const query_t *q) {
       for (int i = nd->first; i < nd->first + nd->count; i++)
         if (fires(q, &g->b[i]))
           return 1;
-    } else if (sp + 2 <= (int)(sizeof stack / sizeof stack[0])) {
+    } else {
       stack[sp++] = nd->first + 1;
       stack[sp++] = nd->first;
-    } else { /* deeper than a median split can make: every sphere below, one by one */
-      for (int i = 0; i < g->n; i++)
-        if (fires(q, &g->b[i]))
-          return 1;
-      return 0;
     }
   }
   return 0;
