@@ -248,13 +248,14 @@ static void interrupted_run_removes_registered_directories(void **state) {
     io_cleanup_on_signals();
     if (mkdir(sub, 0700) != 0 || mkdir(deep, 0700) != 0)
       _exit(3);
-    io_temp_register(sub);
-    io_temp_register(deep);
-    io_temp_register(f2);
+    char err[512];
+    if (io_temp_register(sub, err, sizeof err) != 0 ||
+        io_temp_register(deep, err, sizeof err) != 0 || io_temp_register(f2, err, sizeof err) != 0)
+      _exit(6);
     io_temp_unregister(sub); /* its slot is taken again after its contents' */
-    io_temp_register(f1);
-    io_temp_register(sub);
-    io_temp_register(f1); /* twice: held once */
+    if (io_temp_register(f1, err, sizeof err) != 0 || io_temp_register(sub, err, sizeof err) != 0 ||
+        io_temp_register(f1, err, sizeof err) != 0) /* twice: held once */
+      _exit(7);
     FILE *a = fopen(f1, "w"), *b = fopen(f2, "w"), *c = fopen(keep, "w");
     if (!a || !b || !c)
       _exit(4);
@@ -270,6 +271,54 @@ static void interrupted_run_removes_registered_directories(void **state) {
   assert_int_equal(access(sub, F_OK), -1);
   assert_int_equal(access(keep, F_OK), 0);
   remove(keep);
+  rmdir(dir);
+}
+
+/* The clean-up holds 64 paths: the 65th is refused with a message, and so is an atomic write
+ * that would need one more (it leaves no temporary file), until a slot is free again; a path held
+ * already and a path too long to hold are answered too. In a child: the registry is the
+ * process's. */
+static void temporaries_beyond_the_registry_are_refused(void **state) {
+  (void)state;
+  char dir[512];
+  temp_dir(dir, sizeof dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    char path[700], err[512] = "", out[700], tmp_err[512] = "", longp[5000];
+    for (int k = 0; k < 64; k++) {
+      snprintf(path, sizeof path, "%s/t%02d", dir, k);
+      if (io_temp_register(path, err, sizeof err) != 0)
+        _exit(10);
+    }
+    if (io_temp_register(path, err, sizeof err) != 0) /* held already */
+      _exit(11);
+    snprintf(path, sizeof path, "%s/one-more", dir);
+    if (io_temp_register(path, err, sizeof err) != -1 || !strstr(err, "64") ||
+        !strstr(err, "one-more"))
+      _exit(12);
+    io_atomic_t a;
+    snprintf(out, sizeof out, "%s/out.json", dir);
+    if (io_atomic_begin(&a, out, tmp_err, sizeof tmp_err) != -1 || !strstr(tmp_err, "out.json") ||
+        hidden_files(dir) != 0 || access(out, F_OK) == 0)
+      _exit(13);
+    snprintf(path, sizeof path, "%s/t05", dir);
+    io_temp_unregister(path);
+    if (io_atomic_begin(&a, out, tmp_err, sizeof tmp_err) != 0 ||
+        io_atomic_commit(&a, tmp_err, sizeof tmp_err) != 0 || access(out, F_OK) != 0)
+      _exit(14);
+    remove(out);
+    memset(longp, 'a', sizeof longp - 1);
+    longp[sizeof longp - 1] = '\0';
+    if (io_temp_register(longp, err, sizeof err) != -1 || !strstr(err, "too long"))
+      _exit(15);
+    _exit(0);
+  }
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  assert_true(WIFEXITED(status));
+  assert_int_equal(WEXITSTATUS(status), 0);
+  assert_int_equal(hidden_files(dir), 0);
   rmdir(dir);
 }
 
@@ -367,6 +416,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(interrupted_write_leaves_no_temporary),
       cmocka_unit_test(interrupted_run_removes_registered_directories),
       cmocka_unit_test(interrupted_run_stops_its_child),
+      cmocka_unit_test(temporaries_beyond_the_registry_are_refused),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

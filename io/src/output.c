@@ -102,17 +102,20 @@ static char temps[MAX_TEMPS][4096];
 static volatile sig_atomic_t temp_used[MAX_TEMPS];
 static volatile sig_atomic_t child_pid; /* a running child of io_run*, or 0 */
 
-static void temp_register(const char *tmp) {
+/* 0, or -1 when every slot is taken. */
+static int temp_register(const char *tmp) {
   sigset_t all, old; /* the handler never sees a half-copied path */
   sigfillset(&all);
   pthread_sigmask(SIG_BLOCK, &all, &old);
-  for (int k = 0; k < MAX_TEMPS; k++)
+  int held = -1;
+  for (int k = 0; k < MAX_TEMPS && held < 0; k++)
     if (!temp_used[k]) {
       memcpy(temps[k], tmp, strlen(tmp) + 1);
       temp_used[k] = 1;
-      break;
+      held = 0;
     }
   pthread_sigmask(SIG_SETMASK, &old, NULL);
+  return held;
 }
 
 static void temp_unregister(const char *tmp) {
@@ -121,12 +124,18 @@ static void temp_unregister(const char *tmp) {
       temp_used[k] = 0;
 }
 
-void io_temp_register(const char *path) {
+int io_temp_register(const char *path, char *err, size_t cap) {
   for (int k = 0; k < MAX_TEMPS; k++)
     if (temp_used[k] && strcmp(temps[k], path) == 0)
-      return; /* held already */
-  if (strlen(path) < sizeof temps[0])
-    temp_register(path);
+      return 0; /* held already */
+  if (strlen(path) >= sizeof temps[0])
+    return snprintf(err, cap, "%.64s...: the path is too long to be removed on a signal", path), -1;
+  if (temp_register(path) != 0)
+    return snprintf(err, cap,
+                    "%s: cannot be removed on a signal: %d temporary paths are held already", path,
+                    (int)MAX_TEMPS),
+           -1;
+  return 0;
 }
 
 void io_temp_unregister(const char *path) {
@@ -182,12 +191,20 @@ static int begin(io_atomic_t *a, const char *path, int keep_open, char *err, siz
   sigset_t all, old; /* no signal between creating the file and registering it */
   sigfillset(&all);
   pthread_sigmask(SIG_BLOCK, &all, &old);
-  int fd = mkstemp(a->tmp);
-  if (fd >= 0)
-    temp_register(a->tmp);
+  int fd = mkstemp(a->tmp), held = fd >= 0 ? temp_register(a->tmp) : 0;
+  if (held != 0) { /* a signal now would leave it behind: no file rather than a stray one */
+    close(fd);
+    unlink(a->tmp);
+  }
   pthread_sigmask(SIG_SETMASK, &old, NULL);
-  if (fd < 0) {
-    snprintf(err, cap, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
+  if (fd < 0 || held != 0) {
+    if (fd < 0)
+      snprintf(err, cap, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
+    else
+      snprintf(err, cap,
+               "%s: cannot write it: %d temporary files are held for the clean-up on signals "
+               "already",
+               path, (int)MAX_TEMPS);
     a->tmp[0] = '\0';
     return -1;
   }

@@ -29,21 +29,25 @@ static int find_on_path(const char *name, char *out, size_t cap) {
   return 0;
 }
 
-/* An empty file at DIR/rel, registered for the signal clean-up. */
-static int touch(const char *dir, const char *rel) {
+/* DIR/rel registered for the signal clean-up (an interrupted run leaves no private directory;
+ * io_cleanup_on_signals also stops POV-Ray); -1 (err set) when it cannot be. */
+static int hold(const char *dir, const char *rel, char *err, size_t cap) {
   char path[4200];
   snprintf(path, sizeof path, "%s/%s", dir, rel);
-  io_temp_register(path);
-  FILE *f = fopen(path, "w");
-  return f && fclose(f) == 0 ? 0 : -1;
+  return io_temp_register(path, err, cap);
 }
 
-/* DIR/rel registered for the signal clean-up (an interrupted run leaves no private directory;
- * io_cleanup_on_signals also stops POV-Ray). */
-static void hold(const char *dir, const char *rel) {
+/* An empty file at DIR/rel, registered for the signal clean-up. */
+static int touch(const char *dir, const char *rel, char *err, size_t cap) {
   char path[4200];
   snprintf(path, sizeof path, "%s/%s", dir, rel);
-  io_temp_register(path);
+  if (hold(dir, rel, err, cap) != 0)
+    return -1;
+  FILE *f = fopen(path, "w");
+  if (f && fclose(f) == 0)
+    return 0;
+  snprintf(err, cap, "%s: cannot write POV-Ray's empty configuration", dir);
+  return -1;
 }
 
 int val_povray_open(val_povray_t *p, char *err, size_t cap) {
@@ -67,14 +71,24 @@ int val_povray_open(val_povray_t *p, char *err, size_t cap) {
     p->dir[0] = '\0';
     return -1;
   }
-  io_temp_register(p->dir);
-  hold(p->dir, ".povray");
-  hold(p->dir, ".povray/3.7");
   char conf[4200];
   snprintf(conf, sizeof conf, "%s/.povray/3.7", p->dir);
-  if (io_make_dirs(conf) != 0 || touch(p->dir, ".povray/3.7/povray.conf") != 0 ||
-      touch(p->dir, "povray.ini") != 0) {
-    snprintf(err, cap, "%s: cannot write POV-Ray's empty configuration", p->dir);
+  if (io_temp_register(p->dir, err, cap) != 0) {
+    rmdir(p->dir);
+    p->dir[0] = '\0';
+    return -1;
+  }
+  if (hold(p->dir, ".povray", err, cap) != 0 || hold(p->dir, ".povray/3.7", err, cap) != 0) {
+    val_povray_close(p);
+    return -1;
+  }
+  if (io_make_dirs(conf) != 0) {
+    snprintf(err, cap, "%s: cannot make POV-Ray's configuration directory", conf);
+    val_povray_close(p);
+    return -1;
+  }
+  if (touch(p->dir, ".povray/3.7/povray.conf", err, cap) != 0 ||
+      touch(p->dir, "povray.ini", err, cap) != 0) {
     val_povray_close(p);
     return -1;
   }
@@ -106,7 +120,8 @@ int val_povray_export(val_povray_t *p, const rt_scene_t *s, int spp, const char 
                       size_t cap) {
   char path[4200];
   snprintf(path, sizeof path, "%s/scene-%d.pov", p->dir, spp);
-  io_temp_register(path);
+  if (io_temp_register(path, err, cap) != 0)
+    return -1;
   io_pov_options_t o = IO_POV_OPTIONS_DEFAULT;
   o.spp = spp;
   o.source = source;
@@ -189,7 +204,8 @@ int val_povray_render(val_povray_t *p, const rt_scene_t *s, int spp, int threads
   /* quoted: POV-Ray splits an unquoted switch at a space (open() refused a '"' in dir) */
   snprintf(in, sizeof in, "+I\"%s/scene-%d.pov\"", p->dir, spp);
   snprintf(log, sizeof log, "%s/scene-%d.log", p->dir, spp);
-  io_temp_register(log);
+  if (io_temp_register(log, err, cap) != 0)
+    return -1;
   snprintf(w, sizeof w, "+W%d", side * s->camera.width);
   snprintf(h, sizeof h, "+H%d", side * s->camera.height);
   snprintf(wt, sizeof wt, "+WT%d", threads);

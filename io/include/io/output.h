@@ -61,9 +61,11 @@ void io_cleanup_on_signals(void);
 
 /** Register a temporary file or directory of the caller's for that clean-up, and unregister it
  *  once it is removed or kept. Files go first, then the directories they leave empty (nested up
- *  to four deep); a directory with unregistered contents stays. 64 paths at most are held (more
- *  are not removed); paths of 4096 bytes or longer are not registered. */
-void io_temp_register(const char *path);
+ *  to four deep); a directory with unregistered contents stays. 64 paths at most are held, the
+ *  atomic writes' temporary files among them: -1 (err says why) when they are all taken or the
+ *  path is 4096 bytes or longer, and the caller should not make the path; 0 when it is held
+ *  (already or now). */
+int io_temp_register(const char *path, char *err, size_t cap);
 void io_temp_unregister(const char *path);
 /** Unregister `dir` and every registered path below it (what a caller removed with it, or never
  *  created). The registry is the main thread's: call these from outside parallel regions. */
