@@ -583,6 +583,78 @@ static void one_child_is_the_child_of_its_kind(void **state) {
   rt_scene_free(&s);
 }
 
+/* rt_shade_walk_ray() gives rt_shade_child_ray()'s ray at rt_shade_surface()'s record bit for bit,
+ * and the same 0, where it does not leave the answer to it (-1): at a Fresnel glass ball entered
+ * and left (total internal reflection among the rays from inside), a glass polygon and a mirror
+ * checkerboard whose other squares are clear glass without a mirror term (a material lookup per
+ * hit; kr = 0: the weight decides), under plans with and without reflection and refraction, from
+ * the first generation to beyond the last. */
+static void walk_ray_is_the_child_ray(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  s.ior = 1.1; /* a medium other than vacuum: leaving the glass is not into index 1 */
+  int gi = add_fresnel_glass(&s), mi = add_mat(&s, "mirror", 0.7, 0.0, 1.0),
+      ci = add_mat(&s, "clear", 0.0, 0.9, 1.3);
+  rt_scene_add_sphere(&s, px_vec3(0, 0, 0), 1.0, gi, NULL);
+  rt_scene_add_plane(&s, px_vec3(0, -3, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, ci, 0.5, NULL);
+  const px_vec3_t quad[4] = {px_vec3(-4, -2, 3), px_vec3(4, -2, 3), px_vec3(4, 4, 3),
+                             px_vec3(-4, 4, 3)};
+  assert_int_equal(rt_scene_add_polygon(&s, quad, 4, gi, NULL), RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_plan_t plans[3] = {rt_plan_make(&s, 1), rt_plan_make(&s, 1), rt_plan_make(&s, 1)};
+  plans[1].on &= ~(1u << RT_EFFECT_REFRACTION);
+  plans[2].on &= ~(1u << RT_EFFECT_REFLECTION);
+  /* rays from outside (index 1.1) towards the ball (its rim too), the polygon and the board, and
+   * from inside the ball (1.5) all round: directions about the aim on a Fibonacci sphere */
+  const px_vec3_t from[4] = {px_vec3(0.2, 0.5, -5), px_vec3(1.5, 3, 6), px_vec3(3, 2, -2),
+                             px_vec3(0.8, 0.1, 0.2)};
+  const px_vec3_t aim[4] = {px_vec3(0, 0, 0), px_vec3(0.5, 1, 3), px_vec3(3, -3, 0),
+                            px_vec3(0.8, 0.1, 0.2)};
+  const double spread[4] = {0.3, 0.5, 0.5, 1.0}, ior[4] = {1.1, 1.1, 1.1, 1.5};
+  int seen[4] = {0, 0, 0, 0}; /* returned 0, 1, -1; refraction refused by TIR */
+  for (int o = 0; o < 4; o++)
+    for (int j = 0; j < 400; j++) {
+      double z = 1.0 - (j + 0.5) / 200.0, rho = sqrt(1.0 - z * z), phi = 2.399963229728653 * j;
+      px_vec3_t u = px_vec3(rho * cos(phi), rho * sin(phi), z), to = px_vec3_sub(aim[o], from[o]);
+      if (o == 3)
+        to = px_vec3(0, 0, 0);
+      else
+        px_vec3_normalize(to, &to);
+      rt_ray_t ray = {from[o], px_vec3(0, 0, 1), 0.0, INFINITY, ior[o], -1, 0.0f};
+      if (px_vec3_normalize(px_vec3_add(to, px_vec3_scale(u, spread[o])), &ray.d) != PX_OK)
+        continue;
+      rt_hit_t h;
+      if (!rt_intersect(&s, &ray, &h))
+        continue;
+      rt_surface_t sf;
+      rt_shade_surface(&s, &h, &ray, &sf);
+      for (int p = 0; p < 3; p++)
+        for (int d = 0; d < 3; d++) {
+          int depth = d ? plans[p].max_depth - 2 + d : 0;
+          for (int kind = RT_RAY_PRIMARY; kind <= RT_RAY_SHADOW; kind++) {
+            rt_ray_t r, w;
+            memset(&r, 0x5a, sizeof r);
+            memset(&w, 0xa5, sizeof w);
+            int got = rt_shade_child_ray(&s, &plans[p], &sf, &ray, depth, kind, &r);
+            int walked =
+                rt_shade_walk_ray(&s, &plans[p], h.prim, h.p, ray.d, ray.ior, depth, kind, &w);
+            if (walked < 0) {
+              seen[2]++;
+              continue;
+            }
+            assert_int_equal(walked, got);
+            seen[got]++;
+            seen[3] += !got && kind == RT_RAY_REFRACT && p == 0 && !d && sf.mat->kt > 0.0;
+            if (got) /* rt_ray_t has no padding: every field's bits */
+              assert_memory_equal(&w, &r, sizeof w);
+          }
+        }
+    }
+  assert_true(seen[0] > 0 && seen[1] > 0 && seen[2] > 0 && seen[3] > 0);
+  rt_scene_free(&s);
+}
+
 /* The caustics rule: with a light, a mirror and another, diffuse object the plan names the
  * receiver and the object the light comes through, and stays off (no renderer draws caustics
  * yet); without a light, with nothing diffuse besides the mirror, or with the scene's "off", it
@@ -670,6 +742,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(fresnel_limits),
       cmocka_unit_test(children_weights_fresnel_and_tir),
       cmocka_unit_test(one_child_is_the_child_of_its_kind),
+      cmocka_unit_test(walk_ray_is_the_child_ray),
       cmocka_unit_test(plan_skips_effects_the_scene_does_not_use),
       cmocka_unit_test(plan_names_caustic_paths),
       cmocka_unit_test(area_light_sums_its_mesh_points),

@@ -17,7 +17,7 @@ int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 }
 
 px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p) {
-  return prim_normal(&s->prim[prim], p);
+  return rt_prim_normal_at(&s->prim[prim], p);
 }
 
 int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi) {

@@ -81,21 +81,6 @@ static inline int plane_t(px_vec3_t n, double d, const rt_ray_t *ray, double tma
   return 1;
 }
 
-/* The body of rt_prim_normal(), inlined into the queries. */
-static inline px_vec3_t prim_normal(const rt_prim_t *pr, px_vec3_t p) {
-  switch (pr->kind) {
-  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
-    px_vec3_t d = px_v3_sub(p, pr->sphere.c);
-    return px_v3_scale(d, 1.0 / px_v3_norm(d));
-  }
-  case RT_PRIM_PLANE:
-    return pr->plane.n;
-  case RT_PRIM_POLYGON:
-    return pr->polygon.n;
-  }
-  return px_v3(0, 0, 1);
-}
-
 /* Nearest crossing in (ray->tmin, tmax); the body of rt_prim_intersect(), inlined into the BVH
  * traversal. */
 static inline int prim_hit(const rt_scene_t *s, int prim, const rt_ray_t *ray, double tmax,

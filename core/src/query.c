@@ -107,7 +107,7 @@ static void pair_entry(const rt_bvh_pair_t *pr, const slab_ray_t *r, double t0, 
 static void fill_hit(const rt_scene_t *s, const rt_ray_t *ray, int prim, double t, rt_hit_t *h) {
   h->t = t;
   h->p = px_v3_axpy(t, ray->d, ray->o);
-  h->n = prim_normal(&s->prim[prim], h->p);
+  h->n = rt_prim_normal_at(&s->prim[prim], h->p);
   h->prim = prim;
   h->object = s->prim[prim].object;
 }
@@ -205,7 +205,8 @@ static int attenuate(const rt_scene_t *s, int prim, const rt_ray_t *ray, double 
   }
   const rt_prim_t *pr = &s->prim[prim];
   /* outward normal, unnormalised for a sphere: only the sign of its dot with d is needed */
-  px_vec3_t out = pr->kind == RT_PRIM_SPHERE ? px_v3_sub(p, pr->sphere.c) : prim_normal(pr, p);
+  px_vec3_t out =
+      pr->kind == RT_PRIM_SPHERE ? px_v3_sub(p, pr->sphere.c) : rt_prim_normal_at(pr, p);
   if (s->object[pr->object].closed && px_v3_dot(out, ray->d) < 0.0)
     return 1; /* entering a closed object: its factor is applied once, on the way out */
   *tr = rt_rgb_mul(*tr, rt_rgb_scale(m->transmittance, m->kt));

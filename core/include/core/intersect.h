@@ -7,6 +7,7 @@
 #define RENDER_INTERSECT_H
 
 #include "core/scene.h"
+#include "paraxial/vec3.h"
 
 /** Nearest distance t in (ray->tmin, tmax) at which the ray meets primitive `prim`; returns 1
  *  and writes *t, or 0 when there is none. Spheres use the cancellation-free form of the
@@ -19,6 +20,22 @@ int rt_prim_crossings(const rt_scene_t *s, int prim, const rt_ray_t *ray, double
 
 /** Unit geometric normal of `prim` at p (a point on it): outward for spheres and polyhedra. */
 px_vec3_t rt_prim_normal(const rt_scene_t *s, int prim, px_vec3_t p);
+
+/** rt_prim_normal() of the primitive pr, inline: the body the scene queries and the pencil's
+ *  exact walks along its paths inline (there the call costs about as much as the normal). */
+static inline px_vec3_t rt_prim_normal_at(const rt_prim_t *pr, px_vec3_t p) {
+  switch (pr->kind) {
+  case RT_PRIM_SPHERE: { /* (p - c) / |p - c|: unit to rounding even when p is off by an ulp */
+    px_vec3_t d = px_v3_sub(p, pr->sphere.c);
+    return px_v3_scale(d, 1.0 / px_v3_norm(d));
+  }
+  case RT_PRIM_PLANE:
+    return pr->plane.n;
+  case RT_PRIM_POLYGON:
+    return pr->polygon.n;
+  }
+  return px_v3(0, 0, 1);
+}
 
 /** Axis-aligned bounds of a bounded primitive (sphere, polygon); 0 for a plane. */
 int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi);

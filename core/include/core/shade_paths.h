@@ -6,7 +6,11 @@
 #ifndef CORE_SHADE_PATHS_H
 #define CORE_SHADE_PATHS_H
 
+#include <math.h>
+
 #include "core/shade.h"
+#include "paraxial/system.h"
+#include "paraxial/vec3.h"
 
 /** rt_shade_direct() at one point for its own material (out[0]) and for `other` in its place
  *  (out[1]), each bit for bit as rt_shade_direct() gives it, with each light's direction and
@@ -31,6 +35,65 @@ int rt_shade_child(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_
  *  with reflection). Returns 0 exactly where rt_shade_child() does. */
 int rt_shade_child_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                        const rt_ray_t *ray, int depth, rt_ray_kind_t kind, rt_ray_t *out);
+
+/** rt_shade_child_ray() for a white ray of index `ior` arriving along d at the point p of primitive
+ *  `prim`, at the surface record rt_shade_surface() makes of that hit (its normal from
+ *  rt_prim_normal()), bit for bit, without building the record: only what rt_shade_child_ray()
+ *  reads of it (the normal facing the ray, the material's kr, kt, T and ior, the two indices, the
+ *  point and the primitive), not the texel, the copy of the hit nor the call chain. For walks that
+ *  take a child at every step of a known path (the pencil's exact walks, pencil/src/eval.c).
+ *  Returns 1 with *out, or 0, as rt_shade_child_ray() does; -1 where that needs the mirror child's
+ *  weight (a plan without reflection, kr <= 0, or a negative share of the refraction): the caller
+ *  then asks rt_shade_child_ray() with the whole record.
+ *
+ *  Inline, and apart from the exact renderer's code: its expressions are those of
+ *  rt_shade_surface(), rt__refract_ray(), reflect_child() and rt__offset_origin() in shade.c and
+ *  refract.c, in the same order, so they round alike (the build contracts no product into an
+ *  FMA), with Snell's law and the mirror law from the same px_interface_outgoing(). Sharing them
+ *  as helpers changes the exact renderer's register allocation and costs it instructions
+ *  (refract.c), so they are copies that change together: tests/test_render_shade.c compares
+ *  the two functions bit for bit. */
+static inline int rt_shade_walk_ray(const rt_scene_t *s, const rt_plan_t *plan, int prim,
+                                    px_vec3_t p, px_vec3_t d, double ior, int depth,
+                                    rt_ray_kind_t kind, rt_ray_t *out) {
+  if (depth >= plan->max_depth)
+    return 0;
+  const rt_material_t *m = rt_scene_material_at(s, prim, p, NULL);
+  px_event_t ev;
+  double side;
+  if (kind == RT_RAY_REFRACT) {
+    if (!(rt_plan_has(plan, RT_EFFECT_REFRACTION) && m->kt > 0.0))
+      return 0;
+    ev = PX_EVENT_REFRACT;
+    side = -1.0;
+  } else if (kind == RT_RAY_REFLECT) {
+    /* rt_shade_child_ray()'s mirror child of weight kr > 0; the other cases need the weight */
+    if (!(rt_plan_has(plan, RT_EFFECT_REFLECTION) && m->kr > 0.0 && m->kt >= 0.0 &&
+          m->transmittance.r >= 0.0 && m->transmittance.g >= 0.0 && m->transmittance.b >= 0.0))
+      return -1;
+    ev = PX_EVENT_REFLECT;
+    side = 1.0;
+  } else {
+    return 0;
+  }
+  px_vec3_t n = rt_prim_normal_at(&s->prim[prim], p);
+  double dn = px_v3_dot(n, d); /* rt_shade_surface() */
+  px_vec3_t nf = dn < 0.0 ? n : px_v3_scale(n, -1.0);
+  double n2 = ev == PX_EVENT_REFLECT ? ior : dn < 0.0 ? m->ior : s->ior;
+  px_interface_t ifc = {.s = d, .nu = px_v3_scale(nf, -1.0), .n1 = ior, .n2 = n2};
+  double ax = fabs(p.x), ay = fabs(p.y), az = fabs(p.z); /* rt__offset_origin() */
+  double scale = 1.0 + (ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az));
+  out->o = px_v3_axpy(side * RT_SURFACE_OFFSET * scale, nf, p); /* first: less kept over the call */
+  double co;
+  if (px_interface_outgoing(&ifc, ev, &out->d, &co) != PX_OK)
+    return 0;
+  out->tmin = 0.0;
+  out->tmax = INFINITY;
+  out->ior = n2;
+  out->skip_prim = s->prim[prim].kind != RT_PRIM_SPHERE ? prim : -1;
+  out->lambda = 0.0f;
+  return 1;
+}
 
 /** 1 when a white ray of generation `depth` meeting material m draws dispersion by spectral
  *  pencils under the plan (RT_SPECTRAL_PENCIL; m transparent and dispersive; children possible):
