@@ -3,6 +3,7 @@
  * child processes without a shell, CSV quoting, and JSON that round-trips any string. */
 #include <dirent.h>
 #include <jansson.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -274,6 +275,55 @@ static void interrupted_run_removes_registered_directories(void **state) {
   rmdir(dir);
 }
 
+/* A thread that waits with the clean-up's signals open, as an OpenMP worker does. */
+static void *open_to_signals(void *arg) {
+  (void)arg;
+  for (;;)
+    pause();
+  return NULL;
+}
+
+/* A signal sent while the main thread holds the signals (here: between making a file and
+ * registering it, as an atomic write does) goes to another thread that does not; the clean-up
+ * passes it on to the main thread, so that the process dies only once the file is registered, and
+ * the file goes with it. Without the hand-over the worker's handler ends the process inside the
+ * window and the file stays. */
+static void signal_in_a_worker_waits_for_the_main_thread(void **state) {
+  (void)state;
+  char dir[512], f1[600];
+  temp_dir(dir, sizeof dir);
+  snprintf(f1, sizeof f1, "%s/made-then-registered", dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    io_cleanup_on_signals();
+    pthread_t worker;
+    if (pthread_create(&worker, NULL, open_to_signals, NULL) != 0)
+      _exit(3);
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_BLOCK, &all, &old);
+    FILE *f = fopen(f1, "w");
+    if (!f || fclose(f) != 0)
+      _exit(4);
+    kill(getpid(), SIGTERM); /* only the worker can take it now */
+    struct timespec t = {0, 200 * 1000 * 1000};
+    nanosleep(&t, NULL); /* time for the worker's handler to run */
+    char err[512];
+    if (io_temp_register(f1, err, sizeof err) != 0)
+      _exit(5);
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    for (;;)
+      pause(); /* the signal ends the process here */
+  }
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  assert_int_equal(access(f1, F_OK), -1);
+  remove(f1);
+  rmdir(dir);
+}
+
 /* The clean-up holds 64 paths: the 65th is refused with a message, and so is an atomic write
  * that would need one more (it leaves no temporary file), until a slot is free again; a path held
  * already and a path too long to hold are answered too. In a child: the registry is the
@@ -294,7 +344,7 @@ static void temporaries_beyond_the_registry_are_refused(void **state) {
     if (io_temp_register(path, err, sizeof err) != 0) /* held already */
       _exit(11);
     snprintf(path, sizeof path, "%s/one-more", dir);
-    if (io_temp_register(path, err, sizeof err) != -1 || !strstr(err, "64") ||
+    if (io_temp_register(path, err, sizeof err) != -1 || !strstr(err, "64 temporary paths") ||
         !strstr(err, "one-more"))
       _exit(12);
     io_atomic_t a;
@@ -417,6 +467,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(interrupted_run_removes_registered_directories),
       cmocka_unit_test(interrupted_run_stops_its_child),
       cmocka_unit_test(temporaries_beyond_the_registry_are_refused),
+      cmocka_unit_test(signal_in_a_worker_waits_for_the_main_thread),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

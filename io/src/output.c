@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <spawn.h>
 #include <stdint.h>
@@ -157,7 +158,20 @@ static void cleanup_signals(sigset_t *set) {
   sigaddset(set, SIGHUP);
 }
 
+/* The thread that installed the clean-up (main()'s), which registers paths and waits for
+ * children with the signals blocked around each step. */
+static pthread_t main_thread;
+static volatile sig_atomic_t main_thread_set;
+
 static void on_signal(int sig) {
+  /* A process-directed signal goes to any thread that does not block it: while the main thread
+   * holds the signals (a file made and not yet registered, a child spawned and not yet recorded),
+   * an OpenMP worker would take it and end the process inside that window. Forwarded, it waits
+   * until the main thread lets it in. pthread_kill() is async-signal-safe. */
+  if (main_thread_set && !pthread_equal(pthread_self(), main_thread)) {
+    pthread_kill(main_thread, sig);
+    return;
+  }
   if (child_pid > 0)
     kill((pid_t)child_pid, SIGTERM);   /* all three are async-signal-safe */
   for (int pass = 0; pass < 4; pass++) /* nested directories empty one level a pass */
@@ -170,6 +184,8 @@ static void on_signal(int sig) {
 
 void io_cleanup_on_signals(void) {
   static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+  main_thread = pthread_self();
+  main_thread_set = 1;
   for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++) {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);

@@ -3,7 +3,10 @@
 #include "validation/povray.h"
 
 #include <dirent.h>
+#include <errno.h>
 #include <math.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,7 +49,7 @@ static int touch(const char *dir, const char *rel, char *err, size_t cap) {
   FILE *f = fopen(path, "w");
   if (f && fclose(f) == 0)
     return 0;
-  snprintf(err, cap, "%s: cannot write POV-Ray's empty configuration", dir);
+  snprintf(err, cap, "%s: cannot write POV-Ray's empty configuration: %s", path, strerror(errno));
   return -1;
 }
 
@@ -66,18 +69,21 @@ int val_povray_open(val_povray_t *p, char *err, size_t cap) {
     p->dir[0] = '\0';
     return -1;
   }
-  if (!mkdtemp(p->dir)) {
-    snprintf(err, cap, "%s: cannot make POV-Ray's private directory", p->dir);
+  sigset_t all, old; /* no signal between making the directory and registering it */
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  int made = mkdtemp(p->dir) != NULL, held = made && io_temp_register(p->dir, err, cap) == 0;
+  if (made && !held)
+    rmdir(p->dir);
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
+  if (!made)
+    snprintf(err, cap, "%s: cannot make POV-Ray's private directory: %s", p->dir, strerror(errno));
+  if (!held) {
     p->dir[0] = '\0';
     return -1;
   }
   char conf[4200];
   snprintf(conf, sizeof conf, "%s/.povray/3.7", p->dir);
-  if (io_temp_register(p->dir, err, cap) != 0) {
-    rmdir(p->dir);
-    p->dir[0] = '\0';
-    return -1;
-  }
   if (hold(p->dir, ".povray", err, cap) != 0 || hold(p->dir, ".povray/3.7", err, cap) != 0) {
     val_povray_close(p);
     return -1;

@@ -56,7 +56,8 @@ void io_atomic_abort(io_atomic_t *a);
 
 /** Remove registered temporary files when SIGINT, SIGTERM or SIGHUP arrives, then die of the
  *  signal as before; a child process that io_run() or io_run_logged() is waiting for is sent
- *  SIGTERM first. Install once, from main(). */
+ *  SIGTERM first. Install once, from main(), in the thread that registers paths and runs
+ *  children: a signal that another thread (an OpenMP worker) takes is passed on to it. */
 void io_cleanup_on_signals(void);
 
 /** Register a temporary file or directory of the caller's for that clean-up, and unregister it
