@@ -612,7 +612,8 @@ static void walk_ray_is_the_child_ray(void **state) {
   const px_vec3_t aim[4] = {px_vec3(0, 0, 0), px_vec3(0.5, 1, 3), px_vec3(3, -3, 0),
                             px_vec3(0.8, 0.1, 0.2)};
   const double spread[4] = {0.3, 0.5, 0.5, 1.0}, ior[4] = {1.1, 1.1, 1.1, 1.5};
-  int seen[4] = {0, 0, 0, 0}; /* returned 0, 1, -1; refraction refused by TIR */
+  int seen[4] = {0, 0, 0, 0};            /* returned 0, 1, -1; refraction refused by TIR */
+  int compared[RT_RAY_SHADOW + 1] = {0}; /* rays compared, by kind */
   for (int o = 0; o < 4; o++)
     for (int j = 0; j < 400; j++) {
       double z = 1.0 - (j + 0.5) / 200.0, rho = sqrt(1.0 - z * z), phi = 2.399963229728653 * j;
@@ -639,12 +640,18 @@ static void walk_ray_is_the_child_ray(void **state) {
             int got = rt_shade_child_ray(&s, &plans[p], &sf, &ray, depth, kind, &r);
             int walked =
                 rt_shade_walk_ray(&s, &plans[p], h.prim, h.p, ray.d, ray.ior, depth, kind, &w);
-            if (walked < 0) {
+            if (walked < 0) { /* only where the mirror child's weight decides */
+              const rt_material_t *m = sf.mat;
+              assert_int_equal(kind, RT_RAY_REFLECT);
+              assert_false(rt_plan_has(&plans[p], RT_EFFECT_REFLECTION) && m->kr > 0.0 &&
+                           m->kt >= 0.0 && m->transmittance.r >= 0.0 && m->transmittance.g >= 0.0 &&
+                           m->transmittance.b >= 0.0);
               seen[2]++;
               continue;
             }
             assert_int_equal(walked, got);
             seen[got]++;
+            compared[kind] += got;
             seen[3] += !got && kind == RT_RAY_REFRACT && p == 0 && !d && sf.mat->kt > 0.0;
             if (got) /* rt_ray_t has no padding: every field's bits */
               assert_memory_equal(&w, &r, sizeof w);
@@ -652,6 +659,7 @@ static void walk_ray_is_the_child_ray(void **state) {
         }
     }
   assert_true(seen[0] > 0 && seen[1] > 0 && seen[2] > 0 && seen[3] > 0);
+  assert_true(compared[RT_RAY_REFLECT] > 0 && compared[RT_RAY_REFRACT] > 0);
   rt_scene_free(&s);
 }
 

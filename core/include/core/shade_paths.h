@@ -42,7 +42,8 @@ int rt_shade_child_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_surf
  *  reads of it (the normal facing the ray, the material's kr, kt, T and ior, the two indices, the
  *  point and the primitive), not the texel, the copy of the hit nor the call chain. For walks that
  *  take a child at every step of a known path (the pencil's exact walks, pencil/src/eval.c).
- *  Returns 1 with *out, or 0, as rt_shade_child_ray() does; -1 where that needs the mirror child's
+ *  Returns 1 with *out, or 0, as rt_shade_child_ray() does (on 0 *out may be partly written,
+ *  where rt_shade_child_ray() leaves it alone); -1 where that needs the mirror child's
  *  weight (a plan without reflection, kr <= 0, or a negative share of the refraction): the caller
  *  then asks rt_shade_child_ray() with the whole record.
  *
