@@ -3,7 +3,9 @@
 # scenes/fig14.json by every method, writes fig14-METHOD.exr and .png into --out and a JSON
 # summary whose keys scripts read (methods[]: method, renderer, wavelengths, bins, seconds,
 # over_exact_nd, rays, delta_e2000_mean, delta_e2000_p99, delta_e2000_max; targets: the issue's
-# time and colour targets with their verdicts); Takagi's wavelength
+# time and colour targets with their verdicts; beams: the beam renderer's dispersion image solids and
+# spectral pencils against its time at n_d, and the solids against the pencils at the same
+# points); Takagi's wavelength
 # supersampling and the fan of as many bins give the same colours; the error falls as the bins
 # grow, and drawing the glass at n_d errs most; bad options exit 2 before any rendering. DIR
 # (argument 2) keeps the outputs.
@@ -21,7 +23,7 @@ $pencil bench dispersion --quick --threads 2 --out "$out" --json "$out/dispersio
   >"$tmp/log" 2>"$tmp/err"; rc=$?
 check "bench dispersion --quick exits 0" "[ $rc -eq 0 ]"
 for m in reference pencil pencil-spectral exact-nd exact-takagi9 exact-fan9 exact-fan40 \
-  exact-spectral-pencil exact-fan50; do
+  exact-spectral-pencil exact-fan50 beam beam-solids beam-pencils; do
   check "fig14-$m.exr and .png written" "[ -s '$out/fig14-$m.exr' ] && [ -s '$out/fig14-$m.png' ]"
   check "the table has $m" "grep -q '^$m ' '$tmp/log'"
 done
@@ -32,7 +34,8 @@ assert d['benchmark'] == 'dispersion' and 'provenance' in d and d['quick'] is Tr
 assert d['reference_bins'] == 100 and d['size'] == 48
 m = {r['method']: r for r in d['methods']}
 assert set(m) == {'reference', 'pencil', 'pencil-spectral', 'exact-nd', 'exact-takagi9',
-                  'exact-fan9', 'exact-fan40', 'exact-spectral-pencil', 'exact-fan50'}, set(m)
+                  'exact-fan9', 'exact-fan40', 'exact-spectral-pencil', 'exact-fan50', 'beam',
+                  'beam-solids', 'beam-pencils'}, set(m)
 assert m['reference']['delta_e2000_mean'] is None
 for k, r in m.items():
     assert r['seconds'] > 0 and r['over_exact_nd'] > 0, r
@@ -51,6 +54,12 @@ sp = m['exact-spectral-pencil']  # within the 40-bin fan's error, in fewer rays
 assert sp['wavelengths'] == 'pencil', sp
 assert sp['delta_e2000_mean'] < m['exact-fan40']['delta_e2000_mean'], (sp, m['exact-fan40'])
 assert sp['rays'] < m['exact-fan40']['rays'], (sp, m['exact-fan40'])
+b = d['beams']  # the beam renderer's dispersion: solids drawn as the spectral pencils draw it
+assert m['beam']['wavelengths'] == 'off' and m['beam-solids']['wavelengths'] == 'solids'
+assert abs(b['solids_over_beam'] - m['beam-solids']['seconds'] / m['beam']['seconds']) < 1e-9, b
+assert abs(b['pencils_over_beam'] - m['beam-pencils']['seconds'] / m['beam']['seconds']) < 1e-9, b
+assert 0 <= b['solids_against_pencils_delta_e2000_mean'] < 0.1, b
+assert b['solids_against_pencils_delta_e2000_mean'] < m['beam']['delta_e2000_mean'], (b, m['beam'])
 t = d['targets']  # the issue's targets, each with its verdict as the numbers give it
 ps = m['pencil-spectral']
 assert abs(t['time_over_pencil'] - ps['seconds'] / m['pencil']['seconds']) < 1e-9, t

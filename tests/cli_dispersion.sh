@@ -33,8 +33,10 @@ $pencil render "$tmp/model.json" --method pencil --wavelengths off --explain >"$
 check "the pencil renderer's plan with --wavelengths off: at n_d" "grep -q \"dispersion     off: material 'glass' disperses, but the pencil renderer was asked for --wavelengths off: it is rendered at n_d = 1.5\" '$tmp/plan1'"
 $pencil render "$tmp/number.json" --explain >"$tmp/plan2" 2>&1
 check "a number: no dispersion" "grep -q \"dispersion     off: no transparent material's index varies with wavelength\" '$tmp/plan2'"
+$pencil render "$tmp/sf11.json" --method beam --wavelengths off --explain >"$tmp/plan3" 2>&1
+check "a catalogue glass: SF11 at n_d 1.7847 for beams asked for --wavelengths off" "grep -q 'n_d = 1.7847' '$tmp/plan3'"
 $pencil render "$tmp/sf11.json" --method beam --explain >"$tmp/plan3" 2>&1
-check "a catalogue glass: SF11 at n_d 1.7847 for beams" "grep -q 'n_d = 1.7847' '$tmp/plan3'"
+check "beams draw a catalogue glass by dispersion image solids" "grep -q 'dispersion     on: white rays refracting into dispersive glass become dispersion image solids' '$tmp/plan3'"
 sed 's/"caustics": "off"/"caustics": "off", "spectral_bins": 4/' "$tmp/model.json" >"$tmp/bins4.json"
 $pencil render "$tmp/bins4.json" --explain >"$tmp/plan4" 2>&1
 check "spectral_bins sets the bins" "grep -q 'fan out into 4 wavelength bins' '$tmp/plan4'"

@@ -476,16 +476,18 @@ static const struct {
   bm_step_t st[3];
   px_vec3_t pn, pp;
 } slab_paths[] = {
-    {"refract in", 1, {{4, PX_EVENT_REFRACT, 1.5}}, {0, 0, 1}, {0, 0, 2}},
+    {"refract in", 1, {{4, PX_EVENT_REFRACT, 1.5, 0.0}}, {0, 0, 1}, {0, 0, 2}},
     {"through",
      2,
-     {{4, PX_EVENT_REFRACT, 1.5}, {5, PX_EVENT_REFRACT, 1.0}},
+     {{4, PX_EVENT_REFRACT, 1.5, 0.0}, {5, PX_EVENT_REFRACT, 1.0, 0.0}},
      {0.1, -0.2, 1},
      {0, 0, 6}},
-    {"reflect", 1, {{4, PX_EVENT_REFLECT, 1.0}}, {0.2, 0.1, 1}, {0, 0, -3}},
+    {"reflect", 1, {{4, PX_EVENT_REFLECT, 1.0, 0.0}}, {0.2, 0.1, 1}, {0, 0, -3}},
     {"in, reflect, out",
      3,
-     {{4, PX_EVENT_REFRACT, 1.5}, {5, PX_EVENT_REFLECT, 1.5}, {4, PX_EVENT_REFRACT, 1}},
+     {{4, PX_EVENT_REFRACT, 1.5, 0.0},
+      {5, PX_EVENT_REFLECT, 1.5, 0.0},
+      {4, PX_EVENT_REFRACT, 1, 0.0}},
      {-0.1, 0.3, 1},
      {0, 0, -3}},
 };
@@ -610,7 +612,7 @@ static void perspective_is_heckberts(void **state) {
     bm_source_t src =
         make_source(0, px_v3(0.2, -0.1, 0), px_v3(sin(35 * M_PI / 180), 0, cos(35 * M_PI / 180)),
                     px_v3(0, 1, 0), 1.0);
-    bm_path_t path = {1, {{top, PX_EVENT_REFLECT, 1.0}}};
+    bm_path_t path = {1, {{top, PX_EVENT_REFLECT, 1.0, 0.0}}};
     bm_model_t m;
     assert_int_equal(bm_model(&b, &src, &path, pc, &m), PX_OK);
     double worst = 0.0;
@@ -633,7 +635,7 @@ static void perspective_is_heckberts(void **state) {
   /* perpendicular refraction into the slab from 1 unit above its top face */
   {
     bm_source_t src = make_source(0, px_v3(0.2, -0.1, 0), px_v3(0, 0, 1), px_v3(0, 1, 0), 1.0);
-    bm_path_t path = {1, {{top, PX_EVENT_REFRACT, 1.5}}};
+    bm_path_t path = {1, {{top, PX_EVENT_REFRACT, 1.5, 0.0}}};
     bm_model_t m;
     assert_int_equal(bm_model(&b, &src, &path, pc, &m), PX_OK);
     const double L = 1.0, ratio = 1.0 / 1.5;
@@ -684,12 +686,12 @@ static void model_errors(void **state) {
   px_vec3_t o, d;
   /* from below the slab looking away from it (-z): the top face's plane is behind */
   bm_source_t away = make_source(0, px_v3(0, 0, 0), px_v3(0.1, 0, -1), px_v3(0, 1, 0), 1.0);
-  bm_path_t path = {1, {{4, PX_EVENT_REFRACT, 1.5}}};
+  bm_path_t path = {1, {{4, PX_EVENT_REFRACT, 1.5, 0.0}}};
   assert_int_equal(bm_model(&b, &away, &path, pc, &m), PX_EMISS);
   assert_int_equal(bm_exact(&b, &away, &path, pc, &o, &d), PX_EMISS);
   /* a face parallel to the ray: the +x side face for a ray along +y */
   bm_source_t along = make_source(0, px_v3(0, 0, 1.5), px_v3(0, 1, 0), px_v3(0, 0, 1), 1.5);
-  path.step[0] = (bm_step_t){1, PX_EVENT_REFRACT, 1.0};
+  path.step[0] = (bm_step_t){1, PX_EVENT_REFRACT, 1.0, 0.0};
   assert_int_equal(bm_model(&b, &along, &path, pc, &m), PX_EMISS);
   assert_int_equal(bm_exact(&b, &along, &path, pc, &o, &d), PX_EMISS);
   /* inside the glass (the source's medium 1.5), towards the bottom face z = 2 */
@@ -697,7 +699,7 @@ static void model_errors(void **state) {
     double a = deg * M_PI / 180.0;
     bm_source_t in =
         make_source(0, px_v3(0, 0, 1.5), px_v3(sin(a), 0, cos(a)), px_v3(0, 1, 0), 1.5);
-    path.step[0] = (bm_step_t){5, PX_EVENT_REFRACT, 1.0};
+    path.step[0] = (bm_step_t){5, PX_EVENT_REFRACT, 1.0, 0.0};
     px_status_t want = deg == 60 ? PX_ETIR : PX_OK;
     assert_int_equal(bm_model(&b, &in, &path, pc, &m), want);
     assert_int_equal(bm_exact(&b, &in, &path, pc, &o, &d), want);
@@ -705,7 +707,7 @@ static void model_errors(void **state) {
       assert_close(sqrt(d.x * d.x + d.y * d.y), 0.75, 1e-14, 0.0);
       assert_close(m.ior, 1.0, 0.0, 0.0);
       /* reflecting there instead keeps the medium */
-      bm_path_t refl = {1, {{5, PX_EVENT_REFLECT, 1.5}}};
+      bm_path_t refl = {1, {{5, PX_EVENT_REFLECT, 1.5, 0.0}}};
       assert_int_equal(bm_model(&b, &in, &refl, pc, &m), PX_OK);
       assert_close(m.ior, 1.5, 0.0, 0.0);
       assert_true(m.d.z < 0.0);
@@ -723,7 +725,7 @@ static void model_errors(void **state) {
    * at 70 degrees, then out through the side face +x at about 51 degrees inside the glass */
   bm_source_t steep = make_source(
       0, px_v3(0, 0, 0), px_v3(sin(70 * M_PI / 180), 0, cos(70 * M_PI / 180)), px_v3(0, 1, 0), 1.0);
-  bm_path_t side = {2, {{4, PX_EVENT_REFRACT, 1.5}, {1, PX_EVENT_REFRACT, 1.0}}};
+  bm_path_t side = {2, {{4, PX_EVENT_REFRACT, 1.5, 0.0}, {1, PX_EVENT_REFRACT, 1.0, 0.0}}};
   /* inside, sin = sin 70 / 1.5 = 0.626, so the angle to the +x normal has cos 0.626 and sin
    * 0.780 > 1 / 1.5: total internal reflection */
   assert_int_equal(bm_model(&b, &steep, &side, pc, &m), PX_ETIR);
@@ -842,7 +844,7 @@ static void bound_holds(void **state) {
   bm_source_t src = make_source(0, px_v3(0.2, -0.1, 0), px_v3(0.15, 0.1, 1), px_v3(0, 1, 0), 1.0);
   const double pc[2] = {0, 0};
   px_poly2_t r = {3, {{-0.01, -0.01}, {0.01, -0.01}, {0, 0.01}}};
-  bm_path_t root = {0}, in = {1, {{4, PX_EVENT_REFRACT, 1.5}}}; /* into the top face */
+  bm_path_t root = {0}, in = {1, {{4, PX_EVENT_REFRACT, 1.5, 0.0}}}; /* into the top face */
   bm_model_t m;
   bm_bound_t bd;
   assert_int_equal(bm_model(&b, &src, &root, pc, &m), PX_OK);

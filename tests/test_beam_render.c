@@ -46,17 +46,23 @@ static void exact(const rt_scene_t *s, int spp_side, rt_image_t *img) {
   assert_int_equal(xr_render(s, &plan, &o, img, NULL), RT_OK);
 }
 
+/* bt_render() into img (allocated here); a failure fails the test with its reason. */
+static void run(const rt_scene_t *s, const rt_plan_t *plan, const bt_options_t *o, rt_image_t *img,
+                bt_stats_t *st) {
+  char why[256];
+  assert_int_equal(rt_image_alloc(img, s->camera.width, s->camera.height), RT_OK);
+  rt_status_t r = bt_render(s, plan, o, img, NULL, st, why, sizeof why);
+  if (r != RT_OK)
+    fail_msg("bt_render: %s", why);
+}
+
 static void beams(const rt_scene_t *s, double rho, int threads, rt_image_t *img, bt_stats_t *st) {
   rt_plan_t plan = rt_plan_make(s, 1);
   bt_options_t o = BT_OPTIONS_DEFAULT;
   o.rho = rho;
   o.threads = threads;
   o.aux = 0;
-  char why[256];
-  assert_int_equal(rt_image_alloc(img, s->camera.width, s->camera.height), RT_OK);
-  rt_status_t r = bt_render(s, &plan, &o, img, NULL, st, why, sizeof why);
-  if (r != RT_OK)
-    fail_msg("bt_render: %s", why);
+  run(s, &plan, &o, img, st);
 }
 
 /* Mean over pixels of the largest |a - b| of R, G, B. */
@@ -300,6 +306,117 @@ static void spheres_are_refused(void **state) {
   rt_scene_free(&s);
 }
 
+/* A scene of scenes/ at side x side pixels and spp samples (spp_side^2). */
+static void load_scene(const char *name, int side, rt_scene_t *s) {
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/scenes/%s", PENCIL_SOURCE_DIR, name);
+  rt_scene_init(s);
+  if (io_scene_load(path, s, err, sizeof err) != 0)
+    fail_msg("%s", err);
+  s->camera.width = s->camera.height = side;
+  assert_int_equal(rt_scene_prepare(s), RT_OK);
+}
+
+/* Beams with dispersion: --wavelengths W (0 solids, 2 spectral pencils from each cell share's
+ * point, 1 the glass at n_d), spp_side^2 cells a pixel. */
+static void beams_w(const rt_scene_t *s, int w, int spp_side, int threads, rt_image_t *img,
+                    bt_stats_t *st) {
+  rt_plan_t plan = rt_plan_make(s, spp_side * spp_side);
+  if (w == 1)
+    rt_plan_no_dispersion(&plan, s, "test");
+  else
+    assert_int_equal(rt_plan_spectral_pencils(&plan, s, RT_SPECTRAL_TOL), 0);
+  bt_options_t o = BT_OPTIONS_DEFAULT;
+  o.spp_side = spp_side;
+  o.threads = threads;
+  o.aux = 0;
+  o.wavelengths = w;
+  run(s, &plan, &o, img, st);
+}
+
+/* Largest |a - b| of R, G, B over every pixel. */
+static double max_diff(const rt_image_t *a, const rt_image_t *b) {
+  size_t n = (size_t)a->width * a->height;
+  double d = 0.0;
+  for (size_t k = 0; k < n; k++)
+    for (int c = 0; c < 3; c++)
+      d = fmax(d, fabs(a->ch[RT_CH_R + c][k] - b->ch[RT_CH_R + c][k]));
+  return d;
+}
+
+/* The prism's slit spread into its spectrum by dispersion image solids ([P89] 3.2): the image
+ * agrees with spectral pencils traced from every cell share's point, most shares are drawn from
+ * the solids (not traced), and the spectrum is there (the glass at n_d gives another image). */
+static void solids_draw_the_prism(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("prism.json", 96, &s);
+  rt_image_t sol, pen, nd;
+  bt_stats_t a, b, c;
+  beams_w(&s, 0, 1, 2, &sol, &a);
+  beams_w(&s, 2, 1, 2, &pen, &b);
+  beams_w(&s, 1, 1, 2, &nd, &c);
+  double mean = mean_diff(&sol, &pen), most = max_diff(&sol, &pen), off = mean_diff(&nd, &pen);
+  print_message("prism 96: solids against pencils mean %.5f max %.4f; n_d against pencils mean "
+                "%.5f; %llu shares from solids, %llu traced, %llu remainders\n",
+                mean, most, off, (unsigned long long)a.solid_points,
+                (unsigned long long)a.solid_exact, (unsigned long long)a.solid_traced);
+  assert_true(a.solids > 0 && b.solids > 0 && c.solids == 0);
+  assert_true(a.solid_fine == 0 && a.solid_points > 9 * a.solid_exact);
+  assert_true(mean < 0.002);
+  assert_true(most < 0.05);
+  assert_true(off > 10.0 * mean);
+  rt_image_free(&sol);
+  rt_image_free(&pen);
+  rt_image_free(&nd);
+  rt_scene_free(&s);
+}
+
+/* Fig. 14's faceted SF11 polyhedron by solids against spectral pencils from the same points, at
+ * 2 x 2 cells a pixel, where subtrees of more pieces than points are traced instead; and with one
+ * thread or two, the same image. */
+static void solids_draw_fig14(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("fig14.json", 48, &s);
+  rt_image_t sol, pen, one;
+  bt_stats_t a, b, c;
+  beams_w(&s, 0, 2, 2, &sol, &a);
+  beams_w(&s, 2, 2, 2, &pen, &b);
+  beams_w(&s, 0, 2, 1, &one, &c);
+  double mean = mean_diff(&sol, &pen), most = max_diff(&sol, &pen);
+  print_message("fig14 48: solids against pencils mean %.5f max %.4f; %llu shares from solids, "
+                "%llu traced; 1 against 2 threads %.3g\n",
+                mean, most, (unsigned long long)a.solid_points, (unsigned long long)a.solid_exact,
+                max_diff(&sol, &one));
+  /* most of its subtrees hold more pieces than points: those are traced, the others drawn */
+  assert_true(a.solid_fine > 0 && a.solid_points > 0);
+  assert_true(mean < 0.005);
+  for (int k = 0; k < 3; k++)
+    assert_memory_equal(sol.ch[RT_CH_R + k], one.ch[RT_CH_R + k], sizeof(float) * 48 * 48);
+  rt_image_free(&sol);
+  rt_image_free(&pen);
+  rt_image_free(&one);
+  rt_scene_free(&s);
+}
+
+/* A plan that asks for dispersion by the spectral fan (no wavelength axis) is refused, by name. */
+static void dispersion_needs_the_axis(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("prism.json", 8, &s);
+  rt_plan_t plan = rt_plan_make(&s, 1);
+  assert_true(rt_plan_has(&plan, RT_EFFECT_DISPERSION));
+  bt_options_t o = BT_OPTIONS_DEFAULT;
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 8, 8), RT_OK);
+  char why[256] = "";
+  assert_int_equal(bt_render(&s, &plan, &o, &img, NULL, NULL, why, sizeof why), RT_EINVAL);
+  assert_non_null(strstr(why, "wavelength axis"));
+  rt_image_free(&img);
+  rt_scene_free(&s);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(coverage_is_exact),
@@ -309,6 +426,9 @@ int main(int argc, char **argv) {
       cmocka_unit_test(certified_measure_is_within_rho),
       cmocka_unit_test(threads_do_not_change_the_image),
       cmocka_unit_test(spheres_are_refused),
+      cmocka_unit_test(solids_draw_the_prism),
+      cmocka_unit_test(solids_draw_fig14),
+      cmocka_unit_test(dispersion_needs_the_axis),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

@@ -175,7 +175,8 @@ static void fan_of_a_glass_that_does_not_disperse(void **state) {
 }
 
 /* The plan: dispersion on with the scene's bins, the ray-tree bound counting the fans (depth 6,
- * 40 bins: 4,807 nodes); rn_plan_make() turns it off for the beam renderer with the reason, keeps
+ * 40 bins: 4,807 nodes); rn_plan_make() gives the beam renderer its wavelength axis (image solids)
+ * or, asked, draws its glass at n_d with the reason; keeps
  * the fan for the exact one and gives the pencil renderer spectral pencils (no fan in the bound:
  * 127 nodes), or turns it off with --wavelengths off; the pencil renderer refuses a plan that asks
  * for the fan; no dispersion without refraction, or when every index is a number. */
@@ -190,18 +191,25 @@ static void plan_turns_the_fan_on_for_exact_only(void **state) {
   rt_plan_t px = rn_plan_make(rn_find("exact"), &s, 1, NULL);
   assert_true(rt_plan_has(&px, RT_EFFECT_DISPERSION) && px.bins == 40);
   const char *others[2] = {"beam", "pencil"};
-  for (int k = 0; k < 1; k++) {
-    const rn_renderer_t *r = rn_find(others[k]);
+  unsigned char opt[4096];
+  char err[200];
+  { /* beams: dispersion image solids on the plan's wavelength axis, or at n_d when asked */
+    const rn_renderer_t *r = rn_find(others[0]);
     rt_plan_t q = rn_plan_make(r, &s, 1, NULL);
+    assert_true(rt_plan_has(&q, RT_EFFECT_DISPERSION) && q.spectral == RT_SPECTRAL_PENCIL);
+    assert_true(q.wave.scaled);
+    assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], "dispersion image solids"));
+    assert_true(r->options_size <= sizeof opt);
+    rn_defaults(r, opt);
+    assert_int_equal(rn_set(r, opt, "--wavelengths", "off", err, sizeof err), 1);
+    q = rn_plan_make(r, &s, 1, opt);
     assert_false(rt_plan_has(&q, RT_EFFECT_DISPERSION));
     assert_int_equal(q.bins, 0);
     assert_int_equal(q.tree_nodes, 127); /* the binary tree of depth 6 */
-    assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], others[k]));
+    assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], others[0]));
     assert_non_null(strstr(q.why[RT_EFFECT_DISPERSION], "n_d = 1.7847"));
   }
   const rn_renderer_t *pen = rn_find("pencil");
-  unsigned char opt[4096];
-  char err[200];
   assert_true(pen->options_size <= sizeof opt);
   rn_defaults(pen, opt);
   rt_plan_t q = rn_plan_make(pen, &s, 1, NULL);

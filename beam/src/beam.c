@@ -76,27 +76,34 @@ static int plane_ahead(const bm_face_t *f, px_vec3_t o, px_vec3_t d, double *t) 
   return 1;
 }
 
-px_status_t bm_exact(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
-                     const double p[2], px_vec3_t *o, px_vec3_t *d) {
+px_status_t bm_exact_at(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                        const double p[2], double du, px_vec3_t *pts, px_vec3_t *o, px_vec3_t *d) {
   rt_ray_t r = bm_source_ray(src, p);
   double ior = src->ior;
   for (int k = 0; k < path->n; k++) {
     const bm_step_t *st = &path->step[k];
     const bm_face_t *f = &b->face[st->face];
-    double t;
+    double t, n2 = st->n2 + st->dn2 * du;
     if (!plane_ahead(f, r.o, r.d, &t))
       return PX_EMISS;
     r.o = px_v3_axpy(t, r.d, r.o);
+    if (pts)
+      pts[k] = r.o;
     px_vec3_t nu = px_v3_dot(f->n, r.d) > 0 ? f->n : px_v3_scale(f->n, -1.0);
-    px_status_t s = bend(r.d, nu, st->event, ior, st->n2, &r.d);
+    px_status_t s = bend(r.d, nu, st->event, ior, n2, &r.d);
     if (s != PX_OK)
       return s;
     if (st->event == PX_EVENT_REFRACT)
-      ior = st->n2;
+      ior = n2;
   }
   *o = r.o;
   *d = r.d;
   return PX_OK;
+}
+
+px_status_t bm_exact(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                     const double p[2], px_vec3_t *o, px_vec3_t *d) {
+  return bm_exact_at(b, src, path, p, 0.0, NULL, o, d);
 }
 
 /* bm_model(), and when cas is not NULL the path's elements appended to it (a transfer to each

@@ -19,6 +19,8 @@
 #include "core/shade_paths.h"
 #include "render/render.h"
 
+#include "render_impl.h"
+
 /* A piece that fails its checks over at most this many cells is traced exactly, not divided. */
 #define BT_FEW_CELLS 4
 /* A piece of less area than this share of a cell is traced exactly (a sliver): its model, checks
@@ -35,43 +37,12 @@
  * this much over a piece's bound is not yet evidence against the bound. */
 #define BT_SLACK 1e-6
 
-/* Steps a beam's path and its prefix models can hold. */
-#define BT_LEVELS (BM_MAX_STEPS + 1)
-
-/* One thread's state for a tile. */
-typedef struct {
-  const rt_scene_t *s;
-  const rt_plan_t *plan;
-  const bt_options_t *o;
-  const bm_scene_t *b;
-  bm_source_t src;
-  double a0, b0;   /* parameters of the image's top-left corner */
-  double cell;     /* parameter side of a sub-pixel cell */
-  double pixel;    /* ... of a pixel (s cells) */
-  int cx0, cy0;    /* the tile's first cell */
-  int tcw, tch;    /* the tile's cells across and down */
-  double *acc;     /* the tile's cells, RGB each (tcw * tch * 3) */
-  double min_area; /* pieces of less parameter area are slivers */
-  int *near;       /* scratch for bm_partition(), one list per level of recursion */
-  int levels;      /* lists in near */
-  xr_exact_t ex;
-  rt_tracer_t tr;
-  bt_stats_t st;
-  /* the Fig. 10 measure (o->measure), per tile cell */
-  xr_exact_t mex;  /* the measure's own exact tracer: the render's ray counts stay the render's */
-  rt_tree_t probe; /* the exact tree of the cell centre being measured */
-  int nodes;       /* nodes a tree may have (plan->tree_nodes) */
-  double *err;     /* 3 a cell: the error, on the transmission-first path, strict */
-  uint8_t *pts;    /* 1: a model's point on a measured surface; 2: traced exactly from the eye */
-  uint8_t *seen;   /* nodes a cell: the exact tree's node accounted for by a piece */
-} tile_t;
-
 /* ---- cells ---------------------------------------------------------------------------------- */
 
 /* Clip the convex polygon p to the axis-aligned box [x0, x1] x [y0, y1]: its area and centroid
  * there; 0 when nothing is left. */
-static int clip_box(const px_poly2_t *p, double x0, double x1, double y0, double y1, double *area,
-                    double c[2]) {
+int bt__clip_box(const px_poly2_t *p, double x0, double x1, double y0, double y1, double *area,
+                 double c[2]) {
   double a[PX_POLY_MAX + 8][2], b[PX_POLY_MAX + 8][2];
   int n = p->n;
   for (int k = 0; k < n; k++) {
@@ -121,7 +92,7 @@ static int clip_box(const px_poly2_t *p, double x0, double x1, double y0, double
 }
 
 /* The tile's cells that polygon r overlaps: [*i0, *i1) x [*j0, *j1) in tile cells. */
-static void cell_range(const tile_t *T, const px_poly2_t *r, int *i0, int *i1, int *j0, int *j1) {
+void bt__cell_range(const tile_t *T, const px_poly2_t *r, int *i0, int *i1, int *j0, int *j1) {
   double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
   for (int k = 0; k < r->n; k++)
     for (int a = 0; a < 2; a++) {
@@ -139,7 +110,7 @@ static void cell_range(const tile_t *T, const px_poly2_t *r, int *i0, int *i1, i
 /* 1 when p lies in the convex polygon r (either orientation). Edges
  * shorter than a billionth of the polygon's extent have no direction to speak of (the clipping
  * leaves such between vertices that coincide to rounding) and are passed over. */
-static int inside(const px_poly2_t *r, const double p[2]) {
+int bt__inside(const px_poly2_t *r, const double p[2]) {
   double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
   for (int k = 0; k < r->n; k++)
     for (int a = 0; a < 2; a++) {
@@ -171,12 +142,12 @@ static void deposit(tile_t *T, int i, int j, double area, rt_rgb_t c) {
 
 /* ---- rays along a path ---------------------------------------------------------------------- */
 
-static rt_ray_kind_t kind_of(const bm_step_t *st) {
+rt_ray_kind_t bt__kind_of(const bm_step_t *st) {
   return st->event == PX_EVENT_REFRACT ? RT_RAY_REFRACT : RT_RAY_REFLECT;
 }
 
 /* The surface where ray r meets face f's plane; 0 when it does not ahead. */
-static int face_surface(const tile_t *T, const bm_face_t *f, const rt_ray_t *r, rt_surface_t *sf) {
+int bt__face_surface(const tile_t *T, const bm_face_t *f, const rt_ray_t *r, rt_surface_t *sf) {
   double den = px_v3_dot(f->n, r->d), t = (f->d - px_v3_dot(f->n, r->o)) / den;
   if (!(den != 0.0) || !(t > 0.0) || !isfinite(t))
     return 0;
@@ -186,8 +157,8 @@ static int face_surface(const tile_t *T, const bm_face_t *f, const rt_ray_t *r, 
 }
 
 /* The ray of parameters p after the first j steps of path by model m (unit direction). */
-static rt_ray_t model_ray(const tile_t *T, const bm_model_t *m, const bm_path_t *path, int j,
-                          const double p[2]) {
+rt_ray_t bt__model_ray(const tile_t *T, const bm_model_t *m, const bm_path_t *path, int j,
+                       const double p[2]) {
   px_vec3_t o, d;
   bm_model_ray(m, &T->src, p, &o, &d);
   return (rt_ray_t){
@@ -199,15 +170,15 @@ static rt_ray_t model_ray(const tile_t *T, const bm_model_t *m, const bm_path_t 
 /* The weight of path's n steps at parameters p, by the models ms[0 .. n-1] (the paraxial ray of
  * each prefix meeting its face): the product of the children's weights there. 0 when a step has
  * no such child at p. */
-static int model_weight(const tile_t *T, const bm_model_t *ms, const bm_path_t *path, int n,
-                        const double p[2], rt_rgb_t *w) {
+int bt__model_weight(const tile_t *T, const bm_model_t *ms, const bm_path_t *path, int n,
+                     const double p[2], rt_rgb_t *w) {
   *w = rt_rgb(1, 1, 1);
   for (int j = 0; j < n; j++) {
-    rt_ray_t r = model_ray(T, &ms[j], path, j, p);
+    rt_ray_t r = bt__model_ray(T, &ms[j], path, j, p);
     rt_surface_t sf;
     rt_child_t c;
-    if (!face_surface(T, &T->b->face[path->step[j].face], &r, &sf) ||
-        !rt_shade_child(T->s, T->plan, &sf, &r, j, kind_of(&path->step[j]), &c))
+    if (!bt__face_surface(T, &T->b->face[path->step[j].face], &r, &sf) ||
+        !rt_shade_child(T->s, T->plan, &sf, &r, j, bt__kind_of(&path->step[j]), &c))
       return 0;
     *w = rt_rgb_mul(*w, c.weight);
   }
@@ -217,15 +188,46 @@ static int model_weight(const tile_t *T, const bm_model_t *ms, const bm_path_t *
 /* The exact ray of parameters p after path's n steps (each face's plane in turn, the children of
  * shade.h, which the exact tracer follows) and the product of the weights: 0 when a step has no
  * such child or misses its plane. */
-static int exact_path(const tile_t *T, const bm_path_t *path, const double p[2], rt_ray_t *r,
-                      rt_rgb_t *w) {
+int bt__exact_path(const tile_t *T, const bm_path_t *path, const double p[2], rt_ray_t *r,
+                   rt_rgb_t *w) {
   *r = bm_source_ray(&T->src, p);
   *w = rt_rgb(1, 1, 1);
   for (int j = 0; j < path->n; j++) {
     rt_surface_t sf;
     rt_child_t c;
-    if (!face_surface(T, &T->b->face[path->step[j].face], r, &sf) ||
-        !rt_shade_child(T->s, T->plan, &sf, r, j, kind_of(&path->step[j]), &c))
+    if (!bt__face_surface(T, &T->b->face[path->step[j].face], r, &sf) ||
+        !rt_shade_child(T->s, T->plan, &sf, r, j, bt__kind_of(&path->step[j]), &c))
+      return 0;
+    *w = rt_rgb_mul(*w, c.weight);
+    *r = c.ray;
+  }
+  return 1;
+}
+
+/* The index of material m at wavelength offset du on the solids' axis (dispersive glass is linear
+ * in it, [P89] 3.3; T->solids). */
+double bt__index_at(const tile_t *T, const rt_material_t *m, double du) {
+  return T->solids && px_index_disperses(&m->index) ? m->ior + T->plan->wave.scale.dn0 * du
+                                                    : m->ior;
+}
+
+/* bt__exact_path() at wavelength offset du: each medium's index there (bt__index_at()), so that
+ * each step's Fresnel weight and total internal reflection are the wavelength's. */
+int bt__exact_path_at(const tile_t *T, const bm_path_t *path, const double p[2], double du,
+                      rt_ray_t *r, rt_rgb_t *w) {
+  *r = bm_source_ray(&T->src, p);
+  *w = rt_rgb(1, 1, 1);
+  for (int j = 0; j < path->n; j++) {
+    rt_surface_t sf;
+    rt_child_t c;
+    if (!bt__face_surface(T, &T->b->face[path->step[j].face], r, &sf))
+      return 0;
+    if (sf.entering)
+      sf.n2 = bt__index_at(T, sf.mat, du);
+    else
+      sf.n1 = bt__index_at(T, sf.mat, du);
+    r->ior = sf.n1;
+    if (!rt_shade_child(T->s, T->plan, &sf, r, j, bt__kind_of(&path->step[j]), &c))
       return 0;
     *w = rt_rgb_mul(*w, c.weight);
     *r = c.ray;
@@ -274,7 +276,7 @@ static int probe_follow(const tile_t *T, const bm_path_t *path, int *transmit) {
   for (int j = 0; j < path->n; j++) {
     if (t->node[x].prim != T->b->face[path->step[j].face].prim)
       return -1;
-    int kind = kind_of(&path->step[j]), next = -1, refract = 0;
+    int kind = bt__kind_of(&path->step[j]), next = -1, refract = 0;
     for (int c = x + 1; c < t->n; c++)
       if (t->node[c].parent == x) {
         refract |= t->node[c].kind == RT_RAY_REFRACT;
@@ -300,7 +302,7 @@ static void record(tile_t *T, size_t k, double e, double es, int t) {
   T->pts[k] |= 1;
 }
 
-/* |J+|: the largest singular value of the 2 x 3 pseudo-inverse of rows u, v (footprint()), so
+/* |J+|: the largest singular value of the 2 x 3 pseudo-inverse of rows u, v (bt__footprint()), so
  * that |J+ e| <= |J+| |e| turns a length on the face into pixel intervals at most. */
 static double pinv_norm(px_vec3_t u, px_vec3_t v) {
   double uu = px_v3_dot(u, u), uv = px_v3_dot(u, v), vv = px_v3_dot(v, v);
@@ -314,12 +316,12 @@ static void measure_model(tile_t *T, const px_poly2_t *r, const bm_path_t *path,
   double jp = pinv_norm(u, v); /* for the strict measure */
   int measured = f && rt_object_measured(T->s, f->object);
   int i0, i1, j0, j1;
-  cell_range(T, r, &i0, &i1, &j0, &j1);
+  bt__cell_range(T, r, &i0, &i1, &j0, &j1);
   for (int j = j0; j < j1; j++)
     for (int i = i0; i < i1; i++) {
       double p[2];
       cell_centre(T, i, j, p);
-      if (!inside(r, p))
+      if (!bt__inside(r, p))
         continue;
       size_t k = (size_t)j * T->tcw + i;
       probe(T, p);
@@ -348,12 +350,12 @@ static void measure_model(tile_t *T, const px_poly2_t *r, const bm_path_t *path,
  * the path's on are accounted for (no error). */
 static void measure_exact(tile_t *T, const px_poly2_t *r, const bm_path_t *path) {
   int i0, i1, j0, j1;
-  cell_range(T, r, &i0, &i1, &j0, &j1);
+  bt__cell_range(T, r, &i0, &i1, &j0, &j1);
   for (int j = j0; j < j1; j++)
     for (int i = i0; i < i1; i++) {
       double p[2];
       cell_centre(T, i, j, p);
-      if (!inside(r, p))
+      if (!bt__inside(r, p))
         continue;
       size_t k = (size_t)j * T->tcw + i;
       if (path->n == 0)
@@ -418,12 +420,12 @@ static void measure_tile(tile_t *T, const bt_extra_t *x, int width) {
 static rt_rgb_t exact_at(tile_t *T, const bm_path_t *path, const double p[2]) {
   rt_ray_t ray;
   rt_rgb_t w;
-  if (!exact_path(T, path, p, &ray, &w))
+  if (!bt__exact_path(T, path, p, &ray, &w))
     return rt_rgb(0, 0, 0); /* no light comes back along this path at p */
   if (path->n == 0)
     return xr_exact_primary(&T->ex, &ray);
   T->ex.node = -1;
-  rt_child_t ch = {ray, rt_rgb(1, 1, 1), kind_of(&path->step[path->n - 1]), 0};
+  rt_child_t ch = {ray, rt_rgb(1, 1, 1), bt__kind_of(&path->step[path->n - 1]), 0};
   return rt_rgb_mul(w, T->tr.child(T->tr.ctx, &ch, path->n));
 }
 
@@ -434,11 +436,15 @@ static void exact_region(tile_t *T, const px_poly2_t *r, const bm_path_t *path) 
   int i0, i1, j0, j1, e = T->o->exact_side;
   if (T->o->measure)
     measure_exact(T, r, path);
-  cell_range(T, r, &i0, &i1, &j0, &j1);
+  if (T->collect) { /* inside a solid's subtree: its cells are traced exactly there */
+    bt__solid_record(T, r, path, BT_REC_EXACT, NULL, 0, NULL);
+    return;
+  }
+  bt__cell_range(T, r, &i0, &i1, &j0, &j1);
   for (int j = j0; j < j1; j++)
     for (int i = i0; i < i1; i++) {
       double x0 = T->a0 + (T->cx0 + i) * T->cell, y0 = T->b0 + (T->cy0 + j) * T->cell, area, c[2];
-      if (!clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, c))
+      if (!bt__clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, c))
         continue;
       T->st.exact_cells++;
       rt_rgb_t sum = rt_rgb(0, 0, 0);
@@ -446,7 +452,7 @@ static void exact_region(tile_t *T, const px_poly2_t *r, const bm_path_t *path) 
       for (int b2 = 0; b2 < e; b2++)
         for (int a2 = 0; a2 < e; a2++) {
           double p[2] = {x0 + (a2 + 0.5) * T->cell / e, y0 + (b2 + 0.5) * T->cell / e};
-          if (!inside(r, p))
+          if (!bt__inside(r, p))
             continue;
           sum = rt_rgb_add(sum, exact_at(T, path, p));
           in++;
@@ -475,8 +481,8 @@ static int children_code(const tile_t *T, const rt_surface_t *sf, const rt_ray_t
 /* The pixel footprint of model m on face f at c: the points one pixel step along screen x and y
  * away, as the columns of a 3 x 2 matrix; its pseudo-inverse's rows in *u, *v. 0 when the map
  * is singular there. */
-static int footprint(const tile_t *T, const bm_model_t *m, const bm_face_t *f, const double c[2],
-                     px_vec3_t *u, px_vec3_t *v) {
+int bt__footprint(const tile_t *T, const bm_model_t *m, const bm_face_t *f, const double c[2],
+                  px_vec3_t *u, px_vec3_t *v) {
   double h = 1e-3 * T->pixel, s;
   px_vec3_t x[4];
   const double dp[4][2] = {{h, 0}, {-h, 0}, {0, h}, {0, -h}};
@@ -556,13 +562,13 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
   rt_rgb_t w;
   rt_surface_t sf;
   T->st.checks++;
-  if (!exact_path(T, path, p, &r, &w))
+  if (!bt__exact_path(T, path, p, &r, &w))
     return 0;
   double m = 0.0, e = 0.0, tf = INFINITY;
   if (f) {
     px_vec3_t xm[2];
     double s;
-    if (!face_surface(T, f, &r, &sf) ||
+    if (!bt__face_surface(T, f, &r, &sf) ||
         bm_model_hit(mp, &T->src, p, f->n, f->d, &xm[0], &s) != PX_OK ||
         bm_model_hit(md, &T->src, p, f->n, f->d, &xm[1], &s) != PX_OK)
       return 0;
@@ -602,7 +608,7 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
 /* The checks of piece r (face f, NULL for none; along path; the partition's model mp, the
  * drawing's md at the piece's centroid c; children code `code` there): 1 when the models may
  * draw it, with the largest checked error in *err and the rows of the footprint's pseudo-inverse
- * in *pu, *pv (footprint()); 0 when it fails; -1 when the models' error cannot be bounded. The
+ * in *pu, *pv (bt__footprint()); 0 when it fails; -1 when the models' error cannot be bounded. The
  * pixel intervals are those on f, or across the beam one unit of depth on for a piece that meets
  * nothing (whose models place nothing: only its edges, the faces' around it, are checked). */
 static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const bm_model_t *mp,
@@ -611,13 +617,13 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
   px_vec3_t u, v;
   *err = 0.0;
   if (f) {
-    if (!footprint(T, md, f, c, &u, &v))
+    if (!bt__footprint(T, md, f, c, &u, &v))
       return 0;
   } else { /* a plane across the axial ray, one unit ahead */
     bm_face_t across = {.n = md->root ? T->src.z : md->d, .count = 0};
     px_vec3_t o = md->root ? T->src.o : md->o;
     across.d = px_v3_dot(across.n, o) + 1.0;
-    if (!footprint(T, md, &across, c, &u, &v))
+    if (!bt__footprint(T, md, &across, c, &u, &v))
       return 0;
   }
   *pu = u;
@@ -647,11 +653,11 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
   }
   if (ok && T->o->certified) { /* every cell centre inside the piece */
     int i0, i1, j0, j1;
-    cell_range(T, r, &i0, &i1, &j0, &j1);
+    bt__cell_range(T, r, &i0, &i1, &j0, &j1);
     for (int j = j0; ok && j < j1; j++)
       for (int i = i0; ok && i < i1; i++) {
         double p[2] = {T->a0 + (T->cx0 + i + 0.5) * T->cell, T->b0 + (T->cy0 + j + 0.5) * T->cell};
-        ok = !inside(r, p) ||
+        ok = !bt__inside(r, p) ||
              check_point(T, path, mp, md, f, u, v, code, p, 1, limit, &em, &ee, &over);
       }
   }
@@ -666,9 +672,6 @@ static int piece_ok(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const
   return ok;
 }
 
-static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
-                 const int *faces, int nfaces, int level);
-
 /* Region r along path failed (its model, checks or partition): divided in two and each half
  * partitioned again (near: the faces its parts need), while `worth` it and the divisions along
  * the path allow; traced exactly otherwise. */
@@ -677,8 +680,8 @@ static void divide(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int sp
   px_poly2_t half[2];
   if (worth && splits < 2 * T->o->max_split && bm_halve(r, half)) {
     T->st.divided++;
-    beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
-    beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
+    bt__beam(T, &half[0], path, splits + 1, near, nnear, level + 1);
+    bt__beam(T, &half[1], path, splits + 1, near, nnear, level + 1);
   } else {
     T->st.exact++;
     exact_region(T, r, path);
@@ -702,8 +705,8 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
   rt_child_t ch[2];
   int nch = 0, code = 0;
   if (ok && f) {
-    rc = model_ray(T, &ms[n], path, n, c);
-    ok = face_surface(T, f, &rc, &sc);
+    rc = bt__model_ray(T, &ms[n], path, n, c);
+    ok = bt__face_surface(T, f, &rc, &sc);
     if (ok)
       code = children_code(T, &sc, &rc, n, ch, &nch);
   }
@@ -720,7 +723,7 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
   if (!ok) {
     /* a piece over a few cells is traced exactly: cheaper than dividing it */
     int i0, i1, j0, j1;
-    cell_range(T, r, &i0, &i1, &j0, &j1);
+    bt__cell_range(T, r, &i0, &i1, &j0, &j1);
     divide(T, r, path, splits, near, nnear, level, (i1 - i0) * (j1 - j0) > BT_FEW_CELLS);
     return;
   }
@@ -730,20 +733,47 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
     measure_model(T, r, path, f, &ms[n], u, v);
   /* the piece's own shading (the background's colour), cell share by cell share */
   int i0, i1, j0, j1;
-  cell_range(T, r, &i0, &i1, &j0, &j1);
+  bt__cell_range(T, r, &i0, &i1, &j0, &j1);
+  bm_step_t kid[2];
+  for (int k = 0; k < nch; k++) {
+    kid[k] = (bm_step_t){g, ch[k].kind == RT_RAY_REFRACT ? PX_EVENT_REFRACT : PX_EVENT_REFLECT,
+                         ch[k].ray.ior, 0.0};
+    if (T->solids && kid[k].event == PX_EVENT_REFRACT && sc.entering &&
+        px_index_disperses(&sc.mat->index))
+      /* the scale's glass: n is linear in u ([P89] 3.3); without the scale (--wavelengths
+       * pencils with glasses that differ) any nonzero value marks the entry, which nothing
+       * else reads */
+      kid[k].dn2 = T->plan->wave.scaled ? T->plan->wave.scale.dn0 : 1.0;
+  }
+  if (T->collect) { /* inside a solid's subtree: drawn by its wavelength intervals */
+    /* leaving dispersive glass, total internal reflection and the Fresnel weights change with
+     * the wavelength: the solids follow both children whichever exist at u_c */
+    int nkid = nch;
+    if (f && !sc.entering && sc.mat->kt > 0.0 && px_index_disperses(&sc.mat->index))
+      for (int e = 0; e < 2; e++) {
+        px_event_t ev = e ? PX_EVENT_REFLECT : PX_EVENT_REFRACT;
+        int have = 0;
+        for (int k = 0; k < nkid; k++)
+          have |= kid[k].event == ev;
+        if (!have)
+          kid[nkid++] = (bm_step_t){g, ev, ev == PX_EVENT_REFRACT ? sc.n2 : sc.n1, 0.0};
+      }
+    bt__solid_record(T, r, path, g, ms, nkid, kid);
+    j1 = j0;
+  }
   for (int j = j0; j < j1; j++)
     for (int i = i0; i < i1; i++) {
       double x0 = T->a0 + (T->cx0 + i) * T->cell, y0 = T->b0 + (T->cy0 + j) * T->cell, area, p[2];
       rt_rgb_t w, L = T->s->background;
-      if (!clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, p))
+      if (!bt__clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, p))
         continue;
       T->st.fragments++;
-      if (!model_weight(T, ms, path, n, p, &w))
+      if (!bt__model_weight(T, ms, path, n, p, &w))
         continue;
       if (f) {
-        rt_ray_t ray = model_ray(T, &ms[n], path, n, p);
+        rt_ray_t ray = bt__model_ray(T, &ms[n], path, n, p);
         rt_surface_t sf;
-        if (!face_surface(T, f, &ray, &sf))
+        if (!bt__face_surface(T, f, &ray, &sf))
           continue;
         T->ex.node = -1;
         L = rt_shade_direct(T->s, T->plan, &sf, &ray, &T->tr);
@@ -753,9 +783,13 @@ static void piece(tile_t *T, const px_poly2_t *r, const bm_path_t *path, const b
   /* its children: the beam tree */
   for (int k = 0; k < nch; k++) {
     bm_path_t next = *path;
-    next.step[next.n++] = (bm_step_t){
-        g, ch[k].kind == RT_RAY_REFRACT ? PX_EVENT_REFRACT : PX_EVENT_REFLECT, ch[k].ray.ior};
-    beam(T, r, &next, splits, NULL, 0, level + 1);
+    bm_step_t st = kid[k];
+    if (st.dn2 != 0.0 && !T->collect) { /* a white ray enters dispersive glass */
+      bt__solid(T, r, path, g, &st, &sc, splits, level);
+      continue;
+    }
+    next.step[next.n++] = st;
+    bt__beam(T, r, &next, splits, NULL, 0, level + 1);
   }
 }
 
@@ -805,10 +839,12 @@ static int add_background(tile_t *T, const px_poly2_t *r, bm_pieces_t *pcs) {
 
 /* The beam of parameter polygon r whose rays follow path: partitioned by the faces they meet
  * next (among faces[0 .. nfaces-1] when faces is not NULL), each piece drawn and followed. */
-static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits,
-                 const int *faces, int nfaces, int level) {
+void bt__beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int splits, const int *faces,
+              int nfaces, int level) {
   double c[2];
   bm_model_t m;
+  if (T->collect && T->climit <= 0)
+    return; /* a solid's subtree too fine to record: its points are traced (solids.c) */
   if (px_poly2_centroid(r, c) != PX_OK)
     return; /* no area */
   T->st.beams++;
@@ -822,7 +858,7 @@ static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int spli
   int unsure = 0, nnear = 0, crowded = 0, *near = T->near + (size_t)level * (size_t)T->b->nface;
   /* a region larger than a few cells that overlaps many faces is divided first */
   int i0, i1, j0, j1;
-  cell_range(T, r, &i0, &i1, &j0, &j1);
+  bt__cell_range(T, r, &i0, &i1, &j0, &j1);
   int cap = (i1 - i0) * (j1 - j0) > BT_FEW_CELLS ? BT_CROWD : 0;
   if (bm_partition_capped(T->b, &T->src, &m, r, T->min_area, faces, nfaces, near, &nnear, &pcs,
                           &unsure, cap, &crowded) != RT_OK ||
@@ -845,8 +881,8 @@ static void beam(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int spli
   if (crowded && bm_halve(r, half)) { /* not a division of the error control: no split counted */
     bm_pieces_free(&pcs);
     T->st.crowded++;
-    beam(T, &half[0], path, splits, near, nnear, level + 1);
-    beam(T, &half[1], path, splits, near, nnear, level + 1);
+    bt__beam(T, &half[0], path, splits, near, nnear, level + 1);
+    bt__beam(T, &half[1], path, splits, near, nnear, level + 1);
     return;
   }
   if (unsure || crowded) {
@@ -897,6 +933,13 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->fig10_max_strict = fmax(to->fig10_max_strict, from->fig10_max_strict);
   for (int k = 0; k < BT_HIST_BINS; k++)
     to->hist[k] += from->hist[k];
+  to->solids += from->solids;
+  to->solid_records += from->solid_records;
+  to->solid_fine += from->solid_fine;
+  to->solid_failed += from->solid_failed;
+  to->solid_points += from->solid_points;
+  to->solid_exact += from->solid_exact;
+  to->solid_traced += from->solid_traced;
 }
 
 rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_options_t *o,
@@ -910,6 +953,15 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
       o->exact_side < 1 || o->exact_side > 16 || o->spp_side < 1 || o->spp_side > RT_MAX_SPP_SIDE ||
       o->threads < 0) {
     snprintf(why, cap, "beam options out of range");
+    return RT_EINVAL;
+  }
+  int solids = rt_plan_has(plan, RT_EFFECT_DISPERSION);
+  if (solids &&
+      (plan->spectral != RT_SPECTRAL_PENCIL || (o->wavelengths != 2 && !plan->wave.scaled))) {
+    snprintf(why, cap,
+             "dispersion by beams needs the plan's wavelength axis (rt_plan_spectral_pencils()), "
+             "and image solids need it to be Lambda of one glass: every dispersive material of the "
+             "scene sharing it");
     return RT_EINVAL;
   }
   rt_view_t view;
@@ -937,6 +989,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
     bm_scene_free(&b);
     return RT_ENOMEM;
   }
+  sd_store_t all; /* the solids of every thread, drawn after every tile */
+  memset(&all, 0, sizeof all);
 #pragma omp parallel num_threads(nt)
   {
     int tid = 0;
@@ -953,7 +1007,16 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                 .cell = pixel / sp,
                 .pixel = pixel,
                 .min_area = 1e-6 * (pixel / sp) * (pixel / sp),
-                .levels = levels};
+                .levels = levels,
+                .solids = solids};
+    if (solids) { /* the range's ends, u_c (the d-line) and halfway between */
+      double ua = plan->wave.u_edge[0], ub = plan->wave.u_edge[RT_MAX_BINS],
+             uc = plan->wave.scale.lambda0;
+      for (int k = 0; k <= BT_SOLID_SEGS; k++) {
+        int h = BT_SOLID_SEGS / 2;
+        T.u[k] = k <= h ? ua + (uc - ua) * k / h : uc + (ub - uc) * (k - h) / h;
+      }
+    }
     T.acc = malloc((size_t)ts * ts * sp * sp * 3 * sizeof(double));
     T.near = malloc((size_t)levels * (size_t)(b.nface > 0 ? b.nface : 1) * sizeof(int));
     T.ex = xr_exact_make(s, plan, NULL);
@@ -1003,7 +1066,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
       double y0 = T.b0 + T.cy0 * T.cell, y1 = T.b0 + (T.cy0 + T.tch) * T.cell;
       px_poly2_t root = {4, {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
       bm_path_t path = {0};
-      beam(&T, &root, &path, 0, NULL, 0, 0);
+      bt__beam(&T, &root, &path, 0, NULL, 0, 0);
       if (o->measure)
         measure_tile(&T, extra, W);
       /* the tile's cells into its pixels (a box filter over the s x s cells) */
@@ -1033,11 +1096,19 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
         o->progress(o->progress_ctx, ++done, ntiles);
       }
     }
+    if (solids && !bt__solids_draw(&T, &all, img, W, H, sp)) {
+#pragma omp atomic write
+      failed = 1;
+    }
     T.st.rays = T.ex.stats;
 #pragma omp critical(bt_stats)
     add_stats(&total, &T.st);
     free(T.acc);
     free(T.near);
+    free(T.rec);
+    free(T.smod);
+    free(T.ent);
+    free(T.pt);
     free(probe_nodes);
     free(T.err);
     free(T.pts);
@@ -1045,6 +1116,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   }
   free(trees);
   bm_scene_free(&b);
+  bt__store_free(&all);
   if (failed)
     return RT_ENOMEM;
   if (stats)

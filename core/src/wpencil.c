@@ -38,6 +38,7 @@
 #include "bvh.h"
 #include "colour/colour.h"
 #include "core/intersect.h"
+#include "core/shade_paths.h"
 #include "paraxial/vec3.h"
 #include "shade_impl.h"
 #include "wpencil_math.h"
@@ -129,8 +130,7 @@ static rt_rgb_t cum_at(const rt_wavescale_t *w, double u) {
   return rt_rgb_add(rt_rgb_scale(w->cum[i], 1.0 - f), rt_rgb_scale(w->cum[i + 1], f));
 }
 
-/* The colour weights' integral over [ua, ub]. */
-static rt_rgb_t weight_of(const rt_wavescale_t *w, double ua, double ub) {
+rt_rgb_t rt_wave_weight(const rt_wavescale_t *w, double ua, double ub) {
   rt_rgb_t a = cum_at(w, ua), b = cum_at(w, ub);
   return rt_rgb(b.r - a.r, b.g - a.g, b.b - a.b);
 }
@@ -571,7 +571,7 @@ static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
         break;
     }
   }
-  return rt_rgb_add(c, rt_rgb_mul(weight_of(&R->plan->wave, w->ua, w->ub), R->s->background));
+  return rt_rgb_add(c, rt_rgb_mul(rt_wave_weight(&R->plan->wave, w->ua, w->ub), R->s->background));
 }
 
 /* The child of pencil w at its hit H (sf) on side `side` of the surface (+1 reflected, -1
@@ -660,7 +660,7 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
     }
   }
   /* this pencil: direct light at the axial hit, then the children */
-  rt_rgb_t W = weight_of(&plan->wave, w->ua, w->ub);
+  rt_rgb_t W = rt_wave_weight(&plan->wave, w->ua, w->ub);
   c = rt_rgb_add(c, rt_rgb_mul(W, H.direct));
   if (!more)
     return c;
@@ -738,7 +738,7 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
     rt_rgb_t lo = white(R, sf, ray, ua, cut, depth, wr, all_tir); /* in this order: the budget */
     return rt_rgb_add(lo, white(R, sf, ray, cut, ub, depth, wr, all_tir));
   }
-  rt_rgb_t W = weight_of(&plan->wave, ua, ub);
+  rt_rgb_t W = rt_wave_weight(&plan->wave, ua, ub);
   rt_rgb_t wt = rt_rgb_scale(mat->transmittance, mat->kt);
   if (!ok) {
     *wr = rt_rgb_add(*wr, rt_rgb_mul(W, wt));
@@ -771,9 +771,9 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
   return rt_rgb_mul(wt, trace(R, &w, depth + 1));
 }
 
-rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
-                        const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
-                        int *all_tir) {
+/* A run's state (its inner tracer's ctx is the caller's to set, once the run has its place). */
+static wp_run_t run_make(const rt_scene_t *s, const rt_plan_t *plan, const rt_tracer_t *tr,
+                         const rt_material_t *glass, int trace) {
   const rt_wavescale_t *w = &plan->wave;
   wp_run_t R = {s,
                 plan,
@@ -782,11 +782,46 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
                 WP_BUDGET,
                 WP_WHITE_BUDGET,
                 WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),
-                NULL,
-                tr != NULL,
+                glass,
+                trace,
                 0};
   if (tr && tr->occluded)
     R.inner.occluded = occluded_cb;
+  return R;
+}
+
+rt_rgb_t rt_shade_spectral_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_ray_t *ray,
+                               px_vec3_t d_o, px_vec3_t d_d, double ua, double ub,
+                               const rt_material_t *inside, const rt_material_t *glass,
+                               double weight, int depth, const rt_tracer_t *tr) {
+  const rt_wavescale_t *ws = &plan->wave;
+  wp_run_t R = run_make(s, plan, tr, ws->scaled ? glass : NULL, 1);
+  R.inner.ctx = &R;
+  double uc = 0.5 * (ua + ub), lambda = lambda_of(ws, uc), dn;
+  wp_t w = {.ray = *ray,
+            .inside = inside,
+            .d_o = d_o,
+            .d_d = px_v3_axpy(-px_v3_dot(ray->d, d_d), ray->d, d_d),
+            .ua = ua,
+            .ub = ub,
+            .uc = uc,
+            .kind = RT_RAY_REFRACT,
+            .from_prim = ray->skip_prim,
+            .in_obj = -1,
+            .weight = weight,
+            .dist = px_v3_norm(px_v3_sub(ray->o, s->camera.eye))};
+  w.ray.lambda = (float)lambda;
+  index_du(&R, inside, uc, lambda, &w.ray.ior, &dn);
+  count(&R, RT_RAY_REFRACT);
+  count(&R, RT_COUNT_SPECTRAL + 1);
+  return trace(&R, &w, depth);
+}
+
+rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                        const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
+                        int *all_tir) {
+  const rt_wavescale_t *w = &plan->wave;
+  wp_run_t R = run_make(s, plan, tr, NULL, tr != NULL);
   R.inner.ctx = &R;
   if (w->scaled && px_index_disperses(&sf->mat->index))
     R.glass = sf->mat;

@@ -305,7 +305,7 @@ static void piece(pg_t *P, const px_poly2_t *r, const bm_path_t *path, const bm_
   for (int k = 0; k < nca; k++) {
     bm_path_t next = *path;
     next.step[next.n++] = (bm_step_t){
-        g, ca[k].kind == RT_RAY_REFRACT ? PX_EVENT_REFRACT : PX_EVENT_REFLECT, ca[k].ray.ior};
+        g, ca[k].kind == RT_RAY_REFRACT ? PX_EVENT_REFRACT : PX_EVENT_REFLECT, ca[k].ray.ior, 0.0};
     beam(P, r, &next, rt_rgb_mul(w, ca[k].weight), splits, NULL, 0);
   }
 }

@@ -18,6 +18,9 @@ static const char *const bound_names[] = {"corrected", "printed", "probe", NULL}
 
 static const char *const channels[] = {"beam.error"};
 
+/* bt_options_t.wavelengths */
+static const char *const wavelength_names[] = {"solids", "off", "pencils", NULL};
+
 static const rn_option_t beam_options[] = {
     {"--rho", RN_OPT_DOUBLE, offsetof(bt_options_t, rho), 0, 0, INFINITY, 1, NULL, "R",
      "tolerance ratio of Eq. (3), > 0 (default 0.5): a piece's model\n"
@@ -36,16 +39,40 @@ static const rn_option_t beam_options[] = {
     {"--exact-spp", RN_OPT_INT, offsetof(bt_options_t, exact_side), 0, 1, 16, 0, NULL, "E",
      "what is traced exactly is sampled on an E x E grid a sample\n"
      "cell, 1..16 (default 4)"},
+    {"--wavelengths", RN_OPT_CHOICE, offsetof(bt_options_t, wavelengths), 0, 0, 0, 0,
+     wavelength_names, "W",
+     "dispersion (a scene whose glass disperses): solids (default) draws the\n"
+     "light refracted into such glass as dispersion image solids (1989\n"
+     "section 3.2: pieces swept along the wavelength axis, scan-converted\n"
+     "per cell with the colour weights' integrals); pencils traces that light\n"
+     "from each cell share's point by spectral pencils instead (the solids'\n"
+     "reference at the same points); off draws the glass at n_d"},
 };
+
+static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
+  const bt_options_t *o = options;
+  if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
+    return;
+  if (o->wavelengths == 1)
+    rt_plan_no_dispersion(p, s, "the beam renderer was asked for --wavelengths off");
+  else if (rt_plan_spectral_pencils(p, s, RT_SPECTRAL_TOL) != 0)
+    rt_plan_no_dispersion(p, s, "its wavelength axis could not be built");
+  else if (o->wavelengths == 0 && !p->wave.scaled)
+    rt_plan_no_dispersion(p, s,
+                          "dispersion image solids need one glass (its Lambda scale): the scene's "
+                          "dispersive materials differ (--wavelengths pencils draws them)");
+  else if (o->wavelengths == 0)
+    snprintf(p->why[RT_EFFECT_DISPERSION], RT_PLAN_WHY_MAX,
+             "on: white rays refracting into dispersive glass become dispersion image solids "
+             "(Lambda of the scene's one glass; points they cannot draw by spectral pencils)");
+  else
+    snprintf(p->why[RT_EFFECT_DISPERSION], RT_PLAN_WHY_MAX,
+             "on: the light of white rays refracting into dispersive glass is traced from each "
+             "cell share's point by spectral pencils");
+}
 
 static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_common_t *c,
                           const void *options, rn_output_t *out) {
-  if (rt_plan_has(plan, RT_EFFECT_DISPERSION)) {
-    snprintf(out->why, sizeof out->why,
-             "the plan asks for dispersion, which the beam renderer does not draw (rn_plan_make() "
-             "turns it off)");
-    return RT_EINVAL;
-  }
   bt_options_t o = *(const bt_options_t *)options;
   o.spp_side = c->spp_side;
   o.threads = c->threads;
@@ -79,7 +106,9 @@ static int describe(const void *options, rn_attr_t *attrs) {
   snprintf(attrs[2].value, sizeof attrs[2].value, "%s", o->certified ? "yes" : "no");
   attrs[3].key = "beam:bounds";
   snprintf(attrs[3].value, sizeof attrs[3].value, "%s", bound_names[o->bound]);
-  return 4;
+  attrs[4].key = "beam:wavelengths";
+  snprintf(attrs[4].value, sizeof attrs[4].value, "%s", wavelength_names[o->wavelengths]);
+  return 5;
 }
 
 static void report(FILE *f, const rn_report_t *r) {
@@ -110,6 +139,17 @@ static void report(FILE *f, const rn_report_t *r) {
             "violations\n",
             (unsigned long long)st->bounded, st->max_bound, (unsigned long long)st->unbounded,
             st->max_ratio, (unsigned long long)st->violations);
+  if (st->solids)
+    fprintf(f,
+            "dispersion image solids: %llu white refractions into glass (%llu of subtrees too "
+            "fine to record), %llu pieces and exact "
+            "regions below them (%llu failed at the range's ends); %llu cell shares scan-converted "
+            "along wavelength (%llu spectral pencils for what their solids leave), %llu traced "
+            "exactly by spectral pencils\n",
+            (unsigned long long)st->solids, (unsigned long long)st->solid_fine,
+            (unsigned long long)st->solid_records, (unsigned long long)st->solid_failed,
+            (unsigned long long)st->solid_points, (unsigned long long)st->solid_traced,
+            (unsigned long long)st->solid_exact);
   if (r->common->measure)
     fprintf(f,
             "Fig. 10 error: %llu samples (%llu with measured points, %llu traced exactly from the "
@@ -187,4 +227,6 @@ const rn_renderer_t rn_beam_entry = {
     .errors = errors,
     .rho = rho,
     .thread_bytes = thread_bytes,
+    .dispersion = 1,
+    .adapt_plan = adapt_plan,
 };

@@ -77,6 +77,9 @@ typedef struct {
   px_event_t event; /**< PX_EVENT_REFRACT or PX_EVENT_REFLECT */
   double n2;        /**< the index of the medium after the face (the incident one for a
                          reflection) */
+  double dn2;       /**< d n2 / du on the renderer's wavelength axis u where a refraction
+                         enters a dispersive medium (n2 is its index at the axis's u_c); 0
+                         otherwise. Only the beam renderer's dispersion image solids read it. */
 } bm_step_t;
 
 typedef struct {
@@ -109,6 +112,12 @@ px_status_t bm_model(const bm_scene_t *b, const bm_source_t *src, const bm_path_
  *  last face: origin on the face, unit direction, medium. PX_EMISS, PX_ETIR. */
 px_status_t bm_exact(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
                      const double p[2], px_vec3_t *o, px_vec3_t *d);
+
+/** bm_exact() at another wavelength: each refraction's n2 + dn2 du (bm_step_t.dn2), the point
+ *  where the ray meets each face in pts[0 .. path->n - 1] when pts is not NULL. A medium entered
+ *  with a dispersion keeps its index at du until the next refraction. */
+px_status_t bm_exact_at(const bm_scene_t *b, const bm_source_t *src, const bm_path_t *path,
+                        const double p[2], double du, px_vec3_t *pts, px_vec3_t *o, px_vec3_t *d);
 
 /** The parameters of the paraxial ray through point v (Eq. 7 inverted, or the exact projection
  *  for the root). PX_EMISS when v is not ahead of the model's origin, PX_ESINGULAR when

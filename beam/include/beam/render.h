@@ -69,10 +69,14 @@ typedef struct {
   /** Called after each finished tile with (done, total), serialised; may be NULL. */
   void (*progress)(void *ctx, int done, int total);
   void *progress_ctx;
+  /** --wavelengths (renderers/src/beam.c), read where the plan asks for dispersion: 0 dispersion
+   *  image solids; 1 the glass at n_d (the plan's dispersion is then off); 2 the light refracted
+   *  into dispersive glass traced from each cell share's point by spectral pencils. */
+  int wavelengths;
 } bt_options_t;
 
 #define BT_OPTIONS_DEFAULT                                                                         \
-  { 0.5, 8, 0, BT_BOUND_CORRECTED, 16, 4, 1, 0, 1, 0, NULL, NULL }
+  { 0.5, 8, 0, BT_BOUND_CORRECTED, 16, 4, 1, 0, 1, 0, NULL, NULL, 0 }
 
 /** Bins of the Fig. 10 error histogram (as the renderer table's). */
 #define BT_HIST_BINS 256
@@ -118,6 +122,15 @@ typedef struct {
   double fig10_max, fig10_max_t, fig10_max_strict; /**< the largest finite errors */
   uint64_t hist[BT_HIST_BINS]; /**< errors in bins of BT_HIST_STEP, the last one everything
                                     above (mismatches included) */
+  /* Dispersion image solids (a plan with RT_EFFECT_DISPERSION; render.c, docs/beam.md) */
+  uint64_t solids;        /**< white refractions into dispersive glass drawn as solids */
+  uint64_t solid_records; /**< pieces and exact regions of their subtrees */
+  uint64_t solid_fine;    /**< subtrees of more pieces than points: traced instead (with every
+                               entry of the same path and face) */
+  uint64_t solid_failed;  /**< pieces whose solid failed its checks at the range's ends */
+  uint64_t solid_points;  /**< cell shares drawn from the solids' wavelength intervals */
+  uint64_t solid_exact;   /**< cell shares traced exactly instead (spectral pencils) */
+  uint64_t solid_traced;  /**< spectral pencils for the wavelengths a share's solids leave */
 } bt_stats_t;
 
 /** Per-sample and per-pixel outputs of a measured render; either may be NULL. */

@@ -108,6 +108,11 @@ void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n);
  *  Returns 0, or -1 when the wavelength axis cannot be built (the plan is then unchanged). */
 int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol);
 
+/** The colour weights' integral over [ua, ub] of wavelength axis w (u as w says; each channel
+ *  integrates to 1 over the visible range): the integral table of [P89] 3.2.3, linear within
+ *  each 1-nm step (core/src/wpencil.c). */
+rt_rgb_t rt_wave_weight(const rt_wavescale_t *w, double ua, double ub);
+
 /** 1 when effect e runs. */
 static inline int rt_plan_has(const rt_plan_t *p, rt_effect_t e) {
   return (p->on >> e) & 1u;

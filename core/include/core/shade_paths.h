@@ -110,6 +110,20 @@ rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_
                            const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
                            rt_child_t *mirror, int *nmirror);
 
+/** A spectral pencil that is already past the white ray's refraction: `ray` at the centre u_c of
+ *  [ua, ub] on the plan's wavelength axis (its origin on the surface it leaves, ray->skip that
+ *  primitive; its ior and lambda are set here), d_o and d_d the derivatives in u of its origin and
+ *  unit direction (the wavelength column of [P89] Eq. 13 as world vectors), travelling in medium
+ *  `inside` (NULL: the scene's); `glass` the material whose index the axis makes linear, `weight`
+ *  the largest channel of the weights that carry its light to the eye. Traced as
+ *  rt_shade_spectral()'s pencils below the refraction (cut where the spectrum parts), its
+ *  radiance times the colour weights' integral over the interval. The beam renderer's solids
+ *  trace what they cannot draw with it (beam/src/render.c). */
+rt_rgb_t rt_shade_spectral_ray(const rt_scene_t *s, const rt_plan_t *plan, const rt_ray_t *ray,
+                               px_vec3_t d_o, px_vec3_t d_d, double ua, double ub,
+                               const rt_material_t *inside, const rt_material_t *glass,
+                               double weight, int depth, const rt_tracer_t *tr);
+
 /** rt_shade_spectral()'s mirror child alone (returned: 1, or 0 when it has no weight), bit for bit,
  *  without tracing the refracted light. */
 int rt_shade_spectral_mirror(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
