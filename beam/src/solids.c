@@ -570,14 +570,13 @@ static int iv_within(const sd_iv_t *v, const sd_iv_t *w, sd_iv_t *out) {
 static int solid_beam(tile_t *T, const double p[2], const bm_path_t *bp, const sd_iv_t *pi,
                       const int *cand, sd_iv_t *iv, int *state, int nc, rt_rgb_t *light) {
   double range = T->u[BT_SOLID_SEGS] - T->u[0];
-  int bg = 0, exact = 0, mem[BT_SOLID_CAND] = {0}, nm = 0, first = -1;
+  int bg = 0, exact = 0, mem[BT_SOLID_CAND], nm = 0, first = -1;
   double depth[BT_SOLID_CAND];
   px_vec3_t at[BT_SOLID_CAND];
   rt_ray_t ray[BT_SOLID_CAND];
-  sd_rec_t key = {.path = *bp};
   for (int c = 0; c < nc; c++) {
     const sd_rec_t *q = &T->rec[cand[c]];
-    if (!same_path(q, &key))
+    if (!same_steps(&q->path, bp))
       continue;
     if (state[c] < 0) {
       exact = 1; /* a dropped piece's wavelengths are traced */
