@@ -117,7 +117,14 @@ static void entry_renders_as_the_renderer(void **state) {
   rn_output_t out = {.image = &a};
   pt_stats_t st;
   out.stats = &st;
+  assert_int_equal(rn_channels_alloc(p, 24, 16, &out), RT_OK); /* blocks left dirty, freed */
+  for (int k = 0; k < p->nchannels; k++)
+    memset(out.channels[k], 0x7f, 24 * 16 * sizeof(float));
+  rn_channels_free(&out);
   assert_int_equal(rn_channels_alloc(p, 24, 16, &out), RT_OK);
+  for (int k = 0; k < p->nchannels; k++) /* zero until written, not what malloc left */
+    for (int i = 0; i < 24 * 16; i++)
+      assert_true(out.channels[k][i] == 0.0f);
   assert_int_equal(p->render(&s, &plan, &c, &o, &out), RT_OK);
   pt_options_t d = PT_OPTIONS_DEFAULT;
   d.spp_side = 2;

@@ -211,7 +211,8 @@ const rn_renderer_t rn_beam_entry = {
         "Auxiliary channels come from exact centre-ray trees. With --measure, every sample\n"
         "cell's centre is measured as Fig. 10 (the model's points on surfaces with a diffuse\n"
         "term against the exact tracer's, in pixel intervals); channel beam.error holds each\n"
-        "pixel's largest.",
+        "pixel's largest (0 without --measure). A dispersive glass is drawn by the 1989\n"
+        "paper's dispersion image solids (--wavelengths).",
     .options_size = sizeof(bt_options_t),
     .defaults = &defaults,
     .options = beam_options,

@@ -217,7 +217,7 @@ rt_status_t rn_channels_alloc(const rn_renderer_t *r, int width, int height, rn_
   for (int k = 0; k < RN_MAX_CHANNELS; k++)
     out->channels[k] = NULL;
   for (int k = 0; k < r->nchannels; k++)
-    if (!(out->channels[k] = malloc(n * sizeof(float)))) {
+    if (!(out->channels[k] = calloc(n, sizeof(float)))) { /* zero: a channel a render leaves */
       rn_channels_free(out);
       return RT_ENOMEM;
     }

@@ -247,8 +247,8 @@ void rn_defaults(const rn_renderer_t *r, void *options);
 /** Write the --help lines of r's options to f, two-column, with `indent` spaces. */
 void rn_print_options(FILE *f, const rn_renderer_t *r, int indent);
 
-/** Allocate the extra channels of r in out->channels (width * height floats each, the rest
- *  NULL). RT_OK or RT_ENOMEM (then none is allocated). */
+/** Allocate the extra channels of r in out->channels (width * height floats each, zero until a
+ *  render writes them, the rest NULL). RT_OK or RT_ENOMEM (then none is allocated). */
 rt_status_t rn_channels_alloc(const rn_renderer_t *r, int width, int height, rn_output_t *out);
 /** Free what rn_channels_alloc() allocated and NULL the pointers. */
 void rn_channels_free(rn_output_t *out);
