@@ -40,6 +40,9 @@
 /* Overlap or gap between a beam's wavelengths and its pieces' tolerated at a point, as a share
  * of the visible range. */
 #define BT_SOLID_GAP 0.02
+/* Faces a recorded path may meet (its shifts' table): a subtree with deeper paths is traced (a
+ * record takes about 3 KB and its models; the scenes' depth limit is 6 by default). */
+#define BT_SOLID_LEVELS 12
 /* Records a solid's subtree may take beyond one a point: more, and its pieces are too small
  * against the cells for solids to pay (as a beam that is too dense is traced, render.c). */
 #define BT_SOLID_FEW 16
@@ -74,7 +77,7 @@ typedef struct sd_rec {
   rt_rgb_t wb[BT_SOLID_SEGS + 1]; /* its path's weights at the breakpoints, centroid's ray */
   /* depth j's point (the face of step j, or `face` for j = path.n) at breakpoint k less its
    * point at u_c, for the centroid's exact ray */
-  px_vec3_t shift[BT_LEVELS][BT_SOLID_SEGS + 1];
+  px_vec3_t shift[BT_SOLID_LEVELS][BT_SOLID_SEGS + 1];
 } sd_rec_t;
 
 /* Where a white ray enters dispersive glass: a piece's region r (its cell shares are the points
@@ -182,7 +185,9 @@ void bt__solid_record(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int
                       const bm_model_t *ms, int nkid, const bm_step_t *kid) {
   if (T->oom || T->climit <= 0)
     return;
-  T->climit--;
+  T->climit = path->n < BT_SOLID_LEVELS ? T->climit - 1 : 0; /* too deep: give the solid up */
+  if (T->climit <= 0)
+    return;
   int nm = ms ? path->n + 1 : 0;
   if (!grow((void **)&T->rec, &T->caprec, T->nrec + 1, sizeof *T->rec) ||
       !grow((void **)&T->smod, &T->capmod, T->nmod + nm, sizeof *T->smod)) {
