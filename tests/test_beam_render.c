@@ -319,19 +319,25 @@ static void load_scene(const char *name, int side, rt_scene_t *s) {
 
 /* Beams with dispersion: --wavelengths W (0 solids, 2 spectral pencils from each cell share's
  * point, 1 the glass at n_d), spp_side^2 cells a pixel. */
-static void beams_w(const rt_scene_t *s, int w, int spp_side, int threads, rt_image_t *img,
-                    bt_stats_t *st) {
+static void beams_wt(const rt_scene_t *s, int w, int spp_side, int threads, double tol,
+                     rt_image_t *img, bt_stats_t *st) {
   rt_plan_t plan = rt_plan_make(s, spp_side * spp_side);
   if (w == 1)
     rt_plan_no_dispersion(&plan, s, "test");
   else
-    assert_int_equal(rt_plan_spectral_pencils(&plan, s, RT_SPECTRAL_TOL), 0);
+    assert_int_equal(rt_plan_spectral_pencils(&plan, s, tol), 0);
   bt_options_t o = BT_OPTIONS_DEFAULT;
   o.spp_side = spp_side;
   o.threads = threads;
   o.aux = 0;
   o.wavelengths = w;
   run(s, &plan, &o, img, st);
+}
+
+/* beams_wt() at the spectral pencils' default tolerance. */
+static void beams_w(const rt_scene_t *s, int w, int spp_side, int threads, rt_image_t *img,
+                    bt_stats_t *st) {
+  beams_wt(s, w, spp_side, threads, RT_SPECTRAL_TOL, img, st);
 }
 
 /* Largest |a - b| of R, G, B over every pixel. */
@@ -369,6 +375,67 @@ static void solids_draw_the_prism(void **state) {
   rt_image_free(&sol);
   rt_image_free(&pen);
   rt_image_free(&nd);
+  rt_scene_free(&s);
+}
+
+/* The prism with Fresnel glass: its paths' weights change across a piece and along the
+ * wavelength axis, and the solids take them from each piece's model (a gradient over its box,
+ * checked against exact paths at its corners) instead of exact paths at every point. The image
+ * still agrees with spectral pencils from the same points, and most pieces' weights are
+ * modelled. */
+static void solids_model_fresnel_weights(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("prism.json", 96, &s);
+  int glass = 0;
+  for (int k = 0; k < s.nmaterial; k++)
+    if (s.material[k].kt > 0.0) {
+      s.material[k].fresnel = 1;
+      glass++;
+    }
+  assert_int_equal(glass, 1);
+  s.max_depth = 2; /* deeper, the Fresnel splits make subtrees too fine for solids at 96 x 96 */
+  rt_image_t sol, pen;
+  bt_stats_t a, b;
+  beams_w(&s, 0, 1, 2, &sol, &a);
+  beams_w(&s, 2, 1, 2, &pen, &b);
+  double mean = mean_diff(&sol, &pen), most = max_diff(&sol, &pen);
+  print_message("fresnel prism 96: solids against pencils mean %.5f max %.4f; %llu of %llu pieces "
+                "with weights traced; %llu shares from solids, %llu traced\n",
+                mean, most, (unsigned long long)a.solid_wexact, (unsigned long long)a.solid_records,
+                (unsigned long long)a.solid_points, (unsigned long long)a.solid_exact);
+  assert_true(a.solid_points > 9 * a.solid_exact);
+  assert_true(2 * a.solid_wexact < a.solid_records);
+  assert_true(mean < 0.002);
+  assert_true(most < 0.05);
+  rt_image_free(&sol);
+  rt_image_free(&pen);
+  rt_scene_free(&s);
+}
+
+/* The prism where the exit's critical angle falls inside the visible range (prism-tir.json):
+ * below a piece whose centroid is totally reflected at u_c, the refracted child exists at other
+ * wavelengths at some of its points, and is skipped only where it is dark at every corner and
+ * breakpoint. Against spectral pencils of a tolerance five times tighter, from the same points,
+ * the solids are at least as close as spectral pencils at the default tolerance. */
+static void solids_near_total_internal_reflection(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("prism-tir.json", 96, &s);
+  rt_image_t sol, pen, ref;
+  bt_stats_t a, b, c;
+  beams_w(&s, 0, 1, 2, &sol, &a);
+  beams_w(&s, 2, 1, 2, &pen, &b);
+  beams_wt(&s, 2, 1, 2, RT_SPECTRAL_TOL / 5, &ref, &c);
+  double es = mean_diff(&sol, &ref), ep = mean_diff(&pen, &ref);
+  print_message("prism-tir 96: against pencils at tol/5, solids mean %.5f, pencils mean %.5f; "
+                "%llu shares from solids, %llu traced\n",
+                es, ep, (unsigned long long)a.solid_points, (unsigned long long)a.solid_exact);
+  assert_true(a.solid_fine == 0 && a.solid_points > 9 * a.solid_exact);
+  assert_true(es <= ep);
+  rt_image_free(&sol);
+  rt_image_free(&pen);
+  rt_image_free(&ref);
   rt_scene_free(&s);
 }
 
@@ -427,6 +494,8 @@ int main(int argc, char **argv) {
       cmocka_unit_test(threads_do_not_change_the_image),
       cmocka_unit_test(spheres_are_refused),
       cmocka_unit_test(solids_draw_the_prism),
+      cmocka_unit_test(solids_model_fresnel_weights),
+      cmocka_unit_test(solids_near_total_internal_reflection),
       cmocka_unit_test(solids_draw_fig14),
       cmocka_unit_test(dispersion_needs_the_axis),
   };

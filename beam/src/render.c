@@ -937,6 +937,7 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->solid_records += from->solid_records;
   to->solid_fine += from->solid_fine;
   to->solid_failed += from->solid_failed;
+  to->solid_wexact += from->solid_wexact;
   to->solid_points += from->solid_points;
   to->solid_exact += from->solid_exact;
   to->solid_traced += from->solid_traced;
@@ -989,6 +990,21 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
     bm_scene_free(&b);
     return RT_ENOMEM;
   }
+  /* the solids' face tests: each face edge's inward normal in the face's plane, by vertex */
+  px_vec3_t *edge_in = NULL;
+  if (solids) {
+    if (!(edge_in = malloc((size_t)(b.nvertex > 0 ? b.nvertex : 1) * sizeof *edge_in))) {
+      free(trees);
+      bm_scene_free(&b);
+      return RT_ENOMEM;
+    }
+    for (int f = 0; f < b.nface; f++) {
+      const bm_face_t *F = &b.face[f];
+      const px_vec3_t *v = b.vertex + F->first;
+      for (int e = 0; e < F->count; e++)
+        edge_in[F->first + e] = px_v3_cross(F->n, px_v3_sub(v[(e + 1) % F->count], v[e]));
+    }
+  }
   sd_store_t all; /* the solids of every thread, drawn after every tile */
   memset(&all, 0, sizeof all);
 #pragma omp parallel num_threads(nt)
@@ -1008,7 +1024,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                 .pixel = pixel,
                 .min_area = 1e-6 * (pixel / sp) * (pixel / sp),
                 .levels = levels,
-                .solids = solids};
+                .solids = solids,
+                .edge_in = edge_in};
     if (solids) { /* the range's ends, u_c (the d-line) and halfway between */
       double ua = plan->wave.u_edge[0], ub = plan->wave.u_edge[RT_MAX_BINS],
              uc = plan->wave.scale.lambda0;
@@ -1115,6 +1132,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
     free(T.seen);
   }
   free(trees);
+  free(edge_in);
   bm_scene_free(&b);
   bt__store_free(&all);
   if (failed)

@@ -59,6 +59,7 @@ typedef struct {
   int climit;                  /* records the solid being collected may still take */
   const rt_material_t *sglass; /* the glass the solid's rays entered */
   double u[BT_SOLID_SEGS + 1]; /* the solids' breakpoints on the wavelength axis */
+  const px_vec3_t *edge_in;    /* face edge e's inward normal at [face.first + e] */
 } tile_t;
 
 /* A region that the subtree of a solid traces exactly, recorded in place of a piece's face. */

@@ -74,7 +74,11 @@ typedef struct sd_rec {
   double rbox[4];    /* its region's box */
   int nkid;          /* its children at u_c (a piece of a face) */
   bm_step_t kid[2];  /* their steps */
+  int kdark[2];      /* 1: no light follows kid k anywhere in box (kid_dark()) */
   rt_rgb_t wb[BT_SOLID_SEGS + 1]; /* its path's weights at the breakpoints, centroid's ray */
+  int wok;                        /* 1: its weights by weight_at() in wbox (weight_model()) */
+  double wbox[4];                 /* where: lo x, hi x, lo y, hi y */
+  rt_rgb_t wgx, wgy;              /* their gradient in the parameters at u_c */
   /* depth j's point (the face of step j, or `face` for j = path.n) at breakpoint k less its
    * point at u_c, for the centroid's exact ray */
   px_vec3_t shift[BT_SOLID_LEVELS][BT_SOLID_SEGS + 1];
@@ -118,6 +122,15 @@ typedef struct {
   double a[BT_IV_MAX], b[BT_IV_MAX];
 } sd_iv_t;
 
+/* *dst = *src, its intervals alone. */
+static void iv_copy(sd_iv_t *dst, const sd_iv_t *src) {
+  dst->n = src->n;
+  for (int k = 0; k < src->n; k++) {
+    dst->a[k] = src->a[k];
+    dst->b[k] = src->b[k];
+  }
+}
+
 static double iv_len(const sd_iv_t *v) {
   double l = 0.0;
   for (int k = 0; k < v->n; k++)
@@ -142,7 +155,8 @@ static int iv_add(sd_iv_t *v, double a, double b) {
 
 /* [a, b] into v wherever it falls (v stays increasing; touching intervals merge). 0 when full. */
 static int iv_insert(sd_iv_t *v, double a, double b) {
-  sd_iv_t out = {0};
+  sd_iv_t out;
+  out.n = 0;
   int done = 0;
   for (int k = 0; k <= v->n; k++) {
     if (!done && (k == v->n || a < v->a[k])) {
@@ -153,7 +167,7 @@ static int iv_insert(sd_iv_t *v, double a, double b) {
     if (k < v->n && !iv_add(&out, v->a[k], v->b[k]))
       return 0;
   }
-  *v = out;
+  iv_copy(v, &out);
   return 1;
 }
 
@@ -206,7 +220,7 @@ void bt__solid_record(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int
   }
   q->key = h;
   q->region = *r;
-  q->ok = 0;
+  q->ok = q->wok = q->kdark[0] = q->kdark[1] = 0;
   q->nkid = nkid;
   for (int k = 0; k < nkid; k++)
     q->kid[k] = kid[k];
@@ -269,6 +283,93 @@ static void poly_box(const px_poly2_t *r, double lo[2], double hi[2]) {
       lo[a] = fmin(lo[a], r->v[k][a]);
       hi[a] = fmax(hi[a], r->v[k][a]);
     }
+}
+
+/* The weights' model of record q (its path's weights at point p and wavelength offset u - u_c):
+ * the centroid's weights at the breakpoints, linear between them, plus a gradient in the
+ * parameters fitted to the corners of a box around the centroid. It is tried on the box its solid
+ * may cover, then on its region's box widened by a pixel; q->wbox is the first box on which the
+ * model is within BT_SOLID_WTOL of the exact weights at every corner and breakpoint (its chords at
+ * the centroid are checked by solid_prepare()). Points outside it, and every point where no box
+ * passes (q->wok 0: an exact path fails at a corner, by total internal reflection, or the model is
+ * off), trace the weights (bt__exact_path_at()). Not checked: total internal reflection that
+ * begins and ends between a corner's breakpoints. */
+static int weight_fit(tile_t *T, sd_rec_t *q, const double box[4]) {
+  int mid = BT_SOLID_SEGS / 2;
+  rt_rgb_t w[4][BT_SOLID_SEGS + 1];
+  double cx[4], cy[4];
+  double dx = box[1] - box[0], dy = box[3] - box[2];
+  if (!(dx > 0.0) || !(dy > 0.0))
+    return 0;
+  for (int i = 0; i < 4; i++) {
+    cx[i] = box[i & 1];
+    cy[i] = box[2 + (i >> 1)];
+    double p[2] = {cx[i], cy[i]};
+    for (int k = 0; k <= BT_SOLID_SEGS; k++) {
+      rt_ray_t ray;
+      if (!bt__exact_path_at(T, &q->path, p, T->u[k] - T->u[mid], &ray, &w[i][k]))
+        return 0;
+    }
+  }
+  /* the least-squares plane through the corners: the mean slope along each axis */
+  q->wgx = rt_rgb_scale(
+      rt_rgb_madd(rt_rgb_add(w[1][mid], w[3][mid]), -1.0, rt_rgb_add(w[0][mid], w[2][mid])),
+      0.5 / dx);
+  q->wgy = rt_rgb_scale(
+      rt_rgb_madd(rt_rgb_add(w[2][mid], w[3][mid]), -1.0, rt_rgb_add(w[0][mid], w[1][mid])),
+      0.5 / dy);
+  for (int i = 0; i < 4; i++)
+    for (int k = 0; k <= BT_SOLID_SEGS; k++) {
+      rt_rgb_t m =
+          rt_rgb_madd(rt_rgb_madd(q->wb[k], cx[i] - q->c[0], q->wgx), cy[i] - q->c[1], q->wgy);
+      if (!(rgb_dist(m, w[i][k]) <= BT_SOLID_WTOL))
+        return 0;
+    }
+  memcpy(q->wbox, box, sizeof q->wbox);
+  return 1;
+}
+
+static void weight_model(tile_t *T, sd_rec_t *q) {
+  double near[4] = {q->rbox[0] - T->pixel, q->rbox[1] + T->pixel, q->rbox[2] - T->pixel,
+                    q->rbox[3] + T->pixel};
+  q->wok = weight_fit(T, q, q->box) || weight_fit(T, q, near);
+}
+
+/* 1 when no light follows record q's child k anywhere its solid may be seen: its exact path
+ * fails (total internal reflection) at the centroid and every corner of q's box at every
+ * breakpoint. A child kept for the wavelengths at which it exists (render.c, leaving dispersive
+ * glass) then needs no exact rays at its points. Not checked: a child that exists only between
+ * the samples. */
+static int kid_dark(tile_t *T, const sd_rec_t *q, int k) {
+  bm_path_t bp = q->path;
+  bp.step[bp.n++] = q->kid[k];
+  int mid = BT_SOLID_SEGS / 2;
+  for (int i = 0; i < 5; i++) {
+    double p[2] = {i < 4 ? q->box[i & 1] : q->c[0], i < 4 ? q->box[2 + (i >> 1)] : q->c[1]};
+    for (int b = 0; b <= BT_SOLID_SEGS; b++) {
+      rt_ray_t ray;
+      rt_rgb_t w;
+      if (bt__exact_path_at(T, &bp, p, T->u[b] - T->u[mid], &ray, &w))
+        return 0;
+    }
+  }
+  return 1;
+}
+
+/* 1 when record q's weights at point p are its model's (weight_model()). */
+static int weight_held(const sd_rec_t *q, const double p[2]) {
+  return q->wok && p[0] >= q->wbox[0] && p[0] <= q->wbox[1] && p[1] >= q->wbox[2] &&
+         p[1] <= q->wbox[3];
+}
+
+/* Record q's path's weights at point p and wavelength u by its model (weight_held()). */
+static rt_rgb_t weight_at(const tile_t *T, const sd_rec_t *q, const double p[2], double u) {
+  int k = 0;
+  while (k < BT_SOLID_SEGS - 1 && u > T->u[k + 1])
+    k++;
+  double f = (u - T->u[k]) / (T->u[k + 1] - T->u[k]);
+  rt_rgb_t w = rt_rgb_add(rt_rgb_scale(q->wb[k], 1.0 - f), rt_rgb_scale(q->wb[k + 1], f));
+  return rt_rgb_madd(rt_rgb_madd(w, p[0] - q->c[0], q->wgx), p[1] - q->c[1], q->wgy);
 }
 
 /* Record q's solid: the shifts and weights at the breakpoints, its box (the region's, widened by
@@ -358,6 +459,15 @@ static double solid_prepare(tile_t *T, sd_rec_t *q) {
   }
   T->st.solid_failed--;
   q->ok = 1;
+  weight_model(T, q);
+  T->st.solid_wexact += !q->wok;
+  for (int k = 0; k < q->nkid; k++) {
+    bm_path_t bp = q->path;
+    rt_ray_t kray;
+    rt_rgb_t w;
+    bp.step[bp.n++] = q->kid[k];
+    q->kdark[k] = !bt__exact_path_at(T, &bp, q->c, 0.0, &kray, &w) && kid_dark(T, q, k);
+  }
   return grow;
 }
 
@@ -401,13 +511,15 @@ static int solid_intervals(const tile_t *T, const sd_rec_t *q, const double p[2]
       return 0;
     const px_vec3_t *v = T->b->vertex + f->first;
     for (int e = 0; e < f->count; e++) {
-      px_vec3_t in = px_v3_cross(f->n, px_v3_sub(v[(e + 1) % f->count], v[e]));
+      px_vec3_t in = T->edge_in[f->first + e];
+      /* in . (point - v[e]) >= 0 inside, linear in u on each segment */
+      double base = px_v3_dot(in, px_v3_sub(x0, v[e])), g[BT_SOLID_SEGS + 1];
+      for (int k = 0; k <= BT_SOLID_SEGS; k++)
+        g[k] = base + px_v3_dot(in, q->shift[j][k]);
       for (int k = 0; k < BT_SOLID_SEGS; k++) {
         if (!(hi[k] > lo[k]))
           continue;
-        /* in . (point - v[e]) >= 0, linear in u on the segment */
-        double g0 = px_v3_dot(in, px_v3_sub(px_v3_add(x0, q->shift[j][k]), v[e]));
-        double g1 = px_v3_dot(in, px_v3_sub(px_v3_add(x0, q->shift[j][k + 1]), v[e]));
+        double g0 = g[k], g1 = g[k + 1];
         if (g0 >= 0.0 && g1 >= 0.0)
           continue;
         if (g0 < 0.0 && g1 < 0.0) {
@@ -544,13 +656,14 @@ static int remainder_exact(tile_t *T, const bm_path_t *bp, const double p[2], do
 
 /* v less every interval of w, into *out. 0 when out is full. */
 static int iv_minus(const sd_iv_t *v, const sd_iv_t *w, sd_iv_t *out) {
-  sd_iv_t cur = *v, next;
+  sd_iv_t cur, next;
+  iv_copy(&cur, v);
   for (int k = 0; k < w->n; k++) {
     if (!iv_cut(&cur, w->a[k], w->b[k], &next))
       return 0;
-    cur = next;
+    iv_copy(&cur, &next);
   }
-  *out = cur;
+  iv_copy(out, &cur);
   return 1;
 }
 
@@ -564,16 +677,28 @@ static int iv_within(const sd_iv_t *v, const sd_iv_t *w, sd_iv_t *out) {
   return 1;
 }
 
-/* One beam of the solid's subtree at point p: the candidates cand[0 .. nc-1] that follow path bp
- * (state[c] 1 once claimed, -1 dropped), whose wavelengths lie in pi (the parent piece's visible
- * ones at p, or the whole range at the entry). Hidden surfaces are removed along the wavelength
- * axis, [P89] 3.2.2's three-dimensional clipping by a priority list: at each wavelength the
- * nearest piece's face (by its point at u_c) is seen; iv[c] becomes what piece c shows, its
- * light goes into *light. The rest of pi (the background's, or traced exactly where a piece was
- * dropped, the beam has exact regions, or a gap over BT_SOLID_GAP opens) too. 0 when an exact
- * ray of the rest misses. */
-static int solid_beam(tile_t *T, const double p[2], const bm_path_t *bp, const sd_iv_t *pi,
-                      const int *cand, sd_iv_t *iv, int *state, int nc, rt_rgb_t *light) {
+/* 1 when path a is path pre followed by step last. */
+static int follows(const bm_path_t *a, const bm_path_t *pre, const bm_step_t *last) {
+  int n = pre->n;
+  if (a->n != n + 1 || a->step[n].face != last->face || a->step[n].event != last->event)
+    return 0;
+  for (int k = 0; k < n; k++)
+    if (a->step[k].face != pre->step[k].face || a->step[k].event != pre->step[k].event)
+      return 0;
+  return 1;
+}
+
+/* One beam of the solid's subtree at point p: the candidates cand[0 .. nc-1] that follow path
+ * pre and then step last, its path (state[c] 1 once claimed, -1 dropped), whose wavelengths lie in
+ * pi (the parent piece's visible ones at p, or the whole range at the entry). Hidden surfaces are
+ * removed along the wavelength axis, [P89] 3.2.2's three-dimensional clipping by a priority list:
+ * at each wavelength the nearest piece's face (by its point at u_c) is seen; iv[c] becomes what
+ * piece c shows, its light goes into *light. The rest of pi (the background's, or traced exactly
+ * where a piece was dropped, the beam has exact regions, or a gap over BT_SOLID_GAP opens) too. 0
+ * when an exact ray of the rest misses. */
+static int solid_beam(tile_t *T, const double p[2], const bm_path_t *pre, const bm_step_t *last,
+                      const sd_iv_t *pi, const int *cand, sd_iv_t *iv, int *state, int nc,
+                      rt_rgb_t *light) {
   double range = T->u[BT_SOLID_SEGS] - T->u[0];
   int bg = 0, exact = 0, mem[BT_SOLID_CAND], nm = 0, first = -1;
   double depth[BT_SOLID_CAND];
@@ -581,7 +706,7 @@ static int solid_beam(tile_t *T, const double p[2], const bm_path_t *bp, const s
   rt_ray_t ray[BT_SOLID_CAND];
   for (int c = 0; c < nc; c++) {
     const sd_rec_t *q = &T->rec[cand[c]];
-    if (!same_steps(&q->path, bp))
+    if (!follows(&q->path, pre, last))
       continue;
     if (state[c] < 0) {
       exact = 1; /* a dropped piece's wavelengths are traced */
@@ -613,23 +738,28 @@ static int solid_beam(tile_t *T, const double p[2], const bm_path_t *bp, const s
       mem[k] = mem[k - 1];
     mem[k] = c;
   }
-  sd_iv_t rest = *pi, next, redo = {0};
+  sd_iv_t rest, next, redo;
+  iv_copy(&rest, pi);
+  redo.n = 0;
   double uc = T->u[BT_SOLID_SEGS / 2];
   for (int m = 0; m < nm; m++) {
     int c = mem[m];
     const sd_rec_t *q = &T->rec[cand[c]];
     if (!iv_within(&iv[c], &rest, &next))
       return 0;
-    iv[c] = next; /* what it shows: in pi, and not behind a nearer piece */
+    iv_copy(&iv[c], &next); /* what it shows: in pi, and not behind a nearer piece */
     if (!iv_minus(&rest, &iv[c], &next))
       return 0;
-    rest = next;
+    iv_copy(&rest, &next);
     for (int k = 0; k < iv[c].n; k++) {
       /* the path's exact weights at p in the interval's middle; where p's path has no such
        * child there (total internal reflection), the interval is traced */
       rt_ray_t r;
       rt_rgb_t w;
-      if (!bt__exact_path_at(T, &q->path, p, 0.5 * (iv[c].a[k] + iv[c].b[k]) - uc, &r, &w)) {
+      double um = 0.5 * (iv[c].a[k] + iv[c].b[k]);
+      if (weight_held(q, p))
+        w = weight_at(T, q, p, um);
+      else if (!bt__exact_path_at(T, &q->path, p, um - uc, &r, &w)) {
         if (!iv_insert(&redo, iv[c].a[k], iv[c].b[k]))
           return 0;
         continue;
@@ -647,7 +777,11 @@ static int solid_beam(tile_t *T, const double p[2], const bm_path_t *bp, const s
     for (int k = 0; k < rest.n; k++) {
       rt_ray_t r;
       rt_rgb_t w;
-      if (!bt__exact_path_at(T, bp, p, 0.5 * (rest.a[k] + rest.b[k]) - uc, &r, &w)) {
+      const sd_rec_t *qb = &T->rec[cand[bg - 1]];
+      double um = 0.5 * (rest.a[k] + rest.b[k]);
+      if (weight_held(qb, p))
+        w = weight_at(T, qb, p, um);
+      else if (!bt__exact_path_at(T, &qb->path, p, um - uc, &r, &w)) {
         if (!iv_insert(&redo, rest.a[k], rest.b[k]))
           return 0;
         continue;
@@ -657,15 +791,19 @@ static int solid_beam(tile_t *T, const double p[2], const bm_path_t *bp, const s
                                            T->s->background)));
     }
   }
+  if (redo.n == 0)
+    return 1;
+  bm_path_t bp = *pre;
+  bp.step[bp.n++] = *last;
   for (int k = 0; k < redo.n; k++)
-    if (!remainder_exact(T, bp, p, redo.a[k], redo.b[k], BT_SOLID_HALVINGS, light))
+    if (!remainder_exact(T, &bp, p, redo.a[k], redo.b[k], BT_SOLID_HALVINGS, light))
       return 0;
   return 1;
 }
 
-/* The light of a group's solids at point p (entry path spath): 0, with *light undefined, when a
- * check fails there. */
-static int solid_point(tile_t *T, const sd_group_t *G, const bm_path_t *spath, const double p[2],
+/* The light of a group's solids at point p (entry E: its path and its refraction): 0, with *light
+ * undefined, when a check fails there. */
+static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, const double p[2],
                        rt_rgb_t *out) {
   int cand[BT_SOLID_CAND], state[BT_SOLID_CAND], nc = 0;
   int gx = (int)floor((p[0] - G->gx0) / G->gcell), gy = (int)floor((p[1] - G->gy0) / G->gcell);
@@ -713,7 +851,7 @@ static int solid_point(tile_t *T, const sd_group_t *G, const bm_path_t *spath, c
         state[c] = -1;
   rt_rgb_t light = rt_rgb(0, 0, 0);
   sd_iv_t whole = {1, {T->u[0]}, {T->u[BT_SOLID_SEGS]}};
-  if (!solid_beam(T, p, spath, &whole, cand, iv, state, nc, &light))
+  if (!solid_beam(T, p, &E->path, &E->st, &whole, cand, iv, state, nc, &light))
     return 0;
   int deepest = 0;
   for (int c = 0; c < nc; c++)
@@ -724,9 +862,9 @@ static int solid_point(tile_t *T, const sd_group_t *G, const bm_path_t *spath, c
       if (q->path.n != level || q->face < 0 || state[c] <= 0 || iv[c].n == 0)
         continue;
       for (int k = 0; k < q->nkid; k++) {
-        bm_path_t bp = q->path;
-        bp.step[bp.n++] = q->kid[k];
-        if (!solid_beam(T, p, &bp, &iv[c], cand, iv, state, nc, &light))
+        if (q->kdark[k])
+          continue; /* p lies in q's box: a candidate */
+        if (!solid_beam(T, p, &q->path, &q->kid[k], &iv[c], cand, iv, state, nc, &light))
           return 0;
       }
     }
@@ -891,10 +1029,10 @@ static int by_key(const void *a, const void *b) {
   return x->key < y->key ? -1 : x->key > y->key ? 1 : x->rec - y->rec;
 }
 
-/* Each cell of G's grid keeps, of the records of one key (pieces of one path and face that
- * divisions and tiles cut apart), those whose region's box meets the cell, or else the one whose
- * centroid is nearest the cell's centre: the ones solid_point() may pick there. 0 when out of
- * memory. */
+/* Each cell of G's grid (its list in the order of the records' keys, then indices) keeps, of the
+ * records of one key (pieces of one path and face that divisions and tiles cut apart), those whose
+ * region's box meets the cell, or else the one whose centroid is nearest the cell's centre: the
+ * ones solid_point() may pick there. 0 when out of memory. */
 static int grid_compact(const sd_store_t *a, sd_group_t *G) {
   int cells = G->gw * G->gh, most = 0, out = 0;
   for (int c = 0; c < cells; c++)
@@ -908,7 +1046,7 @@ static int grid_compact(const sd_store_t *a, sd_group_t *G) {
       int r = G->list[G->start[c] + k];
       t[k] = (sd_keyed_t){a->rec[r].key, r};
     }
-    qsort(t, (size_t)n, sizeof *t, by_key);
+    /* in the order of their keys and indices already (groups_make()) */
     double x0 = G->gx0 + (c % G->gw) * G->gcell, y0 = G->gy0 + (c / G->gw) * G->gcell;
     double x1 = x0 + G->gcell, y1 = y0 + G->gcell, cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
     G->start[c] = out;
@@ -980,9 +1118,17 @@ static int groups_make(sd_store_t *a, double pixel) {
     if (!G->start)
       return 0;
   }
-  /* twice over the records: count per cell, then fill */
+  /* twice over the records in the order of their keys (then their indices), so that each cell's
+   * list comes out in that order: count per cell, then fill */
+  sd_keyed_t *order = malloc((size_t)(a->nrec > 0 ? a->nrec : 1) * sizeof *order);
+  if (!order)
+    return 0;
+  for (int k = 0; k < a->nrec; k++)
+    order[k] = (sd_keyed_t){a->rec[k].key, k};
+  qsort(order, (size_t)a->nrec, sizeof *order, by_key);
   for (int pass = 0; pass < 2; pass++) {
-    for (int k = 0; k < a->nrec; k++) {
+    for (int i = 0; i < a->nrec; i++) {
+      int k = order[i].rec;
       const sd_rec_t *q = &a->rec[k];
       sd_group_t *G = &a->grp[a->ent[q->entry].group];
       if (!(q->box[0] <= q->box[1]) || a->ent[q->entry].bad)
@@ -1007,8 +1153,10 @@ static int groups_make(sd_store_t *a, double pixel) {
         for (int c = 0; c < cells; c++)
           G->start[c + 1] += G->start[c];
         G->list = malloc((size_t)(G->start[cells] > 0 ? G->start[cells] : 1) * sizeof *G->list);
-        if (!G->list)
+        if (!G->list) {
+          free(order);
           return 0;
+        }
       } else { /* the fill moved each start to the next cell's: back */
         for (int c = cells; c > 0; c--)
           G->start[c] = G->start[c - 1];
@@ -1016,6 +1164,7 @@ static int groups_make(sd_store_t *a, double pixel) {
       }
     }
   }
+  free(order);
   for (int g = 0; g < a->ngrp; g++)
     if (!grid_compact(a, &a->grp[g]))
       return 0;
@@ -1075,12 +1224,10 @@ int bt__solids_draw(tile_t *T, sd_store_t *all, rt_image_t *img, int W, int H, i
       continue;
     const sd_pt_t *q = &all->pt[k];
     const sd_entry_t *E = &all->ent[q->entry];
-    bm_path_t spath = E->path;
-    spath.step[spath.n++] = E->st;
     T->sdepth = E->path.n;
     T->sglass = E->glass;
     rt_rgb_t L;
-    if (!E->bad && T->o->wavelengths != 2 && solid_point(T, &all->grp[E->group], &spath, q->p, &L))
+    if (!E->bad && T->o->wavelengths != 2 && solid_point(T, &all->grp[E->group], E, q->p, &L))
       T->st.solid_points++;
     else
       L = solid_exact(T, &E->path, E->g, q->p);
@@ -1093,15 +1240,27 @@ int bt__solids_draw(tile_t *T, sd_store_t *all, rt_image_t *img, int W, int H, i
 #pragma omp single
   if (ok) {
     /* the points sorted with their lights: sd_pt_t's entry field carries the point's index */
+    size_t cw = (size_t)W * s, cells = cw * (size_t)H * s;
     sd_pt_t *order = malloc((size_t)(all->npt > 0 ? all->npt : 1) * sizeof *order);
-    if (!order) {
+    size_t *start = calloc(cells + 1, sizeof *start);
+    if (!order || !start) {
       all->failed = 1;
-    } else {
+    } else { /* counted by cell, then by_cell() within each (a few points each) */
+      for (int k = 0; k < all->npt; k++)
+        start[(size_t)all->pt[k].cy * cw + (size_t)all->pt[k].cx + 1]++;
+      for (size_t c = 0; c < cells; c++)
+        start[c + 1] += start[c];
       for (int k = 0; k < all->npt; k++) {
-        order[k] = all->pt[k];
-        order[k].entry = k;
+        size_t at = start[(size_t)all->pt[k].cy * cw + (size_t)all->pt[k].cx]++;
+        order[at] = all->pt[k];
+        order[at].entry = k;
       }
-      qsort(order, (size_t)all->npt, sizeof *order, by_cell);
+      for (int k = 1; k < all->npt; k++) /* in order but within cells */
+        for (int at = k; at > 0 && by_cell(&order[at - 1], &order[at]) > 0; at--) {
+          sd_pt_t t = order[at];
+          order[at] = order[at - 1];
+          order[at - 1] = t;
+        }
       for (int k = 0; k < all->npt;) {
         size_t px = (size_t)(order[k].cy / s) * W + (size_t)(order[k].cx / s);
         rt_rgb_t sum = rt_rgb(0, 0, 0);
@@ -1111,8 +1270,9 @@ int bt__solids_draw(tile_t *T, sd_store_t *all, rt_image_t *img, int W, int H, i
         img->ch[RT_CH_G][px] = (float)(img->ch[RT_CH_G][px] + sum.g);
         img->ch[RT_CH_B][px] = (float)(img->ch[RT_CH_B][px] + sum.b);
       }
-      free(order);
     }
+    free(order);
+    free(start);
   }
   (void)H;
 #pragma omp atomic read

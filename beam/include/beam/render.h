@@ -128,6 +128,7 @@ typedef struct {
   uint64_t solid_fine;    /**< subtrees of more pieces than points: traced instead (with every
                                entry of the same path and face) */
   uint64_t solid_failed;  /**< pieces whose solid failed its checks at the range's ends */
+  uint64_t solid_wexact;  /**< pieces whose weights are traced at each point (not modelled) */
   uint64_t solid_points;  /**< cell shares drawn from the solids' wavelength intervals */
   uint64_t solid_exact;   /**< cell shares traced exactly instead (spectral pencils) */
   uint64_t solid_traced;  /**< spectral pencils for the wavelengths a share's solids leave */
