@@ -1007,6 +1007,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   }
   sd_store_t all; /* the solids of every thread, drawn after every tile */
   memset(&all, 0, sizeof all);
+  sd_fine_t fine = {0}; /* the groups known too fine, shared */
 #pragma omp parallel num_threads(nt)
   {
     int tid = 0;
@@ -1025,7 +1026,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                 .min_area = 1e-6 * (pixel / sp) * (pixel / sp),
                 .levels = levels,
                 .solids = solids,
-                .edge_in = edge_in};
+                .edge_in = edge_in,
+                .fine = solids ? &fine : NULL};
     if (solids) { /* the range's ends, u_c (the d-line) and halfway between */
       double ua = plan->wave.u_edge[0], ub = plan->wave.u_edge[RT_MAX_BINS],
              uc = plan->wave.scale.lambda0;
@@ -1133,6 +1135,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   }
   free(trees);
   free(edge_in);
+  free(fine.path);
+  free(fine.g);
   bm_scene_free(&b);
   bt__store_free(&all);
   if (failed)

@@ -17,6 +17,14 @@
  * and halfway between) and joined by chords; [P89] Eq. (15) is the one-piece tangent form. */
 #define BT_SOLID_SEGS 4
 
+/* The groups (an entry's path, face and refraction) known, in any tile, to have a subtree too
+ * fine for solids: later entries of them skip recording (solids.c). Shared by the threads. */
+typedef struct {
+  bm_path_t *path; /* each one's path to its face */
+  int *g;          /* its face */
+  int n, cap;
+} sd_fine_t;
+
 /* One thread's state for a tile. */
 typedef struct {
   const rt_scene_t *s;
@@ -60,6 +68,7 @@ typedef struct {
   const rt_material_t *sglass; /* the glass the solid's rays entered */
   double u[BT_SOLID_SEGS + 1]; /* the solids' breakpoints on the wavelength axis */
   const px_vec3_t *edge_in;    /* face edge e's inward normal at [face.first + e] */
+  sd_fine_t *fine;             /* shared: groups known too fine */
 } tile_t;
 
 /* A region that the subtree of a solid traces exactly, recorded in place of a piece's face. */

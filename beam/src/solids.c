@@ -69,6 +69,7 @@ typedef struct sd_rec {
   double box[4];     /* what its solid may cover: lo x, hi x, lo y, hi y */
   int model;         /* its path.n + 1 prefix models from T->smod[model] */
   int ok;            /* 1: its solid passed the checks */
+  int failed;        /* 1: its solid was made and failed them */
   int entry;         /* its entry (sd_entry_t) */
   uint64_t key;      /* a hash of its path and face (same_key()) */
   double rbox[4];    /* its region's box */
@@ -220,7 +221,7 @@ void bt__solid_record(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int
   }
   q->key = h;
   q->region = *r;
-  q->ok = q->wok = q->kdark[0] = q->kdark[1] = 0;
+  q->ok = q->wok = q->failed = q->kdark[0] = q->kdark[1] = 0;
   q->nkid = nkid;
   for (int k = 0; k < nkid; k++)
     q->kid[k] = kid[k];
@@ -430,7 +431,7 @@ static double solid_prepare(tile_t *T, sd_rec_t *q) {
   q->box[1] = hi[0] + grow;
   q->box[2] = lo[1] - grow;
   q->box[3] = hi[1] + grow;
-  T->st.solid_failed++;                   /* until the checks pass */
+  q->failed = 1;                          /* until the checks pass */
   for (int k = 0; k < BT_SOLID_SEGS; k++) /* the weights linear between breakpoints */
     if (rgb_dist(rt_rgb_scale(rt_rgb_add(q->wb[k], q->wb[k + 1]), 0.5), wh[k]) > BT_SOLID_WTOL)
       return grow;
@@ -457,10 +458,9 @@ static double solid_prepare(tile_t *T, sd_rec_t *q) {
           return grow;
       }
   }
-  T->st.solid_failed--;
+  q->failed = 0;
   q->ok = 1;
   weight_model(T, q);
-  T->st.solid_wexact += !q->wok;
   for (int k = 0; k < q->nkid; k++) {
     bm_path_t bp = q->path;
     rt_ray_t kray;
@@ -890,6 +890,33 @@ static rt_rgb_t solid_exact(tile_t *T, const bm_path_t *path, int g, const doubl
   return rt_rgb_mul(w, rt_shade_spectral(T->s, T->plan, &sf, &ray, path->n, &T->tr, &mirror, &nm));
 }
 
+/* 1 when entry E's group is known (from another entry, in any tile) to be too fine for solids. */
+static int fine_known(const tile_t *T, const sd_entry_t *E) {
+  int known = 0;
+  if (!T->fine)
+    return 0;
+#pragma omp critical(bt_solid_fine)
+  for (int k = 0; k < T->fine->n && !known; k++)
+    known = T->fine->g[k] == E->g && same_steps(&T->fine->path[k], &E->path);
+  return known;
+}
+
+/* Entry E's group is too fine for solids: known to every later entry (a failed allocation only
+ * leaves them to find it out). */
+static void fine_add(const tile_t *T, const sd_entry_t *E) {
+  if (!T->fine)
+    return;
+#pragma omp critical(bt_solid_fine)
+  {
+    sd_fine_t *F = T->fine;
+    if (F->n < F->cap || (grow((void **)&F->path, &F->cap, F->n + 1, sizeof *F->path) &&
+                          (F->g = realloc(F->g, (size_t)F->cap * sizeof *F->g)) != NULL)) {
+      F->path[F->n] = E->path;
+      F->g[F->n++] = E->g;
+    }
+  }
+}
+
 /* Region r along path meets face g, where its rays' refraction st enters dispersive glass: the
  * subtree below recorded as dispersion image solids (or, --wavelengths pencils, not at all), and
  * r's cell shares as points that bt_render() draws from every tile's solids of the same entry
@@ -932,6 +959,10 @@ void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, con
     }
   if (T->o->wavelengths == 2)
     return;
+  if (fine_known(T, E)) { /* its points are traced with its group's */
+    E->bad = 2;
+    return;
+  }
   /* the subtree, recorded: at most a record a point (and a few), or its pieces are too small
    * against the cells for solids to pay, and its points are traced (as its group's) */
   bm_path_t next = *path;
@@ -950,12 +981,11 @@ void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, con
   T->oom |= oom;
   if (T->climit <= 0) {
     E->bad = 2;
-    T->st.solid_fine++;
+    fine_add(T, E);
     T->nrec = E->first;
     T->nmod = nmod;
     return;
   }
-  T->st.solid_records += (uint64_t)(T->nrec - E->first);
   double reach = 0.0;
   for (int k = E->first; k < T->nrec; k++)
     reach = fmax(reach, solid_prepare(T, &T->rec[k]));
@@ -1079,7 +1109,7 @@ static int grid_compact(const sd_store_t *a, sd_group_t *G) {
 
 /* The entries' groups and each group's grid of records (cells of 4 pixels). 0 when out of
  * memory. */
-static int groups_make(sd_store_t *a, double pixel) {
+static int groups_make(sd_store_t *a, double pixel, bt_stats_t *st) {
   if (a->nent == 0)
     return 1;
   a->grp = calloc((size_t)a->nent, sizeof *a->grp);
@@ -1100,6 +1130,17 @@ static int groups_make(sd_store_t *a, double pixel) {
       for (int f = 0; f < a->nent; f++)
         if (a->ent[f].group == a->ent[e].group && !a->ent[f].bad)
           a->ent[f].bad = 3;
+  /* the counts of what is drawn, whatever the order in which the threads met the entries */
+  for (int e = 0; e < a->nent; e++)
+    st->solid_fine += a->ent[e].bad != 0;
+  for (int k = 0; k < a->nrec; k++) {
+    const sd_rec_t *q = &a->rec[k];
+    if (a->ent[q->entry].bad)
+      continue;
+    st->solid_records++;
+    st->solid_failed += q->failed;
+    st->solid_wexact += q->ok && q->face != BT_REC_EXACT && !q->wok;
+  }
   for (int g = 0; g < a->ngrp; g++) {
     sd_group_t *G = &a->grp[g];
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
@@ -1203,7 +1244,7 @@ int bt__solids_draw(tile_t *T, sd_store_t *all, rt_image_t *img, int W, int H, i
 #pragma omp barrier
 #pragma omp single
   {
-    if (!all->failed && !groups_make(all, T->pixel))
+    if (!all->failed && !groups_make(all, T->pixel, &T->st))
       all->failed = 1;
   }
 #pragma omp single

@@ -141,8 +141,8 @@ static void report(FILE *f, const rn_report_t *r) {
             st->max_ratio, (unsigned long long)st->violations);
   if (st->solids)
     fprintf(f,
-            "dispersion image solids: %llu white refractions into glass (%llu of subtrees too "
-            "fine to record), %llu pieces and exact "
+            "dispersion image solids: %llu white refractions into glass (%llu traced: their "
+            "path and face's subtrees too fine to record), %llu pieces and exact "
             "regions below them (%llu failed at the range's ends, %llu with weights traced per "
             "point); %llu cell shares scan-converted along wavelength (%llu spectral pencils for "
             "what their solids leave), %llu traced "

@@ -124,11 +124,12 @@ typedef struct {
                                     above (mismatches included) */
   /* Dispersion image solids (a plan with RT_EFFECT_DISPERSION; render.c, docs/beam.md) */
   uint64_t solids;        /**< white refractions into dispersive glass drawn as solids */
-  uint64_t solid_records; /**< pieces and exact regions of their subtrees */
-  uint64_t solid_fine;    /**< subtrees of more pieces than points: traced instead (with every
-                               entry of the same path and face) */
-  uint64_t solid_failed;  /**< pieces whose solid failed its checks at the range's ends */
-  uint64_t solid_wexact;  /**< pieces whose weights are traced at each point (not modelled) */
+  uint64_t solid_records; /**< pieces and exact regions of the subtrees drawn by solids */
+  uint64_t solid_fine;    /**< of the white refractions, those traced instead: an entry of the
+                               same path and face had a subtree of more pieces than points (or
+                               ran out of memory) */
+  uint64_t solid_failed;  /**< of solid_records, pieces whose solid failed its checks */
+  uint64_t solid_wexact;  /**< of solid_records, pieces whose weights are traced at each point */
   uint64_t solid_points;  /**< cell shares drawn from the solids' wavelength intervals */
   uint64_t solid_exact;   /**< cell shares traced exactly instead (spectral pencils) */
   uint64_t solid_traced;  /**< spectral pencils for the wavelengths a share's solids leave */
