@@ -59,5 +59,33 @@ d = np.abs(a - b).max(axis=2)
 assert d.max() > 1e-3, d.max()           # the board seen through the ball shifts by wavelength
 assert (d < 1e-6).mean() > 0.3, (d < 1e-6).mean()  # the board beside the ball is untouched
 PY"
+# two dispersive glasses (the prism's halves: SF11, and a model of SF11's n_d with V_d 40, so that
+# the slit is seen through both): the solids need one glass's Lambda scale, so beams draw them at
+# n_d and say so; --wavelengths pencils draws both
+$py - "$(dirname "$0")/../scenes/prism.json" "$tmp/two.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["camera"]["width"] = s["camera"]["height"] = 32
+s["settings"]["spp"] = 1
+s["materials"]["v40"] = dict(s["materials"]["sf11"], ior={"model": "abbe", "nd": 1.7847, "vd": 40})
+prism = [o for o in s["objects"] if o.get("name") == "prism"][0]
+v = prism["vertices"]  # each vertex at x = -2 or 2: the halves are the same prism, cut
+s["objects"].append(dict(prism, name="twin", material="v40",
+                         vertices=[[max(x, 0.02), y, z] for x, y, z in v]))
+prism["vertices"] = [[min(x, -0.02), y, z] for x, y, z in v]
+json.dump(s, open(sys.argv[2], "w"))
+PY
+$pencil render "$tmp/two.json" --method beam --explain --no-aux -o "$tmp/two-solids.exr" >"$tmp/two1" 2>&1; rc=$?
+check "beams with two glasses: solids refused by name, drawn at n_d" "[ $rc -eq 0 ] && grep -q 'dispersion image solids need one glass (its Lambda scale): the scene.s dispersive materials differ' '$tmp/two1' && ! grep -q 'dispersion image solids:' '$tmp/two1'"
+$pencil render "$tmp/two.json" --method beam --wavelengths pencils --explain --no-aux -o "$tmp/two-pencils.exr" >"$tmp/two2" 2>&1; rc=$?
+check "beams with two glasses: --wavelengths pencils traces both" "[ $rc -eq 0 ] && grep -q 'traced from each cell share.s point by spectral pencils' '$tmp/two2' && grep -Eq 'dispersion image solids: [1-9][0-9]* white refractions .* [1-9][0-9]* traced exactly by spectral pencils' '$tmp/two2'"
+check "beams with two glasses: the pencils' image differs from n_d's in both halves" "$py - '$tmp/two-solids.exr' '$tmp/two-pencils.exr' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+a, b = (oiio.ImageBuf(p).get_pixels(oiio.FLOAT)[:, :, :3] for p in sys.argv[1:3])
+assert np.isfinite(b).all()
+w = a.shape[1]
+for half in (slice(0, w // 2 - 1), slice(w // 2 + 1, w)):  # each glass's half of the view
+    assert np.abs(a[:, half] - b[:, half]).max() > 1e-2, np.abs(a[:, half] - b[:, half]).max()
+PY"
 echo "cli_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
 exit $fail
