@@ -75,12 +75,14 @@ for b in 9 40 100; do # the prism's spectrum for the notebook: steps or smooth
 done
 $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --wavelengths pencil --no-aux \
   -o "$out/prism-pencil.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism by spectral pencils"
-check "the prism's band: violet to red over rows, separate slit images at 9 bins, smooth at 100 and by spectral pencils" "$py - '$out' <<'PY'
+$pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --method beam --no-aux \
+  -o "$out/prism-solids.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism by image solids"
+check "the prism's band: violet to red over rows, separate slit images at 9 bins, smooth at 100, by spectral pencils and by image solids" "$py - '$out' <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 def col(b):
     p = oiio.ImageBuf(f'{sys.argv[1]}/prism-{b}.exr').get_pixels(oiio.FLOAT)[:, :, :3]
     return p[:, p.shape[1] // 2, :]
-rows = {b: col(b) for b in (9, 40, 100, 'pencil')}
+rows = {b: col(b) for b in (9, 40, 100, 'pencil', 'solids')}
 for b, c in rows.items():
     lit = c.max(axis=1) > 1e-3
     assert lit.sum() >= 5, (b, lit.sum())          # a band, not a line
@@ -93,6 +95,7 @@ def gaps(c):  # dark pixels inside the band: the slit's separate images with few
     return int((lum[lit[0]:lit[-1] + 1] < 0.05 * lum.max()).sum())
 assert gaps(rows[9]) >= 2 and gaps(rows[100]) == 0, (gaps(rows[9]), gaps(rows[100]))
 assert gaps(rows['pencil']) == 0, gaps(rows['pencil'])  # spectral pencils: no bins, no steps
+assert gaps(rows['solids']) == 0, gaps(rows['solids'])  # the paper's image solids: nor these
 PY"
 $pencil bench dispersion --reference-bins 4 >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "--reference-bins 4: exit 2 naming the option" "[ $rc -eq 2 ] && grep -q -- '--reference-bins' '$tmp/e' && [ ! -s '$tmp/o' ]"
