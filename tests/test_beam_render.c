@@ -369,6 +369,8 @@ static void solids_draw_the_prism(void **state) {
                 (unsigned long long)a.solid_exact, (unsigned long long)a.solid_traced);
   assert_true(a.solids > 0 && b.solids > 0 && c.solids == 0);
   assert_true(a.solid_fine == 0 && a.solid_points > 9 * a.solid_exact);
+  /* leaving the glass, the refracted child of a totally reflected piece is dark over its box */
+  assert_true(a.solid_dark > 0);
   assert_true(mean < 0.002);
   assert_true(most < 0.05);
   assert_true(off > 10.0 * mean);
@@ -466,6 +468,11 @@ static void solids_draw_fig14(void **state) {
   assert_int_equal(a.solid_fine, c.solid_fine);
   assert_int_equal(a.solid_records, c.solid_records);
   assert_int_equal(a.solid_points, c.solid_points);
+  assert_int_equal(a.solid_failed, c.solid_failed);
+  assert_int_equal(a.solid_wexact, c.solid_wexact);
+  assert_int_equal(a.solid_dark, c.solid_dark);
+  /* on one thread, the entries met after their group overflowed record nothing */
+  assert_true(c.solid_skipped > 0 && c.solid_skipped < c.solid_fine);
   rt_image_free(&sol);
   rt_image_free(&pen);
   rt_image_free(&one);

@@ -938,6 +938,8 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->solid_fine += from->solid_fine;
   to->solid_failed += from->solid_failed;
   to->solid_wexact += from->solid_wexact;
+  to->solid_dark += from->solid_dark;
+  to->solid_skipped += from->solid_skipped;
   to->solid_points += from->solid_points;
   to->solid_exact += from->solid_exact;
   to->solid_traced += from->solid_traced;
@@ -1135,8 +1137,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   }
   free(trees);
   free(edge_in);
-  free(fine.path);
-  free(fine.g);
+  free(fine.ent);
   bm_scene_free(&b);
   bt__store_free(&all);
   if (failed)

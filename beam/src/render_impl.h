@@ -20,8 +20,7 @@
 /* The groups (an entry's path, face and refraction) known, in any tile, to have a subtree too
  * fine for solids: later entries of them skip recording (solids.c). Shared by the threads. */
 typedef struct {
-  bm_path_t *path; /* each one's path to its face */
-  int *g;          /* its face */
+  struct sd_entry *ent; /* an entry of each */
   int n, cap;
 } sd_fine_t;
 

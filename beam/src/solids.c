@@ -293,8 +293,11 @@ static void poly_box(const px_poly2_t *r, double lo[2], double hi[2]) {
  * model is within BT_SOLID_WTOL of the exact weights at every corner and breakpoint (its chords at
  * the centroid are checked by solid_prepare()). Points outside it, and every point where no box
  * passes (q->wok 0: an exact path fails at a corner, by total internal reflection, or the model is
- * off), trace the weights (bt__exact_path_at()). Not checked: total internal reflection that
- * begins and ends between a corner's breakpoints. */
+ * off), trace the weights (bt__exact_path_at()), and so does every point of a path with a step on
+ * a checkered object (its squares' materials may split light differently). A quadratic change
+ * over the box departs from the model most at its corners; not checked: a change of higher order
+ * (a Fresnel weight near the critical angle) and total internal reflection that begins and ends
+ * between a corner's breakpoints. */
 static int weight_fit(tile_t *T, sd_rec_t *q, const double box[4]) {
   int mid = BT_SOLID_SEGS / 2;
   rt_rgb_t w[4][BT_SOLID_SEGS + 1];
@@ -333,6 +336,10 @@ static int weight_fit(tile_t *T, sd_rec_t *q, const double box[4]) {
 static void weight_model(tile_t *T, sd_rec_t *q) {
   double near[4] = {q->rbox[0] - T->pixel, q->rbox[1] + T->pixel, q->rbox[2] - T->pixel,
                     q->rbox[3] + T->pixel};
+  q->wok = 0;
+  for (int j = 0; j < q->path.n; j++) /* a checkered step: weights that jump between squares */
+    if (T->s->object[T->b->face[q->path.step[j].face].object].material2 >= 0)
+      return;
   q->wok = weight_fit(T, q, q->box) || weight_fit(T, q, near);
 }
 
@@ -677,6 +684,17 @@ static int iv_within(const sd_iv_t *v, const sd_iv_t *w, sd_iv_t *out) {
   return 1;
 }
 
+/* 1 when path a begins with path pre followed by step last. */
+static int below(const bm_path_t *a, const bm_path_t *pre, const bm_step_t *last) {
+  int n = pre->n;
+  if (a->n < n + 1 || a->step[n].face != last->face || a->step[n].event != last->event)
+    return 0;
+  for (int k = 0; k < n; k++)
+    if (a->step[k].face != pre->step[k].face || a->step[k].event != pre->step[k].event)
+      return 0;
+  return 1;
+}
+
 /* 1 when path a is path pre followed by step last. */
 static int follows(const bm_path_t *a, const bm_path_t *pre, const bm_step_t *last) {
   int n = pre->n;
@@ -862,8 +880,14 @@ static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, cons
       if (q->path.n != level || q->face < 0 || state[c] <= 0 || iv[c].n == 0)
         continue;
       for (int k = 0; k < q->nkid; k++) {
-        if (q->kdark[k])
-          continue; /* p lies in q's box: a candidate */
+        if (q->kdark[k]) { /* p lies in q's box (a candidate): nothing below shows */
+          for (int e = 0; e < nc; e++)
+            if (state[e] == 0 && below(&T->rec[cand[e]].path, &q->path, &q->kid[k])) {
+              state[e] = 1;
+              iv[e].n = 0;
+            }
+          continue;
+        }
         if (!solid_beam(T, p, &q->path, &q->kid[k], &iv[c], cand, iv, state, nc, &light))
           return 0;
       }
@@ -890,6 +914,8 @@ static rt_rgb_t solid_exact(tile_t *T, const bm_path_t *path, int g, const doubl
   return rt_rgb_mul(w, rt_shade_spectral(T->s, T->plan, &sf, &ray, path->n, &T->tr, &mirror, &nm));
 }
 
+static int same_entry(const sd_entry_t *a, const sd_entry_t *b);
+
 /* 1 when entry E's group is known (from another entry, in any tile) to be too fine for solids. */
 static int fine_known(const tile_t *T, const sd_entry_t *E) {
   int known = 0;
@@ -897,23 +923,20 @@ static int fine_known(const tile_t *T, const sd_entry_t *E) {
     return 0;
 #pragma omp critical(bt_solid_fine)
   for (int k = 0; k < T->fine->n && !known; k++)
-    known = T->fine->g[k] == E->g && same_steps(&T->fine->path[k], &E->path);
+    known = same_entry(&T->fine->ent[k], E);
   return known;
 }
 
-/* Entry E's group is too fine for solids: known to every later entry (a failed allocation only
- * leaves them to find it out). */
+/* Entry E's group is too fine for solids: known to every later entry (where the list cannot grow,
+ * later entries record their subtrees and find it out themselves). */
 static void fine_add(const tile_t *T, const sd_entry_t *E) {
   if (!T->fine)
     return;
 #pragma omp critical(bt_solid_fine)
   {
     sd_fine_t *F = T->fine;
-    if (F->n < F->cap || (grow((void **)&F->path, &F->cap, F->n + 1, sizeof *F->path) &&
-                          (F->g = realloc(F->g, (size_t)F->cap * sizeof *F->g)) != NULL)) {
-      F->path[F->n] = E->path;
-      F->g[F->n++] = E->g;
-    }
+    if (grow((void **)&F->ent, &F->cap, F->n + 1, sizeof *F->ent))
+      F->ent[F->n++] = *E;
   }
 }
 
@@ -961,6 +984,7 @@ void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, con
     return;
   if (fine_known(T, E)) { /* its points are traced with its group's */
     E->bad = 2;
+    T->st.solid_skipped++;
     return;
   }
   /* the subtree, recorded: at most a record a point (and a few), or its pieces are too small
@@ -1140,6 +1164,7 @@ static int groups_make(sd_store_t *a, double pixel, bt_stats_t *st) {
     st->solid_records++;
     st->solid_failed += q->failed;
     st->solid_wexact += q->ok && q->face != BT_REC_EXACT && !q->wok;
+    st->solid_dark += (uint64_t)(q->kdark[0] + q->kdark[1]);
   }
   for (int g = 0; g < a->ngrp; g++) {
     sd_group_t *G = &a->grp[g];
@@ -1283,10 +1308,18 @@ int bt__solids_draw(tile_t *T, sd_store_t *all, rt_image_t *img, int W, int H, i
     /* the points sorted with their lights: sd_pt_t's entry field carries the point's index */
     size_t cw = (size_t)W * s, cells = cw * (size_t)H * s;
     sd_pt_t *order = malloc((size_t)(all->npt > 0 ? all->npt : 1) * sizeof *order);
-    size_t *start = calloc(cells + 1, sizeof *start);
-    if (!order || !start) {
+    /* counted by cell where the cells are not many more than the points (the counts then take
+     * less memory than the points do), sorted otherwise: the same order either way */
+    size_t *start = cells <= 4 * (size_t)all->npt ? calloc(cells + 1, sizeof *start) : NULL;
+    if (!order) {
       all->failed = 1;
-    } else { /* counted by cell, then by_cell() within each (a few points each) */
+    } else if (!start) {
+      for (int k = 0; k < all->npt; k++) {
+        order[k] = all->pt[k];
+        order[k].entry = k;
+      }
+      qsort(order, (size_t)all->npt, sizeof *order, by_cell);
+    } else {
       for (int k = 0; k < all->npt; k++)
         start[(size_t)all->pt[k].cy * cw + (size_t)all->pt[k].cx + 1]++;
       for (size_t c = 0; c < cells; c++)
@@ -1296,12 +1329,14 @@ int bt__solids_draw(tile_t *T, sd_store_t *all, rt_image_t *img, int W, int H, i
         order[at] = all->pt[k];
         order[at].entry = k;
       }
-      for (int k = 1; k < all->npt; k++) /* in order but within cells */
+      for (int k = 1; k < all->npt; k++) /* in order but within cells (by_cell() orders cells) */
         for (int at = k; at > 0 && by_cell(&order[at - 1], &order[at]) > 0; at--) {
           sd_pt_t t = order[at];
           order[at] = order[at - 1];
           order[at - 1] = t;
         }
+    }
+    if (order) {
       for (int k = 0; k < all->npt;) {
         size_t px = (size_t)(order[k].cy / s) * W + (size_t)(order[k].cx / s);
         rt_rgb_t sum = rt_rgb(0, 0, 0);

@@ -142,14 +142,17 @@ static void report(FILE *f, const rn_report_t *r) {
   if (st->solids)
     fprintf(f,
             "dispersion image solids: %llu white refractions into glass (%llu traced: their "
-            "path and face's subtrees too fine to record), %llu pieces and exact "
+            "path and face's subtrees too fine to record; %llu of them recorded nothing), %llu "
+            "pieces and exact "
             "regions below them (%llu failed at the range's ends, %llu with weights traced per "
-            "point); %llu cell shares scan-converted along wavelength (%llu spectral pencils for "
+            "point, %llu children dark over their boxes); %llu cell shares scan-converted along "
+            "wavelength (%llu spectral pencils for "
             "what their solids leave), %llu traced "
             "exactly by spectral pencils\n",
             (unsigned long long)st->solids, (unsigned long long)st->solid_fine,
-            (unsigned long long)st->solid_records, (unsigned long long)st->solid_failed,
-            (unsigned long long)st->solid_wexact, (unsigned long long)st->solid_points,
+            (unsigned long long)st->solid_skipped, (unsigned long long)st->solid_records,
+            (unsigned long long)st->solid_failed, (unsigned long long)st->solid_wexact,
+            (unsigned long long)st->solid_dark, (unsigned long long)st->solid_points,
             (unsigned long long)st->solid_traced, (unsigned long long)st->solid_exact);
   if (r->common->measure)
     fprintf(f,

@@ -130,6 +130,12 @@ typedef struct {
                                ran out of memory) */
   uint64_t solid_failed;  /**< of solid_records, pieces whose solid failed its checks */
   uint64_t solid_wexact;  /**< of solid_records, pieces whose weights are traced at each point */
+  uint64_t solid_dark;    /**< of solid_records' children leaving the glass, those dark over the
+                               piece's box (not visited at its points) */
+  uint64_t solid_skipped; /**< of solid_fine, entries that recorded nothing: their group was known
+                               too fine when they were met (this count, and with it the beams,
+                               pieces and rays counted, depend on the order the threads meet the
+                               entries; the image does not) */
   uint64_t solid_points;  /**< cell shares drawn from the solids' wavelength intervals */
   uint64_t solid_exact;   /**< cell shares traced exactly instead (spectral pencils) */
   uint64_t solid_traced;  /**< spectral pencils for the wavelengths a share's solids leave */
