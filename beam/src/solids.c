@@ -819,6 +819,18 @@ static int solid_beam(tile_t *T, const double p[2], const bm_path_t *pre, const 
   return 1;
 }
 
+/* 1 when piece q lies below a child that one of the candidates cand[0 .. nc-1] found dark over
+ * its box (not visited: q, a piece of another tile's record, shows nothing there). */
+static int dark_above(const tile_t *T, const int *cand, int nc, const sd_rec_t *q) {
+  for (int e = 0; e < nc; e++) {
+    const sd_rec_t *a = &T->rec[cand[e]];
+    for (int k = 0; k < a->nkid; k++)
+      if (a->kdark[k] && below(&q->path, &a->path, &a->kid[k]))
+        return 1;
+  }
+  return 0;
+}
+
 /* The light of a group's solids at point p (entry E: its path and its refraction): 0, with *light
  * undefined, when a check fails there. */
 static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, const double p[2],
@@ -880,20 +892,15 @@ static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, cons
       if (q->path.n != level || q->face < 0 || state[c] <= 0 || iv[c].n == 0)
         continue;
       for (int k = 0; k < q->nkid; k++) {
-        if (q->kdark[k]) { /* p lies in q's box (a candidate): nothing below shows */
-          for (int e = 0; e < nc; e++)
-            if (state[e] == 0 && below(&T->rec[cand[e]].path, &q->path, &q->kid[k])) {
-              state[e] = 1;
-              iv[e].n = 0;
-            }
-          continue;
-        }
+        if (q->kdark[k])
+          continue; /* p lies in q's box (a candidate): nothing below shows (dark_above()) */
         if (!solid_beam(T, p, &q->path, &q->kid[k], &iv[c], cand, iv, state, nc, &light))
           return 0;
       }
     }
   for (int c = 0; c < nc; c++) /* a piece no beam claimed: outside its parent's solid */
-    if (state[c] == 0 && T->rec[cand[c]].face >= 0 && iv[c].n > 0)
+    if (state[c] == 0 && T->rec[cand[c]].face >= 0 && iv[c].n > 0 &&
+        !dark_above(T, cand, nc, &T->rec[cand[c]]))
       return 0;
   *out = light;
   return 1;
