@@ -697,13 +697,7 @@ static int below(const bm_path_t *a, const bm_path_t *pre, const bm_step_t *last
 
 /* 1 when path a is path pre followed by step last. */
 static int follows(const bm_path_t *a, const bm_path_t *pre, const bm_step_t *last) {
-  int n = pre->n;
-  if (a->n != n + 1 || a->step[n].face != last->face || a->step[n].event != last->event)
-    return 0;
-  for (int k = 0; k < n; k++)
-    if (a->step[k].face != pre->step[k].face || a->step[k].event != pre->step[k].event)
-      return 0;
-  return 1;
+  return a->n == pre->n + 1 && below(a, pre, last);
 }
 
 /* One beam of the solid's subtree at point p: the candidates cand[0 .. nc-1] that follow path
