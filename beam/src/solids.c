@@ -352,9 +352,10 @@ static int kid_dark(tile_t *T, const sd_rec_t *q, int k) {
   bm_path_t bp = q->path;
   bp.step[bp.n++] = q->kid[k];
   int mid = BT_SOLID_SEGS / 2;
-  for (int i = 0; i < 5; i++) {
-    double p[2] = {i < 4 ? q->box[i & 1] : q->c[0], i < 4 ? q->box[2 + (i >> 1)] : q->c[1]};
-    for (int b = 0; b <= BT_SOLID_SEGS; b++) {
+  for (int i = 0; i < 5; i++) { /* the centroid first, and u_c first: a child that exists there */
+    double p[2] = {i ? q->box[(i - 1) & 1] : q->c[0], i ? q->box[2 + ((i - 1) >> 1)] : q->c[1]};
+    for (int j = 0; j <= BT_SOLID_SEGS; j++) {
+      int b = (mid + j) % (BT_SOLID_SEGS + 1);
       rt_ray_t ray;
       rt_rgb_t w;
       if (bt__exact_path_at(T, &bp, p, T->u[b] - T->u[mid], &ray, &w))
@@ -468,13 +469,8 @@ static double solid_prepare(tile_t *T, sd_rec_t *q) {
   q->failed = 0;
   q->ok = 1;
   weight_model(T, q);
-  for (int k = 0; k < q->nkid; k++) {
-    bm_path_t bp = q->path;
-    rt_ray_t kray;
-    rt_rgb_t w;
-    bp.step[bp.n++] = q->kid[k];
-    q->kdark[k] = !bt__exact_path_at(T, &bp, q->c, 0.0, &kray, &w) && kid_dark(T, q, k);
-  }
+  for (int k = 0; k < q->nkid; k++)
+    q->kdark[k] = kid_dark(T, q, k);
   return grow;
 }
 
