@@ -21,13 +21,14 @@
  * square, with the same total
  * internal reflection, and their exact points and children's directions (Snell's law at the
  * end's wavelength) must be within tol times the dispersive shift the model predicts there. Where
- * the ends land over a pixel apart, nothing may lie in the band between them and the direct term
- * must agree (wedge_blocker(), light_agrees()). Where an end fails, the interval is cut where the
- * check turns (bisection on the model) or halfway, and the part cut off is traced as a pencil of
- * its own from the same origin, its axial ray the model's ray at its centre: the dispersion image
- * solid of [P89] 3.2.2 clipped against the surface's edges. A pencil's radiance is the axial
- * ray's times the integral of the colour weights over its interval ([P89] 3.2.3's
- * R = int t r L dlambda, the plan's 1-nm table), so that colour changes smoothly across a band.
+ * the ends land over a pixel apart (a pixel as the path sees it: the footprint of one pixel, a ray
+ * differential chained beside the column), nothing may lie in the band between them and the
+ * direct term must agree (wedge_blocker(), light_agrees()). Where an end fails, the interval is cut
+ * where the check turns (bisection on the model) or halfway, and the part cut off is traced as a
+ * pencil of its own from the same origin, its axial ray the model's ray at its centre: the
+ * dispersion image solid of [P89] 3.2.2 clipped against the surface's edges. A pencil's radiance is
+ * the axial ray's times the integral of the colour weights over its interval ([P89] 3.2.3's R = int
+ * t r L dlambda, the plan's 1-nm table), so that colour changes smoothly across a band.
  *
  * Not checked: a shadow or highlight between the ends that the direct term at the ends does not
  * show. The subtree is not recorded in the caller's ray tree; its rays (the scene searches at the
@@ -53,10 +54,10 @@
 #define WP_MIN_FRACTION (1.0 / 1024.0)
 /** Bisection steps for a cut. */
 #define WP_BISECT 20
-/** An error of the model seen under this many pixels from the eye passes the check whatever the
- *  relative tolerance (rt_plan_t.pixel_angle). */
+/** An error of the model under this many pixels (of the points: the footprint's, wp_hit_t.pix;
+ *  of the directions: rt_plan_t.pixel_angle) passes the check whatever the relative tolerance. */
 #define WP_PIXELS 0.25
-/** Where a pencil's ends land more than this many pixels apart (seen from the eye) on a surface,
+/** Where a pencil's ends land more than this many pixels apart (wp_hit_t.pix) on a surface,
  *  what lies between them is checked too (wedge_blocker(), light_agrees(), a concave polygon). */
 #define WP_SPREAD_PIXELS 1.0
 /** Largest difference of the direct term at a pencil's end from its axial hit's, relative. */
@@ -72,8 +73,12 @@ typedef struct {
   double ua, ub, uc;           /* the interval and the axial ray's u */
   rt_ray_kind_t kind;
   double weight; /* largest channel of the weights from the white ray's hit to this ray */
-  double dist;   /* length of the path from the eye to the ray's origin (the white ray's part
-                    straight) */
+  /* one pixel's footprint (a ray differential, Igehy 1999): the derivatives of the origin and of
+   * the unit direction along two orthogonal image directions, a pixel long each, chained through
+   * every surface as the column is (wavelength fixed); where the white ray refracted it is the
+   * pinhole's, the path from the eye taken as straight. Through a curved glass it magnifies or
+   * shrinks: a pixel seen through the path, not straight from the eye. */
+  px_vec3_t f_o[2], f_d[2];
   const rt_sphere_t *from; /* the sphere the ray leaves, or NULL (a plane, or do = 0) */
   int from_prim;           /* the primitive the ray leaves */
   int in_obj; /* the object the ray travels inside when it is alone (rt_object_t.alone), or -1:
@@ -185,16 +190,18 @@ static rt_ray_t model_ray(const wp_t *w, double u) {
 typedef struct {
   const wp_t *w;
   rt_hit_t hit;
-  px_vec3_t m;                /* facing normal */
-  double side;                /* m = side * hit.n */
-  px_vec3_t dp;               /* the hit's column */
-  int checker;                /* 1: a checkerboard plane */
-  double su, sv;              /* its square */
-  int reflect, refract, tir;  /* children checked; total internal reflection at the axial */
-  px_vec3_t dr, ddr, dt, ddt; /* the children's directions and derivatives */
-  const rt_material_t *next;  /* the medium beyond the surface */
-  const rt_surface_t *sf;     /* the axial hit for shading */
-  rt_rgb_t direct;            /* its direct term */
+  px_vec3_t m;                     /* facing normal */
+  double side;                     /* m = side * hit.n */
+  px_vec3_t dp;                    /* the hit's column */
+  double pix;                      /* a pixel's size here: the footprint's smaller stretch */
+  px_vec3_t fp[2], fdr[2], fdt[2]; /* the footprint at the hit, and its children's directions' */
+  int checker;                     /* 1: a checkerboard plane */
+  double su, sv;                   /* its square */
+  int reflect, refract, tir;       /* children checked; total internal reflection at the axial */
+  px_vec3_t dr, ddr, dt, ddt;      /* the children's directions and derivatives */
+  const rt_material_t *next;       /* the medium beyond the surface */
+  const rt_surface_t *sf;          /* the axial hit for shading */
+  rt_rgb_t direct;                 /* its direct term */
 } wp_hit_t;
 
 static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, double *su, double *sv) {
@@ -210,6 +217,37 @@ static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, double *su, do
 static int too_far(px_vec3_t a, px_vec3_t b, double shift, double tol, double floor_) {
   double e = px_v3_norm(px_v3_sub(a, b));
   return e > tol * shift && e > floor_;
+}
+
+/* The footprint (origins f_o, directions f_d) carried a distance t along unit direction d to the
+ * tangent plane of facing normal m: as the column, dp = P - d (P.m) / (d.m), P = f_o + t f_d. */
+static void fp_transfer(const px_vec3_t f_o[2], const px_vec3_t f_d[2], double t, px_vec3_t d,
+                        px_vec3_t m, px_vec3_t out[2]) {
+  for (int k = 0; k < 2; k++) {
+    px_vec3_t P = px_v3_axpy(t, f_d[k], f_o[k]);
+    out[k] = px_v3_axpy(-px_v3_dot(P, m) / px_v3_dot(d, m), d, P);
+  }
+}
+
+/* A pixel's size on a surface where its footprint is f: the smaller singular value of [f0 f1], the
+ * shortest distance there that a pixel's worth of image spans (0 at a focus). */
+static double fp_pixel(const px_vec3_t f[2]) {
+  double a = px_v3_dot(f[0], f[0]), c = px_v3_dot(f[1], f[1]), b = px_v3_dot(f[0], f[1]);
+  double s2 = 0.5 * (a + c - sqrt((a - c) * (a - c) + 4.0 * b * b));
+  return s2 > 0.0 ? sqrt(s2) : 0.0;
+}
+
+/* The pinhole's footprint of a ray from the eye, unfolded straight to o along unit d: directions a
+ * pixel's angle apart across d, origins as far apart as the path's length to o makes them. */
+static void fp_pinhole(const rt_scene_t *s, const rt_plan_t *plan, px_vec3_t o, px_vec3_t d,
+                       px_vec3_t f_o[2], px_vec3_t f_d[2]) {
+  px_vec3_t a = fabs(d.x) < 0.6 ? (px_vec3_t){1, 0, 0} : (px_vec3_t){0, 1, 0};
+  px_vec3_t e1 = wp_unit(px_v3_cross(d, a)), e2 = px_v3_cross(d, e1);
+  double dist = px_v3_norm(px_v3_sub(o, s->camera.eye));
+  f_d[0] = px_v3_scale(e1, plan->pixel_angle);
+  f_d[1] = px_v3_scale(e2, plan->pixel_angle);
+  f_o[0] = px_v3_scale(f_d[0], dist);
+  f_o[1] = px_v3_scale(f_d[1], dist);
 }
 
 /* What check() finds at a model ray: 0 when it agrees with the axial hit's. */
@@ -446,7 +484,7 @@ static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *o
   if (why)
     return why;
   double tol = R->plan->spectral_tol;
-  double eps_d = WP_PIXELS * R->plan->pixel_angle, eps_p = eps_d * (w->dist + H->hit.t);
+  double eps_d = WP_PIXELS * R->plan->pixel_angle, eps_p = WP_PIXELS * H->pix;
   int fail = 0;
   if (H->refract) {
     double lambda = lambda_of(&R->plan->wave, u), n1, n2, dn;
@@ -474,7 +512,7 @@ static int check(const wp_run_t *R, const wp_hit_t *H, double u, int lin, int *o
   }
   /* over a pixel apart: something could lie between the ends (a concave polygon's own edge, any
    * other surface in the band they span), and the direct term at the end must agree */
-  if (!fail && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS / WP_PIXELS * eps_p &&
+  if (!fail && px_v3_norm(H->dp) * fabs(h) > WP_SPREAD_PIXELS * H->pix &&
       (concave(R->s, H->hit.prim) || (!inside_alone(H) && wedge_blocker(R, H, r.o, p) >= 0) ||
        !light_agrees(R, H, &r, p, me)))
     fail = WP_SPREAD;
@@ -575,11 +613,11 @@ static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
 }
 
 /* The child of pencil w at its hit H (sf) on side `side` of the surface (+1 reflected, -1
- * refracted), direction d and its derivative dd, in medium `inside` of index n: traced as a pencil
- * over w's interval and weighted by wc. */
+ * refracted), direction d and its derivative dd (its footprint's fd), in medium `inside` of index
+ * n: traced as a pencil over w's interval and weighted by wc. */
 static rt_rgb_t child(wp_run_t *R, const wp_t *w, const rt_surface_t *sf, const wp_hit_t *H,
-                      double side, px_vec3_t d, px_vec3_t dd, double n, const rt_material_t *inside,
-                      rt_ray_kind_t kind, rt_rgb_t wc, int depth) {
+                      double side, px_vec3_t d, px_vec3_t dd, const px_vec3_t fd[2], double n,
+                      const rt_material_t *inside, rt_ray_kind_t kind, rt_rgb_t wc, int depth) {
   const rt_prim_t *pr = &R->s->prim[H->hit.prim];
   wp_t ch = *w;
   ch.ray = (rt_ray_t){rt__offset_origin(sf, side),
@@ -598,7 +636,10 @@ static rt_rgb_t child(wp_run_t *R, const wp_t *w, const rt_surface_t *sf, const 
   /* a ray refracted into an object that is alone travels inside it; one reflected inside stays */
   ch.in_obj = side < 0.0 ? (H->side > 0.0 && R->s->object[H->hit.object].alone ? H->hit.object : -1)
                          : (inside_alone(H) ? w->in_obj : -1);
-  ch.dist = w->dist + H->hit.t;
+  ch.f_o[0] = H->fp[0];
+  ch.f_o[1] = H->fp[1];
+  ch.f_d[0] = fd[0];
+  ch.f_d[1] = fd[1];
   ch.weight = w->weight * rt_rgb_max(wc);
   count(R, kind);
   return rt_rgb_mul(wc, trace(R, &ch, depth + 1));
@@ -623,8 +664,14 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   px_vec3_t P = px_v3_axpy(hit.t, w->d_d, w->d_o), dm = {0, 0, 0};
   H.dp = px_v3_axpy(-px_v3_dot(P, H.m) / px_v3_dot(w->ray.d, H.m), w->ray.d, P);
   const rt_prim_t *pr = &s->prim[hit.prim];
-  if (pr->kind == RT_PRIM_SPHERE)
+  px_vec3_t dmf[2] = {{0, 0, 0}, {0, 0, 0}};
+  fp_transfer(w->f_o, w->f_d, hit.t, w->ray.d, H.m, H.fp);
+  H.pix = fp_pixel(H.fp);
+  if (pr->kind == RT_PRIM_SPHERE) {
     dm = px_v3_scale(H.dp, H.side / pr->sphere.r);
+    for (int k = 0; k < 2; k++)
+      dmf[k] = px_v3_scale(H.fp[k], H.side / pr->sphere.r);
+  }
   if (pr->kind == RT_PRIM_PLANE && s->object[hit.object].material2 >= 0) {
     H.checker = 1;
     square_of(s, hit.prim, hit.p, &H.su, &H.sv);
@@ -634,15 +681,23 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   H.reflect = more && (refract || (rt_plan_has(plan, RT_EFFECT_REFLECTION) && mat->kr > 0.0));
   H.refract = refract;
   wp_reflect_du(w->ray.d, w->d_d, H.m, dm, &H.dr, &H.ddr);
+  for (int k = 0; k < 2; k++) {
+    px_vec3_t o;
+    wp_reflect_du(w->ray.d, w->f_d[k], H.m, dmf[k], &o, &H.fdr[k]);
+  }
   /* selective dispersion ([P89] 3.2.4, corrected): whether the spectrum shows, more than a
    * quarter pixel apart on some surface */
-  if (px_v3_norm(H.dp) * fmax(w->uc - w->ua, w->ub - w->uc) >
-      WP_PIXELS * plan->pixel_angle * (w->dist + hit.t))
+  if (px_v3_norm(H.dp) * fmax(w->uc - w->ua, w->ub - w->uc) > WP_PIXELS * H.pix)
     R->shows = 1;
   double cos_t = 0.0;
   if (refract) {
     double deta = (dn1 * n2 - n1 * dn2) / (n2 * n2);
     H.tir = !wp_refract_du(w->ray.d, w->d_d, H.m, dm, n1 / n2, deta, &H.dt, &H.ddt, &cos_t);
+    for (int k = 0; k < 2 && !H.tir; k++) {
+      px_vec3_t o;
+      double c;
+      wp_refract_du(w->ray.d, w->f_d[k], H.m, dmf[k], n1 / n2, 0.0, &o, &H.fdt[k], &c);
+    }
   }
   H.sf = &sf;
   H.direct = rt_shade_direct(s, plan, &sf, &w->ray, &R->inner);
@@ -680,10 +735,10 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   }
   if (rt_rgb_max(wr) > 0.0)
     c = rt_rgb_add(
-        c, child(R, w, &sf, &H, 1.0, H.dr, H.ddr, n1, w->inside, RT_RAY_REFLECT, wr, depth));
+        c, child(R, w, &sf, &H, 1.0, H.dr, H.ddr, H.fdr, n1, w->inside, RT_RAY_REFLECT, wr, depth));
   if (rt_rgb_max(wt) > 0.0)
-    c = rt_rgb_add(c,
-                   child(R, w, &sf, &H, -1.0, H.dt, H.ddt, n2, H.next, RT_RAY_REFRACT, wt, depth));
+    c = rt_rgb_add(
+        c, child(R, w, &sf, &H, -1.0, H.dt, H.ddt, H.fdt, n2, H.next, RT_RAY_REFRACT, wt, depth));
   return c;
 }
 
@@ -762,8 +817,19 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
             .kind = RT_RAY_REFRACT,
             .from_prim = sf->hit.prim,
             .in_obj = sf->entering && R->s->object[sf->hit.object].alone ? sf->hit.object : -1,
-            .weight = rt_rgb_max(wt),
-            .dist = px_v3_norm(px_v3_sub(sf->hit.p, R->s->camera.eye))};
+            .weight = rt_rgb_max(wt)};
+  /* the footprint: the pinhole's at the hit, on its tangent plane, refracted at u_c */
+  px_vec3_t fo[2], fd[2];
+  fp_pinhole(R->s, plan, sf->hit.p, ray->d, fo, fd);
+  fp_transfer(fo, fd, 0.0, ray->d, sf->nf, w.f_o);
+  const rt_prim_t *pr = &R->s->prim[sf->hit.prim];
+  for (int k = 0; k < 2; k++) {
+    px_vec3_t dmf = {0, 0, 0}, o;
+    if (pr->kind == RT_PRIM_SPHERE)
+      dmf = px_v3_scale(w.f_o[k], (sf->entering ? 1.0 : -1.0) / pr->sphere.r);
+    double c;
+    wp_refract_du(ray->d, fd[k], sf->nf, dmf, n[0] / n[1], 0.0, &o, &w.f_d[k], &c);
+  }
   if (!R->trace)
     return rt_rgb(0, 0, 0);
   count(R, RT_RAY_REFRACT);
@@ -808,8 +874,8 @@ rt_rgb_t rt_shade_spectral_ray(const rt_scene_t *s, const rt_plan_t *plan, const
             .kind = RT_RAY_REFRACT,
             .from_prim = ray->skip_prim,
             .in_obj = -1,
-            .weight = weight,
-            .dist = px_v3_norm(px_v3_sub(ray->o, s->camera.eye))};
+            .weight = weight};
+  fp_pinhole(s, plan, ray->o, ray->d, w.f_o, w.f_d);
   w.ray.lambda = (float)lambda;
   index_du(&R, inside, uc, lambda, &w.ray.ior, &dn);
   count(&R, RT_RAY_REFRACT);
