@@ -77,6 +77,16 @@ $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --wavelengths penci
   -o "$out/prism-pencil.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism by spectral pencils"
 $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --method beam --no-aux \
   -o "$out/prism-solids.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: prism by image solids"
+# the glass sphere's band for the notebook: pencil renderer at n_d and by spectral pencils, 400-bin fan
+band() { # SUFFIX OPTIONS...
+  local suffix=$1
+  shift
+  $pencil render "$src/scenes/sphere-band.json" --size 96x96 --spp 1 --no-aux "$@" \
+    -o "$out/sphere-band$suffix.exr" >/dev/null 2>"$tmp/err" || echo "FAIL: sphere-band$suffix"
+}
+band -nd --method pencil --wavelengths off
+band "" --method pencil
+band -fan --bins 400
 check "the prism's band: violet to red over rows, separate slit images at 9 bins, smooth at 100, by spectral pencils and by image solids" "$py - '$out' <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 def col(b):
