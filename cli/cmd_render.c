@@ -347,16 +347,21 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp,
   return 1;
 }
 
-/* 1 when the render fits in the memory allowed; else a message and 0. */
-static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *plan,
-                       const rn_common_t *c, size_t star) {
+/* 1 when the render fits in the memory allowed, c->memory_budget set to what that leaves the
+ * renderer for what it builds as it goes; else a message and 0. */
+static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *plan, rn_common_t *c,
+                       size_t star) {
   size_t need = rn_memory_estimate(a->r, plan, c, a->opt, s->camera.width, s->camera.height, 0);
   size_t maps = rn_caustic_bytes(a->r, s, plan, c);
   need = need > SIZE_MAX - star ? SIZE_MAX : need + star; /* the star filter after rendering */
   size_t have = a->max_memory ? a->max_memory : io_memory_available();
   need = need > SIZE_MAX - maps ? SIZE_MAX : need + maps;
-  if (have == 0 || need <= have)
+  size_t grows =
+      a->r->image_bytes ? a->r->image_bytes(plan, c, a->opt, s->camera.width, s->camera.height) : 0;
+  if (have == 0 || need <= have) { /* what it builds may take its estimate and what is left */
+    c->memory_budget = have == 0 ? 0 : have - need + grows + 1; /* 0 would mean no limit */
     return 1;
+  }
   int nt = rt_thread_count(c->threads);
   char n[32], h[32], m[32];
   io_format_size(need, n, sizeof n);
@@ -372,12 +377,14 @@ static int memory_fits(const args_t *a, const rt_scene_t *s, const rt_plan_t *pl
   }
   fprintf(stderr,
           "pencil render: a %dx%d image by --method %s on %d thread%s allocates %s (%d float "
-          "channels, the preview, each thread's buffers%s%s%s%s), more than the "
-          "%s %s; use a smaller --size or fewer --threads, or --max-memory to allow more\n",
+          "channels, the preview, each thread's buffers%s%s%s%s%s), more than the "
+          "%s %s; use a smaller --size or fewer --threads%s, or --max-memory to allow more\n",
           s->camera.width, s->camera.height, a->r->name, nt, nt == 1 ? "" : "s", n,
           RT_CH_COUNT + a->r->nchannels, maps ? ", " : "", maps ? m : "",
-          maps ? " of caustic maps" : "", star ? ", the star filter's FFT grid" : "", h,
-          a->max_memory ? "--max-memory allows" : "available");
+          maps ? " of caustic maps" : "", star ? ", the star filter's FFT grid" : "",
+          grows ? ", the dispersion image solids, estimated" : "", h,
+          a->max_memory ? "--max-memory allows" : "available",
+          grows ? ", fewer --spp or --wavelengths pencils" : "");
   return 0;
 }
 

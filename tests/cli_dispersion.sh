@@ -87,5 +87,15 @@ w = a.shape[1]
 for half in (slice(0, w // 2 - 1), slice(w // 2 + 1, w)):  # each glass's half of the view
     assert np.abs(a[:, half] - b[:, half]).max() > 1e-2, np.abs(a[:, half] - b[:, half]).max()
 PY"
+# the beam renderer's image solids grow with the image: their estimate (BT_SOLID_SAMPLE_BYTES a
+# sample) is in the memory a render needs, so that --max-memory refuses before it starts
+src=$(cd "$(dirname "$0")/.." && pwd)
+$pencil render "$src/scenes/prism.json" --method beam --size 512x512 --max-memory 200M \
+  -o "$tmp/big.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "image solids past --max-memory: refused before the render, saying so and what helps" \
+  "[ $rc -eq 2 ] && grep -q 'the dispersion image solids, estimated), more than the 200.0 MB --max-memory allows' '$tmp/err' && grep -q -- '--wavelengths pencils' '$tmp/err' && [ ! -e '$tmp/big.exr' ]"
+$pencil render "$src/scenes/prism.json" --method beam --wavelengths off --size 512x512 \
+  --max-memory 200M -o "$tmp/nd.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "... and not counted where the glass is drawn at n_d" "[ $rc -eq 0 ] && [ -s '$tmp/nd.exr' ]"
 echo "cli_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
 exit $fail

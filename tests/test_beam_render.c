@@ -14,6 +14,7 @@
 #include "core/camera.h"
 #include "io/scene_json.h"
 #include "render/render.h"
+#include "renderers/renderer.h"
 
 #ifndef PENCIL_SOURCE_DIR
 #error "PENCIL_SOURCE_DIR must name the source tree (tests/CMakeLists.txt)"
@@ -479,6 +480,58 @@ static void solids_draw_fig14(void **state) {
   rt_scene_free(&s);
 }
 
+/* The image solids keep to bt_options_t.memory_budget: the prism at 96 x 96, 4 spp (solids of
+ * about 14 MB, counted twice for the copy made when the threads' are merged) renders the same
+ * image under a budget of 64 MB as under none, and under 1 MB fails with RT_ENOMEM, saying so in
+ * its counts, instead of taking more. */
+static void solids_keep_to_the_memory_budget(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("prism.json", 96, &s);
+  rt_plan_t plan = rt_plan_make(&s, 4);
+  assert_int_equal(rt_plan_spectral_pencils(&plan, &s, RT_SPECTRAL_TOL), 0);
+  bt_options_t o = BT_OPTIONS_DEFAULT;
+  o.spp_side = 2;
+  o.aux = 0;
+  o.threads = 2;
+  rt_image_t free_img, kept, img;
+  bt_stats_t st;
+  run(&s, &plan, &o, &free_img, &st);
+  assert_int_equal(st.solid_over_budget, 0);
+  o.memory_budget = (size_t)64 << 20;
+  run(&s, &plan, &o, &kept, &st);
+  assert_int_equal(st.solid_over_budget, 0);
+  assert_true(max_diff(&free_img, &kept) == 0.0);
+  assert_true(st.solid_records > 0);
+  o.memory_budget = (size_t)1 << 20;
+  assert_int_equal(rt_image_alloc(&img, 96, 96), RT_OK);
+  char why[256] = "";
+  memset(&st, 0, sizeof st);
+  assert_int_equal(bt_render(&s, &plan, &o, &img, NULL, &st, why, sizeof why), RT_ENOMEM);
+  assert_int_equal(st.solid_over_budget, 1);
+  /* through the renderer table, as `pencil render` sees it: the reason names the solids */
+  const rn_renderer_t *x = rn_find("beam");
+  unsigned char opt[4096];
+  assert_true(x->options_size <= sizeof opt);
+  rn_defaults(x, opt);
+  rn_common_t c = RN_COMMON_DEFAULT;
+  c.aux = 0;
+  c.spp_side = 2;
+  c.memory_budget = (size_t)1 << 20;
+  bt_stats_t rst;
+  rn_output_t out;
+  memset(&out, 0, sizeof out);
+  out.image = &img;
+  out.stats = &rst;
+  rt_plan_t rp = rn_plan_make(x, &s, 4, opt);
+  assert_int_equal(x->render(&s, &rp, &c, opt, &out), RT_ENOMEM);
+  assert_non_null(strstr(out.why, "dispersion image solids need more than the 1 MiB"));
+  rt_image_free(&img);
+  rt_image_free(&kept);
+  rt_image_free(&free_img);
+  rt_scene_free(&s);
+}
+
 /* A plan that asks for dispersion by the spectral fan (no wavelength axis) is refused, by name. */
 static void dispersion_needs_the_axis(void **state) {
   (void)state;
@@ -509,6 +562,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(solids_model_fresnel_weights),
       cmocka_unit_test(solids_near_total_internal_reflection),
       cmocka_unit_test(solids_draw_fig14),
+      cmocka_unit_test(solids_keep_to_the_memory_budget),
       cmocka_unit_test(dispersion_needs_the_axis),
   };
   if (argc > 1)

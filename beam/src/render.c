@@ -940,6 +940,7 @@ static void add_stats(bt_stats_t *to, const bt_stats_t *from) {
   to->solid_wexact += from->solid_wexact;
   to->solid_dark += from->solid_dark;
   to->solid_skipped += from->solid_skipped;
+  to->solid_over_budget |= from->solid_over_budget;
   to->solid_points += from->solid_points;
   to->solid_exact += from->solid_exact;
   to->solid_traced += from->solid_traced;
@@ -1010,6 +1011,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   sd_store_t all; /* the solids of every thread, drawn after every tile */
   memset(&all, 0, sizeof all);
   sd_fine_t fine = {0}; /* the groups known too fine, shared */
+  size_t sused = 0;     /* bytes the solids hold, shared */
 #pragma omp parallel num_threads(nt)
   {
     int tid = 0;
@@ -1029,7 +1031,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                 .levels = levels,
                 .solids = solids,
                 .edge_in = edge_in,
-                .fine = solids ? &fine : NULL};
+                .fine = solids ? &fine : NULL,
+                .sused = &sused};
     if (solids) { /* the range's ends, u_c (the d-line) and halfway between */
       double ua = plan->wave.u_edge[0], ub = plan->wave.u_edge[RT_MAX_BINS],
              uc = plan->wave.scale.lambda0;
@@ -1140,9 +1143,7 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
   free(fine.ent);
   bm_scene_free(&b);
   bt__store_free(&all);
-  if (failed)
-    return RT_ENOMEM;
-  if (stats)
+  if (stats) /* on failure too: solid_over_budget says why */
     *stats = total;
-  return RT_OK;
+  return failed ? RT_ENOMEM : RT_OK;
 }

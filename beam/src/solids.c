@@ -196,6 +196,27 @@ static int grow(void **a, int *cap, int n, size_t size) {
   return 1;
 }
 
+/* Count n bytes more held by the solids (twice what a thread appends: its arrays are copied once
+ * more when merged); 0, with T->oom set, past bt_options_t.memory_budget. n may be negative (what
+ * a thread gives back). */
+static int spend(tile_t *T, long long n) {
+  if (!T->o->memory_budget)
+    return 1;
+  size_t now, d = (size_t)(2 * (n < 0 ? -n : n));
+  if (n < 0) {
+#pragma omp atomic update
+    *T->sused -= d;
+    return 1;
+  }
+#pragma omp atomic capture
+  now = *T->sused += d;
+  if (now <= T->o->memory_budget)
+    return 1;
+  T->oom = 1;
+  T->st.solid_over_budget = 1;
+  return 0;
+}
+
 void bt__solid_record(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int face,
                       const bm_model_t *ms, int nkid, const bm_step_t *kid) {
   if (T->oom || T->climit <= 0)
@@ -204,6 +225,8 @@ void bt__solid_record(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int
   if (T->climit <= 0)
     return;
   int nm = ms ? path->n + 1 : 0;
+  if (!spend(T, (long long)(sizeof *T->rec + (size_t)nm * sizeof *T->smod)))
+    return;
   if (!grow((void **)&T->rec, &T->caprec, T->nrec + 1, sizeof *T->rec) ||
       !grow((void **)&T->smod, &T->capmod, T->nmod + nm, sizeof *T->smod)) {
     T->oom = 1;
@@ -944,6 +967,8 @@ static void fine_add(const tile_t *T, const sd_entry_t *E) {
 void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, const bm_step_t *st,
                const rt_surface_t *sc, int splits, int level) {
   T->st.solids++;
+  if (!spend(T, (long long)sizeof *T->ent))
+    return;
   if (!grow((void **)&T->ent, &T->capent, T->nent + 1, sizeof *T->ent)) {
     T->oom = 1;
     return;
@@ -970,6 +995,8 @@ void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, con
       double x0 = T->a0 + (T->cx0 + i) * T->cell, y0 = T->b0 + (T->cy0 + j) * T->cell, area, p[2];
       if (!bt__clip_box(r, x0, x0 + T->cell, y0, y0 + T->cell, &area, p))
         continue;
+      if (!spend(T, (long long)(sizeof *T->pt + sizeof(rt_rgb_t)))) /* and its light */
+        return;
       if (!grow((void **)&T->pt, &T->cappt, T->npt + 1, sizeof *T->pt)) {
         T->oom = 1;
         return;
@@ -1003,6 +1030,8 @@ void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, con
   if (T->climit <= 0) {
     E->bad = 2;
     fine_add(T, E);
+    spend(T, -(long long)((size_t)(T->nrec - E->first) * sizeof *T->rec +
+                          (size_t)(T->nmod - nmod) * sizeof *T->smod));
     T->nrec = E->first;
     T->nmod = nmod;
     return;

@@ -80,6 +80,7 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   o.measure = c->measure;
   o.progress = c->progress;
   o.progress_ctx = c->progress_ctx;
+  o.memory_budget = c->memory_budget;
   rt_plan_t run;
   rt_caustic_maps_t maps;
   rn_caustic_stats_t own;
@@ -91,6 +92,13 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   if (r == RT_OK) {
     bt_extra_t x = {out->sample_error, out->channels[0]};
     r = bt_render(s, &run, &o, out->image, &x, out->stats, out->why, sizeof out->why);
+    if (r == RT_ENOMEM && ((const bt_stats_t *)out->stats)->solid_over_budget) {
+      snprintf(out->why, sizeof out->why,
+               "the dispersion image solids need more than the %.0f MiB that the memory allowed "
+               "leaves them; use a smaller --size, fewer --spp, --wavelengths pencils, or "
+               "--max-memory to allow more",
+               (double)o.memory_budget / 1048576.0);
+    }
   }
   rt_caustic_maps_free(&maps);
   return r;
@@ -187,6 +195,17 @@ static double rho(const void *options) {
   return ((const bt_options_t *)options)->rho;
 }
 
+/* the dispersion image solids, estimated (BT_SOLID_SAMPLE_BYTES a sample; their points alone under
+ * --wavelengths pencils) */
+static size_t image_bytes(const rt_plan_t *plan, const rn_common_t *c, const void *options,
+                          int width, int height) {
+  const bt_options_t *o = options;
+  if (!rt_plan_has(plan, RT_EFFECT_DISPERSION) || o->wavelengths == 1)
+    return 0;
+  return (size_t)width * (size_t)height * (size_t)c->spp_side * (size_t)c->spp_side *
+         (o->wavelengths == 2 ? BT_SOLID_POINT_BYTES : BT_SOLID_SAMPLE_BYTES);
+}
+
 /* a tile's cells and, with auxiliary channels, a centre-ray tree */
 static size_t thread_bytes(const rt_plan_t *plan, const rn_common_t *c, const void *options) {
   const bt_options_t *o = options;
@@ -232,6 +251,7 @@ const rn_renderer_t rn_beam_entry = {
     .errors = errors,
     .rho = rho,
     .thread_bytes = thread_bytes,
+    .image_bytes = image_bytes,
     .dispersion = 1,
     .adapt_plan = adapt_plan,
 };

@@ -209,6 +209,8 @@ size_t rn_memory_estimate(const rn_renderer_t *r, const rt_plan_t *plan, const r
   if (r->thread_bytes)
     bytes +=
         (double)rt_thread_count(common->threads) * (double)r->thread_bytes(plan, common, options);
+  if (r->image_bytes)
+    bytes += (double)r->image_bytes(plan, common, options, width, height);
   return bytes >= (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
 }
 

@@ -73,10 +73,25 @@ typedef struct {
    *  image solids; 1 the glass at n_d (the plan's dispersion is then off); 2 the light refracted
    *  into dispersive glass traced from each cell share's point by spectral pencils. */
   int wavelengths;
+  /** Bytes the dispersion image solids may take (their records, entries and cell shares, and
+   *  the copies made when the threads' are merged); 0: no limit. Past it the render stops with
+   *  RT_ENOMEM (bt_stats_t.solid_over_budget). */
+  size_t memory_budget;
 } bt_options_t;
 
 #define BT_OPTIONS_DEFAULT                                                                         \
-  { 0.5, 8, 0, BT_BOUND_CORRECTED, 16, 4, 1, 0, 1, 0, NULL, NULL, 0 }
+  { 0.5, 8, 0, BT_BOUND_CORRECTED, 16, 4, 1, 0, 1, 0, NULL, NULL, 0, 0 }
+
+/** What the dispersion image solids take per sample of the image, an estimate for
+ *  rn_memory_estimate(): what bt_options_t.memory_budget counts of them on the prism at 1024 x
+ *  1024, 4 spp, is 230 bytes a sample (docs/journal/2026-12-05-sphere-band.md). Not a bound:
+ *  their records grow more slowly than the image (370 bytes a sample at 256 x 256, 740 at 96 x
+ *  96), and a scene whose glass is seen through glass holds more entries a sample. Where the
+ *  estimate falls short, the budget (all the memory left) is what holds. */
+#define BT_SOLID_SAMPLE_BYTES 256
+/** ... and under --wavelengths pencils, which records no solids but keeps the points (98 bytes a
+ *  sample of resident memory on the prism at 1024 x 1024). */
+#define BT_SOLID_POINT_BYTES 128
 
 /** Bins of the Fig. 10 error histogram (as the renderer table's). */
 #define BT_HIST_BINS 256
@@ -136,9 +151,11 @@ typedef struct {
                                too fine when they were met (this count, and with it the beams,
                                pieces and rays counted, depend on the order the threads meet the
                                entries; the image does not) */
-  uint64_t solid_points;  /**< cell shares drawn from the solids' wavelength intervals */
-  uint64_t solid_exact;   /**< cell shares traced exactly instead (spectral pencils) */
-  uint64_t solid_traced;  /**< spectral pencils for the wavelengths a share's solids leave */
+  uint64_t solid_over_budget; /**< 1 when the solids ran past bt_options_t.memory_budget (the
+                                   render then fails with RT_ENOMEM) */
+  uint64_t solid_points;      /**< cell shares drawn from the solids' wavelength intervals */
+  uint64_t solid_exact;       /**< cell shares traced exactly instead (spectral pencils) */
+  uint64_t solid_traced;      /**< spectral pencils for the wavelengths a share's solids leave */
 } bt_stats_t;
 
 /** Per-sample and per-pixel outputs of a measured render; either may be NULL. */

@@ -68,6 +68,10 @@ typedef struct {
   int caustic_rays;   /**< rays per side of each light's grid faces; 0: RN_CAUSTIC_PHOTON_RAYS
                            for photons, RN_CAUSTIC_PENCIL_RAYS for grid-pencil */
   int caustic_cells;  /**< cells along the longer side of each map; 0: RN_CAUSTIC_CELLS */
+  /** Bytes a renderer may take beyond its image, channels and threads' buffers for what it builds
+   *  as it goes (rn_renderer_t.image_bytes); 0: no limit. `pencil render` gives it what the
+   *  memory allowed (--max-memory, or the memory available) leaves after those. */
+  size_t memory_budget;
 } rn_common_t;
 
 /** Defaults of the caustic maps: cells along a map's longer side, rays per side of a light's grid
@@ -80,7 +84,7 @@ typedef struct {
 /** The defaults: 1 spp, OpenMP's threads, auxiliary channels, no measurement, no progress,
  *  each renderer's caustic maps. */
 #define RN_COMMON_DEFAULT                                                                          \
-  { 1, 0, 1, 0, NULL, NULL, 0, 0, 0 }
+  { 1, 0, 1, 0, NULL, NULL, 0, 0, 0, 0 }
 
 /** What a render's caustic maps took (rn_output_t.caustics). */
 typedef struct {
@@ -179,6 +183,12 @@ typedef struct {
   /** Bytes of the working buffers the renderer allocates for each thread before it starts
    *  (ray trees, per-domain state), for plan, common and its options; NULL when it has none. */
   size_t (*thread_bytes)(const rt_plan_t *plan, const rn_common_t *common, const void *options);
+  /** Bytes, estimated, of what the renderer builds for the whole image as it goes (the beam
+   *  renderer's dispersion image solids) at width x height, for plan, common and its options;
+   *  NULL when it builds nothing of the kind. Past rn_common_t.memory_budget it fails with
+   *  RT_ENOMEM and says why, rather than take more. */
+  size_t (*image_bytes)(const rt_plan_t *plan, const rn_common_t *common, const void *options,
+                        int width, int height);
   /** 1 when the renderer draws RT_EFFECT_DISPERSION (the spectral fan of core/src/shade.c); a plan
    *  made by rn_plan_make() for another renderer has it off, with the reason. */
   int dispersion;
