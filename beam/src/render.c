@@ -950,6 +950,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                       rt_image_t *img, const bt_extra_t *extra, bt_stats_t *stats, char *why,
                       size_t cap) {
   why[0] = '\0';
+  if (stats) /* nothing stale on an early failure (solid_over_budget is read then) */
+    memset(stats, 0, sizeof *stats);
   if (!s->bvh)
     return RT_ENOTREADY;
   if (!(o->rho > 0.0) || !isfinite(o->rho) || o->max_split < 0 || o->max_split > 30 ||
@@ -1032,7 +1034,8 @@ rt_status_t bt_render(const rt_scene_t *s, const rt_plan_t *plan, const bt_optio
                 .solids = solids,
                 .edge_in = edge_in,
                 .fine = solids ? &fine : NULL,
-                .sused = &sused};
+                .sused = &sused,
+                .failed = &failed};
     if (solids) { /* the range's ends, u_c (the d-line) and halfway between */
       double ua = plan->wave.u_edge[0], ub = plan->wave.u_edge[RT_MAX_BINS],
              uc = plan->wave.scale.lambda0;

@@ -65,6 +65,7 @@ typedef struct {
   int oom;                     /* recording ran out of memory */
   int climit;                  /* records the solid being collected may still take */
   size_t *sused;               /* shared: bytes the solids hold (bt_options_t.memory_budget) */
+  int *failed;                 /* shared: set past the budget, so that tiles left are skipped */
   const rt_material_t *sglass; /* the glass the solid's rays entered */
   double u[BT_SOLID_SEGS + 1]; /* the solids' breakpoints on the wavelength axis */
   const px_vec3_t *edge_in;    /* face edge e's inward normal at [face.first + e] */

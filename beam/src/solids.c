@@ -214,6 +214,10 @@ static int spend(tile_t *T, long long n) {
     return 1;
   T->oom = 1;
   T->st.solid_over_budget = 1;
+  if (T->failed) { /* the render fails: the tiles left are not traced */
+#pragma omp atomic write
+    *T->failed = 1;
+  }
   return 0;
 }
 
@@ -967,7 +971,7 @@ static void fine_add(const tile_t *T, const sd_entry_t *E) {
 void bt__solid(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int g, const bm_step_t *st,
                const rt_surface_t *sc, int splits, int level) {
   T->st.solids++;
-  if (!spend(T, (long long)sizeof *T->ent))
+  if (T->oom || !spend(T, (long long)sizeof *T->ent))
     return;
   if (!grow((void **)&T->ent, &T->capent, T->nent + 1, sizeof *T->ent)) {
     T->oom = 1;

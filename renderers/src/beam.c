@@ -92,7 +92,7 @@ static rt_status_t render(const rt_scene_t *s, const rt_plan_t *plan, const rn_c
   if (r == RT_OK) {
     bt_extra_t x = {out->sample_error, out->channels[0]};
     r = bt_render(s, &run, &o, out->image, &x, out->stats, out->why, sizeof out->why);
-    if (r == RT_ENOMEM && ((const bt_stats_t *)out->stats)->solid_over_budget) {
+    if (r == RT_ENOMEM && out->stats && ((const bt_stats_t *)out->stats)->solid_over_budget) {
       snprintf(out->why, sizeof out->why,
                "the dispersion image solids need more than the %.0f MiB that the memory allowed "
                "leaves them; use a smaller --size, fewer --spp, --wavelengths pencils, or "
