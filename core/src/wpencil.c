@@ -190,18 +190,18 @@ static rt_ray_t model_ray(const wp_t *w, double u) {
 typedef struct {
   const wp_t *w;
   rt_hit_t hit;
-  px_vec3_t m;                     /* facing normal */
-  double side;                     /* m = side * hit.n */
-  px_vec3_t dp;                    /* the hit's column */
-  double pix;                      /* a pixel's size here: the footprint's smaller stretch */
-  px_vec3_t fp[2], fdr[2], fdt[2]; /* the footprint at the hit, and its children's directions' */
-  int checker;                     /* 1: a checkerboard plane */
-  double su, sv;                   /* its square */
-  int reflect, refract, tir;       /* children checked; total internal reflection at the axial */
-  px_vec3_t dr, ddr, dt, ddt;      /* the children's directions and derivatives */
-  const rt_material_t *next;       /* the medium beyond the surface */
-  const rt_surface_t *sf;          /* the axial hit for shading */
-  rt_rgb_t direct;                 /* its direct term */
+  px_vec3_t m;                /* facing normal */
+  double side;                /* m = side * hit.n */
+  px_vec3_t dp;               /* the hit's column */
+  double pix;                 /* a pixel's size here: the footprint's smaller stretch */
+  px_vec3_t fp[2];            /* the footprint at the hit */
+  int checker;                /* 1: a checkerboard plane */
+  double su, sv;              /* its square */
+  int reflect, refract, tir;  /* children checked; total internal reflection at the axial */
+  px_vec3_t dr, ddr, dt, ddt; /* the children's directions and derivatives */
+  const rt_material_t *next;  /* the medium beyond the surface */
+  const rt_surface_t *sf;     /* the axial hit for shading */
+  rt_rgb_t direct;            /* its direct term */
 } wp_hit_t;
 
 static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, double *su, double *sv) {
@@ -232,9 +232,12 @@ static void fp_transfer(const px_vec3_t f_o[2], const px_vec3_t f_d[2], double t
 /* A pixel's size on a surface where its footprint is f: the smaller singular value of [f0 f1], the
  * shortest distance there that a pixel's worth of image spans (0 at a focus). */
 static double fp_pixel(const px_vec3_t f[2]) {
+  /* s_min^2 = |f0 x f1|^2 / s_max^2: no cancellation where the footprint is long and thin */
   double a = px_v3_dot(f[0], f[0]), c = px_v3_dot(f[1], f[1]), b = px_v3_dot(f[0], f[1]);
-  double s2 = 0.5 * (a + c - sqrt((a - c) * (a - c) + 4.0 * b * b));
-  return s2 > 0.0 ? sqrt(s2) : 0.0;
+  double smax2 = 0.5 * (a + c + sqrt((a - c) * (a - c) + 4.0 * b * b));
+  px_vec3_t x = px_v3_cross(f[0], f[1]);
+  double s2 = smax2 > 0.0 ? px_v3_dot(x, x) / smax2 : 0.0;
+  return s2 > 0.0 ? sqrt(s2) : 0.0; /* NaN (grazing) as 0 */
 }
 
 /* The pinhole's footprint of a ray from the eye, unfolded straight to o along unit d: directions a
@@ -681,10 +684,6 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   H.reflect = more && (refract || (rt_plan_has(plan, RT_EFFECT_REFLECTION) && mat->kr > 0.0));
   H.refract = refract;
   wp_reflect_du(w->ray.d, w->d_d, H.m, dm, &H.dr, &H.ddr);
-  for (int k = 0; k < 2; k++) {
-    px_vec3_t o;
-    wp_reflect_du(w->ray.d, w->f_d[k], H.m, dmf[k], &o, &H.fdr[k]);
-  }
   /* selective dispersion ([P89] 3.2.4, corrected): whether the spectrum shows, more than a
    * quarter pixel apart on some surface */
   if (px_v3_norm(H.dp) * fmax(w->uc - w->ua, w->ub - w->uc) > WP_PIXELS * H.pix)
@@ -693,11 +692,6 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   if (refract) {
     double deta = (dn1 * n2 - n1 * dn2) / (n2 * n2);
     H.tir = !wp_refract_du(w->ray.d, w->d_d, H.m, dm, n1 / n2, deta, &H.dt, &H.ddt, &cos_t);
-    for (int k = 0; k < 2 && !H.tir; k++) {
-      px_vec3_t o;
-      double c;
-      wp_refract_du(w->ray.d, w->f_d[k], H.m, dmf[k], n1 / n2, 0.0, &o, &H.fdt[k], &c);
-    }
   }
   H.sf = &sf;
   H.direct = rt_shade_direct(s, plan, &sf, &w->ray, &R->inner);
@@ -733,12 +727,22 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
       wt = rt_rgb_scale(wt, 1.0 - f);
     }
   }
-  if (rt_rgb_max(wr) > 0.0)
+  /* the children's footprints, for those traced */
+  px_vec3_t fd[2], o;
+  if (rt_rgb_max(wr) > 0.0) {
+    for (int k = 0; k < 2; k++)
+      wp_reflect_du(w->ray.d, w->f_d[k], H.m, dmf[k], &o, &fd[k]);
     c = rt_rgb_add(
-        c, child(R, w, &sf, &H, 1.0, H.dr, H.ddr, H.fdr, n1, w->inside, RT_RAY_REFLECT, wr, depth));
-  if (rt_rgb_max(wt) > 0.0)
+        c, child(R, w, &sf, &H, 1.0, H.dr, H.ddr, fd, n1, w->inside, RT_RAY_REFLECT, wr, depth));
+  }
+  if (rt_rgb_max(wt) > 0.0) { /* not totally reflected: wt is 0 then */
+    for (int k = 0; k < 2; k++) {
+      double ck;
+      wp_refract_du(w->ray.d, w->f_d[k], H.m, dmf[k], n1 / n2, 0.0, &o, &fd[k], &ck);
+    }
     c = rt_rgb_add(
-        c, child(R, w, &sf, &H, -1.0, H.dt, H.ddt, H.fdt, n2, H.next, RT_RAY_REFRACT, wt, depth));
+        c, child(R, w, &sf, &H, -1.0, H.dt, H.ddt, fd, n2, H.next, RT_RAY_REFRACT, wt, depth));
+  }
   return c;
 }
 
