@@ -246,6 +246,10 @@ static int one_glass(const rt_scene_t *s, const rt_material_t *m) {
 }
 
 int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol) {
+  return rt_plan_spectral_pencils_axis(p, s, tol, 0);
+}
+
+int rt_plan_spectral_pencils_axis(rt_plan_t *p, const rt_scene_t *s, double tol, int lambda_axis) {
   if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
     return 0;
   const rt_material_t *m = used(s, is_dispersive);
@@ -253,8 +257,9 @@ int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol) {
     return -1;
   rt_wavescale_t wave, *w = &wave; /* into the plan once complete: unchanged on failure */
   memset(w, 0, sizeof *w);
+  int one = one_glass(s, m);
   w->scaled =
-      one_glass(s, m) && px_wavescale_make(&m->index, PX_LAMBDA_D, &w->scale) == PX_OK ? 1 : 0;
+      !lambda_axis && one && px_wavescale_make(&m->index, PX_LAMBDA_D, &w->scale) == PX_OK ? 1 : 0;
   int n = RT_MAX_BINS;
   double wt[RT_MAX_BINS][3], centre[RT_MAX_BINS];
   if (cs_bins(n, CS_LAMBDA_LO, CS_LAMBDA_HI, centre, wt) != 0)
@@ -287,7 +292,9 @@ int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol) {
       "on: material '%s' disperses (dn/dlambda %.3g /nm at the d-line): white rays refracting "
       "at it become spectral pencils over %g-%g nm (%s, tolerance %g)",
       m->name, dn, CS_LAMBDA_LO, CS_LAMBDA_HI,
-      w->scaled ? "wavelength axis Lambda of its glass" : "wavelength axis lambda: glasses differ",
+      w->scaled ? "wavelength axis Lambda of its glass"
+      : one     ? "wavelength axis lambda, as asked"
+                : "wavelength axis lambda: glasses differ",
       tol);
   p->tree_nodes = tree_bound(p);
   return 0;

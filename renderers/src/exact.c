@@ -22,11 +22,13 @@ typedef struct {
   int wavelengths; /**< wavelengths_t */
   int bins;        /**< 0: the scene's settings.spectral_bins; else RT_MIN_BINS..RT_MAX_BINS */
   double tol;      /**< WL_PENCIL: rt_plan_t.spectral_tol */
+  int axis;        /**< WL_PENCIL: 0 Lambda where the glasses are one ([P89] 3.3), 1 lambda */
 } exact_options_t;
 
-static const exact_options_t defaults = {WL_FAN, 0, RT_SPECTRAL_TOL};
+static const exact_options_t defaults = {WL_FAN, 0, RT_SPECTRAL_TOL, 0};
 
 static const char *const wavelength_names[] = {"fan", "primary", "off", "pencil", NULL};
+static const char *const axis_names[] = {"Lambda", "lambda", NULL};
 
 static const rn_option_t options_[] = {
     {"--wavelengths", RN_OPT_CHOICE, offsetof(exact_options_t, wavelengths), 0, 0, 0, 0,
@@ -44,6 +46,12 @@ static const rn_option_t options_[] = {
     {"--spectral-tol", RN_OPT_DOUBLE, offsetof(exact_options_t, tol), 0, 0, 0.5, 1, NULL, "T",
      "--wavelengths pencil: the linear model's largest error at a pencil's ends,\n"
      "relative to the dispersive shift it predicts there (default 0.1)"},
+    {"--wavelength-axis", RN_OPT_CHOICE, offsetof(exact_options_t, axis), 0, 0, 0, 0, axis_names,
+     "A",
+     "--wavelengths pencil: the axis along which a pencil's column is linear:\n"
+     "Lambda (default), the 1989 paper's scale of the scene's one dispersive\n"
+     "glass, on which its index is linear (section 3.3); lambda, wavelength\n"
+     "itself (as where glasses differ), to measure what the scale removes"},
 };
 
 static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
@@ -55,7 +63,7 @@ static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
     return;
   }
   if (o->wavelengths == WL_PENCIL) {
-    if (rt_plan_spectral_pencils(p, s, o->tol) != 0)
+    if (rt_plan_spectral_pencils_axis(p, s, o->tol, o->axis) != 0)
       rt_plan_no_dispersion(p, s, "its wavelength axis could not be built");
     return;
   }
@@ -116,7 +124,9 @@ static int describe(const void *options, rn_attr_t *attrs) {
     return 2;
   attrs[2].key = "exact:spectral_tol";
   snprintf(attrs[2].value, sizeof attrs[2].value, "%.17g", o->tol);
-  return 3;
+  attrs[3].key = "exact:wavelength_axis";
+  snprintf(attrs[3].value, sizeof attrs[3].value, "%s", axis_names[o->axis]);
+  return 4;
 }
 
 static void report(FILE *f, const rn_report_t *r) {

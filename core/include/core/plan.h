@@ -108,6 +108,11 @@ void rt_plan_set_bins(rt_plan_t *p, const rt_scene_t *s, int n);
  *  Returns 0, or -1 when the wavelength axis cannot be built (the plan is then unchanged). */
 int rt_plan_spectral_pencils(rt_plan_t *p, const rt_scene_t *s, double tol);
 
+/** rt_plan_spectral_pencils() with the wavelength axis chosen: lambda_axis 0 as there (Lambda of
+ *  the scene's one dispersive glass, [P89] 3.3, where its glasses are one); 1 wavelength itself
+ *  even then, for the comparison that shows what the paper's scale removes. */
+int rt_plan_spectral_pencils_axis(rt_plan_t *p, const rt_scene_t *s, double tol, int lambda_axis);
+
 /** The colour weights' integral over [ua, ub] of wavelength axis w (u as w says; each channel
  *  integrates to 1 over the visible range): the integral table of [P89] 3.2.3, linear within
  *  each 1-nm step (core/src/wpencil.c). */
