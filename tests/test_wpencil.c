@@ -182,6 +182,17 @@ static void glass_that_does_not_disperse(void **state) {
   }
 }
 
+/* scenes/NAME at side x side pixels, 1 spp. */
+static void load_scene(const char *name, int side, rt_scene_t *s) {
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/scenes/%s", PENCIL_SOURCE_DIR, name);
+  rt_scene_init(s);
+  if (io_scene_load(path, s, err, sizeof err) != 0)
+    fail_msg("%s", err);
+  s->camera.width = s->camera.height = side;
+  s->spp = 1;
+}
+
 /* Spectral pencils against the 400-bin fan, beside the 9- and 40-bin fans, on scene s. */
 static void against_reference(rt_scene_t *s, const char *what, double max_mean, double *pencil_mean,
                               double *fan9_mean) {
@@ -229,11 +240,7 @@ static void curved_glass_against_reference(void **state) {
 static void prism_slit_against_reference(void **state) {
   (void)state;
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(PENCIL_SOURCE_DIR "/scenes/prism.json", &s, err, sizeof err), 0);
-  s.camera.width = s.camera.height = 64;
-  s.spp = 1;
+  load_scene("prism.json", 64, &s);
   double pen, f9;
   against_reference(&s, "prism's slit, 64 x 64", 0.3, &pen, &f9);
   rt_scene_free(&s);
@@ -266,12 +273,7 @@ static void band_rows(const rt_image_t *im, double row[3]) {
 static void sphere_band_against_reference(void **state) {
   (void)state;
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(PENCIL_SOURCE_DIR "/scenes/sphere-band.json", &s, err, sizeof err),
-                   0);
-  s.camera.width = s.camera.height = 64;
-  s.spp = 1;
+  load_scene("sphere-band.json", 64, &s);
   const char *const ref[] = {"--wavelengths", "fan", "--bins", "400", NULL};
   const char *const pen[] = {"--wavelengths", "pencil", NULL};
   rt_image_t im[3];
@@ -308,11 +310,7 @@ static void sphere_band_against_reference(void **state) {
 static void wavelength_scale_removes_colour_error(void **state) {
   (void)state;
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(PENCIL_SOURCE_DIR "/scenes/prism.json", &s, err, sizeof err), 0);
-  s.camera.width = s.camera.height = 64;
-  s.spp = 1;
+  load_scene("prism.json", 64, &s);
   const char *const ref[] = {"--wavelengths", "fan", "--bins", "400", NULL};
   rt_image_t fan;
   render(&s, ref, &fan, NULL);
