@@ -822,6 +822,8 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
             .from_prim = sf->hit.prim,
             .in_obj = sf->entering && R->s->object[sf->hit.object].alone ? sf->hit.object : -1,
             .weight = rt_rgb_max(wt)};
+  if (!R->trace)
+    return rt_rgb(0, 0, 0);
   /* the footprint: the pinhole's at the hit, on its tangent plane, refracted at u_c */
   px_vec3_t fo[2], fd[2];
   fp_pinhole(R->s, plan, sf->hit.p, ray->d, fo, fd);
@@ -834,8 +836,6 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
     double c;
     wp_refract_du(ray->d, fd[k], sf->nf, dmf, n[0] / n[1], 0.0, &o, &w.f_d[k], &c);
   }
-  if (!R->trace)
-    return rt_rgb(0, 0, 0);
   count(R, RT_RAY_REFRACT);
   count(R, RT_COUNT_SPECTRAL + 1);
   return rt_rgb_mul(wt, trace(R, &w, depth + 1));
