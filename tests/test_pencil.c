@@ -1231,6 +1231,46 @@ static void lattice_memo_changes_nothing(void **state) {
   rt_scene_free(&s);
 }
 
+/* The exact walks of an interpolated sample's nodes are carried for four samples at once
+ * (opt->simd, eval.c's exact_geom4(); AVX2 where the CPU has it): the image, every channel and
+ * every decision must be those of walking each sample alone, on the glass ball (spheres and a
+ * plane), the same ball reflecting by Fresnel alone (kr 0: a mirror step is walked one sample at
+ * a time, walk_ray_full()), a glass polyhedron (polygons) and the balls of spheres-10, in both
+ * modes; and the groups must have carried steps (more than two samples a step on average). */
+static void walks_of_four_change_nothing(void **state) {
+  (void)state;
+  const char *files[4] = {NULL, NULL, "fig11", "spheres-10"};
+  for (int f = 0; f < 4; f++)
+    for (int cert = 0; cert <= 1; cert++) {
+      rt_scene_t s;
+      if (files[f])
+        fx_scene_file(files[f], 64, &s);
+      else
+        fx_fig8(&s, 64, 64);
+      for (int m = 0; f == 1 && m < s.nmaterial; m++)
+        if (s.material[m].kt > 0.0) {
+          s.material[m].kr = 0.0;
+          s.material[m].fresnel = 1;
+        }
+      rt_image_t a, b;
+      pt_stats_t sa, sb;
+      pt_options_t o = PT_OPTIONS_DEFAULT;
+      o.certified = cert;
+      fx_render_pencil(&s, 4, 1, &o, &a, NULL, &sa);
+      o.simd = 0;
+      fx_render_pencil(&s, 4, 1, &o, &b, NULL, &sb);
+      fx_assert_images_equal(&a, &b);
+      assert_true(sa.walk_steps > 0 && sa.walk_lanes > 2 * sa.walk_steps);
+      assert_true(sb.walk_steps == 0 && sb.walk_lanes == 0);
+      assert_true(sa.samples[0] == sb.samples[0] && sa.samples[1] == sb.samples[1] &&
+                  sa.samples[2] == sb.samples[2] && sa.partial == sb.partial &&
+                  sa.fallbacks == sb.fallbacks && sa.lattice_points == sb.lattice_points);
+      rt_image_free(&a);
+      rt_image_free(&b);
+      rt_scene_free(&s);
+    }
+}
+
 static void bad_options_rejected(void **state) {
   (void)state;
   rt_scene_t s;
@@ -1386,6 +1426,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(measure_counts_diffuse_surfaces),
       cmocka_unit_test(image_does_not_depend_on_threads),
       cmocka_unit_test(lattice_memo_changes_nothing),
+      cmocka_unit_test(walks_of_four_change_nothing),
       cmocka_unit_test(bad_options_rejected),
       cmocka_unit_test(deep_trees_traced_exactly_at_exact_cost),
       cmocka_unit_test(thread_bytes_match_allocation),

@@ -169,13 +169,16 @@ void pt__lattice_free(pt_lattice_t *l) {
 int pt__sample_alloc(pt_sample_t *x, int cap) {
   x->geom = take0((size_t)cap, sizeof *x->geom);
   x->exact = take0((size_t)cap, sizeof *x->exact);
+  x->exact4 = take0((size_t)cap, sizeof *x->exact4);
   x->stamp = 0;
-  return x->geom && x->exact;
+  x->group.stamp = 0; /* stamps start at 1: calloc's 0 is no group */
+  return x->geom && x->exact && x->exact4;
 }
 
 void pt__sample_free(pt_sample_t *x) {
   free(x->geom);
   free(x->exact);
+  free(x->exact4);
   memset(x, 0, sizeof *x);
 }
 
@@ -229,6 +232,7 @@ size_t pt_thread_bytes(int tree_nodes, int domain) {
   b += entries * geom +
        PT_MEMO_POINTS * (2 * sizeof *C->lattice.memo.xy + sizeof *C->lattice.memo.xi2 + 1) +
        nslot * (sizeof *C->lattice.memo.slot + sizeof *C->lattice.memo.gen); /* memo */
-  b += cap * (sizeof *C->sample.geom + sizeof *C->sample.exact);             /* sample */
+  b += cap *
+       (sizeof *C->sample.geom + sizeof *C->sample.exact + sizeof *C->sample.exact4); /* sample */
   return b;
 }

@@ -187,6 +187,84 @@ static int walk_ray(const pt_eval_t *E, int k, const pt_xgeom_t *px, int kind, r
   return got >= 0 ? got : walk_ray_full(E, k, px, kind, out);
 }
 
+/* Lane i of a four-lane vector. */
+static px_vec3_t lane_of(const px_vec3x4_t *v, int i) {
+  return px_v3(v->x[i], v->y[i], v->z[i]);
+}
+
+/* Node k's exact geometry for the samples of the group C->sample.group at once: exact_geom()'s
+ * walk lane by lane, bit for bit, its steps and primitive tests four at a time (core's
+ * rt_shade_walk_ray4() and rt_prim_intersect4()). A lane whose step needs the whole surface
+ * record (walk_ray_full()) is walked alone. Memoised per group. */
+static const pt_xgeom4_t *exact_geom4(pt_eval_t *E, int k) {
+  pt_ctx_t *C = E->C;
+  const pt_group_t *G = &C->sample.group;
+  pt_xgeom4_t *x = &C->sample.exact4[k];
+  if (x->stamp == G->stamp)
+    return x;
+  x->stamp = G->stamp;
+  x->ok = 0;
+  const pt_node_t *n = &C->paths.node[k];
+  rt_ray4_t r;
+  rt_ray_t one[4];
+  unsigned lanes = 0, alone = 0; /* lanes stepped four at a time, and one by one into one[] */
+  if (n->parent >= 0) {
+    const pt_xgeom4_t *px = exact_geom4(E, n->parent);
+    const pt_node_t *pn = &C->paths.node[n->parent];
+    int got[4] = {-1, -1, -1, -1};
+    if (!px->ok)
+      return x;
+    if (!pn->spectral) {
+      const double ior[4] = {pn->ior, pn->ior, pn->ior, pn->ior};
+      rt_shade_walk_ray4(C->s, C->plan, pn->prim, &px->p, &px->d, ior, pn->depth, n->kind, px->ok,
+                         &r, got);
+    }
+    for (int i = 0; i < 4; i++) {
+      unsigned b = 1u << i;
+      if (!(px->ok & b))
+        continue;
+      if (got[i] == 1) {
+        lanes |= b;
+      } else if (got[i] < 0) { /* walk_ray() there asks walk_ray_full() */
+        pt_xgeom_t g = {lane_of(&px->p, i), lane_of(&px->d, i), 0, 1};
+        alone |= (unsigned)walk_ray_full(E, n->parent, &g, n->kind, &one[i]) << i;
+      }
+    }
+  } else { /* the primary rays, four at a time where they are plain (pt__group_begin()) */
+    r = G->ray4;
+    lanes = G->lanes4;
+    alone = ((1u << G->n) - 1) & ~lanes;
+    for (int i = 0; i < G->n; i++)
+      one[i] = G->primary[i];
+  }
+  C->st.walk_steps++;
+  C->st.walk_lanes += (uint64_t)__builtin_popcount(lanes | alone);
+  if (n->miss)
+    return x;
+  double t[4];
+  if (lanes) {
+    x->ok = rt_prim_intersect4(C->s, n->prim, &r.o, &r.d, lanes, t, &x->p);
+    x->d = r.d;
+  }
+  for (int i = 0; n->verify && i < 4; i++)
+    if (x->ok & (1u << i)) {
+      rt_ray_t q = {lane_of(&r.o, i), lane_of(&r.d, i), 0.0, INFINITY, r.ior[i], r.skip_prim, 0.0f};
+      if (!verified(E, n, &q, t[i]))
+        x->ok &= ~(1u << i);
+    }
+  for (int i = 0; alone && i < 4; i++) { /* the lanes walked alone: exact_geom()'s own steps */
+    const rt_ray_t *q = &one[i];
+    if (!(alone & (1u << i)) || !rt_prim_intersect(C->s, n->prim, q, q->tmax, &t[i]) ||
+        (n->verify && !verified(E, n, q, t[i])))
+      continue;
+    px_vec3_t p = px_v3_axpy(t[i], q->d, q->o);
+    x->p.x[i] = p.x, x->p.y[i] = p.y, x->p.z[i] = p.z;
+    x->d.x[i] = q->d.x, x->d.y[i] = q->d.y, x->d.z[i] = q->d.z;
+    x->ok |= 1u << i;
+  }
+  return x;
+}
+
 /* Node k's exact geometry for the sample in MATRIX mode: the sample's primary ray carried
  * exactly through the surfaces of the node's path (at each exact hit, the ray of the path's
  * kind from shade_paths.h's rt_shade_child_ray(), the ray rt_shade_children() spawns: walk_ray()),
@@ -198,6 +276,16 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
   if (x->stamp == E->stamp)
     return x;
   x->stamp = E->stamp;
+  if (E->grouped) { /* the sample's lane of its group's walk */
+    const pt_xgeom4_t *g = exact_geom4(E, k);
+    int i = E->lane;
+    x->ok = (int)(g->ok >> i) & 1;
+    if (x->ok) {
+      x->p = lane_of(&g->p, i);
+      x->d = lane_of(&g->d, i);
+    }
+    return x;
+  }
   x->ok = 0;
   const pt_node_t *n = &C->paths.node[k];
   rt_ray_t child;

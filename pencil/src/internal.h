@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 
+#include "core/shade_paths.h"
 #include "paraxial/vec3.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"
@@ -39,6 +40,26 @@ typedef struct {
   uint32_t stamp; /**< the evaluation it belongs to */
   int ok;         /**< 0: the sample's ray does not meet the node's primitive */
 } pt_xgeom_t;
+
+/** A node's exact geometry for the four samples of a group (pt_group_t), lane i sample i. */
+typedef struct {
+  px_vec3x4_t p;  /**< exact hit points */
+  px_vec3x4_t d;  /**< unit directions of the exact arriving rays */
+  uint32_t stamp; /**< the group it belongs to */
+  unsigned ok;    /**< bit i: lane i's ray meets the node's primitive along the path */
+} pt_xgeom4_t;
+
+/** Up to four consecutive samples of one interpolated pixel whose exact walks are carried
+ *  together (eval.c's exact_geom4(), interp_sample.c). */
+typedef struct {
+  rt_ray_t primary[4]; /**< their primary rays */
+  double xi[4][2];     /**< and xi in the domain's frame */
+  rt_ray4_t ray4;      /**< the primary rays of the lanes `lanes4` */
+  unsigned lanes4;     /**< bit i: primary[i] has tmin 0, tmax infinite and no skip_prim, as
+                            rt_prim_intersect4() takes rays (the others are walked alone) */
+  int n;               /**< samples in the group */
+  uint32_t stamp;      /**< group counter for pt_sample_t.exact4 */
+} pt_group_t;
 
 /* A pixel being accumulated. */
 typedef struct {
@@ -148,9 +169,11 @@ typedef struct {
 
 /** One sample's evaluation: its geometry and exact geometry per node (cap each). */
 typedef struct {
-  pt_geom_t *geom;   /**< one sample's geometry (auxiliary channels, measure) */
-  pt_xgeom_t *exact; /**< one sample's exact geometry along the paths */
-  uint32_t stamp;    /**< evaluation counter for `exact` */
+  pt_geom_t *geom;     /**< one sample's geometry (auxiliary channels, measure) */
+  pt_xgeom_t *exact;   /**< one sample's exact geometry along the paths */
+  uint32_t stamp;      /**< evaluation counter for `exact` */
+  pt_xgeom4_t *exact4; /**< a group's exact geometry along the paths (opt->simd) */
+  pt_group_t group;    /**< the group of samples being evaluated */
 } pt_sample_t;
 
 /** Per-thread state: the renderer's inputs (not owned) and the parts that hold the thread's
@@ -236,6 +259,9 @@ typedef struct {
                                      radiance is not used) */
   int cur;                      /**< node being shaded */
   uint32_t stamp;               /**< this evaluation's stamp in C->sample.exact */
+  int grouped;                  /**< 1: the sample is lane `lane` of C->sample.group, whose exact
+                                     walks are carried together (exact_geom4()) */
+  int lane;                     /**< its lane there */
   int fallback;                 /**< set when the sample left the domain's paths (traced exactly
                                      there) */
   int vfail;                    /**< set when a verify node's scene search failed (traced
@@ -281,6 +307,8 @@ void pt__xi(const pt_ctx_t *C, double x, double y, double xi[2]);
 void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1);
 
 /* sample.c */
+/** G->ray4 and G->lanes4 from G->primary[0 .. G->n). */
+void pt__group_rays(pt_group_t *G);
 size_t pt__pixel_index(const pt_ctx_t *C, int i, int j);
 float *pt__error_slot(pt_ctx_t *C, int i, int j, int a, int b);
 uint64_t pt__rays_now(const pt_ctx_t *C);

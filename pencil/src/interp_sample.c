@@ -121,14 +121,50 @@ int pt__misses_nothing_anywhere(const pt_ctx_t *C, const pt_eval_t *E) {
   return 1;
 }
 
-/* Start the evaluation of the sample at (x, y): its flags cleared, and its own xi and primary ray
- * when its traced nodes or its exact spawn hits need them. */
-static void sample_start(pt_ctx_t *C, pt_eval_t *E, double x, double y) {
+/* The samples a pixel's loop below visits, numbered in its order (b outer, a inner). */
+typedef struct {
+  const sampling_t *S;
+  const pixel_t *P;
+  int a0, a1, b0, count;
+  int g0; /* the first sample of the current group (C->sample.group), -1 before the first */
+} samples_t;
+
+/* Start the evaluation of sample number idx of the loop, at (x, y): its flags cleared, and its own
+ * xi and primary ray when its traced nodes or its exact spawn hits need them. With opt->simd the
+ * samples' exact walks are carried in groups of four (eval.c's exact_geom4()): the group of the
+ * next four samples from idx on begins where idx is not in the current one (a sample that
+ * left for the matrices is skipped, so a group can hold one that is not evaluated). */
+static void sample_start(pt_ctx_t *C, pt_eval_t *E, samples_t *L, int idx, double x, double y) {
   E->partial = E->fallback = E->traced_failed = E->spawnfail = 0;
-  if (E->traced || E->exact_spawn) {
+  E->grouped = 0;
+  if (!(E->traced || E->exact_spawn))
+    return;
+  E->stamp = ++C->sample.stamp;
+  if (!C->opt->simd) {
     pt__xi_of(C, E, x, y);
-    E->stamp = ++C->sample.stamp;
+    return;
   }
+  pt_group_t *G = &C->sample.group;
+  if (L->g0 < 0 || idx < L->g0 || idx >= L->g0 + G->n) {
+    L->g0 = idx;
+    G->n = L->count - idx < 4 ? L->count - idx : 4;
+    G->stamp++;
+    G->stamp += !G->stamp; /* 0 is no group */
+    int w = L->a1 - L->a0;
+    for (int i = 0; i < G->n; i++) {
+      int a = L->a0 + (idx + i) % w, b = L->b0 + (idx + i) / w;
+      pt__xi_of(C, E, L->P->i + L->S->off[a], L->P->j + L->S->off[b]);
+      G->primary[i] = E->primary;
+      G->xi[i][0] = E->xi[0];
+      G->xi[i][1] = E->xi[1];
+    }
+    pt__group_rays(G);
+  }
+  E->grouped = 1;
+  E->lane = idx - L->g0;
+  E->primary = G->primary[E->lane];
+  E->xi[0] = G->xi[E->lane][0];
+  E->xi[1] = G->xi[E->lane][1];
 }
 
 /* The samples a in [a0, a1), b in [b0, b1) of pixel P inside lattice cell lc: interpolated (S), or
@@ -160,15 +196,17 @@ void pt__pixel_samples(pt_ctx_t *C, pixel_t *P, sampling_t *S, int why, int a0, 
     P->n[PT_METHOD_INTERP] += count;
     C->st.lerp_samples += local ? 0u : (uint64_t)count;
   }
+  samples_t L = {S, P, a0, a1, b0, count, -1};
   for (int b = b0; b < b1 && !(summed && !local && !C->opt->measure); b++)
     for (int a = a0; a < a1; a++) {
+      int idx = (b - b0) * (a1 - a0) + (a - a0);
       double x = P->i + S->off[a], y = P->j + S->off[b], w[4];
       double qu = (x - lc->x0) * S->inv_w, qv = (y - lc->y0) * S->inv_h;
       bilinear_weights(qu, qv, w);
       if (E->biquadratic)
         grid_weights(S, qu, qv, E->grid_w);
       if (local) {
-        sample_start(C, E, x, y);
+        sample_start(C, E, &L, idx, x, y);
         rt_rgb_t v = interp_local(E, S->pl, w);
         if (E->traced_failed) { /* take the sample's summed part back: the whole sample by matrices
                                  */
@@ -187,7 +225,7 @@ void pt__pixel_samples(pt_ctx_t *C, pixel_t *P, sampling_t *S, int why, int a0, 
           pt__matrix_sample(C, P, a, b);
           continue;
         }
-        sample_start(C, E, x, y);
+        sample_start(C, E, &L, idx, x, y);
         rt_rgb_t v = interp_sample(E, S->pl, w);
         if (E->traced_failed) { /* a traced node's ray left its path: the whole sample by matrices
                                  */
@@ -207,6 +245,7 @@ void pt__pixel_samples(pt_ctx_t *C, pixel_t *P, sampling_t *S, int why, int a0, 
         P->pmax = pt__measure_sample(C, &r, C->sample.geom, P->i, P->j, a, b, P->pmax);
       }
     }
+  E->grouped = 0; /* S->E is evaluated elsewhere too: the group is this loop's */
   C->st.partial += (uint64_t)partial;
   P->rays += pt__rays_now(C) - r0;
 }

@@ -142,6 +142,20 @@ void pt__xi_of(const pt_ctx_t *C, pt_eval_t *E, double x, double y) {
   E->xi[1] = px_v3_dot(C->paths.frame.x2, E->primary.d);
 }
 
+void pt__group_rays(pt_group_t *G) {
+  G->lanes4 = 0;
+  G->ray4.skip_prim = -1;
+  for (int i = 0; i < G->n; i++) {
+    const rt_ray_t *q = &G->primary[i];
+    if (!(q->tmin == 0.0 && q->tmax == INFINITY && q->skip_prim == -1))
+      continue; /* walked alone */
+    G->ray4.o.x[i] = q->o.x, G->ray4.o.y[i] = q->o.y, G->ray4.o.z[i] = q->o.z;
+    G->ray4.d.x[i] = q->d.x, G->ray4.d.y[i] = q->d.y, G->ray4.d.z[i] = q->d.z;
+    G->ray4.ior[i] = q->ior;
+    G->lanes4 |= 1u << i;
+  }
+}
+
 /* Step 4a with matrices: sample (a, b) of pixel P through the paths. */
 void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
   int s = C->opt->spp_side;

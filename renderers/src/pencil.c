@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "entries.h"
+#include "paraxial/system.h"
 #include "pencil/pencil.h"
 
 static_assert(RN_HIST_BINS == PT_HIST_BINS, "one histogram for every renderer");
@@ -51,6 +52,9 @@ static const rn_option_t pencil_options[] = {
     {"--no-memo", RN_OPT_FLAG, offsetof(pt_options_t, memo), 0, 0, 0, 0, NULL, NULL,
      "trace a lattice point again for each lattice cell that shares\n"
      "it (slower; the image is the same)"},
+    {"--no-simd", RN_OPT_FLAG, offsetof(pt_options_t, simd), 0, 0, 0, 0, NULL, NULL,
+     "carry interpolated samples along their exact walks one at a time, not\n"
+     "four at once (AVX2 where the CPU has it; the image is the same)"},
     {"--brightness-tol", RN_OPT_DOUBLE, offsetof(pt_options_t, brightness_tol), 0, 0, INFINITY, 0,
      NULL, "L",
      "ray interpolation: largest deviation of interpolated from\n"
@@ -155,6 +159,10 @@ static void report(FILE *f, const rn_report_t *r) {
           (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
           (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
           (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
+  if (st->walk_steps)
+    fprintf(f, "exact walks in groups of samples: %llu steps, %.2f samples a step (%s)\n",
+            (unsigned long long)st->walk_steps, (double)st->walk_lanes / (double)st->walk_steps,
+            px_simd4_available() ? "four at a time, AVX2" : "one at a time: no AVX2 and FMA");
   char line[256];
   rt_stats_spectral_line(&st->rays, line, sizeof line);
   fputs(line, f);

@@ -96,6 +96,31 @@ static inline int rt_shade_walk_ray(const rt_scene_t *s, const rt_plan_t *plan, 
   return 1;
 }
 
+/** Four white rays along one known path, as structure of arrays; each lane's tmin is 0 and its
+ *  tmax infinite, as for every ray rt_shade_walk_ray() makes. */
+typedef struct {
+  px_vec3x4_t o, d; /**< origins and unit directions */
+  double ior[4];    /**< index of the medium each travels in */
+  int skip_prim;    /**< as rt_ray_t.skip_prim, the same for the four */
+} rt_ray4_t;
+
+/** rt_shade_walk_ray() for four rays arriving along d at the points p of primitive `prim`, in
+ *  media of indices ior, lane by lane bit for bit (core/src/walk4.c): got[i] is what
+ *  rt_shade_walk_ray() returns for lane i (1, 0 or -1) and, where it is 1, out's lane i its ray.
+ *  Lanes whose bit in `lanes` is clear get 0. Four lanes at a time where px_simd4_available()
+ *  and the primitive has one material (no checkerboard), else lane by lane. */
+void rt_shade_walk_ray4(const rt_scene_t *s, const rt_plan_t *plan, int prim, const px_vec3x4_t *p,
+                        const px_vec3x4_t *d, const double ior[4], int depth, rt_ray_kind_t kind,
+                        unsigned lanes, rt_ray4_t *out, int got[4]);
+
+/** rt_prim_intersect() for four rays o + t d with tmin 0 and tmax infinite: bit i of the result
+ *  is set, and t[i] and the point hit[i] = px_v3_axpy(t[i], d[i], o[i]) written, where lane i (its
+ *  bit set in `lanes`) meets `prim`, lane by lane bit for bit. Four at a time where
+ *  px_simd4_available() (a polygon's inside test lane by lane); other lanes of t and hit may be
+ *  written too. */
+unsigned rt_prim_intersect4(const rt_scene_t *s, int prim, const px_vec3x4_t *o,
+                            const px_vec3x4_t *d, unsigned lanes, double t[4], px_vec3x4_t *hit);
+
 /** 1 when a white ray of generation `depth` meeting material m draws dispersion by spectral
  *  pencils under the plan (RT_SPECTRAL_PENCIL; m transparent and dispersive; children possible):
  *  where rt_shade_hit() calls rt_shade_spectral() instead of spawning the refracted child. */

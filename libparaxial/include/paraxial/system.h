@@ -71,6 +71,28 @@ px_status_t px_interface_canonical(double theta, double radius, double n1, doubl
 px_status_t px_interface_outgoing(const px_interface_t *ifc, px_event_t ev, px_vec3_t *s_out,
                                   double *cos_out);
 
+/** Four 3-vectors as a structure of arrays: lane i is (x[i], y[i], z[i]). */
+typedef struct {
+  double x[4], y[4], z[4];
+} px_vec3x4_t;
+
+/** px_interface_outgoing() for four interfaces of one event at once, lane by lane bit for bit
+ *  (cos theta' is not returned): lane i arrives along (s->x[i], s->y[i], s->z[i]) at the normal
+ *  nu (oriented as px_interface_t.nu) between indices n1[i] and n2[i] (n2 unused for a
+ *  reflection). st[i] gets the lane's status and, where that is PX_OK, out its direction. Lanes
+ *  whose bit in `lanes` is clear are not computed (st[i] = PX_EINVAL, out left alone). Four lanes
+ *  at a time where px_simd4_available(); otherwise, and for a lane near grazing (the compensated
+ *  form of px_interface_outgoing()), lane by lane by px_interface_outgoing(). For walks that carry
+ *  several rays along one known path (the pencil renderer's exact walks). */
+void px_interface_outgoing4(px_event_t ev, const px_vec3x4_t *s, const px_vec3x4_t *nu,
+                            const double n1[4], const double n2[4], unsigned lanes,
+                            px_vec3x4_t *out, px_status_t st[4]);
+
+/** 1 when the four-lane functions run four lanes at a time: an x86-64 CPU with AVX2 and FMA
+ *  instructions (asked at run time) and a GCC-compatible compiler; 0 where they take the lanes
+ *  one by one (with the same results). */
+int px_simd4_available(void);
+
 /** The paper's frames for this interface: x2 = x2' = u2 (normal of the plane of incidence),
  *  x1 = x2 x s, x1' = x2' x s' (right-handed, also after a reflection). With them Theta and
  *  Theta' are diag(cos theta, 1) and diag(cos theta', 1). */

@@ -88,12 +88,15 @@ typedef struct {
   pt_tolerance_t tolerance; /**< what rho bounds per node (default PT_TOL_GEOMETRIC) */
   double weight_floor;      /**< PT_TOL_IMAGE: the smallest weight a node's tolerance is scaled
                                  by, in (0, 1] (default PT_WEIGHT_FLOOR) */
+  int simd; /**< 1: an interpolated sample's exact walks along the paths are carried for four
+                 samples at once (AVX2 where the CPU has it: px_simd4_available()); 0: one at a
+                 time. The image is the same bit for bit. */
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
   {                                                                                                \
     1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL, 0,             \
-        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR                                         \
+        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR, 1                                      \
   }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
@@ -155,6 +158,10 @@ typedef struct {
   uint64_t halved_lattice_cells; /**< certified mode: lattice cells made by halving a cell whose
                               nodes were too curved in one direction (interp_error.c, counted in
                               interp.c) */
+  uint64_t walk_steps; /**< steps of exact walks carried for a group of up to four samples at once
+                            (opt->simd): one node of the paths for the group */
+  uint64_t walk_lanes; /**< the samples those steps carried (lanes per step: walk_lanes /
+                            walk_steps) */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
