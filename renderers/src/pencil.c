@@ -26,6 +26,7 @@ static const char *const tolerance_names[] = {"geometric", "image", NULL};
 
 /* pt_options_t.wavelengths */
 static const char *const wavelength_names[] = {"pencil", "off", NULL};
+static const char *const axis_names[] = {"Lambda", "lambda", NULL};
 
 static const rn_option_t pencil_options[] = {
     {"--domain", RN_OPT_INT, offsetof(pt_options_t, domain), 0, 1, 32, 0, NULL, "N",
@@ -68,6 +69,12 @@ static const rn_option_t pencil_options[] = {
     {"--spectral-tol", RN_OPT_DOUBLE, offsetof(pt_options_t, spectral_tol), 0, 0, 0.5, 1, NULL, "T",
      "spectral pencils: the linear model's largest error at a pencil's ends,\n"
      "relative to the dispersive shift it predicts there (default 0.1)"},
+    {"--wavelength-axis", RN_OPT_CHOICE, offsetof(pt_options_t, wavelength_axis), 0, 0, 0, 0,
+     axis_names, "A",
+     "spectral pencils: the axis along which a pencil's column is linear:\n"
+     "Lambda (default), the 1989 paper's scale of the scene's one dispersive\n"
+     "glass, on which its index is linear (section 3.3); lambda, wavelength\n"
+     "itself (as where glasses differ), to measure what the scale removes"},
 };
 
 static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
@@ -76,7 +83,7 @@ static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
     return;
   if (o->wavelengths == 1)
     rt_plan_no_dispersion(p, s, "the pencil renderer was asked for --wavelengths off");
-  else if (rt_plan_spectral_pencils(p, s, o->spectral_tol) != 0)
+  else if (rt_plan_spectral_pencils_axis(p, s, o->spectral_tol, o->wavelength_axis) != 0)
     rt_plan_no_dispersion(p, s, "its wavelength axis could not be built");
 }
 
@@ -123,7 +130,9 @@ static int describe(const void *options, rn_attr_t *attrs) {
   snprintf(attrs[5].value, sizeof attrs[5].value, "%s", tolerance_names[o->tolerance]);
   attrs[6].key = "pencil:weight_floor";
   snprintf(attrs[6].value, sizeof attrs[6].value, "%.17g", o->weight_floor);
-  return 7;
+  attrs[7].key = "pencil:wavelength_axis";
+  snprintf(attrs[7].value, sizeof attrs[7].value, "%s", axis_names[o->wavelength_axis]);
+  return 8;
 }
 
 static void report(FILE *f, const rn_report_t *r) {

@@ -91,12 +91,15 @@ typedef struct {
   int simd; /**< 1: an interpolated sample's exact walks along the paths are carried for four
                  samples at once (AVX2 where the CPU has it: px_simd4_available()); 0: one at a
                  time. The image is the same bit for bit. */
+  int wavelength_axis; /**< read with `wavelengths` by the renderer table's entry: spectral
+                            pencils linear in 0 Lambda of the scene's one dispersive glass
+                            ([P89] 3.3), 1 lambda (rt_plan_spectral_pencils_axis()) */
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
   {                                                                                                \
     1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL, 0,             \
-        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR, 1                                      \
+        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR, 1, 0                                   \
   }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
