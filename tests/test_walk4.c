@@ -125,9 +125,9 @@ static int add_mat(rt_scene_t *s, const char *name, double kr, double kt, double
   return i;
 }
 
-/* A scene of every primitive kind: a glass ball, a glass polygon, a glass plane of one material
- * and a mirror checkerboard whose other squares are clear glass (a material per lane), in a
- * medium of index 1.1. */
+/* A scene of every primitive kind: a glass ball, a glass polygon, a tilted glass plane of one
+ * material and a mirror checkerboard whose other squares are clear glass (a material per lane:
+ * rt_shade_walk_ray4() takes its lanes one by one), in a medium of index 1.1. */
 static void walk_scene(rt_scene_t *s) {
   rt_scene_init(s);
   s->ior = 1.1;
@@ -135,7 +135,9 @@ static void walk_scene(rt_scene_t *s) {
       ci = add_mat(s, "clear", 0.0, 0.9, 1.3, 0);
   rt_scene_add_sphere(s, px_vec3(0, 0, 0), 1.0, gi, NULL);
   rt_scene_add_plane(s, px_vec3(0, -3, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mi, ci, 0.5, NULL);
-  rt_scene_add_plane(s, px_vec3(5, 0, 0), px_vec3(-1, 0, 0), px_vec3(0, 1, 0), gi, -1, 1, NULL);
+  /* tilted, off the origin: its n.p sums products (which a contracting compiler would fuse) */
+  rt_scene_add_plane(s, px_vec3(5, 0.7, -0.3), px_vec3(-0.95, 0.3, 0.17), px_vec3(0.3, 0.95, 0), gi,
+                     -1, 1, NULL);
   const px_vec3_t quad[4] = {px_vec3(-4, -2, 3), px_vec3(4, -2, 3), px_vec3(4, 4, 3),
                              px_vec3(-4, 4, 3)};
   assert_int_equal(rt_scene_add_polygon(s, quad, 4, gi, NULL), RT_OK);

@@ -230,7 +230,7 @@ static const pt_xgeom4_t *exact_geom4(pt_eval_t *E, int k) {
         alone |= (unsigned)walk_ray_full(E, n->parent, &g, n->kind, &one[i]) << i;
       }
     }
-  } else { /* the primary rays, four at a time where they are plain (pt__group_begin()) */
+  } else { /* the primary rays, four at a time where they are plain (pt__group_rays()) */
     r = G->ray4;
     lanes = G->lanes4;
     alone = ((1u << G->n) - 1) & ~lanes;
