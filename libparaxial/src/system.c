@@ -199,6 +199,21 @@ PX_FMA_CLONES /* per ray in the renderers: see fma_clones.h */
   return PX_OK;
 }
 
+/* Lane i of px_interface_outgoing4() by px_interface_outgoing(). */
+static px_status_t outgoing_lane(px_event_t ev, const px_vec3x4_t *s, const px_vec3x4_t *nu,
+                                 const double n1[4], const double n2[4], int i, px_vec3x4_t *out) {
+  px_interface_t f = {.s = {s->x[i], s->y[i], s->z[i]},
+                      .nu = {nu->x[i], nu->y[i], nu->z[i]},
+                      .n1 = n1[i],
+                      .n2 = n2[i]};
+  px_vec3_t o;
+  double co;
+  px_status_t st = px_interface_outgoing(&f, ev, &o, &co);
+  if (st == PX_OK)
+    out->x[i] = o.x, out->y[i] = o.y, out->z[i] = o.z;
+  return st;
+}
+
 /* Four lanes of px_interface_outgoing() with AVX2 and FMA: the same operations in the same order
  * (products and sums rounded apart, fma() where it has fma()), so each lane rounds as the scalar
  * function does. Lanes near grazing, which take outgoing_hard() there, are left to it. */
@@ -255,15 +270,7 @@ outgoing4_avx2(px_event_t ev, const px_vec3x4_t *s, const px_vec3x4_t *nu, const
     if (!(lanes & b)) {
       st[i] = PX_EINVAL;
     } else if (hard & b) {
-      px_interface_t f = {.s = {s->x[i], s->y[i], s->z[i]},
-                          .nu = {nu->x[i], nu->y[i], nu->z[i]},
-                          .n1 = n1[i],
-                          .n2 = n2[i]};
-      px_vec3_t o;
-      double co;
-      st[i] = px_interface_outgoing(&f, ev, &o, &co);
-      if (st[i] == PX_OK)
-        out->x[i] = o.x, out->y[i] = o.y, out->z[i] = o.z;
+      st[i] = outgoing_lane(ev, s, nu, n1, n2, i, out);
     } else if (tir & b) {
       st[i] = PX_ETIR;
     } else if (!(good & b)) {
@@ -298,15 +305,7 @@ void px_interface_outgoing4(px_event_t ev, const px_vec3x4_t *s, const px_vec3x4
       st[i] = PX_EINVAL;
       continue;
     }
-    px_interface_t f = {.s = {s->x[i], s->y[i], s->z[i]},
-                        .nu = {nu->x[i], nu->y[i], nu->z[i]},
-                        .n1 = n1[i],
-                        .n2 = n2[i]};
-    px_vec3_t o;
-    double co;
-    st[i] = px_interface_outgoing(&f, ev, &o, &co);
-    if (st[i] == PX_OK)
-      out->x[i] = o.x, out->y[i] = o.y, out->z[i] = o.z;
+    st[i] = outgoing_lane(ev, s, nu, n1, n2, i, out);
   }
 }
 
