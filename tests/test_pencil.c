@@ -1238,7 +1238,7 @@ static void lattice_memo_changes_nothing(void **state) {
  * a time, walk_ray_full()), a glass polyhedron (polygons) and the balls of spheres-10, in both
  * modes, on two threads against one; and the groups must have carried steps (more than two
  * samples a step on average). The images are float32: a walk differing in its last bits need not
- * show here, which tests/test_walk4.c's comparisons of the lanes do see. */
+ * show here, which test_render_shade.c's comparisons of the lanes do see. */
 static void walks_of_four_change_nothing(void **state) {
   (void)state;
   const char *files[4] = {NULL, NULL, "fig11", "spheres-10"};

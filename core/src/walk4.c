@@ -6,8 +6,8 @@
  *
  * Bit for bit: every expression is the scalar one's, in the same order, products and sums rounded
  * apart (the build contracts nothing into an FMA), fma() only where the scalar code calls it
- * (px_interface_outgoing4() in libparaxial). tests/test_walk4.c compares the lanes with the
- * scalar functions. */
+ * (px_interface_outgoing4() in libparaxial). tests/test_render_shade.c (the cases `*_of_four_*`)
+ * compares the lanes with the scalar functions. */
 #include <math.h>
 
 #include "core/intersect.h"
