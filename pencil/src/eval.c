@@ -208,12 +208,14 @@ static const pt_xgeom4_t *exact_geom4(pt_eval_t *E, int k) {
   rt_ray4_t r;
   rt_ray_t one[4];
   unsigned lanes = 0, alone = 0; /* lanes stepped four at a time, and one by one into one[] */
+  unsigned entered;              /* the lanes that reached this step on the path */
   if (n->parent >= 0) {
     const pt_xgeom4_t *px = exact_geom4(E, n->parent);
     const pt_node_t *pn = &C->paths.node[n->parent];
     int got[4] = {-1, -1, -1, -1};
     if (!px->ok)
       return x;
+    entered = px->ok;
     if (!pn->spectral) {
       const double ior[4] = {pn->ior, pn->ior, pn->ior, pn->ior};
       rt_shade_walk_ray4(C->s, C->plan, pn->prim, &px->p, &px->d, ior, pn->depth, n->kind, px->ok,
@@ -233,7 +235,8 @@ static const pt_xgeom4_t *exact_geom4(pt_eval_t *E, int k) {
   } else { /* the primary rays, four at a time where they are plain (pt__group_rays()) */
     r = G->ray4;
     lanes = G->lanes4;
-    alone = ((1u << G->n) - 1) & ~lanes;
+    entered = (1u << G->n) - 1;
+    alone = entered & ~lanes;
     for (int i = 0; i < G->n; i++)
       one[i] = G->primary[i];
   }
@@ -262,6 +265,7 @@ static const pt_xgeom4_t *exact_geom4(pt_eval_t *E, int k) {
     x->d.x[i] = q->d.x, x->d.y[i] = q->d.y, x->d.z[i] = q->d.z;
     x->ok |= 1u << i;
   }
+  C->st.walk_left += (uint64_t)__builtin_popcount(entered & ~x->ok);
   return x;
 }
 

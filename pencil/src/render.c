@@ -60,6 +60,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->lattice_reused += b->lattice_reused;
   a->walk_steps += b->walk_steps;
   a->walk_lanes += b->walk_lanes;
+  a->walk_left += b->walk_left;
   a->biquad_lattice_cells += b->biquad_lattice_cells;
   a->faint_lattice_cells += b->faint_lattice_cells;
   a->halved_lattice_cells += b->halved_lattice_cells;

@@ -169,9 +169,12 @@ static void report(FILE *f, const rn_report_t *r) {
           (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
           (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
   if (st->walk_steps)
-    fprintf(f, "exact walks in groups of samples: %llu steps, %.2f samples a step (%s)\n",
+    fprintf(f,
+            "exact walks in groups of samples: %llu steps, %.2f samples a step (%s), %llu "
+            "samples left the path\n",
             (unsigned long long)st->walk_steps, (double)st->walk_lanes / (double)st->walk_steps,
-            px_simd4_available() ? "four at a time, AVX2" : "one at a time: no AVX2 and FMA");
+            px_simd4_available() ? "four at a time, AVX2" : "one at a time: no AVX2 and FMA",
+            (unsigned long long)st->walk_left);
   char line[256];
   rt_stats_spectral_line(&st->rays, line, sizeof line);
   fputs(line, f);
