@@ -319,7 +319,7 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp,
   rn_attr_t ra[RN_MAX_ATTRS];
   io_attr_t attrs[5 + RN_MAX_ATTRS];
   char cbuf[160];
-  io_exr_channel_t ch[RN_MAX_CHANNELS + 3];
+  io_exr_channel_t ch[RN_MAX_CHANNELS + 4];
   char sppbuf[16];
   snprintf(sppbuf, sizeof sppbuf, "%d", spp);
   int na = 0, nr = a->r->describe(a->opt, ra);
@@ -339,7 +339,9 @@ static int write_outputs(const args_t *a, const rn_output_t *o, int spp,
   int nch = 0;
   for (int k = 0; k < a->r->nchannels; k++)
     ch[nch++] = (io_exr_channel_t){a->r->channels[k], o->channels[k]};
-  for (int k = 0; k < nmore && nch < RN_MAX_CHANNELS + 3; k++)
+  if (o->image->spectral)
+    ch[nch++] = (io_exr_channel_t){"spectral", o->image->spectral};
+  for (int k = 0; k < nmore && nch < RN_MAX_CHANNELS + 4; k++)
     ch[nch++] = more[k];
   if (io_render_write_preview(a->out, o->image, ch, nch, attrs, na, prev ? prev : o->image, err,
                               sizeof err) != 0)
@@ -461,7 +463,10 @@ static int render(const args_t *a, rt_scene_t *s) {
     pp_kernel_free(&kernel);
     return CLI_FAIL;
   }
-  if (rn_channels_alloc(a->r, s->camera.width, s->camera.height, &out) != RT_OK) {
+  if (rn_channels_alloc(a->r, s->camera.width, s->camera.height, &out) != RT_OK ||
+      (c.aux && rt_plan_has(&plan, RT_EFFECT_DISPERSION) &&
+       rt_image_want_spectral(&img) != RT_OK)) {
+    rn_channels_free(&out);
     free(stats);
     rt_image_free(&img);
     fprintf(stderr, "pencil render: out of memory\n");

@@ -59,6 +59,32 @@ d = np.abs(a - b).max(axis=2)
 assert d.max() > 1e-3, d.max()           # the board seen through the ball shifts by wavelength
 assert (d < 1e-6).mean() > 0.3, (d < 1e-6).mean()  # the board beside the ball is untouched
 PY"
+# the `spectral` channel: only where the render draws dispersion, 1 where the centre ray's tree
+# refracts at dispersive glass (the ball, and the board's glass squares), the same in both renderers
+for m in exact pencil; do
+  $pencil render "$tmp/model.json" --method $m -o "$tmp/s-$m.exr" >/dev/null 2>&1 || echo "FAIL: render $m with aux"
+done
+$pencil render "$tmp/model.json" --method pencil --wavelengths off -o "$tmp/s-off.exr" >/dev/null 2>&1 &&
+  $pencil render "$tmp/number.json" -o "$tmp/s-number.exr" >/dev/null 2>&1 || echo "FAIL: render without dispersion"
+check "the spectral channel: 1 on the ball, 0 on the board's diffuse squares, alike in both renderers; none without dispersion" "$py - '$tmp' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+def read(name):
+    b = oiio.ImageBuf(sys.argv[1] + '/' + name)
+    n = list(b.spec().channelnames)
+    return b.get_pixels(oiio.FLOAT), n
+ch = {}
+for m in ('exact', 'pencil'):
+    a, n = read('s-%s.exr' % m)
+    s, ids, u, v = (a[:, :, n.index(c)] for c in ('spectral', 'id', 'pathT.u', 'pathT.v'))
+    assert set(np.unique(s)) == {0.0, 1.0}, np.unique(s)
+    assert (s[ids == 0] == 1).all(), m             # every ray meeting the ball refracts there
+    direct = (ids == 1) & (a[:, :, n.index('pathT.k')] == 0)
+    assert (s[direct] == 0).any() and (s[direct] == 1).any(), m  # diffuse squares, glass squares
+    ch[m] = s
+assert (ch['exact'] == ch['pencil']).all(), (ch['exact'] != ch['pencil']).sum()
+for f in ('s-off.exr', 's-number.exr'):
+    assert 'spectral' not in read(f)[1], f
+PY"
 # two dispersive glasses (the prism's halves: SF11, and a model of SF11's n_d with V_d 40, so that
 # the slit is seen through both): the solids need one glass's Lambda scale, so beams draw them at
 # n_d and say so; --wavelengths pencils draws both

@@ -15,6 +15,7 @@ const char *rt_channel_name(rt_channel_t c) {
 
 rt_status_t rt_image_alloc(rt_image_t *img, int width, int height) {
   img->width = img->height = 0;
+  img->spectral = NULL;
   for (int c = 0; c < RT_CH_COUNT; c++)
     img->ch[c] = NULL;
   if (width < 1 || height < 1 || (size_t)width > ((size_t)1 << 30) / (size_t)height)
@@ -30,16 +31,42 @@ rt_status_t rt_image_alloc(rt_image_t *img, int width, int height) {
   return RT_OK;
 }
 
+rt_status_t rt_image_want_spectral(rt_image_t *img) {
+  if (!img->spectral &&
+      !(img->spectral = calloc((size_t)img->width * (size_t)img->height, sizeof(float))))
+    return RT_ENOMEM;
+  return RT_OK;
+}
+
 void rt_image_free(rt_image_t *img) {
   for (int c = 0; c < RT_CH_COUNT; c++) {
     free(img->ch[c]);
     img->ch[c] = NULL;
   }
+  free(img->spectral);
+  img->spectral = NULL;
   img->width = img->height = 0;
+}
+
+/* Whether tree t refracts at dispersive glass where shading has children: the condition under
+ * which shade.c's spectral() draws a white ray's spectrum (the first such node of a tree is met by
+ * the white ray; nodes below it, where the fan records them, are its wavelengths). */
+static int tree_disperses(const rt_scene_t *s, const rt_tree_t *t) {
+  for (int i = 0; i < t->n; i++) {
+    const rt_tree_node_t *n = &t->node[i];
+    if (n->flags & (RT_NODE_MISS | RT_NODE_DEPTH_LIMIT))
+      continue;
+    const rt_material_t *m = rt_scene_material_at(s, n->prim, n->point, NULL);
+    if (m->kt > 0.0 && px_index_disperses(&m->index))
+      return 1;
+  }
+  return 0;
 }
 
 void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
   const rt_tree_node_t *root = &t->node[0];
+  if (img->spectral)
+    img->spectral[k] = (float)tree_disperses(s, t);
   img->ch[RT_CH_Z][k] = (float)root->t;
   img->ch[RT_CH_ID][k] = (float)root->object;
   const rt_ray_kind_t prefer[2] = {RT_RAY_REFRACT, RT_RAY_REFLECT};

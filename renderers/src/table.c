@@ -203,7 +203,8 @@ int rn_image_nonfinite(const rt_image_t *img, int *x, int *y, int *channel) {
 size_t rn_memory_estimate(const rn_renderer_t *r, const rt_plan_t *plan, const rn_common_t *common,
                           const void *options, int width, int height, int with_sample_errors) {
   double px = (double)width * (double)height, spp = (double)common->spp_side * common->spp_side;
-  double bytes = px * (4.0 * (RT_CH_COUNT + r->nchannels) + 3.0); /* float planes, preview */
+  int spectral = common->aux && rt_plan_has(plan, RT_EFFECT_DISPERSION);     /* its plane */
+  double bytes = px * (4.0 * (RT_CH_COUNT + r->nchannels + spectral) + 3.0); /* planes, preview */
   if (with_sample_errors)
     bytes += px * 4.0 * spp;
   if (r->thread_bytes)

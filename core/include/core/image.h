@@ -33,13 +33,20 @@ const char *rt_channel_name(rt_channel_t c);
 typedef struct {
   int width, height;
   float *ch[RT_CH_COUNT]; /**< ch[c][j * width + i], row j from the top; owned by the image */
+  /** OpenEXR channel `spectral`, only where the render draws dispersion (rt_image_want_spectral(),
+   *  else NULL): for the centre ray, 1 where its tree refracts at dispersive glass below the depth
+   *  limit (the spectrum drawn there: by the fan, spectral pencils or image solids), else 0 */
+  float *spectral;
 } rt_image_t;
 
 rt_status_t rt_image_alloc(rt_image_t *img, int width, int height);
+/** Add the `spectral` plane to an allocated image (zeros); RT_ENOMEM leaves the image as it was. */
+rt_status_t rt_image_want_spectral(rt_image_t *img);
 void rt_image_free(rt_image_t *img);
-/** Fill the auxiliary channels (Z, id, both paths' checkerboard u, v and event counts) of pixel
- *  index k from the ray tree of that pixel's centre ray. Shared by every renderer, so that the
- *  channels mean the same whichever method made the image. */
+/** Fill the auxiliary channels (Z, id, both paths' checkerboard u, v and event counts, and
+ *  `spectral` when the image has it) of pixel index k from the ray tree of that pixel's centre
+ *  ray. Shared by every renderer, so that the channels mean the same whichever method made the
+ *  image. */
 void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t);
 
 /** Ray counts (all generations, summed over threads). */
