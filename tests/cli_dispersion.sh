@@ -64,9 +64,15 @@ PY"
 for m in exact pencil; do
   $pencil render "$tmp/model.json" --method $m -o "$tmp/s-$m.exr" >/dev/null 2>&1 || echo "FAIL: render $m with aux"
 done
+# ... and where the pencil renderer traces a node per sample: mirror balls that show the glass
+src=$(cd "$(dirname "$0")/.." && pwd)
+sed 's/"ior": 1.5/"ior": {"glass": "SF11"}/' "$src/scenes/spheres-10.json" >"$tmp/sp10.json"
+for m in exact pencil; do
+  $pencil render "$tmp/sp10.json" --method $m --size 128x128 -o "$tmp/sp-$m.exr" >/dev/null 2>&1 || echo "FAIL: render spheres $m"
+done
 $pencil render "$tmp/model.json" --method pencil --wavelengths off -o "$tmp/s-off.exr" >/dev/null 2>&1 &&
   $pencil render "$tmp/number.json" -o "$tmp/s-number.exr" >/dev/null 2>&1 || echo "FAIL: render without dispersion"
-check "the spectral channel: 1 on the ball, 0 on the board's diffuse squares, alike in both renderers; none without dispersion" "$py - '$tmp' <<'PY'
+check "the spectral channel: 1 on the ball, 0 on the board's diffuse squares, alike in both renderers (also through mirror balls); none without dispersion" "$py - '$tmp' <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 def read(name):
     b = oiio.ImageBuf(sys.argv[1] + '/' + name)
@@ -82,6 +88,9 @@ for m in ('exact', 'pencil'):
     assert (s[direct] == 0).any() and (s[direct] == 1).any(), m  # diffuse squares, glass squares
     ch[m] = s
 assert (ch['exact'] == ch['pencil']).all(), (ch['exact'] != ch['pencil']).sum()
+e, p = (read('sp-%s.exr' % m) for m in ('exact', 'pencil'))
+e, p = (a[:, :, n.index('spectral')] for a, n in (e, p))
+assert 0.05 < e.mean() < 0.5 and (e == p).all(), (e.mean(), (e != p).sum())
 for f in ('s-off.exr', 's-number.exr'):
     assert 'spectral' not in read(f)[1], f
 PY"
@@ -115,7 +124,6 @@ for half in (slice(0, w // 2 - 1), slice(w // 2 + 1, w)):  # each glass's half o
 PY"
 # the beam renderer's image solids grow with the image: their estimate (BT_SOLID_SAMPLE_BYTES a
 # sample) is in the memory a render needs, so that --max-memory refuses before it starts
-src=$(cd "$(dirname "$0")/.." && pwd)
 $pencil render "$src/scenes/prism.json" --method beam --size 512x512 --max-memory 200M \
   -o "$tmp/big.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "image solids past --max-memory: refused before the render, saying so and what helps" \

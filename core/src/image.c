@@ -63,10 +63,14 @@ static int tree_disperses(const rt_scene_t *s, const rt_tree_t *t) {
   return 0;
 }
 
-void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
-  const rt_tree_node_t *root = &t->node[0];
+void rt_image_set_spectral(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
   if (img->spectral)
     img->spectral[k] = (float)tree_disperses(s, t);
+}
+
+void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t) {
+  const rt_tree_node_t *root = &t->node[0];
+  rt_image_set_spectral(img, s, k, t);
   img->ch[RT_CH_Z][k] = (float)root->t;
   img->ch[RT_CH_ID][k] = (float)root->object;
   const rt_ray_kind_t prefer[2] = {RT_RAY_REFRACT, RT_RAY_REFLECT};

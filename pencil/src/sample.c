@@ -53,22 +53,16 @@ void pt__aux_pencil(pt_ctx_t *C, int i, int j, const pt_geom_t *rec) {
     pt__aux_exact(C, i, j);
     return;
   }
-  int sp = 0; /* `spectral`: a node of the domain's tree (the centre ray's) at dispersive glass */
-  for (int n = 0; C->img->spectral && n < C->paths.n && !sp; n++) {
-    const pt_node_t *nd = &C->paths.node[n];
-    if (!nd->spectral || nd->miss)
-      continue;
-    if (rec[n].ok != 1) { /* not reached by the pencil: the exact tree decides */
-      pt__aux_exact(C, i, j);
-      return;
-    }
-    const rt_material_t *m = rt_scene_material_at(C->s, nd->prim, rec[n].p, NULL);
-    sp = m->kt > 0.0 && px_index_disperses(&m->index); /* a checkerboard's square */
-  }
   size_t k = pt__pixel_index(C, i, j);
   const pt_node_t *root = &C->paths.node[0];
-  if (C->img->spectral)
-    C->img->spectral[k] = (float)sp;
+  if (C->img->spectral) {
+    /* `spectral` from the centre ray's exact tree's shape: below a node traced per sample the
+     * ray's tree may meet glass the domain's does not, and the pencil's hit may lie in another
+     * checker square than the exact one (the other channels keep the pencil's points) */
+    rt_ray_t r = rt_view_ray(C->view, i + 0.5, j + 0.5, C->s->ior);
+    pt__trace_shape(C, &C->trees.probe, &r);
+    rt_image_set_spectral(C->img, C->s, k, &C->trees.probe);
+  }
   C->img->ch[RT_CH_Z][k] =
       root->miss ? INFINITY : (float)px_v3_norm(px_v3_sub(rec[0].p, C->view->eye));
   C->img->ch[RT_CH_ID][k] = (float)root->object;

@@ -48,6 +48,9 @@ void rt_image_free(rt_image_t *img);
  *  ray. Shared by every renderer, so that the channels mean the same whichever method made the
  *  image. */
 void rt_image_set_aux(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t);
+/** The `spectral` channel alone (rt_image_set_aux() sets it too), where a renderer writes the
+ *  other channels from its own geometry; nothing when the image has no such plane. */
+void rt_image_set_spectral(rt_image_t *img, const rt_scene_t *s, size_t k, const rt_tree_t *t);
 
 /** Ray counts (all generations, summed over threads). */
 typedef struct {
