@@ -265,7 +265,8 @@ static const pt_xgeom4_t *exact_geom4(pt_eval_t *E, int k) {
     x->d.x[i] = q->d.x, x->d.y[i] = q->d.y, x->d.z[i] = q->d.z;
     x->ok |= 1u << i;
   }
-  C->st.walk_left += (uint64_t)__builtin_popcount(entered & ~x->ok);
+  if (entered & ~x->ok) /* rare */
+    C->st.walk_left += (uint64_t)__builtin_popcount(entered & ~x->ok);
   return x;
 }
 

@@ -171,7 +171,7 @@ static void report(FILE *f, const rn_report_t *r) {
   if (st->walk_steps)
     fprintf(f,
             "exact walks in groups of samples: %llu steps, %.2f samples a step (%s), %llu "
-            "samples left the path\n",
+            "times a sample left the path\n",
             (unsigned long long)st->walk_steps, (double)st->walk_lanes / (double)st->walk_steps,
             px_simd4_available() ? "four at a time, AVX2" : "one at a time: no AVX2 and FMA",
             (unsigned long long)st->walk_left);

@@ -165,9 +165,10 @@ typedef struct {
                             (opt->simd): one node of the paths for the group */
   uint64_t walk_lanes; /**< the samples those steps carried (lanes per step: walk_lanes /
                             walk_steps) */
-  uint64_t walk_left;  /**< of those, the samples whose ray left the path at that step: it
-                            missed the node's primitive, met something else first, or lacked
-                            the child (the sample is then traced exactly) */
+  uint64_t walk_left;  /**< lanes of those steps whose ray left the path there: it missed the
+                            node's primitive, met something else first, or lacked the child
+                            (the sample is then traced exactly); a sample that leaves at two
+                            nodes counts twice */
   /* Fig. 10 measurement (measure only) */
   uint64_t measured;       /**< samples measured (all samples of the image) */
   uint64_t with_points;    /**< ... with at least one pencil-traced point on a measured surface
