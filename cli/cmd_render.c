@@ -59,8 +59,9 @@ static void help(FILE *f, const rn_renderer_t *r) {
          "Renders SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene\n"
          "(a glass sphere over a checkerboard; scenes/README.md). Writes OUT.exr (float R, G, B\n"
          "and, for each pixel's centre ray, Z, id and the points where its paths meet the\n"
-         "checkerboard: pathT.*, pathR.*; the method's own channels; the version and command\n"
-         "line as header attributes) and a PNG preview beside it (OUT.png).\n\n"
+         "checkerboard: pathT.*, pathR.*; where dispersion is drawn, spectral: 1 where that\n"
+         "ray's tree refracts at dispersive glass; the method's own channels; the version and\n"
+         "command line as header attributes) and a PNG preview beside it (OUT.png).\n\n"
          "methods:\n");
   for (int k = 0; k < rn_count(); k++)
     fprintf(f, "  %-10s %s%s\n", rn_entry(k)->name, rn_entry(k)->summary,

@@ -5,7 +5,8 @@
  *   - the loader returns 0 or -1 with a message, and leaves the scene empty on -1;
  *   - a render returns RT_OK or RT_ENOMEM (the one status a valid image, valid options and a
  *     prepared scene leave it: renderers/renderer.h);
- *   - every R, G, B value of the image is finite (rn_image_nonfinite);
+ *   - every R, G, B value of the image is finite (rn_image_nonfinite), and the `spectral`
+ *     channel, where the plan draws dispersion, is 0 or 1;
  *   - nothing crashes, leaks, or trips AddressSanitizer or UndefinedBehaviorSanitizer, and each
  *     input finishes in bounded time (libFuzzer's -timeout).
  * A broken rule is reported on stderr and ends the process with abort(), which libFuzzer records
@@ -63,6 +64,8 @@ static void render_with(const rn_renderer_t *r, const rt_scene_t *s, int spp_sid
     free(stats);
     return; /* out of memory: not what the fuzzer looks for */
   }
+  if (rt_plan_has(&plan, RT_EFFECT_DISPERSION))
+    (void)rt_image_want_spectral(&img); /* `pencil render`'s plane; without it on ENOMEM */
   if (rn_channels_alloc(r, s->camera.width, s->camera.height, &out) == RT_OK) {
     rn_defaults(r, options);
     out.stats = stats;
@@ -79,6 +82,9 @@ static void render_with(const rn_renderer_t *r, const rt_scene_t *s, int spp_sid
       broken(rt_strerror(st), r->name);
     if (st == RT_OK && rn_image_nonfinite(&img, &x, &y, &ch))
       broken("a non-finite R, G or B", r->name);
+    for (size_t k = 0; st == RT_OK && img.spectral && k < (size_t)img.width * img.height; k++)
+      if (img.spectral[k] != 0.0f && img.spectral[k] != 1.0f)
+        broken("a spectral channel value other than 0 or 1", r->name);
     rn_errors_t e;
     if (st == RT_OK && r->errors && (r->errors(stats, &e), e.within > e.measured))
       broken("more samples within rho than measured", r->name);
