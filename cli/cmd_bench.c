@@ -491,7 +491,7 @@ static int bench_beam(int argc, char **argv) {
 static void help_dispersion(FILE *f) {
   fprintf(f, "usage: pencil bench dispersion [--json FILE] [--out DIR] [--runs N] [--threads N]\n"
              "                               [--quick] [--size N] [--reference-bins N]\n"
-             "                               [--scenes DIR]\n\n"
+             "                               [--spp N] [--reference-spp N] [--scenes DIR]\n\n"
              "The 1989 paper's Fig. 14 table (section 3.3; issue 22): scenes/fig14.json, a\n"
              "polyhedron of 120 polygons of SF11 glass, rendered by each method, with its median\n"
              "time and its colour error against a converged spectral reference (the exact\n"
@@ -520,6 +520,12 @@ static void help_dispersion(FILE *f) {
              "  --quick              48 x 48, the reference at 100 bins, 1 run (tests)\n"
              "  --size N             image side in pixels, 8..4096 (default 256)\n"
              "  --reference-bins N   the reference's bins, 8..400 (default 400)\n"
+             "  --spp N              every method's samples per pixel, a square (default: the\n"
+             "                       scene's, 1)\n"
+             "  --reference-spp N    the reference's samples per pixel, a square (default: as\n"
+             "                       --spp); above the methods' its pixels approach area\n"
+             "                       averages, as beams compute, so that point-sampling\n"
+             "                       methods at higher --spp are compared at equal error\n"
              "  --scenes DIR         the directory holding fig14.json (default: scenes/ of the\n"
              "                       source tree the command was built from)\n"
              "Exit codes: 0 done; 2 usage or I/O error.\n");
@@ -529,15 +535,16 @@ static int bench_dispersion(int argc, char **argv) {
   static const cli_spec_t specs[] = {{"--json", 0, 1, 1},  {"--out", 0, 1, 2},
                                      {"--runs", 0, 1, 3},  {"--threads", 0, 1, 4},
                                      {"--quick", 0, 0, 5}, {"--scenes", 0, 1, 6},
-                                     {"--size", 0, 1, 7},  {"--reference-bins", 0, 1, 8}};
+                                     {"--size", 0, 1, 7},  {"--reference-bins", 0, 1, 8},
+                                     {"--spp", 0, 1, 9},   {"--reference-spp", 0, 1, 10}};
   int n, rc;
-  cli_arg_t *args = cli_args("bench dispersion", argc, argv, specs, 8, help_dispersion, &n, &rc);
+  cli_arg_t *args = cli_args("bench dispersion", argc, argv, specs, 10, help_dispersion, &n, &rc);
   if (!args)
     return rc;
   val_dispersion_bench_opts_t o;
   memset(&o, 0, sizeof o);
   o.report = stdout;
-  long runs = 3, threads = 0, size = 0, bins = 0;
+  long runs = 3, threads = 0, size = 0, bins = 0, spp = 0, ref_spp = 0;
   int quick_runs = 1;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
@@ -559,6 +566,11 @@ static int bench_dispersion(int argc, char **argv) {
       rc = cli_parse_long("--size", g->value, 8, 4096, &size) ? CLI_OK : CLI_USAGE;
     } else if (g->spec->id == 8) {
       rc = cli_parse_long("--reference-bins", g->value, 8, 400, &bins) ? CLI_OK : CLI_USAGE;
+    } else if (g->spec->id == 9) {
+      rc = cli_parse_spp("bench dispersion", "--spp", g->value, &spp) ? CLI_OK : CLI_USAGE;
+    } else if (g->spec->id == 10) {
+      rc = cli_parse_spp("bench dispersion", "--reference-spp", g->value, &ref_spp) ? CLI_OK
+                                                                                    : CLI_USAGE;
     } else {
       o.scenes = g->value;
     }
@@ -577,6 +589,8 @@ static int bench_dispersion(int argc, char **argv) {
   o.threads = (int)threads;
   o.size = (int)size;
   o.ref_bins = (int)bins;
+  o.spp = (int)spp;
+  o.ref_spp = (int)ref_spp;
   return val_bench_dispersion(&o) == 0 ? CLI_OK : CLI_USAGE;
 }
 

@@ -5,10 +5,10 @@
 # over_exact_nd, rays, delta_e2000_mean, delta_e2000_p99, delta_e2000_max; targets: the issue's
 # time and colour targets with their verdicts; beams: the beam renderer's dispersion image solids and
 # spectral pencils against its time at n_d, and the solids against the pencils at the same
-# points); Takagi's wavelength
-# supersampling and the fan of as many bins give the same colours; the error falls as the bins
-# grow, and drawing the glass at n_d errs most; bad options exit 2 before any rendering. DIR
-# (argument 2) keeps the outputs.
+# points; spp and reference_spp); Takagi's wavelength supersampling and the fan of as many bins
+# give the same colours; the error falls as the bins grow, and drawing the glass at n_d errs most;
+# against a reference of area averages (--reference-spp) the beams err least; bad options exit 2
+# before any rendering. DIR (argument 2) keeps the outputs.
 set -u
 pencil=$1
 out=${2:-}
@@ -31,7 +31,7 @@ check "JSON: every method with its numbers; errors fall with the bins" "$py - '$
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d['benchmark'] == 'dispersion' and 'provenance' in d and d['quick'] is True
-assert d['reference_bins'] == 100 and d['size'] == 48
+assert d['reference_bins'] == 100 and d['size'] == 48 and d['spp'] == 1 and d['reference_spp'] == 1
 m = {r['method']: r for r in d['methods']}
 assert set(m) == {'reference', 'pencil', 'pencil-spectral', 'exact-nd', 'exact-takagi9',
                   'exact-fan9', 'exact-fan40', 'exact-spectral-pencil', 'exact-fan50', 'beam',
@@ -68,6 +68,21 @@ assert t['delta_e2000_mean'] == ps['delta_e2000_mean'] and t['delta_e_met'] is T
 assert t['faster_than_exact_nd'] == (t['time_over_exact_nd'] < 1.0), t
 PY"
 check "the report gives the targets' verdicts" "grep -q '^targets (issue 22): pencil-spectral .* times pencil.s time (target <= 1.3' '$tmp/log'"
+# against a reference of area averages (--reference-spp 16) the beams, which integrate each
+# pixel's area, err less than any method sampling the pixel's centre, and less than against the
+# point-sampled reference
+$pencil bench dispersion --quick --reference-spp 16 --threads 2 --json "$tmp/area.json" \
+  >"$tmp/log16" 2>"$tmp/err"; rc=$?
+check "--reference-spp 16: the beams' error falls; every point sampler's is larger" "[ $rc -eq 0 ] && grep -q 'spectral fan with 100 bins at 16 spp' '$tmp/log16' && $py - '$out/dispersion.json' '$tmp/area.json' <<'PY'
+import json, sys
+one, area = (json.load(open(p)) for p in sys.argv[1:3])
+assert area['spp'] == 1 and area['reference_spp'] == 16, area
+e1, e16 = ({r['method']: r['delta_e2000_mean'] for r in d['methods']} for d in (one, area))
+assert e16['beam-solids'] < 0.8 * e1['beam-solids'], (e1['beam-solids'], e16['beam-solids'])
+points = [k for k in e16 if k != 'reference' and not k.startswith('beam')]
+assert len(points) == 8 and all(e16[k] > 1.5 * e16['beam-solids'] for k in points), e16
+assert area['targets']['delta_e_met'] is None  # the colour target is judged at equal spp only
+PY"
 src=$(cd "$(dirname "$0")/.." && pwd)
 for b in 9 40 100; do # the prism's spectrum for the notebook: steps or smooth
   $pencil render "$src/scenes/prism.json" --size 96x96 --spp 1 --bins $b --no-aux \
@@ -109,6 +124,10 @@ assert gaps(rows['solids']) == 0, gaps(rows['solids'])  # the paper's image soli
 PY"
 $pencil bench dispersion --reference-bins 4 >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "--reference-bins 4: exit 2 naming the option" "[ $rc -eq 2 ] && grep -q -- '--reference-bins' '$tmp/e' && [ ! -s '$tmp/o' ]"
+for bad in "--spp 3" "--reference-spp 0" "--spp x"; do
+  $pencil bench dispersion $bad >"$tmp/o" 2>"$tmp/e"; rc=$?
+  check "$bad: exit 2 naming the option" "[ $rc -eq 2 ] && grep -q -- '${bad% *}: expected a square number' '$tmp/e' && [ ! -s '$tmp/o' ]"
+done
 $pencil bench dispersion --json "$tmp/no/such/dir/x.json" >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "--json in a missing directory: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q -- '--json' '$tmp/e' && [ ! -s '$tmp/o' ]"
 $pencil bench dispersion --help >"$tmp/h"; rc=$?

@@ -62,9 +62,10 @@ static int delta_e(const rt_image_t *a, const rt_image_t *b, result_t *r) {
   return 0;
 }
 
-/* Render s by method m into img (allocated here): the median time of `runs` runs. */
+/* Render s by method m at spp samples a pixel into img (allocated here): the median time of
+ * `runs` runs. */
 static int render(const rt_scene_t *s, const method_t *m, const val_dispersion_bench_opts_t *o,
-                  int runs, rt_image_t *img, result_t *r) {
+                  int spp, int runs, rt_image_t *img, result_t *r) {
   const rn_renderer_t *rn = rn_find(m->renderer);
   void *opt = rn ? malloc(rn->options_size) : NULL, *stats = rn ? calloc(1, rn->stats_size) : NULL;
   char err[200], bins[16];
@@ -78,9 +79,9 @@ static int render(const rt_scene_t *s, const method_t *m, const val_dispersion_b
     if (!ok)
       fprintf(stderr, "pencil bench dispersion: %s\n", err);
   }
-  rt_plan_t plan = rn_plan_make(rn, s, s->spp, ok ? opt : NULL);
+  rt_plan_t plan = rn_plan_make(rn, s, spp, ok ? opt : NULL);
   rn_common_t c = RN_COMMON_DEFAULT;
-  c.spp_side = (int)lrint(sqrt(s->spp));
+  c.spp_side = (int)lrint(sqrt(spp));
   c.threads = o->threads;
   c.aux = 0;
   double t[32];
@@ -137,6 +138,7 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
     rt_scene_free(&s);
     return -1;
   }
+  int spp = o->spp > 0 ? o->spp : s.spp, ref_spp = o->ref_spp > 0 ? o->ref_spp : spp;
   enum { NM = 12, ND = 3, BM = 9 }; /* ND: exact-nd, the times' unit; BM .. BM + 2: beams */
   method_t ms[NM] = {{"reference", "exact", "fan", ref},
                      {"pencil", "pencil", "off", 0},
@@ -158,12 +160,12 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
   if (f)
     fprintf(f,
             "pencil bench dispersion: 1989 Fig. 14, %s (120 polygons of SF11) at %dx%d, %d spp;\n"
-            "CIEDE2000 per pixel against the spectral fan with %d bins; times are medians of %d "
-            "run(s)\n",
-            path, side, side, s.spp, ref, runs);
+            "CIEDE2000 per pixel against the spectral fan with %d bins at %d spp; times are "
+            "medians of %d run(s)\n",
+            path, side, side, spp, ref, ref_spp, runs);
   int bad = 0;
   for (int m = 0; m < NM && !bad; m++) {
-    bad = render(&s, &ms[m], o, m == 0 ? 1 : runs, &img[m], &res[m]) != 0 ||
+    bad = render(&s, &ms[m], o, m == 0 ? ref_spp : spp, m == 0 ? 1 : runs, &img[m], &res[m]) != 0 ||
           (m > 0 && delta_e(&img[m], &img[0], &res[m]) != 0);
     if (!bad && o->out)
       bad = save(o->out, ms[m].name, &img[m]) != 0;
@@ -191,19 +193,23 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
     fprintf(f,
             "polyhedra by beams (1987 4.1 (3), 1989 3.2): dispersion image solids (beam-solids) "
             "%.2f times the beams' time with the glass at n_d (the paper: about 1.2), spectral "
-            "pencils from each cell share (beam-pencils) %.2f times; beams cover each pixel's "
-            "area where the reference samples its centre, so their dE above counts edges too; "
-            "beam-solids against beam-pencils (the same points): dE2000 mean %.4f, p99 %.4f, max "
-            "%.4f\n",
+            "pencils from each cell share (beam-pencils) %.2f times; %s; beam-solids against "
+            "beam-pencils (the same points): dE2000 mean %.4f, p99 %.4f, max %.4f\n",
             res[BM + 1].seconds / fmax(res[BM].seconds, 1e-9),
-            res[BM + 2].seconds / fmax(res[BM].seconds, 1e-9), same.mean, same.p99, same.max);
+            res[BM + 2].seconds / fmax(res[BM].seconds, 1e-9),
+            ref_spp <= spp ? "beams cover each pixel's area where the reference samples points, so "
+                             "their dE above counts edges too"
+                           : "the reference's pixels approach area averages, which beams compute",
+            same.mean, same.p99, same.max);
     fprintf(f,
             "targets (issue 22): pencil-spectral %.2f times pencil's time (target <= 1.3; the "
             "paper: about 1.2): %s; its mean dE2000 %.3f (target <= 1): %s; %.2f times exact-nd's "
             "time (the paper: faster than a conventional non-dispersive tracer): %s\n",
             over_pencil, over_pencil <= 1.3 ? "met" : "not met", res[2].mean,
-            res[2].mean <= 1.0 ? "met" : "not met", over_nd,
-            over_nd < 1.0 ? "reproduced" : "not reproduced");
+            ref_spp != spp       ? "not judged (the reference has other samples per pixel)"
+            : res[2].mean <= 1.0 ? "met"
+                                 : "not met",
+            over_nd, over_nd < 1.0 ? "reproduced" : "not reproduced");
     fflush(f);
   }
   if (!bad && o->json) {
@@ -219,9 +225,9 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
                           "delta_e2000_p99", m ? json_real(res[m].p99) : json_null(),
                           "delta_e2000_max", m ? json_real(res[m].max) : json_null()));
     json_t *root =
-        json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:b, s:o, s:s}", "benchmark", "dispersion",
-                  "scene", path, "size", side, "spp", s.spp, "reference_bins", ref, "runs", runs,
-                  "quick", o->quick, "methods", rows, "dispersive_pencil",
+        json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:i, s:b, s:o, s:s}", "benchmark", "dispersion",
+                  "scene", path, "size", side, "spp", spp, "reference_bins", ref, "reference_spp",
+                  ref_spp, "runs", runs, "quick", o->quick, "methods", rows, "dispersive_pencil",
                   "spectral pencils from each sample's hit (pencil-spectral, "
                   "exact-spectral-pencil); the paths' wavelength column not built yet");
     json_object_set_new(root, "beams",
@@ -232,13 +238,13 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
                                   "solids_against_pencils_delta_e2000_mean", same.mean,
                                   "solids_against_pencils_delta_e2000_p99", same.p99,
                                   "solids_against_pencils_delta_e2000_max", same.max));
-    json_object_set_new(root, "targets",
-                        json_pack("{s:f, s:f, s:b, s:f, s:f, s:b, s:f, s:b}", "time_over_pencil",
-                                  over_pencil, "time_over_pencil_target", 1.3, "time_met",
-                                  over_pencil <= 1.3, "delta_e2000_mean", res[2].mean,
-                                  "delta_e2000_mean_target", 1.0, "delta_e_met", res[2].mean <= 1.0,
-                                  "time_over_exact_nd", over_nd, "faster_than_exact_nd",
-                                  over_nd < 1.0));
+    json_object_set_new(
+        root, "targets",
+        json_pack("{s:f, s:f, s:b, s:f, s:f, s:o, s:f, s:b}", "time_over_pencil", over_pencil,
+                  "time_over_pencil_target", 1.3, "time_met", over_pencil <= 1.3,
+                  "delta_e2000_mean", res[2].mean, "delta_e2000_mean_target", 1.0, "delta_e_met",
+                  ref_spp != spp ? json_null() : json_boolean(res[2].mean <= 1.0),
+                  "time_over_exact_nd", over_nd, "faster_than_exact_nd", over_nd < 1.0));
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil bench dispersion: %s\n", err);
       rc = -1;

@@ -12,7 +12,10 @@
  *  - exact-fan9, exact-fan40: the spectral fan with 9 and 40 bins;
  *  - exact-fanR/2: the fan with half the reference's bins (how far the reference has converged);
  *  - reference: the fan with R bins (default 400), timed once.
- * Dispersive pencil tracing is not built yet; its row will join this table. */
+ *  - pencil-spectral, exact-spectral-pencil: spectral pencils (the 1989 paper's Eq. 13) in the
+ *    pencil and exact renderers;
+ *  - beam, beam-solids, beam-pencils: the beam renderer with the glass at n_d, with dispersion
+ *    image solids (the paper's 3.2.2), and with spectral pencils from each cell share. */
 #ifndef VALIDATION_DISPERSION_BENCH_H
 #define VALIDATION_DISPERSION_BENCH_H
 
@@ -24,6 +27,10 @@ typedef struct {
   int runs;           /**< timed runs per method (the median is reported), >= 1 */
   int size;           /**< image side in pixels (0: 256; quick: 48) */
   int ref_bins;       /**< the reference's bins (0: 400; quick: 100), RT_MIN_BINS..RT_MAX_BINS */
+  int spp;            /**< every method's samples per pixel, a square (0: the scene's) */
+  int ref_spp;        /**< the reference's, a square (0: as spp): above the methods', its pixel
+                           approaches an area average, which beams compute and point samples
+                           approach, so that methods can be compared at equal error */
   const char *json;   /**< summary path or NULL */
   const char *out;    /**< directory for the images (fig14-METHOD.exr and .png), or NULL */
   const char *scenes; /**< directory holding fig14.json, or NULL for the source tree's */
