@@ -71,9 +71,9 @@ check "the report gives the targets' verdicts" "grep -q '^targets (issue 22): pe
 # against a reference of area averages (--reference-spp 16) the beams, which integrate each
 # pixel's area, err less than any method sampling the pixel's centre, and less than against the
 # point-sampled reference
-$pencil bench dispersion --quick --reference-spp 16 --threads 2 --json "$tmp/area.json" \
+$pencil bench dispersion --quick --reference-spp 16 --threads 2 --json "$out/equal-spp1.json" \
   >"$tmp/log16" 2>"$tmp/err"; rc=$?
-check "--reference-spp 16: the beams' error falls; every point sampler's is larger" "[ $rc -eq 0 ] && grep -q 'spectral fan with 100 bins at 16 spp' '$tmp/log16' && $py - '$out/dispersion.json' '$tmp/area.json' <<'PY'
+check "--reference-spp 16: the beams' error falls; every point sampler's is larger" "[ $rc -eq 0 ] && grep -q 'spectral fan with 100 bins at 16 spp' '$tmp/log16' && $py - '$out/dispersion.json' '$out/equal-spp1.json' <<'PY'
 import json, sys
 one, area = (json.load(open(p)) for p in sys.argv[1:3])
 assert area['spp'] == 1 and area['reference_spp'] == 16, area

@@ -154,6 +154,14 @@ cat >"$dir/out/dispersion/dispersion.json" <<'JSON'
               "seconds": 0.319, "over_exact_nd": 6.890, "rays": 3117397,
               "delta_e2000_mean": 0.6919, "delta_e2000_p99": 13.3169, "delta_e2000_max": 43.8106}]}
 JSON
+for spp in 1 4; do # the equal-error runs: the same methods at two sample counts
+  cat >"$dir/out/dispersion/equal-spp$spp.json" <<JSON
+{"benchmark": "dispersion", "scene": "scenes/fig14.json", "size": 96, "spp": $spp,
+ "reference_bins": 100, "reference_spp": 64, "runs": 3, "quick": false,
+ "methods": [{"method": "reference", "seconds": 50.5, "delta_e2000_mean": null},
+             {"method": "beam-solids", "seconds": 0.9$spp, "delta_e2000_mean": $spp.25}]}
+JSON
+done
 cat >"$dir/out/figures/summary.json" <<'JSON'
 {"scene": "built-in fig8", "width": 256, "height": 256, "threads": 1, "runs": 3,
  "time": "process CPU seconds, median of runs",
@@ -207,6 +215,7 @@ check "fig10: the render's closing lines" \
 check "dispersion: Takagi's row" "grep -q '| exact-takagi9 | exact | primary | 9 | 0.319 | 6.89 | 3117397 | 0.692 | 13.317 | 43.811 |' '$page'"
 check "dispersion: the targets' verdicts" "grep -q 'pencil-spectral 3.71 times pencil.s time (target <= 1.3; the paper: about 1.2): not met; its mean dE2000 0.110 (target <= 1): met; 5.20 times exact-nd.s time .*: not reproduced' '$page'"
 check "nothing reported as not run" "! grep -q 'not run' '$page'"
+check "dispersion at equal error: a column pair per spp, a row per method" "grep -q '| method | 1 spp dE | s | 4 spp dE | s |' '$page' && grep -q '| beam-solids | 1.25 | 0.910 | 4.25 | 0.940 |' '$page' && grep -q 'spectral fan with 100 bins at 64 spp' '$page'"
 check "Fig. 9 beside POV-Ray: the 49-spp row" \
   "grep -q '| 49 | 1.200 | 0.215 | 5.000 | 0.179 | 0.043 | 0.240 |' '$page'"
 check "image-space tolerance: a row per tolerance" \
