@@ -177,6 +177,8 @@ rt_status_t lt_caustic_maps(const rt_scene_t *s, const rt_caustic_plan_t *cp,
     return status;
   }
   st->st.seconds = wall() - t0;
-  st->flux_outside = reached > 0.0 ? outside / reached : 0.0;
+  /* a share, not below 0: where nothing falls beside the maps, the clipped deposits' rounding
+   * (lt__deposit_*: the whole's flux less the cells') leaves the sum a few 1e-16 below it */
+  st->flux_outside = reached > 0.0 ? fmax(0.0, outside / reached) : 0.0;
   return RT_OK;
 }
