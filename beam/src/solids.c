@@ -196,6 +196,15 @@ static int grow(void **a, int *cap, int n, size_t size) {
   return 1;
 }
 
+/* FNV-1a over steps[0 .. n-1]'s faces and events, continued from h (bt__solid_record()'s key
+ * without its face): equal for equal steps. */
+static uint64_t steps_hash(uint64_t h, const bm_step_t *steps, int n) {
+  for (int k = 0; k < n; k++)
+    h = (h ^ (uint64_t)(steps[k].face * 2 + (int)steps[k].event)) * 1099511628211ULL;
+  return h;
+}
+#define SD_FNV_BASIS 1469598103934665603ULL
+
 /* Count n bytes more held by the solids (twice what a thread appends: its arrays are copied once
  * more when merged); 0, with T->oom set, past bt_options_t.memory_budget. n may be negative (what
  * a thread gives back). */
@@ -240,13 +249,9 @@ void bt__solid_record(tile_t *T, const px_poly2_t *r, const bm_path_t *path, int
   q->entry = T->sentry;
   q->path = *path;
   q->face = face;
-  uint64_t h = 1469598103934665603ULL; /* FNV-1a over the steps' faces and events, and face */
-  for (int k = 0; k <= path->n; k++) {
-    uint64_t v = k < path->n ? (uint64_t)(path->step[k].face * 2 + (int)path->step[k].event)
-                             : (uint64_t)(int64_t)face;
-    h = (h ^ v) * 1099511628211ULL;
-  }
-  q->key = h;
+  /* FNV-1a over the steps' faces and events, and face */
+  q->key =
+      (steps_hash(SD_FNV_BASIS, path->step, path->n) ^ (uint64_t)(int64_t)face) * 1099511628211ULL;
   q->region = *r;
   q->ok = q->wok = q->failed = q->kdark[0] = q->kdark[1] = 0;
   q->nkid = nkid;
@@ -723,25 +728,26 @@ static int follows(const bm_path_t *a, const bm_path_t *pre, const bm_step_t *la
   return a->n == pre->n + 1 && below(a, pre, last);
 }
 
-/* One beam of the solid's subtree at point p: the candidates cand[0 .. nc-1] that follow path
- * pre and then step last, its path (state[c] 1 once claimed, -1 dropped), whose wavelengths lie in
- * pi (the parent piece's visible ones at p, or the whole range at the entry). Hidden surfaces are
- * removed along the wavelength axis, [P89] 3.2.2's three-dimensional clipping by a priority list:
- * at each wavelength the nearest piece's face (by its point at u_c) is seen; iv[c] becomes what
- * piece c shows, its light goes into *light. The rest of pi (the background's, or traced exactly
- * where a piece was dropped, the beam has exact regions, or a gap over BT_SOLID_GAP opens) too. 0
- * when an exact ray of the rest misses. */
+/* One beam of the solid's subtree at point p: the candidates cand[0 .. nc-1] (their paths'
+ * steps_hash() in phash) that follow path pre and then step last, its path (state[c] 1 once
+ * claimed, -1 dropped), whose wavelengths lie in pi (the parent piece's visible ones at p, or the
+ * whole range at the entry). Hidden surfaces are removed along the wavelength axis, [P89] 3.2.2's
+ * three-dimensional clipping by a priority list: at each wavelength the nearest piece's face (by
+ * its point at u_c) is seen; iv[c] becomes what piece c shows, its light goes into *light. The
+ * rest of pi (the background's, or traced exactly where a piece was dropped, the beam has exact
+ * regions, or a gap over BT_SOLID_GAP opens) too. 0 when an exact ray of the rest misses. */
 static int solid_beam(tile_t *T, const double p[2], const bm_path_t *pre, const bm_step_t *last,
-                      const sd_iv_t *pi, const int *cand, sd_iv_t *iv, int *state, int nc,
-                      rt_rgb_t *light) {
+                      const sd_iv_t *pi, const int *cand, const uint64_t *phash, sd_iv_t *iv,
+                      int *state, int nc, rt_rgb_t *light) {
   double range = T->u[BT_SOLID_SEGS] - T->u[0];
   int bg = 0, exact = 0, mem[BT_SOLID_CAND], nm = 0, first = -1;
   double depth[BT_SOLID_CAND];
   px_vec3_t at[BT_SOLID_CAND];
   rt_ray_t ray[BT_SOLID_CAND];
+  uint64_t h = steps_hash(steps_hash(SD_FNV_BASIS, pre->step, pre->n), last, 1);
   for (int c = 0; c < nc; c++) {
     const sd_rec_t *q = &T->rec[cand[c]];
-    if (!follows(&q->path, pre, last))
+    if (phash[c] != h || !follows(&q->path, pre, last)) /* the hash first: no record read */
       continue;
     if (state[c] < 0) {
       exact = 1; /* a dropped piece's wavelengths are traced */
@@ -852,7 +858,8 @@ static int dark_above(const tile_t *T, const int *cand, int nc, const sd_rec_t *
  * undefined, when a check fails there. */
 static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, const double p[2],
                        rt_rgb_t *out) {
-  int cand[BT_SOLID_CAND], state[BT_SOLID_CAND], nc = 0;
+  int cand[BT_SOLID_CAND], state[BT_SOLID_CAND], nc = 0, level[BT_SOLID_CAND];
+  uint64_t ckey[BT_SOLID_CAND], phash[BT_SOLID_CAND];
   int gx = (int)floor((p[0] - G->gx0) / G->gcell), gy = (int)floor((p[1] - G->gy0) / G->gcell);
   if (gx < 0 || gy < 0 || gx >= G->gw || gy >= G->gh)
     return 0;
@@ -868,15 +875,20 @@ static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, cons
      * it, or else from the nearest */
     double dx = p[0] - q->c[0], dy = p[1] - q->c[1], d = dx * dx + dy * dy;
     int held = p[0] >= q->rbox[0] && p[0] <= q->rbox[1] && p[1] >= q->rbox[2] && p[1] <= q->rbox[3];
-    int at = -1;
-    for (int c = 0; c < nc && at < 0; c++)
-      if (T->rec[cand[c]].key == q->key && same_key(&T->rec[cand[c]], q))
+    /* the cell's list is in the order of the records' keys (grid_compact()), so candidates of
+     * q's key are the last ones */
+    int at = -1, run = nc;
+    while (run > 0 && ckey[run - 1] == q->key)
+      run--;
+    for (int c = run; c < nc && at < 0; c++)
+      if (same_key(&T->rec[cand[c]], q))
         at = c;
     if (at < 0) {
       if (nc == BT_SOLID_CAND)
         return 0;
       best[nc] = d;
       holds[nc] = held;
+      ckey[nc] = q->key;
       cand[nc++] = k;
     } else if (held > holds[at] || (held == holds[at] && d < best[at])) {
       best[at] = d;
@@ -885,33 +897,39 @@ static int solid_point(tile_t *T, const sd_group_t *G, const sd_entry_t *E, cons
     }
   }
   sd_iv_t iv[BT_SOLID_CAND];
+  int dropped[BT_SOLID_CAND], nd = 0, deepest = 0;
   for (int c = 0; c < nc; c++) {
     const sd_rec_t *q = &T->rec[cand[c]];
     iv[c].n = 0;
     state[c] = 0;
+    level[c] = q->path.n;
+    deepest = level[c] > deepest ? level[c] : deepest;
+    phash[c] = steps_hash(SD_FNV_BASIS, q->path.step, q->path.n);
     if (!q->ok || (q->face >= 0 && !solid_intervals(T, q, p, &iv[c])))
       state[c] = -1; /* what it would draw is traced exactly with its beam's rest */
   }
-  for (int c = 0; c < nc; c++) /* what lies below a dropped piece is traced with it */
-    for (int e = 0; e < nc && state[c] >= 0; e++)
-      if (state[e] < 0 && ancestor_of(&T->rec[cand[e]], &T->rec[cand[c]]))
+  for (int c = 0; c < nc; c++)
+    if (state[c] < 0)
+      dropped[nd++] = c;
+  for (int c = 0; c < nc && nd > 0; c++) /* what lies below a dropped piece is traced with it */
+    for (int e = 0; e < nd && state[c] >= 0; e++)
+      if (ancestor_of(&T->rec[cand[dropped[e]]], &T->rec[cand[c]]))
         state[c] = -1;
   rt_rgb_t light = rt_rgb(0, 0, 0);
   sd_iv_t whole = {1, {T->u[0]}, {T->u[BT_SOLID_SEGS]}};
-  if (!solid_beam(T, p, &E->path, &E->st, &whole, cand, iv, state, nc, &light))
+  if (!solid_beam(T, p, &E->path, &E->st, &whole, cand, phash, iv, state, nc, &light))
     return 0;
-  int deepest = 0;
-  for (int c = 0; c < nc; c++)
-    deepest = T->rec[cand[c]].path.n > deepest ? T->rec[cand[c]].path.n : deepest;
-  for (int level = T->sdepth + 1; level <= deepest; level++) /* parents first: what they show */
+  for (int l = T->sdepth + 1; l <= deepest; l++) /* parents first: what they show */
     for (int c = 0; c < nc; c++) {
+      if (level[c] != l || state[c] <= 0 || iv[c].n == 0)
+        continue;
       const sd_rec_t *q = &T->rec[cand[c]];
-      if (q->path.n != level || q->face < 0 || state[c] <= 0 || iv[c].n == 0)
+      if (q->face < 0)
         continue;
       for (int k = 0; k < q->nkid; k++) {
         if (q->kdark[k])
           continue; /* p lies in q's box (a candidate): nothing below shows (dark_above()) */
-        if (!solid_beam(T, p, &q->path, &q->kid[k], &iv[c], cand, iv, state, nc, &light))
+        if (!solid_beam(T, p, &q->path, &q->kid[k], &iv[c], cand, phash, iv, state, nc, &light))
           return 0;
       }
     }
