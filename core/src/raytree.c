@@ -22,7 +22,7 @@ int rt_tree_follow(const rt_tree_t *t, rt_ray_kind_t prefer) {
 static int same_node(const rt_tree_node_t *a, const rt_tree_node_t *b) {
   return a->parent == b->parent && a->kind == b->kind && a->flags == b->flags &&
          a->object == b->object && a->prim == b->prim && a->texel == b->texel && a->lit == b->lit &&
-         a->blocked == b->blocked;
+         a->blocked == b->blocked && a->through == b->through;
 }
 
 int rt_tree_same(const rt_tree_t *a, const rt_tree_t *b) {

@@ -12,13 +12,20 @@
 #include "paraxial/vec3.h"
 
 static pt_cnode_t compact(const rt_tree_node_t *a) {
-  return (pt_cnode_t){a->parent, a->object, a->prim, a->lit, a->blocked, a->kind, a->flags};
+  return (pt_cnode_t){.parent = a->parent,
+                      .object = a->object,
+                      .prim = a->prim,
+                      .lit = a->lit,
+                      .blocked = a->blocked,
+                      .through = a->through,
+                      .kind = a->kind,
+                      .flags = a->flags};
 }
 
 static int same(const pt_cnode_t *a, const pt_cnode_t *b) {
   return a->parent == b->parent && a->kind == b->kind && a->flags == b->flags &&
          a->object == b->object && a->prim == b->prim && a->lit == b->lit &&
-         a->blocked == b->blocked;
+         a->blocked == b->blocked && a->through == b->through;
 }
 
 void pt_ctree_from(pt_ctree_t *c, const rt_tree_t *t) {
@@ -83,6 +90,11 @@ int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *m
       ok = y && y->object == x->object && y->prim == x->prim && y->flags == x->flags;
       if (ok)
         lt &= ~((y->lit ^ x->lit) | (y->blocked ^ x->blocked));
+      /* both reach lights through glass, not with the same transmittances: those neither lit
+       * nor blocked at both drop out (a node that faces away from a light, through 0, is not
+       * compared with one that reaches it partly: as before) */
+      if (ok && y->through != x->through && x->through && y->through)
+        lt &= x->lit | x->blocked | y->lit | y->blocked;
     }
     agree[k] = (uint8_t)ok;
     light[k] = ok ? lt : 0u;

@@ -34,6 +34,8 @@ typedef struct {
   uint32_t lit;     /**< bit l: light l (l < 32) reaches the point unattenuated */
   uint32_t blocked; /**< bit l: light l is fully blocked; neither bit: partly (through glass)
                          or the surface faces away from it */
+  uint32_t through; /**< the lights reached partly, with their transmittances: rt_through_hash()es
+                         combined by exclusive or; 0 for none */
   px_vec3_t origin; /**< ray origin */
   px_vec3_t dir;    /**< unit direction */
   double t;         /**< distance to the hit (INFINITY on a miss) */
@@ -53,6 +55,21 @@ typedef struct {
 /** Wrap a buffer of `cap` nodes (rt_plan_t.tree_nodes always suffices). */
 static inline rt_tree_t rt_tree_make(rt_tree_node_t *buf, int cap) {
   return (rt_tree_t){buf, cap, 0, 0};
+}
+
+/** A hash of light l reached partly with transmittance t, for rt_tree_node_t.through: two points
+ *  that see a light through glass see it alike only when the transmittance is the same (through
+ *  one ball or through two, kt T or (kt T)^2), which the lit and blocked bits do not tell. */
+static inline uint32_t rt_through_hash(int l, rt_rgb_t t) {
+  uint64_t h = 0x9E3779B97F4A7C15ULL * (uint64_t)(l + 1);
+  const double c[3] = {t.r, t.g, t.b};
+  for (int i = 0; i < 3; i++) {
+    uint64_t b;
+    __builtin_memcpy(&b, &c[i], sizeof b);
+    h = (h ^ b) * 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+  }
+  return (uint32_t)(h ^ (h >> 32));
 }
 
 /** Follow the path that starts at the primary ray and at every node continues with its child

@@ -23,7 +23,7 @@
 /** What the comparison looks at, per node. */
 typedef struct {
   int32_t parent, object, prim;
-  uint32_t lit, blocked;
+  uint32_t lit, blocked, through;
   uint8_t kind, flags;
 } pt_cnode_t;
 
@@ -51,9 +51,12 @@ int pt_ctree_same_root(const pt_ctree_t *a, const pt_ctree_t *b);
  *  corners), each node of a followed in them along its path (the kinds of rays from the root):
  *  agree[k] = 1 when node k and all its ancestors met the same object and primitive with the
  *  same flags in every tree; light[k] = the lights (bit l, l < 32) whose visibility bits at node
- *  k are the same in every tree (0 where agree[k] is 0). Returns 1 when every node agrees with
- *  all its lights and the trees have the same size (the cell is free of edges). `map` is
- *  scratch for nc * a->n ints. A tree that overflowed agrees nowhere. */
+ *  k are the same in every tree and, where both reach lights through glass, whose transmittances
+ *  are too (rt_tree_node_t.through: where both are set and differ, the lights neither lit nor
+ *  blocked at both drop out; a node that reaches no light partly is not compared, as before); 0
+ *  where agree[k] is 0. Returns 1 when
+ * every node agrees with all its lights and the trees have the same size (the cell is free of
+ * edges). `map` is scratch for nc * a->n ints. A tree that overflowed agrees nowhere. */
 int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map, uint8_t *agree,
                   uint32_t *light);
 

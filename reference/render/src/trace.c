@@ -27,6 +27,8 @@ static inline __attribute__((always_inline)) void shadow_query(xr_exact_t *ex, r
       nd->lit |= 1u << q->light;
     else if (!(rt_rgb_max(q->through) > 0.0))
       nd->blocked |= 1u << q->light;
+    else
+      nd->through ^= rt_through_hash(q->light, q->through);
   }
 }
 
