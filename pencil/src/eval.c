@@ -12,7 +12,8 @@
  * node on which it is linear and shade only the others (interp_plan.c).
  *
  * Shadow queries return the transmittance recorded once per domain at the axial ray's node for the
- * lights whose visibility agrees at the domain's centre and corners (rt_tree_node_t lit/blocked);
+ * lights whose visibility agrees at the domain's centre and corners (rt_tree_node_t lit, blocked
+ * and, through glass, the transmittance's hash `through`);
  * for the other lights a shadow ray is traced per sample. Whenever a sample leaves the domain's
  * paths (its paraxial ray misses the node's primitive, or shading asks for a child the tree does
  * not have) or reaches a subtree where the corners' trees differ, that part is traced exactly. */

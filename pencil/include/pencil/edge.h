@@ -54,9 +54,9 @@ int pt_ctree_same_root(const pt_ctree_t *a, const pt_ctree_t *b);
  *  k are the same in every tree and, where both reach lights through glass, whose transmittances
  *  are too (rt_tree_node_t.through: where both are set and differ, the lights neither lit nor
  *  blocked at both drop out; a node that reaches no light partly is not compared, as before); 0
- *  where agree[k] is 0. Returns 1 when
- * every node agrees with all its lights and the trees have the same size (the cell is free of
- * edges). `map` is scratch for nc * a->n ints. A tree that overflowed agrees nowhere. */
+ *  where agree[k] is 0. Returns 1 when every node agrees with all its lights and the trees have
+ *  the same size (the cell is free of edges). `map` is scratch for nc * a->n ints. A tree that
+ *  overflowed agrees nowhere. */
 int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map, uint8_t *agree,
                   uint32_t *light);
 
