@@ -1390,6 +1390,19 @@ static void lights_through_other_glass_disagree(void **state) {
   b.through = 0;                      /* the corner faces away from the light: not compared */
   pt_ctree_from(&c, &tb);
   assert_true(pt_tree_agree(&a, cs, 1, map, agree, light));
+  /* two lights: light 1 lit at both stays, light 0 through other glass drops */
+  na[0].lit = b.lit = 2u;
+  b.through = rt_through_hash(0, rt_rgb(0.5625, 0.5625, 0.5625));
+  pt_ctree_from(&c, &tb);
+  assert_false(pt_tree_agree(&a, cs, 1, map, agree, light));
+  assert_int_equal(light[0] & 3u, 2u);
+  /* light 0 through glass at one and faced away from at the other, light 1 the reverse: both
+   * drop */
+  na[0].lit = b.lit = 0u;
+  b.through = rt_through_hash(1, rt_rgb(0.75, 0.75, 0.75));
+  pt_ctree_from(&c, &tb);
+  assert_false(pt_tree_agree(&a, cs, 1, map, agree, light));
+  assert_int_equal(light[0] & 3u, 0u);
   /* the tracer: floor points in the ring and in the disc */
   rt_scene_t s;
   char err[512];
