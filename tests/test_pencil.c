@@ -1239,6 +1239,27 @@ static void lattice_memo_changes_nothing(void **state) {
  * modes, on two threads against one; and the groups must have carried steps (more than two
  * samples a step on average). The images are float32: a walk differing in its last bits need not
  * show here, which test_render_shade.c's comparisons of the lanes do see. */
+/* Scene s at side x side samples a pixel with the exact walks in groups of four (two threads)
+ * and one sample at a time (one thread), in mode `cert`: the same image, samples, partial and
+ * fallback samples, lattice points and exact rays. The grouped render's statistics in *sa. */
+static void simd_changes_nothing(const rt_scene_t *s, int side, int cert, pt_stats_t *sa) {
+  rt_image_t a, b;
+  pt_stats_t sb;
+  pt_options_t o = PT_OPTIONS_DEFAULT;
+  o.certified = cert;
+  fx_render_pencil(s, side, 2, &o, &a, NULL, sa);
+  o.simd = 0;
+  fx_render_pencil(s, side, 1, &o, &b, NULL, &sb);
+  fx_assert_images_equal(&a, &b);
+  assert_true(sb.walk_steps == 0 && sb.walk_lanes == 0 && sb.walk_left == 0);
+  assert_true(sa->samples[0] == sb.samples[0] && sa->samples[1] == sb.samples[1] &&
+              sa->samples[2] == sb.samples[2] && sa->partial == sb.partial &&
+              sa->fallbacks == sb.fallbacks && sa->lattice_points == sb.lattice_points);
+  assert_true(rt_stats_total(&sa->rays) == rt_stats_total(&sb.rays));
+  rt_image_free(&a);
+  rt_image_free(&b);
+}
+
 static void walks_of_four_change_nothing(void **state) {
   (void)state;
   const char *files[4] = {NULL, NULL, "fig11", "spheres-10"};
@@ -1254,24 +1275,20 @@ static void walks_of_four_change_nothing(void **state) {
           s.material[m].kr = 0.0;
           s.material[m].fresnel = 1;
         }
-      rt_image_t a, b;
-      pt_stats_t sa, sb;
-      pt_options_t o = PT_OPTIONS_DEFAULT;
-      o.certified = cert;
-      fx_render_pencil(&s, 4, 2, &o, &a, NULL, &sa);
-      o.simd = 0;
-      fx_render_pencil(&s, 4, 1, &o, &b, NULL, &sb);
-      fx_assert_images_equal(&a, &b);
+      pt_stats_t sa;
+      simd_changes_nothing(&s, 4, cert, &sa);
       assert_true(sa.walk_steps > 0 && sa.walk_lanes > 2 * sa.walk_steps);
-      assert_true(sb.walk_steps == 0 && sb.walk_lanes == 0);
-      assert_true(sa.samples[0] == sb.samples[0] && sa.samples[1] == sb.samples[1] &&
-                  sa.samples[2] == sb.samples[2] && sa.partial == sb.partial &&
-                  sa.fallbacks == sb.fallbacks && sa.lattice_points == sb.lattice_points);
-      rt_image_free(&a);
-      rt_image_free(&b);
       rt_scene_free(&s);
     }
 }
+
+/* Scene s from the JSON text `json` (a test's inline scene, named `name` in errors). */
+#define LOAD_INLINE(name, json, s)                                                                 \
+  do {                                                                                             \
+    char err_[512];                                                                                \
+    rt_scene_init(s);                                                                              \
+    assert_int_equal(io_scene_load_buffer(name, json, sizeof json - 1, s, err_, sizeof err_), 0);  \
+  } while (0)
 
 /* Lanes of a group that leave their path part way (pt_stats_t.walk_left), which no other scene here
  * makes happen: a big glass ball near the eye and a small one behind it, seen through it. In the
@@ -1308,30 +1325,13 @@ static const char glass_behind_glass[] =
 static void lanes_leaving_walks_of_four_change_nothing(void **state) {
   (void)state;
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load_buffer("glass_behind_glass", glass_behind_glass,
-                                        sizeof glass_behind_glass - 1, &s, err, sizeof err),
-                   0);
+  LOAD_INLINE("glass_behind_glass", glass_behind_glass, &s);
   for (int cert = 0; cert <= 1; cert++) {
-    rt_image_t a, b;
-    pt_stats_t sa, sb;
-    pt_options_t o = PT_OPTIONS_DEFAULT;
-    o.certified = cert;
-    fx_render_pencil(&s, 5, 2, &o, &a, NULL, &sa);
-    o.simd = 0;
-    fx_render_pencil(&s, 5, 1, &o, &b, NULL, &sb);
+    pt_stats_t sa;
+    simd_changes_nothing(&s, 5, cert, &sa);
     print_message("certified %d: %llu lanes left their path in %llu steps\n", cert,
                   (unsigned long long)sa.walk_left, (unsigned long long)sa.walk_steps);
     assert_true(sa.walk_left > 0); /* the scene still makes lanes leave */
-    assert_true(sb.walk_steps == 0 && sb.walk_left == 0);
-    fx_assert_images_equal(&a, &b);
-    assert_true(sa.samples[0] == sb.samples[0] && sa.samples[1] == sb.samples[1] &&
-                sa.samples[2] == sb.samples[2] && sa.partial == sb.partial &&
-                sa.fallbacks == sb.fallbacks && sa.lattice_points == sb.lattice_points);
-    assert_true(rt_stats_total(&sa.rays) == rt_stats_total(&sb.rays));
-    rt_image_free(&a);
-    rt_image_free(&b);
   }
   rt_scene_free(&s);
 }
@@ -1405,11 +1405,7 @@ static void lights_through_other_glass_disagree(void **state) {
   assert_int_equal(light[0] & 3u, 0u);
   /* the tracer: floor points in the ring and in the disc */
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load_buffer("nested_glass_shadows", nested_glass_shadows,
-                                        sizeof nested_glass_shadows - 1, &s, err, sizeof err),
-                   0);
+  LOAD_INLINE("nested_glass_shadows", nested_glass_shadows, &s);
   rt_plan_t plan = rt_plan_make(&s, 1);
   rt_view_t v;
   rt_view_make(&s.camera, &v);
@@ -1436,11 +1432,7 @@ static void lights_through_other_glass_disagree(void **state) {
 static void nested_glass_shadows_not_reused(void **state) {
   (void)state;
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load_buffer("nested_glass_shadows", nested_glass_shadows,
-                                        sizeof nested_glass_shadows - 1, &s, err, sizeof err),
-                   0);
+  LOAD_INLINE("nested_glass_shadows", nested_glass_shadows, &s);
   rt_image_t e, p;
   fx_render_exact(&s, 2, 2, &e);
   fx_render_pencil(&s, 2, 2, NULL, &p, NULL, NULL);
@@ -1541,11 +1533,7 @@ static const char mirror_box[] =
 static void deep_trees_traced_exactly_at_exact_cost(void **state) {
   (void)state;
   rt_scene_t s;
-  char err[512];
-  rt_scene_init(&s);
-  assert_int_equal(
-      io_scene_load_buffer("mirror_box", mirror_box, sizeof mirror_box - 1, &s, err, sizeof err),
-      0);
+  LOAD_INLINE("mirror_box", mirror_box, &s);
   rt_plan_t plan = rt_plan_make(&s, 1);
   assert_true(plan.tree_nodes > PT_MAX_TREE_NODES);
   int w = s.camera.width, h = s.camera.height;
