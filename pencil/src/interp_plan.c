@@ -241,7 +241,10 @@ static int caustic_guarded(const planning_t *P, int k) {
 static int plan_linear(planning_t *P, int k, int squares, int *faint) {
   pt_ctx_t *C = P->C;
   const pt_node_t *n = &C->paths.node[k];
-  int smooth = (n->light_agree == ~0u || same_visibility(P->R, k)) &&
+  /* lights past PT_MAX_LIGHTS have no bit in the trees' or the points' visibility masks: with
+   * them nothing says a shadow does not fall between the points */
+  int smooth = C->s->nlight <= PT_MAX_LIGHTS &&
+               (n->light_agree == ~0u || same_visibility(P->R, k)) &&
                !(n->light_guard && shadow_guarded(C, P->R, k)) && !caustic_guarded(P, k) &&
                !C->plan->area_lights; /* soft shadows: traced per sample, unseen by the lattice */
   *faint = 0;
