@@ -5,9 +5,12 @@
 #include <math.h>
 #include <openexr.h>
 #include <png.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "../io/src/json_locate.h"
@@ -123,6 +126,39 @@ static void exr_unwritable_path_reports_error(void **state) {
                    -1);
   assert_non_null(strstr(err, "/nonexistent-dir/x.exr"));
   rt_image_free(&img);
+}
+
+/* A write that fails while the header is written (the file size limit standing in for a full
+ * disk) is reported, not hung: the library's error handler once asked the context for its user
+ * data under the lock the library held, and waited for itself. In a child process, so that a
+ * hang is an alarm and the limit stays there. */
+static void exr_header_write_error_reported(void **state) {
+  (void)state;
+  char path[512];
+  temp_path(path, sizeof path, ".exr");
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    signal(SIGXFSZ, SIG_IGN); /* the write fails with EFBIG instead */
+    alarm(20);
+    struct rlimit lim = {64, 64};
+    if (setrlimit(RLIMIT_FSIZE, &lim) != 0)
+      _exit(3);
+    rt_image_t img;
+    char err[512] = "";
+    if (rt_image_alloc(&img, 4, 4) != RT_OK)
+      _exit(3);
+    int rc = io_exr_write(path, &img, NULL, 0, NULL, 0, err, sizeof err);
+    _exit(rc == -1 && strstr(err, path) ? 0 : 1);
+  }
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  if (WIFSIGNALED(status))
+    print_message("the writer was ended by signal %d (SIGALRM %d: it hung)\n", WTERMSIG(status),
+                  SIGALRM);
+  assert_true(WIFEXITED(status));
+  assert_int_equal(WEXITSTATUS(status), 0);
+  remove(path);
 }
 
 /* PNG: clamped, sRGB-encoded 8-bit values (0 -> 0, 1 and above -> 255, 0.5 -> 188, 0.2 -> 124
@@ -275,6 +311,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(exr_zip_equal_size_chunk_reads_back),
       cmocka_unit_test(light_falloff_key),
       cmocka_unit_test(exr_unwritable_path_reports_error),
+      cmocka_unit_test(exr_header_write_error_reported),
       cmocka_unit_test(png_preview_is_srgb),
       cmocka_unit_test(scene_files_load),
       cmocka_unit_test(fig8_file_equals_builtin),

@@ -16,17 +16,23 @@ typedef struct {
   char msg[256]; /* last message of the library's error handler */
 } exr_err_t;
 
+/* The error record of the context in use on this thread. The handler cannot ask the context for
+ * its user data: exr_get_user_data() takes the context's lock, which the library holds while it
+ * writes the header, so a write error there (a full disk) waited for itself. Each context here is
+ * started and finished within one function, so that one record a thread is enough. */
+static _Thread_local exr_err_t *current_err;
+
 static void on_error(exr_const_context_t ctx, exr_result_t code, const char *msg) {
-  void *ud = NULL;
-  if (exr_get_user_data(ctx, &ud) == EXR_ERR_SUCCESS && ud)
-    snprintf(((exr_err_t *)ud)->msg, sizeof((exr_err_t *)ud)->msg, "%s (%s)", msg ? msg : "error",
+  (void)ctx;
+  if (current_err)
+    snprintf(current_err->msg, sizeof current_err->msg, "%s (%s)", msg ? msg : "error",
              exr_get_error_code_as_string(code));
 }
 
 static exr_context_initializer_t initializer(exr_err_t *e) {
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = on_error;
-  init.user_data = e;
+  current_err = e;
   return init;
 }
 
