@@ -21,8 +21,8 @@ trap 'rm -rf "$tmp"' EXIT
 $py - "$tmp" <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 d = sys.argv[1]
-def write(name, arr, chans):
-    spec = oiio.ImageSpec(arr.shape[1], arr.shape[0], len(chans), "float")
+def write(name, arr, chans, fmt="float"):
+    spec = oiio.ImageSpec(arr.shape[1], arr.shape[0], len(chans), fmt)
     spec.channelnames = tuple(chans)
     out = oiio.ImageOutput.create(f"{d}/{name}")
     out.open(f"{d}/{name}", spec)
@@ -33,6 +33,7 @@ img = (0.1 * rng.random((96, 128, 3))).astype(np.float32)
 img[48, 64, :] = 320.0
 write("in.exr", img, ("R", "G", "B"))
 write("grey.exr", img[:, :, :1], ("Y",))
+write("half.exr", img, ("R", "G", "B"), "half")   # the most common EXR: half floats
 bad = img.copy(); bad[5, 7, 1] = np.nan; write("nan.exr", bad, ("R", "G", "B"))
 neg = img.copy(); neg[9, 3, 2] = -1.0; write("neg.exr", neg, ("R", "G", "B"))
 PY
@@ -65,6 +66,16 @@ axis = np.mean([e[48, 64 + t, 0] + e[48 - t, 64, 0] for t in range(4, 12)])
 assert diag > 0.03 and diag > 10 * abs(axis), (diag, axis)   # an X: rays at 45 degrees
 assert abs(b.sum() / a.sum() - 1) < 0.01
 assert b[48, 64, 0] < a[48, 64, 0] and b[48, 64, 0] > 0.9 * a[48, 64, 0]
+PY"
+
+$pencil post star "$tmp/half.exr" -o "$tmp/half-out.exr" --sigma 0.01,0.04 >/dev/null 2>"$tmp/err"; rc=$?
+check "half-float R, G, B read (once a crash in the reader): the float input's star to half precision" "[ $rc -eq 0 ] && $py - '$tmp' <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+d = sys.argv[1]
+def read(p):
+    b = oiio.ImageBuf(p); return b.get_pixels(oiio.FLOAT)[:, :, :3]
+a, b = read(f'{d}/out.exr'), read(f'{d}/half-out.exr')
+assert np.abs(b - a).max() <= 2e-3 * max(a.max(), 1.0), np.abs(b - a).max()
 PY"
 
 nothing() { [ ! -e "$tmp/x.exr" ] && [ ! -e "$tmp/x.png" ] && [ ! -e "$tmp/x.json" ]; }

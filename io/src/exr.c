@@ -243,11 +243,18 @@ int io_exr_write(const char *path, const rt_image_t *img, const io_exr_channel_t
 }
 
 /* Decode every chunk once, channel names[k] into outs[k] (width x the window's height, row-major)
- * for k < n; found[k] set to 1 for each channel the file has. */
+ * for k < n; found[k] set to 1 for each channel the file has. The other channels are decoded into
+ * a scratch chunk and dropped: OpenEXRCore's unpackers for several half channels write through
+ * every channel's pointer, and a NULL one (which the generic unpacker skips) crashed them. */
 static exr_result_t read_chunks(exr_context_t ctx, const char *const *names, float *const *outs,
                                 int n, int width, exr_attr_box2i_t dw, int *found) {
   int32_t lines;
   exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
+  if (rv != EXR_ERR_SUCCESS)
+    return rv;
+  float *scratch = calloc((size_t)width * (size_t)(lines > 0 ? lines : 1), sizeof *scratch);
+  if (!scratch)
+    return EXR_ERR_OUT_OF_MEMORY;
   exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
   int started = 0;
   for (int y = dw.min.y; y <= dw.max.y && rv == EXR_ERR_SUCCESS; y += lines) {
@@ -275,7 +282,7 @@ static exr_result_t read_chunks(exr_context_t ctx, const char *const *names, flo
       ch->user_pixel_stride = 4;
       ch->user_line_stride = 4 * width;
       ch->decode_to_ptr =
-          slot >= 0 ? (uint8_t *)(outs[slot] + (size_t)(y - dw.min.y) * width) : NULL;
+          slot >= 0 ? (uint8_t *)(outs[slot] + (size_t)(y - dw.min.y) * width) : (uint8_t *)scratch;
     }
     if (!any)
       break;
@@ -286,6 +293,7 @@ static exr_result_t read_chunks(exr_context_t ctx, const char *const *names, flo
   }
   if (started)
     exr_decoding_destroy(ctx, &dec);
+  free(scratch);
   return rv;
 }
 
