@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -305,6 +306,28 @@ static void missing_scene_file_named(void **state) {
   assert_int_equal(s.nobject, 0);
 }
 
+/* A scene path that is no regular file: a directory and a named pipe are refused by name, at
+ * once (the pipe was once opened and waited on for ever: the alarm makes that a failure). */
+static void scene_path_not_a_regular_file(void **state) {
+  (void)state;
+  char dir[512], fifo[600], err[512];
+  temp_path(dir, sizeof dir, ".d");
+  assert_int_equal(mkdir(dir, 0700), 0);
+  snprintf(fifo, sizeof fifo, "%s/scene.json", dir);
+  assert_int_equal(mkfifo(fifo, 0600), 0);
+  rt_scene_t s;
+  rt_scene_init(&s);
+  alarm(20);
+  assert_int_equal(io_scene_load(dir, &s, err, sizeof err), -1);
+  assert_non_null(strstr(err, "not a regular file (a directory)"));
+  assert_int_equal(io_scene_load(fifo, &s, err, sizeof err), -1);
+  assert_non_null(strstr(err, fifo));
+  assert_non_null(strstr(err, "not a regular file"));
+  alarm(0);
+  remove(fifo);
+  rmdir(dir);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(exr_round_trip),
@@ -312,6 +335,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(light_falloff_key),
       cmocka_unit_test(exr_unwritable_path_reports_error),
       cmocka_unit_test(exr_header_write_error_reported),
+      cmocka_unit_test(scene_path_not_a_regular_file),
       cmocka_unit_test(png_preview_is_srgb),
       cmocka_unit_test(scene_files_load),
       cmocka_unit_test(fig8_file_equals_builtin),

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/camera.h"
 #include "io/scene_json.h"
@@ -378,6 +379,12 @@ static int load_root(const char *name, const char *text, size_t len, json_t *roo
 int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
   json_error_t je;
   rt_scene_free(s);
+  struct stat st; /* a pipe would be waited on for ever, a directory read as an empty file */
+  if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+    snprintf(err, cap, "%s: not a regular file (%s)", path,
+             S_ISDIR(st.st_mode) ? "a directory" : "a device, pipe or socket");
+    return -1;
+  }
   json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
   return root ? load_root(path, NULL, 0, root, s, err, cap)
               : json_syntax_error(path, &je, err, cap);
