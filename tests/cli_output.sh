@@ -22,6 +22,16 @@ cp "$src/scenes/fig8.json" "$tmp/-dash.json"
 (cd "$tmp" && $pencil render $small -o c.exr -- -dash.json >/dev/null 2>&1); rc=$?
 check "'--' makes a dash-led scene path positional" "[ $rc -eq 0 ] && [ -s '$tmp/c.exr' ]"
 
+# an output that is the scene read, by whatever name: refused, the scene kept
+cp "$src/scenes/fig8.json" "$tmp/same.exr"
+$pencil render $small -o "$tmp/same.exr" "$tmp/same.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "render: a scene called OUT.exr is not replaced by it" \
+  "[ $rc -ne 0 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src/scenes/fig8.json' '$tmp/same.exr'"
+mkdir "$tmp/side" && cp "$src/scenes/fig8.json" "$tmp/side/sweep.json"
+$pencil sweep "$tmp/side/sweep.json" --quick --rho 0.5 --size 12x8 --out "$tmp/side" >/dev/null 2>"$tmp/err"; rc=$?
+check "sweep: its scene as --out's sweep.json is not replaced (once overwritten, exit 0)" \
+  "[ $rc -ne 0 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src/scenes/fig8.json' '$tmp/side/sweep.json'"
+
 $pencil render $small -o "$tmp/d.exr" --rho 0.5 >/dev/null 2>"$tmp/err"; rc=$?
 check "a pencil option without --method pencil: exit 2 naming it" \
   "[ $rc -eq 2 ] && grep -q -- '--rho is not an option of --method exact' '$tmp/err'"

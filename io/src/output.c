@@ -59,6 +59,45 @@ const io_provenance_t *io_provenance(void) {
 
 /* ---- checks -------------------------------------------------------------------------------- */
 
+/* The inputs io_protect_input() marked: device, inode and the name they were read by. */
+enum { MAX_INPUTS = 16 };
+static struct {
+  dev_t dev;
+  ino_t ino;
+  char path[512];
+} inputs[MAX_INPUTS];
+static int ninputs;
+static pthread_mutex_t inputs_lock = PTHREAD_MUTEX_INITIALIZER;
+
+int io_protect_input(const char *path) {
+  struct stat st;
+  if (!path || stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+    return -1;
+  pthread_mutex_lock(&inputs_lock);
+  int known = 0;
+  for (int i = 0; i < ninputs && !known; i++)
+    known = inputs[i].dev == st.st_dev && inputs[i].ino == st.st_ino;
+  if (!known && ninputs < MAX_INPUTS) {
+    inputs[ninputs].dev = st.st_dev;
+    inputs[ninputs].ino = st.st_ino;
+    snprintf(inputs[ninputs].path, sizeof inputs[ninputs].path, "%s", path);
+    ninputs++;
+  }
+  pthread_mutex_unlock(&inputs_lock);
+  return 0;
+}
+
+/* The marked input that st is, or NULL. */
+static const char *input_of(const struct stat *st, char *name, size_t cap) {
+  const char *found = NULL;
+  pthread_mutex_lock(&inputs_lock);
+  for (int i = 0; i < ninputs && !found; i++)
+    if (inputs[i].dev == st->st_dev && inputs[i].ino == st->st_ino)
+      found = (snprintf(name, cap, "%s", inputs[i].path), name);
+  pthread_mutex_unlock(&inputs_lock);
+  return found;
+}
+
 int io_output_check(const char *path, char *err, size_t cap) {
   struct stat st;
   if (!path || !*path)
@@ -69,6 +108,9 @@ int io_output_check(const char *path, char *err, size_t cap) {
     return snprintf(err, cap, "%s: exists and is not a regular file (%s); not replaced", path,
                     S_ISDIR(st.st_mode) ? "a directory" : "a device, FIFO or socket"),
            -1;
+  char in[512];
+  if (stat(path, &st) == 0 && input_of(&st, in, sizeof in))
+    return snprintf(err, cap, "%s: is the input %s; not replaced", path, in), -1;
   char dir[4096];
   const char *slash = strrchr(path, '/');
   if (!slash)

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "core/camera.h"
+#include "io/output.h"
 #include "io/scene_json.h"
 #include "parse.h"
 #include "post/star.h"
@@ -386,6 +387,8 @@ int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
     return -1;
   }
   json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
+  if (root)
+    io_protect_input(path); /* no output of this run replaces it */
   return root ? load_root(path, NULL, 0, root, s, err, cap)
               : json_syntax_error(path, &je, err, cap);
 }

@@ -36,6 +36,13 @@ int io_output_check(const char *path, char *err, size_t cap);
  *  replaced: MAP.json beside MAP.exr for a scene called MAP.json), else 0. */
 int io_output_not_input(const char *out, const char *in, char *err, size_t cap);
 
+/** Mark the existing file `path` as an input of this process (io_scene_load() marks every scene
+ *  it reads): io_output_check(), and so every file written through io_atomic_begin(), then
+ *  refuses to replace it, whatever name the output reaches it by (a sweep's --out directory
+ *  holding its scene as sweep.json). Up to 16 inputs are kept; 0, or -1 when it is not a file
+ *  (nothing marked). Thread-safe. */
+int io_protect_input(const char *path);
+
 /** A file being written: the temporary file beside the target. */
 typedef struct {
   char path[4096]; /**< the target */
