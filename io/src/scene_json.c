@@ -146,8 +146,19 @@ static int parse_ior(io_parse_t *P, json_t *o, rt_material_t *m) {
                  model);
     io_pop(P);
   }
-  /* the model must hold over the visible range with a finite index >= 1 */
-  for (double l = 380.0; ok && l <= 780.0; l += 5.0) {
+  /* the model must hold over the visible range with a finite index >= 1: no Sellmeier pole
+   * inside it (where n^2 runs to -infinity on one side, between any two grid points), and the
+   * index checked at every nm */
+  for (int k = 0; ok && x.kind == PX_INDEX_SELLMEIER && k < x.nterm; k++) {
+    double pole = 1000.0 * sqrt(x.c[k]);
+    if (x.c[k] > 0.0 && pole >= 380.0 && pole <= 780.0) {
+      io_push_key(P, "C_um2");
+      ok = io_fail(P, "term %d has its pole at %.4g nm (C_um2 = %g), inside 380 to 780 nm", k + 1,
+                   pole, x.c[k]);
+      io_pop(P);
+    }
+  }
+  for (double l = 380.0; ok && l <= 780.0; l += 1.0) {
     double n;
     if (px_index_eval(&x, l, &n, NULL) != PX_OK || !(n >= 1.0) || n > 100.0)
       ok = io_fail(
