@@ -38,7 +38,44 @@ static void usage(FILE *f) {
              "Exit codes: 0 success, 1 computation or verification failure, 2 usage error.\n");
 }
 
+/* Whether s is valid UTF-8 (RFC 3629: no overlong forms, surrogates or code points past
+ * U+10FFFF). */
+static int utf8_valid(const char *s) {
+  const unsigned char *p = (const unsigned char *)s;
+  while (*p) {
+    unsigned c = *p++;
+    int more = c < 0x80             ? 0
+               : (c & 0xE0) == 0xC0 ? 1
+               : (c & 0xF0) == 0xE0 ? 2
+               : (c & 0xF8) == 0xF0 ? 3
+                                    : -1;
+    if (more < 0 || c == 0xC0 || c == 0xC1 || c > 0xF4)
+      return 0;
+    unsigned cp = more == 0 ? c : c & (0x3Fu >> more);
+    for (int k = 0; k < more; k++, p++) {
+      if ((*p & 0xC0) != 0x80)
+        return 0;
+      cp = (cp << 6) | (*p & 0x3Fu);
+    }
+    if ((more == 2 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
+        (more == 3 && (cp < 0x10000 || cp > 0x10FFFF)))
+      return 0;
+  }
+  return 1;
+}
+
 int main(int argc, char **argv) {
+  /* every argument is recorded in JSON outputs (the command line, paths), which hold UTF-8 only:
+   * refused at once rather than failing after the work as "out of memory" */
+  for (int i = 1; i < argc; i++)
+    if (!utf8_valid(argv[i])) {
+      fprintf(stderr, "pencil: argument %d ('", i);
+      for (const unsigned char *p = (const unsigned char *)argv[i]; *p; p++)
+        fprintf(stderr, *p >= 0x20 && *p < 0x7F ? "%c" : "\\x%02X", *p);
+      fprintf(stderr, "') is not valid UTF-8; paths and options must be (outputs record them in "
+                      "JSON)\n");
+      return CLI_USAGE;
+    }
   io_provenance_set(PENCIL_VERSION, PENCIL_COMMIT, argc, argv);
   io_cleanup_on_signals(); /* no temporary file outlives an interrupted write */
   if (argc < 2) {

@@ -22,6 +22,14 @@ cp "$src/scenes/fig8.json" "$tmp/-dash.json"
 (cd "$tmp" && $pencil render $small -o c.exr -- -dash.json >/dev/null 2>&1); rc=$?
 check "'--' makes a dash-led scene path positional" "[ $rc -eq 0 ] && [ -s '$tmp/c.exr' ]"
 
+# an argument that is not UTF-8 (JSON outputs record it): refused at once, nothing written
+bad=$(printf 'x\xff\xfe')
+$pencil render $small -o "$tmp/$bad.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "an argument that is not UTF-8: exit 2 naming it, nothing written" \
+  "[ $rc -eq 2 ] && grep -q 'argument 9 (.*) is not valid UTF-8' '$tmp/err' && grep -qF '\\xFF\\xFE' '$tmp/err' && [ ! -e \"\$tmp/\$bad.exr\" ]"
+$pencil render $small -o "$tmp/é€😀.exr" >/dev/null 2>&1; rc=$?
+check "UTF-8 beyond ASCII (2, 3 and 4 bytes) is accepted" "[ $rc -eq 0 ] && [ -s '$tmp/é€😀.exr' ]"
+
 # an output that is the scene read, by whatever name: refused, the scene kept
 cp "$src/scenes/fig8.json" "$tmp/same.exr"
 $pencil render $small -o "$tmp/same.exr" "$tmp/same.exr" >/dev/null 2>"$tmp/err"; rc=$?
