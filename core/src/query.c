@@ -224,11 +224,18 @@ static int cross_prim(const rt_scene_t *s, int prim, const rt_ray_t *ray, rt_rgb
   return 1;
 }
 
-rt_rgb_t rt_transmittance(const rt_scene_t *s, const rt_ray_t *ray) {
+/* rt_transmittance(), and with `blocker` the object that blocked the light (-1 when none did). */
+static inline __attribute__((always_inline)) rt_rgb_t
+transmittance(const rt_scene_t *s, const rt_ray_t *ray, int *blocker) {
   rt_rgb_t tr = rt_rgb(1, 1, 1);
+  if (blocker)
+    *blocker = -1;
   for (int i = 0; i < s->nunbounded; i++)
-    if (!cross_prim(s, s->unbounded[i], ray, &tr))
+    if (!cross_prim(s, s->unbounded[i], ray, &tr)) {
+      if (blocker)
+        *blocker = s->prim[s->unbounded[i]].object;
       return tr;
+    }
   const struct rt_bvh *b = s->bvh;
   if (!b || b->norder == 0)
     return tr;
@@ -257,8 +264,19 @@ rt_rgb_t rt_transmittance(const rt_scene_t *s, const rt_ray_t *ray) {
       continue;
     }
     for (int i = ref; i < ref + count; i++)
-      if (!cross_prim(s, b->order[i], ray, &tr))
+      if (!cross_prim(s, b->order[i], ray, &tr)) {
+        if (blocker)
+          *blocker = s->prim[b->order[i]].object;
         return tr;
+      }
   }
   return tr;
+}
+
+rt_rgb_t rt_transmittance(const rt_scene_t *s, const rt_ray_t *ray) {
+  return transmittance(s, ray, NULL);
+}
+
+rt_rgb_t rt_transmittance_blocker(const rt_scene_t *s, const rt_ray_t *ray, int *blocker) {
+  return transmittance(s, ray, blocker);
 }

@@ -90,17 +90,85 @@ int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *m
       ok = y && y->object == x->object && y->prim == x->prim && y->flags == x->flags;
       if (ok)
         lt &= ~((y->lit ^ x->lit) | (y->blocked ^ x->blocked));
-      /* both reach lights through glass, not with the same transmittances: those neither lit
-       * nor blocked at both drop out (a node that faces away from a light, through 0, is not
-       * compared with one that reaches it partly: as before) */
+      /* both reach lights through glass or see them blocked, not with the same transmittances
+       * or not by the same objects: only the lights lit at both stay (a lit gap may run between
+       * two objects' shadows; a node that faces away from a light, through 0, is not compared
+       * with one that reaches it partly: as before) */
       if (ok && y->through != x->through && x->through && y->through)
-        lt &= x->lit | x->blocked | y->lit | y->blocked;
+        lt &= x->lit & y->lit;
     }
     agree[k] = (uint8_t)ok;
     light[k] = ok ? lt : 0u;
     all = all && ok && lt == ~0u;
   }
   return all;
+}
+
+/* Faces of a polyhedron above which its convexity is not tested (O(faces x vertices)): it holds
+ * nothing known, as a non-convex one. */
+#define GUARD_MAX_FACES 4096
+
+/* The centroid of the vertices of primitives [first, first + count) (polygons). */
+static px_vec3_t vertex_centroid(const rt_scene_t *s, int first, int count) {
+  px_vec3_t sum = {0.0, 0.0, 0.0};
+  int nv = 0;
+  for (int i = first; i < first + count; i++) {
+    const rt_polygon_t *f = &s->prim[i].polygon;
+    for (int k = 0; k < f->count; k++)
+      sum = px_v3_add(sum, s->vertex[f->first + k]);
+    nv += f->count;
+  }
+  return px_v3_scale(sum, 1.0 / nv);
+}
+
+/* What object ob holds (pt_bsphere_t.in, w, n), b->r its bounding radius: for a convex polyhedron
+ * (every vertex on the inner side of every face, within 1e-9 of its size; normals outward) the
+ * ball about the vertices' centroid to the nearest face's plane, which the intersection of the
+ * faces' half-spaces holds; for a convex polygon the disc about its vertices' centroid to the
+ * nearest edge's line. Otherwise w stays 0. */
+static void held(const rt_scene_t *s, const rt_object_t *ob, pt_bsphere_t *b) {
+  double e = 1e-9 * b->r;
+  if (ob->kind == RT_OBJ_POLYHEDRON && ob->nprim >= 4 && ob->nprim <= GUARD_MAX_FACES) {
+    px_vec3_t m = vertex_centroid(s, ob->first_prim, ob->nprim);
+    double w = INFINITY;
+    for (int i = ob->first_prim; i < ob->first_prim + ob->nprim; i++) {
+      const rt_polygon_t *f = &s->prim[i].polygon;
+      for (int j = ob->first_prim; j < ob->first_prim + ob->nprim; j++) {
+        const rt_polygon_t *g = &s->prim[j].polygon;
+        for (int k = 0; k < g->count; k++)
+          if (px_v3_dot(f->n, s->vertex[g->first + k]) - f->d > e)
+            return; /* not convex */
+      }
+      w = fmin(w, f->d - px_v3_dot(f->n, m));
+    }
+    if (w > 0.0) {
+      b->in = m;
+      b->w = w;
+    }
+  } else if (ob->kind == RT_OBJ_POLYGON && ob->nprim == 1) {
+    const rt_polygon_t *f = &s->prim[ob->first_prim].polygon;
+    px_vec3_t m = vertex_centroid(s, ob->first_prim, 1);
+    double w = INFINITY;
+    for (int k = 0; k < f->count; k++) {
+      px_vec3_t a = s->vertex[f->first + k],
+                d = px_v3_sub(s->vertex[f->first + (k + 1) % f->count], a);
+      px_vec3_t in = px_v3_cross(f->n, d); /* in the plane, across the edge */
+      double len = px_v3_norm(in);
+      if (!(len > 0.0))
+        return;
+      in = px_v3_scale(in, 1.0 / len);
+      double dm = px_v3_dot(in, px_v3_sub(m, a)), side = dm >= 0.0 ? 1.0 : -1.0;
+      for (int j = 0; j < f->count; j++)
+        if (side * px_v3_dot(in, px_v3_sub(s->vertex[f->first + j], a)) < -e)
+          return; /* not convex */
+      w = fmin(w, fabs(dm));
+    }
+    if (w > 0.0) {
+      b->in = m;
+      b->w = w;
+      b->n = f->n;
+    }
+  }
 }
 
 int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
@@ -111,7 +179,7 @@ int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
       continue;
     if (ob->kind == RT_OBJ_SPHERE) {
       const rt_sphere_t *sp = &s->prim[ob->first_prim].sphere;
-      out[n++] = (pt_bsphere_t){sp->c, sp->r, o};
+      out[n++] = pt_bsphere_ball(sp->c, sp->r, o);
       continue;
     }
     px_vec3_t lo = px_v3(INFINITY, INFINITY, INFINITY), hi = px_v3(-INFINITY, -INFINITY, -INFINITY);
@@ -125,7 +193,9 @@ int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
     if (!(lo.x <= hi.x))
       continue;
     px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
-    out[n++] = (pt_bsphere_t){c, 0.5 * px_v3_norm(px_v3_sub(hi, lo)), o};
+    out[n] = (pt_bsphere_t){c, 0.5 * px_v3_norm(px_v3_sub(hi, lo)), o, c, 0.0, {0.0, 0.0, 0.0}};
+    held(s, ob, &out[n]);
+    n++;
   }
   return n;
 }
@@ -252,6 +322,7 @@ typedef struct {
   const rt_light_t *light;
   int parallel;
   double dist, gap; /* the light to p (INFINITY for a parallel light); the narrowed gap */
+  double gap0;      /* the gap not narrowed */
 } query_t;
 
 /* Whether sphere (c, R) may hold a sphere that fires (1 also when unsure: NaN). */
@@ -293,7 +364,31 @@ static int may(const query_t *q, px_vec3_t c, double R) {
   }
 }
 
-/* Whether sphere b fires: the tests of the scans over every sphere, unchanged. */
+/* The angular radius from a point light at L of the shadow of what b holds (at most): a ball's
+ * exactly (a sphere's is its own, as before); a disc's across its narrow side, its radius times
+ * the least cosine between its normal and a ray from L into b's bounding sphere (v = b->c - L,
+ * dc = |v|, gamma its angular radius), over the farthest distance. 0 when it holds nothing. */
+static double held_angle(const pt_bsphere_t *b, px_vec3_t L, px_vec3_t v, double dc, double gamma) {
+  if (!(b->w > 0.0))
+    return 0.0;
+  if (!(px_v3_dot(b->n, b->n) > 0.0)) {
+    double d = px_v3_norm(px_v3_sub(b->in, L));
+    return d > b->w ? asin(b->w / d) : M_PI_2;
+  }
+  double tilt = acos(fmin(1.0, fabs(px_v3_dot(b->n, v)) / dc)) + gamma; /* from the normal */
+  double cmin = tilt < M_PI_2 ? cos(tilt) : 0.0;
+  return asin(fmin(1.0, b->w * cmin / (dc + b->r)));
+}
+
+/* The gap a shadow of b must outgrow: the narrowed one for a sphere, whose shadow on a plane is an
+ * ellipse that must fit between the points whole; the gap itself for what other objects hold,
+ * whose shadow may be a long strip that passes between the points, however long. */
+static double gap_for(const query_t *q, const pt_bsphere_t *b) {
+  int round = b->w == b->r && !(px_v3_dot(b->n, b->n) > 0.0);
+  return round ? q->gap : q->gap0;
+}
+
+/* Whether sphere b fires: the tests of the scans over every sphere. */
 static int fires(const query_t *q, const pt_bsphere_t *b) {
   switch (q->kind) {
   case Q_FIRES: {
@@ -331,8 +426,9 @@ static int fires(const query_t *q, const pt_bsphere_t *b) {
       double t = px_v3_dot(w, q->axis), rho = px_v3_norm(px_v3_sub(w, px_v3_scale(q->axis, t)));
       if (t < -(R + q->r) || !(rho < R + q->r))
         return 0; /* behind the hits, or beside the rays */
-      /* too large to fall between the traced rays (wholly towards the light) */
-      return !(R >= q->gap && t - R > q->r);
+      /* its shadow too wide to fall between the traced rays (wholly towards the light) */
+      double held = b->w * (px_v3_dot(b->n, b->n) > 0.0 ? fabs(px_v3_dot(b->n, q->axis)) : 1.0);
+      return !(held >= gap_for(q, b) && t - R > q->r);
     }
     px_vec3_t v = px_v3_sub(b->c, q->light->v);
     double dc = px_v3_norm(v);
@@ -343,8 +439,9 @@ static int fires(const query_t *q, const pt_bsphere_t *b) {
     double gamma = asin(R / dc), ang = angle_to(v, dc, q->axis);
     if (!(ang < gamma + q->half))
       return 0; /* beside the rays */
-    /* too large to fall between the traced rays (wholly between them and the light) */
-    return !(gamma >= asin(fmin(1.0, q->gap / q->dist)) && dc + R < q->dist - q->r);
+    /* its shadow too wide to fall between the traced rays (wholly between them and the light) */
+    return !(held_angle(b, q->light->v, v, dc, gamma) >= asin(fmin(1.0, gap_for(q, b) / q->dist)) &&
+             dc + R < q->dist - q->r);
   }
   }
 }
@@ -420,5 +517,6 @@ int pt_guard_shadow(const pt_guards_t *g, px_vec3_t p, double r, double gap,
   /* on a plane a shadow is stretched by 1 / cos of the light's incidence: a gap holds it only
    * when its narrow width, the light's view of the gap shrunk by that cosine, exceeds it */
   q.gap = normal ? gap * fabs(px_v3_dot(*normal, q.axis)) : gap;
+  q.gap0 = gap;
   return any_fires(g, &q);
 }

@@ -68,16 +68,29 @@ static inline __attribute__((always_inline)) void shadow_query(pt_eval_t *E, rt_
    * from, or one beyond PT_MAX_LIGHTS (those known_cb() did not answer): a shadow ray per
    * sample */
   E->C->ex.stats.shadow++;
+  if (E->lattice && E->geom && q->light < 32) { /* where the visibility changes over the domain */
+    int blocker = -1;
+    if (opaque) {
+      rt_hit_t h;
+      int hit = rt_intersect(E->C->s, &q->ray, &h);
+      q->through = hit ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1); /* rt_shadow_occluded() */
+      blocker = hit ? h.object : -1;
+    } else {
+      q->through = rt_transmittance_blocker(E->C->s, &q->ray, &blocker);
+    }
+    pt_geom_t *g = &E->geom[E->cur];
+    rt_rgb_t t = q->through;
+    int lit = t.r == 1.0 && t.g == 1.0 && t.b == 1.0, dark = t.r == 0.0 && t.g == 0.0 && t.b == 0.0;
+    g->lit |= (uint32_t)lit << q->light;
+    g->dark |= (uint32_t)dark << q->light;
+    if (!lit)
+      g->through ^= dark ? rt_blocked_hash(q->light, blocker) : rt_through_hash(q->light, t);
+    return;
+  }
   if (opaque)
     rt_shadow_occluded(E->C->s, q);
   else
     q->through = rt_transmittance(E->C->s, &q->ray);
-  if (E->lattice && E->geom && q->light < 32) { /* where the visibility changes over the domain */
-    pt_geom_t *g = &E->geom[E->cur];
-    rt_rgb_t t = q->through;
-    g->lit |= (uint32_t)(t.r == 1.0 && t.g == 1.0 && t.b == 1.0) << q->light;
-    g->dark |= (uint32_t)(t.r == 0.0 && t.g == 0.0 && t.b == 0.0) << q->light;
-  }
 }
 
 static void shadow_cb(void *ctx, rt_shadow_t *q) {
@@ -534,7 +547,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     g->ok = 1;
     g->exact_kinds = 0;
     g->su = g->sv = 0;
-    g->lit = g->dark = 0;
+    g->lit = g->dark = g->through = 0;
     if (n->textured)
       square_of(C->s, n->prim, hit, &g->su, &g->sv);
   }

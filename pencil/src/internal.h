@@ -29,7 +29,10 @@ typedef struct {
                        where the index does not fit */
   uint32_t lit;  /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
   uint32_t dark; /**< ... and was fully blocked */
-  uint8_t ok;    /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
+  uint32_t through;    /**< lattice points: the lights traced here reached partly and the lights
+                            blocked, hashed as rt_tree_node_t.through is (what blocks them, their
+                            transmittances) */
+  uint8_t ok;          /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
   uint8_t exact_kinds; /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
 

@@ -17,7 +17,8 @@ static int same_visibility(const lattice_point_t (*R)[3], int k) {
   const pt_geom_t *b = &R[0][0].g[k];
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++)
-      if (R[r][c].g[k].lit != b->lit || R[r][c].g[k].dark != b->dark)
+      if (R[r][c].g[k].lit != b->lit || R[r][c].g[k].dark != b->dark ||
+          R[r][c].g[k].through != b->through)
         return 0;
   return 1;
 }

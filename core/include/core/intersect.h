@@ -52,5 +52,9 @@ int rt_intersect_brute(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit);
  *  per passage (an exit crossing of a closed object; any crossing of an open surface); black as
  *  soon as an opaque surface is met. White when nothing is in the way. */
 rt_rgb_t rt_transmittance(const rt_scene_t *s, const rt_ray_t *ray);
+/** rt_transmittance(), and in *blocker the object whose surface blocked the light, or -1 when
+ *  none did: the first the search met, which need not be the nearest when several are in the
+ *  way. */
+rt_rgb_t rt_transmittance_blocker(const rt_scene_t *s, const rt_ray_t *ray, int *blocker);
 
 #endif

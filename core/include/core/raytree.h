@@ -34,8 +34,9 @@ typedef struct {
   uint32_t lit;     /**< bit l: light l (l < 32) reaches the point unattenuated */
   uint32_t blocked; /**< bit l: light l is fully blocked; neither bit: partly (through glass)
                          or the surface faces away from it */
-  uint32_t through; /**< the lights reached partly, with their transmittances: rt_through_hash()es
-                         combined by exclusive or; 0 for none */
+  uint32_t through; /**< the lights reached partly, with their transmittances, and the lights
+                         blocked, with what blocks them: rt_through_hash()es and
+                         rt_blocked_hash()es combined by exclusive or; 0 for none */
   px_vec3_t origin; /**< ray origin */
   px_vec3_t dir;    /**< unit direction */
   double t;         /**< distance to the hit (INFINITY on a miss) */
@@ -70,6 +71,18 @@ static inline uint32_t rt_through_hash(int l, rt_rgb_t t) {
     h ^= h >> 33;
   }
   return (uint32_t)(h ^ (h >> 32));
+}
+
+/** A hash of light l blocked by object `object`, for rt_tree_node_t.through: two points in
+ *  shadow see the light alike only when the same object blocks it. Between the shadows of two
+ *  objects a lit gap may run that no traced point sees, however wide the objects are. */
+static inline uint32_t rt_blocked_hash(int l, int object) {
+  uint64_t h = 0xC2B2AE3D27D4EB4FULL * (uint64_t)(l + 1) ^ (uint64_t)(uint32_t)object;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return (uint32_t)h | 1u; /* never 0: 0 is "none" */
 }
 
 /** Follow the path that starts at the primary ray and at every node continues with its child

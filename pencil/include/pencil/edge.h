@@ -60,16 +60,28 @@ int pt_ctree_same_root(const pt_ctree_t *a, const pt_ctree_t *b);
 int pt_tree_agree(const rt_tree_t *a, const pt_ctree_t *const *c, int nc, int *map, uint8_t *agree,
                   uint32_t *light);
 
-/** A bounding sphere of a bounded object. */
+/** A bounding sphere of a bounded object, and what its shadow is at least as wide as: a ball
+ *  (w > 0, n zero) or a disc (n its unit normal) of radius w about `in` that the object holds.
+ *  w 0: nothing known (the object may be thin anywhere). A sphere's is itself. */
 typedef struct {
   px_vec3_t c;
   double r;
   int object;
+  px_vec3_t in; /**< centre of the ball or disc held */
+  double w;     /**< its radius */
+  px_vec3_t n;  /**< a disc's unit normal; zero for a ball */
 } pt_bsphere_t;
 
+/** A bounded sphere (c, r) of `object` that is itself the object: a ball of radius r inside. */
+static inline pt_bsphere_t pt_bsphere_ball(px_vec3_t c, double r, int object) {
+  return (pt_bsphere_t){c, r, object, c, r, {0.0, 0.0, 0.0}};
+}
+
 /** Bounding spheres of the scene's bounded objects (spheres exactly; polygons and polyhedra
- *  around their bounding boxes) into out[cap]; returns how many were written (s->nobject is
- *  always enough). */
+ *  around their bounding boxes) into out[cap], each with what it holds: a sphere itself; a
+ *  convex polyhedron the ball about its vertices' centroid that touches its nearest face; a convex
+ *  polygon the disc about its vertices' centroid that touches its nearest edge; a non-convex one
+ *  nothing (w 0). Returns how many were written (s->nobject is always enough). */
 int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap);
 
 /** A node of the guards' hierarchy: a sphere holding every sphere below it; a leaf holds
@@ -124,10 +136,13 @@ int pt_guard_cone(const pt_guards_t *g, px_vec3_t p, double r, px_vec3_t axis, d
  *  traced at points
  *  that leave no disc of radius above `gap` free of them. 1 when some bounding sphere other than
  *  object `skip`'s meets the cone (cylinder) of those rays and could hide its shadow between
- *  the traced points: its angular radius from the light below gap's (its radius below gap),
- *  the gap narrowed by the cosine of the light's incidence when the points lie on a plane of
- *  unit `normal` (NULL for a curved surface). A larger object's shadow has an edge across the
- *  pencil, which the traced points' visibility sees, as the corners see other edges. */
+ *  the traced points: the shadow of the ball or disc the object holds narrower, seen from the
+ *  light, than the gap (a ball's angular radius below the gap's; a disc's narrowed by the
+ *  cosine between its normal and the light, the least over the bounding sphere; for a parallel
+ *  light, radii), the gap narrowed by the cosine of the light's incidence when the points lie on
+ *  a plane of unit `normal` (NULL for a curved surface). A wider shadow has an edge across the
+ *  pencil, which the traced points' visibility sees, as the corners see other edges; a long thin
+ *  object's does not, however large its bounding sphere. */
 int pt_guard_shadow(const pt_guards_t *g, px_vec3_t p, double r, double gap,
                     const px_vec3_t *normal, const rt_light_t *light, int skip);
 

@@ -17,18 +17,27 @@ static rt_rgb_t child_cb(void *ctx, const rt_child_t *child, int depth) {
 static inline __attribute__((always_inline)) void shadow_query(xr_exact_t *ex, rt_shadow_t *q,
                                                                int opaque) {
   ex->stats.shadow++;
-  if (opaque)
-    rt_shadow_occluded(ex->scene, q);
-  else
+  int record = ex->tree && ex->node >= 0 && q->light < 32, blocker = -1;
+  if (opaque) {
+    rt_hit_t h;
+    int hit = rt_intersect(ex->scene, &q->ray, &h);
+    q->through = hit ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1); /* rt_shadow_occluded() */
+    blocker = hit ? h.object : -1;
+  } else if (record) {
+    q->through = rt_transmittance_blocker(ex->scene, &q->ray, &blocker);
+  } else {
     q->through = rt_transmittance(ex->scene, &q->ray);
-  if (ex->tree && ex->node >= 0 && q->light < 32) {
+  }
+  if (record) {
     rt_tree_node_t *nd = &ex->tree->node[ex->node];
-    if (q->through.r == 1.0 && q->through.g == 1.0 && q->through.b == 1.0)
+    if (q->through.r == 1.0 && q->through.g == 1.0 && q->through.b == 1.0) {
       nd->lit |= 1u << q->light;
-    else if (!(rt_rgb_max(q->through) > 0.0))
+    } else if (!(rt_rgb_max(q->through) > 0.0)) {
       nd->blocked |= 1u << q->light;
-    else
+      nd->through ^= rt_blocked_hash(q->light, blocker);
+    } else {
       nd->through ^= rt_through_hash(q->light, q->through);
+    }
   }
 }
 
