@@ -221,6 +221,13 @@ static int bench_illuminance(int argc, char **argv) {
     return rc;
   o.threads = (int)threads;
   o.max_split = (int)split;
+  char err[1024]; /* the outputs before minutes of tracing */
+  if (o.maps && io_make_dirs(o.maps) != 0)
+    return CLI_USAGE;
+  if (o.json && io_output_check(o.json, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil bench illuminance: --json: %s\n", err);
+    return CLI_USAGE;
+  }
   int r = val_bench_illuminance(&o);
   return r < 0 ? CLI_USAGE : r ? CLI_FAIL : CLI_OK;
 }

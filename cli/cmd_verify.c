@@ -1,9 +1,11 @@
 /* cmd_verify.c -- `pencil verify WHAT`: the verification runs of the validation suite. */
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "cli.h"
+#include "io/output.h"
 #include "validation/bounds.h"
 #include "validation/dispersion.h"
 #include "validation/illuminance.h"
@@ -119,6 +121,21 @@ static int parse(int argc, char **argv, verify_args_t *a) {
   return rc == CLI_OK ? -1 : rc;
 }
 
+/* The outputs checked before the verification runs (some run for minutes): JSON and CSV files
+ * writable, a CSV directory there and writable. CLI_OK, or CLI_USAGE with the reason on stderr. */
+static int outputs_ok(const char *cmd, const char *json, const char *csv, int csv_dir) {
+  char err[1024];
+  if (json && io_output_check(json, err, sizeof err) != 0)
+    return fprintf(stderr, "pencil %s: --json: %s\n", cmd, err), CLI_USAGE;
+  struct stat st;
+  if (csv && csv_dir && (stat(csv, &st) != 0 || !S_ISDIR(st.st_mode) || access(csv, W_OK) != 0))
+    return fprintf(stderr, "pencil %s: --csv: %s is not a writable directory\n", cmd, csv),
+           CLI_USAGE;
+  if (csv && !csv_dir && io_output_check(csv, err, sizeof err) != 0)
+    return fprintf(stderr, "pencil %s: --csv: %s\n", cmd, err), CLI_USAGE;
+  return CLI_OK;
+}
+
 /* `pencil verify stability [--samples N] [--seed S] [--json FILE] [--threads N] [--quick]` */
 static int run_stability(int argc, char **argv) {
   static const cli_spec_t specs[] = {{"--samples", 0, 1, 1},
@@ -167,6 +184,8 @@ static int run_stability(int argc, char **argv) {
   }
   if (samples > 0)
     o.samples = (uint64_t)samples;
+  if (outputs_ok("verify stability", o.json, NULL, 0) != CLI_OK)
+    return CLI_USAGE;
   if (isatty(2)) {
     o.progress = cli_progress;
     o.progress_ctx = (void *)"verifying stability";
@@ -195,6 +214,10 @@ int cmd_verify(int argc, char **argv) {
   int rc = parse(argc, argv, &a);
   if (rc >= 0)
     return rc;
+  char cmd[64];
+  snprintf(cmd, sizeof cmd, "verify %s", argv[1]);
+  if (outputs_ok(cmd, a.json, a.csv, bounds) != CLI_OK)
+    return CLI_USAGE;
   int r;
   if (bounds) { /* issue 3: validation/src/verify_bounds.c */
     val_bounds_opts_t o = {a.quick, a.no_fit, a.json, a.csv, stdout, NULL, NULL, (int)a.threads};

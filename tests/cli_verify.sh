@@ -89,3 +89,17 @@ assert len(rows) == s["cases"] and {r["glass"] for r in rows} == {"low", "high"}
 assert any("41.8" in r["label"] and r["status"] == "ok" for r in rows), "no case near the critical angle"
 print("cli_verify: dispersion passed,", s["compared"], "cases")
 PY
+# outputs checked before the work (verify stability runs about 70 s by default): exit 2 naming
+# the option, nothing on stdout
+$pencil verify stability --samples 200000 --threads 1 --json /nonexistent/dir/s.json \
+  >"$dir/out" 2>"$dir/err"; rc=$?
+if [ $rc -ne 2 ] || [ -s "$dir/out" ] || ! grep -q -- '--json: /nonexistent/dir/s.json' "$dir/err"; then
+  echo "FAIL: verify stability with an unwritable --json must stop before the run (rc $rc)"
+  cat "$dir/err"; exit 1
+fi
+touch "$dir/afile"
+$pencil verify bounds --quick --no-fit --csv "$dir/afile" >"$dir/out" 2>"$dir/err"; rc=$?
+if [ $rc -ne 2 ] || [ -s "$dir/out" ] || ! grep -q 'afile is not a writable directory' "$dir/err"; then
+  echo "FAIL: verify bounds --csv FILE must stop before the run naming it (rc $rc)"; exit 1
+fi
+echo "cli_verify: outputs checked first"

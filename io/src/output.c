@@ -520,5 +520,10 @@ int io_make_dirs(const char *d) {
       }
       buf[i] = c;
     }
+  struct stat st;
+  if (stat(d, &st) != 0 || !S_ISDIR(st.st_mode)) {
+    fprintf(stderr, "pencil: %s exists and is not a directory\n", d);
+    return -1;
+  }
   return 0;
 }
