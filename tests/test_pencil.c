@@ -1495,6 +1495,26 @@ static void nested_glass_shadows_not_reused(void **state) {
   rt_scene_free(&s);
 }
 
+/* The light probes' scenes (docs/journal/2026-12-05-silent-light.md): a white floor (object 0)
+ * and a blue material, returned, for what stands over it. */
+static int floor_scene(rt_scene_t *s) {
+  rt_scene_init(s);
+  rt_material_t white = rt_material_default("white"), blue = rt_material_default("blue");
+  white.color = rt_rgb(0.8, 0.8, 0.8);
+  blue.color = rt_rgb(0.1, 0.2, 0.9);
+  int mw, mb;
+  rt_scene_add_material(s, &white, &mw);
+  rt_scene_add_material(s, &blue, &mb);
+  rt_scene_add_plane(s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mw, -1, 1.0, NULL);
+  return mb;
+}
+
+/* ... seen from above and in front at 96 x 96, and prepared. */
+static void floor_scene_ready(rt_scene_t *s) {
+  s->camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.0, 0.5}, {0, 1, 0}, 40.0, 96, 96};
+  assert_int_equal(rt_scene_prepare(s), RT_OK);
+}
+
 /* A box from lo to hi (material m) in scene s. */
 static void add_box(rt_scene_t *s, px_vec3_t lo, px_vec3_t hi, int m) {
   px_vec3_t v[8];
@@ -1514,20 +1534,12 @@ static void add_box(rt_scene_t *s, px_vec3_t lo, px_vec3_t hi, int m) {
 static void thin_objects_keep_their_shadows(void **state) {
   (void)state;
   rt_scene_t s;
-  rt_scene_init(&s);
-  rt_material_t white = rt_material_default("white"), blue = rt_material_default("blue");
-  white.color = rt_rgb(0.8, 0.8, 0.8);
-  blue.color = rt_rgb(0.1, 0.2, 0.9);
-  int mw, mb;
-  rt_scene_add_material(&s, &white, &mw);
-  rt_scene_add_material(&s, &blue, &mb);
-  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mw, -1, 1.0, NULL);
+  int mb = floor_scene(&s);
   add_box(&s, px_vec3(-0.52, 3.48, -2.5), px_vec3(-0.48, 3.52, 3.5), mb);
   rt_light_t sun = {RT_LIGHT_PARALLEL, {0.05, -1.0, 0.02}, {1, 1, 1}, RT_FALLOFF_NONE,
                     {0, 0, 0},         {0, 0, 0},          0};
   assert_int_equal(rt_scene_add_light(&s, &sun), RT_OK);
-  s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.0, 0.5}, {0, 1, 0}, 40.0, 96, 96};
-  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  floor_scene_ready(&s);
   pt_bsphere_t b[2];
   assert_int_equal(pt_guard_spheres(&s, b, 2), 1);
   assert_close(b[0].w, 0.02, 1e-12, 1e-12); /* the ball it holds */
@@ -1544,21 +1556,13 @@ static void thin_objects_keep_their_shadows(void **state) {
 static void gaps_between_shadows_kept(void **state) {
   (void)state;
   rt_scene_t s;
-  rt_scene_init(&s);
-  rt_material_t white = rt_material_default("white"), blue = rt_material_default("blue");
-  white.color = rt_rgb(0.8, 0.8, 0.8);
-  blue.color = rt_rgb(0.1, 0.2, 0.9);
-  int mw, mb;
-  rt_scene_add_material(&s, &white, &mw);
-  rt_scene_add_material(&s, &blue, &mb);
-  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mw, -1, 1.0, NULL);
+  int mb = floor_scene(&s);
   add_box(&s, px_vec3(-1.97, 2.95, -1.0), px_vec3(0.03, 3.95, 2.0), mb);
   add_box(&s, px_vec3(0.09, 2.95, -1.0), px_vec3(2.09, 3.95, 2.0), mb);
   rt_light_t l = {RT_LIGHT_POINT, {0.0, 8.0, 0.5}, {1, 1, 1}, RT_FALLOFF_NONE,
                   {0, 0, 0},      {0, 0, 0},       0};
   assert_int_equal(rt_scene_add_light(&s, &l), RT_OK);
-  s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.0, 0.5}, {0, 1, 0}, 40.0, 96, 96};
-  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  floor_scene_ready(&s);
   int floor_px;
   assert_true(floor_off(&s, 2, &floor_px) <= 1.0 / 32.0);
   assert_true(floor_px > 3000);
@@ -1573,14 +1577,7 @@ static void gaps_between_shadows_kept(void **state) {
 static void lights_past_the_masks_keep_their_shadows(void **state) {
   (void)state;
   rt_scene_t s;
-  rt_scene_init(&s);
-  rt_material_t white = rt_material_default("white"), blue = rt_material_default("blue");
-  white.color = rt_rgb(0.8, 0.8, 0.8);
-  blue.color = rt_rgb(0.1, 0.2, 0.9);
-  int mw, mb;
-  rt_scene_add_material(&s, &white, &mw);
-  rt_scene_add_material(&s, &blue, &mb);
-  rt_scene_add_plane(&s, px_vec3(0, 0, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), mw, -1, 1.0, NULL);
+  int mb = floor_scene(&s);
   for (int i = 0; i < 7; i++)
     rt_scene_add_sphere(&s, px_vec3(-1.5 + 0.5 * i, 2.0, 0.3 * i), 0.03, mb, NULL);
   rt_light_t l = {RT_LIGHT_POINT, {0.0, 30.0, 0.0}, {0, 0, 0}, RT_FALLOFF_NONE,
@@ -1590,8 +1587,7 @@ static void lights_past_the_masks_keep_their_shadows(void **state) {
   l.v = px_vec3(-0.5, 6.0, 0.5);
   l.intensity = rt_rgb(1, 1, 1);
   assert_int_equal(rt_scene_add_light(&s, &l), RT_OK);
-  s.camera = (rt_camera_t){{0.0, 3.0, -6.0}, {0.0, 0.0, 0.5}, {0, 1, 0}, 40.0, 96, 96};
-  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  floor_scene_ready(&s);
   int floor_px;
   assert_true(floor_off(&s, 2, &floor_px) <= 1.0 / 32.0);
   assert_true(floor_px > 5000);
