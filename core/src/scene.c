@@ -245,9 +245,7 @@ const rt_material_t *rt__scene_checker_at(const rt_scene_t *s, const rt_object_t
  * searches of spectral pencils. */
 #define ALONE_MAX_FACES 1024
 
-/* Whether polyhedron o is convex: every vertex of it on the inner side of every face's plane,
- * within 1e-9 of the object's size (the faces' normals are outward: polygon.c). */
-static int convex(const rt_scene_t *s, const rt_object_t *o, double size) {
+int rt_polyhedron_convex(const rt_scene_t *s, const rt_object_t *o, double size) {
   double e = 1e-9 * size;
   for (int i = o->first_prim; i < o->first_prim + o->nprim; i++) {
     const rt_polygon_t *f = &s->prim[i].polygon;
@@ -300,7 +298,7 @@ static int alone(const rt_scene_t *s, int o) {
     }
   }
   double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-  if (ob->kind == RT_OBJ_POLYHEDRON && !convex(s, ob, size))
+  if (ob->kind == RT_OBJ_POLYHEDRON && !rt_polyhedron_convex(s, ob, size))
     return 0;
   for (int u = 0; u < s->nunbounded; u++) { /* planes: the box's corners on one side, strictly */
     int q = s->unbounded[u];

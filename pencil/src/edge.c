@@ -129,16 +129,12 @@ static px_vec3_t vertex_centroid(const rt_scene_t *s, int first, int count) {
 static void held(const rt_scene_t *s, const rt_object_t *ob, pt_bsphere_t *b) {
   double e = 1e-9 * b->r;
   if (ob->kind == RT_OBJ_POLYHEDRON && ob->nprim >= 4 && ob->nprim <= GUARD_MAX_FACES) {
+    if (!rt_polyhedron_convex(s, ob, b->r))
+      return;
     px_vec3_t m = vertex_centroid(s, ob->first_prim, ob->nprim);
     double w = INFINITY;
     for (int i = ob->first_prim; i < ob->first_prim + ob->nprim; i++) {
       const rt_polygon_t *f = &s->prim[i].polygon;
-      for (int j = ob->first_prim; j < ob->first_prim + ob->nprim; j++) {
-        const rt_polygon_t *g = &s->prim[j].polygon;
-        for (int k = 0; k < g->count; k++)
-          if (px_v3_dot(f->n, s->vertex[g->first + k]) - f->d > e)
-            return; /* not convex */
-      }
       w = fmin(w, f->d - px_v3_dot(f->n, m));
     }
     if (w > 0.0) {

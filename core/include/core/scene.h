@@ -252,6 +252,9 @@ void rt_scene_name_object(rt_scene_t *s, int object, const char *name);
 /** Check the settings (camera, depth, spp, indices) and build the BVH. Must be called after the
  *  last change and before tracing. RT_EINVAL for bad settings, RT_ENOMEM. */
 rt_status_t rt_scene_prepare(rt_scene_t *s);
+/** Whether polyhedron o is convex: every vertex of it on the inner side of every face's plane,
+ *  within 1e-9 of `size` (the object's; the faces' normals are outward). O(faces x vertices). */
+int rt_polyhedron_convex(const rt_scene_t *s, const rt_object_t *o, double size);
 
 /** 1 when the Fig. 10 error measure counts hits on `object` (>= 0): its material, or either
  *  material of a checkerboard, has a diffuse term (kd > 0). The paper measures on the
