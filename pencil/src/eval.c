@@ -71,10 +71,7 @@ static inline __attribute__((always_inline)) void shadow_query(pt_eval_t *E, rt_
   if (E->lattice && E->geom && q->light < 32) { /* where the visibility changes over the domain */
     int blocker = -1;
     if (opaque) {
-      rt_hit_t h;
-      int hit = rt_intersect(E->C->s, &q->ray, &h);
-      q->through = hit ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1); /* rt_shadow_occluded() */
-      blocker = hit ? h.object : -1;
+      blocker = rt_shadow_occluded_by(E->C->s, q);
     } else {
       q->through = rt_transmittance_blocker(E->C->s, &q->ray, &blocker);
     }

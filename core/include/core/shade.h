@@ -68,6 +68,13 @@ static inline void rt_shadow_occluded(const rt_scene_t *s, rt_shadow_t *q) {
   rt_hit_t h;
   q->through = rt_intersect(s, &q->ray, &h) ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1);
 }
+/** rt_shadow_occluded(), returning the object the segment meets (-1: none). */
+static inline int rt_shadow_occluded_by(const rt_scene_t *s, rt_shadow_t *q) {
+  rt_hit_t h;
+  int hit = rt_intersect(s, &q->ray, &h);
+  q->through = hit ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1);
+  return hit ? h.object : -1;
+}
 /** How a renderer finds surfaces. Both callbacks are called from the thread that shades. */
 typedef struct {
   /** Radiance arriving at the surface along child->ray (a generation-`depth` secondary ray,

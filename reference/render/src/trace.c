@@ -19,10 +19,7 @@ static inline __attribute__((always_inline)) void shadow_query(xr_exact_t *ex, r
   ex->stats.shadow++;
   int record = ex->tree && ex->node >= 0 && q->light < 32, blocker = -1;
   if (opaque) {
-    rt_hit_t h;
-    int hit = rt_intersect(ex->scene, &q->ray, &h);
-    q->through = hit ? rt_rgb(0, 0, 0) : rt_rgb(1, 1, 1); /* rt_shadow_occluded() */
-    blocker = hit ? h.object : -1;
+    blocker = rt_shadow_occluded_by(ex->scene, q);
   } else if (record) {
     q->through = rt_transmittance_blocker(ex->scene, &q->ray, &blocker);
   } else {
