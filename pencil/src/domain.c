@@ -199,6 +199,70 @@ static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
   }
 }
 
+/* The highlight guard's first step, for the whole domain (interp_plan.c's highlight_guarded() is
+ * the second, per lattice cell): sets n->highlight unless no Phong highlight of node k's surface
+ * can reach the share of the brightness tolerance the guard allows anywhere among the domain's
+ * hits. The mirror directions of the domain's boundary rays (from the node's matrix, met with its
+ * surface) lie in a cone about the axial ray's, grown by PT_GUARD_INFLATE; the light's directions
+ * in the cone that the hits' ball (hit_radius()) subtends from it. The angle between the two is at
+ * least the axial angle less both half-angles, and (R.V)^n at most its cosine to the n; W_k is at
+ * most 1. */
+static void highlight_guard(pt_ctx_t *C, pt_node_t *n, int k, boundary_t *b) {
+  const rt_scene_t *s = C->s;
+  n->highlight = 0;
+  if (!rt_plan_has(C->plan, RT_EFFECT_SPECULAR))
+    return;
+  const rt_object_t *o = &s->object[n->object];
+  double ks = 0.0, phong = INFINITY; /* the largest ks, the broadest lobe */
+  for (int i = 0; i < (n->textured ? 2 : 1); i++) {
+    const rt_material_t *m = &s->material[i ? o->material2 : o->material];
+    if (m->ks > 0.0) {
+      ks = fmax(ks, m->ks);
+      phong = fmin(phong, m->phong);
+    }
+  }
+  if (!(ks > 0.0))
+    return;
+  const rt_prim_t *pr = &s->prim[n->prim];
+  px_vec3_t d0 = C->trees.axial.node[k].dir, nu = rt_prim_normal_at(pr, n->o);
+  px_vec3_t m0 = px_v3_axpy(-2.0 * px_v3_dot(d0, nu), nu, d0);
+  const double(*bxi)[2] = boundary_xi(C, b);
+  double cmin = 1.0, r = 0.0;
+  for (int j = 0; j < 8; j++) {
+    px_vec3_t p, d, hit;
+    if (!pt_node_ray(n, bxi[j], &p, &d) || !pt_node_hit(s, n, p, d, &hit)) {
+      n->highlight = 1;
+      return;
+    }
+    r = fmax(r, px_v3_norm(px_v3_sub(p, n->o))); /* as hit_radius() finds it */
+    nu = rt_prim_normal_at(pr, hit);
+    cmin = fmin(cmin, px_v3_dot(px_v3_axpy(-2.0 * px_v3_dot(d, nu), nu, d), m0));
+  }
+  if (n->guard_r < 0.0)
+    n->guard_r = PT_GUARD_INFLATE * r / n->cos_in;
+  r = n->guard_r;
+  double tm = PT_GUARD_INFLATE * acos(fmax(-1.0, cmin)), sum = 0.0;
+  for (int l = 0; l < s->nlight; l++) {
+    const rt_light_t *li = &s->light[l];
+    if (li->kind == RT_LIGHT_AREA)
+      continue; /* shaded per sample (interp_plan.c) */
+    px_vec3_t L = px_v3_scale(li->v, -1.0);
+    double tl = 0.0, in = fmax(li->intensity.r, fmax(li->intensity.g, li->intensity.b));
+    if (li->kind == RT_LIGHT_POINT) {
+      L = px_v3_sub(li->v, n->o);
+      double dist = px_v3_norm(L);
+      L = px_v3_scale(L, 1.0 / dist);
+      tl = r < dist ? asin(r / dist) : M_PI;
+      if (li->falloff == RT_FALLOFF_INVERSE_SQUARE)
+        in = r < dist ? in / ((dist - r) * (dist - r)) : INFINITY;
+    }
+    double amin = acos(fmax(-1.0, fmin(1.0, px_v3_dot(m0, L)))) - tm - tl;
+    sum += ks * in * (amin <= 0.0 ? 1.0 : amin >= 0.5 * M_PI ? 0.0 : pow(cos(amin), phong));
+  }
+  /* the tolerance of a certified lattice cell, the smaller; a NaN sets the flag */
+  n->highlight = !(sum <= PT_FAINT_SHARE * PT_CERTIFIED_MARGIN * C->opt->brightness_tol);
+}
+
 /* Node k's tolerance in units of rho (pt_node_t.tol_scale): with the image-space tolerance,
  * 1 / W for the weight W with which its light reaches the pixel (the axial ray's, its largest
  * channel), W taken at least the option's floor and at most 1. */
@@ -265,6 +329,8 @@ static double build_paths(pt_ctx_t *C, const pt_pencil_t *p, boundary_t *b, doub
     }
     if (mode && !n->miss && rt_plan_has(C->plan, RT_EFFECT_SHADOWS))
       shadow_guard(C, n, b);
+    if (mode && !n->miss && interpolating(C))
+      highlight_guard(C, n, k, b);
     if (mode && verify) {
       mode = PT_NODE_PATH;
       n->verify = 1;

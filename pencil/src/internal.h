@@ -242,6 +242,10 @@ enum { PT_EV_MATRIX = 0, PT_EV_INTERP = 1 };
  *  variation between the checked points; docs/pencil.md). */
 #define PT_CERTIFIED_MARGIN 0.7
 
+/** Share of the brightness tolerance that faint nodes (interp_plan.c) may take together; the
+ *  caustic and highlight guards fire when what they bound exceeds it. */
+#define PT_FAINT_SHARE 0.5
+
 /** Depth of the quadtree of lattice cells (halvings of the domain) at most. */
 #define PT_LATTICE_LEVELS 12
 

@@ -49,6 +49,7 @@ static void emit_samples(pt_ctx_t *C, const domain_pixels_t *A, const lattice_ce
     pt__sampling_begin(C, lc, pl, &S);
   C->st.biquad_lattice_cells += (uint64_t)(pl && pl->nbiquadratic);
   C->st.faint_lattice_cells += (uint64_t)(pl && pl->nfaint);
+  C->st.highlight_lattice_cells += (uint64_t)(pl && pl->nhighlight);
   for (int j = gy0 / s; j <= (gy1 - 1) / s; j++)
     for (int i = gx0 / s; i <= (gx1 - 1) / s; i++) {
       int a0 = gx0 - i * s, a1 = gx1 - i * s, b0 = gy0 - j * s, b1 = gy1 - j * s;

@@ -56,9 +56,6 @@ static int shadow_guarded(const pt_ctx_t *C, const lattice_point_t (*R)[3], int 
   return 0;
 }
 
-/* Share of the brightness tolerance that faint nodes (below) may take together. */
-#define PT_FAINT_SHARE 0.5
-
 /* Node evaluations per sample (traced nodes, nodes shaded per sample) that a lattice cell may
  * spend instead of being cut, in units of the tree's nodes: a cut traces up to 20 points (4
  * measured quarters) of the whole tree. The budget is where the render's cost was lowest among
@@ -109,6 +106,7 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
     P->xi2 = px_max(P->xi2, corner_of(lc, i)->xi2);
   P->linear = C->lattice.plan.linear;
   pl->nshaded = pl->nleaves = pl->ntraced = pl->nbiquadratic = pl->nfaint = pl->halve = 0;
+  pl->nhighlight = 0;
   pl->per_sample_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->linear_corners[i] = rt_rgb(0, 0, 0);
@@ -234,6 +232,159 @@ static int caustic_guarded(const planning_t *P, int k) {
   return w * kd * span > PT_FAINT_SHARE * P->ltol;
 }
 
+/* The smallest dot product of v[1][1] with the grid's vectors v (the cosine of their cone's
+ * half-angle about it), and of neighbouring ones (*step: the cosine of the longest step). */
+static double cone_cos(px_vec3_t (*v)[3], double *step) {
+  double cc = 1.0, cs = 1.0;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      cc = px_min(cc, px_v3_dot(v[r][c], v[1][1]));
+      if (c < 2)
+        cs = px_min(cs, px_v3_dot(v[r][c], v[r][c + 1]));
+      if (r < 2)
+        cs = px_min(cs, px_v3_dot(v[r][c], v[r + 1][c]));
+    }
+  *step = cs;
+  return cc;
+}
+
+/* Bounds on the angle between unit vectors from its cosine c, without acos: at most
+ * 2 tan(angle / 2) (angle_above), at least 2 sin(angle / 2), the chord (angle_below). */
+static double angle_above(double c) {
+  return c > -1.0 ? 2.0 * sqrt(px_max(0.0, 1.0 - c) / (1.0 + c)) : INFINITY;
+}
+static double angle_below(double c) {
+  return sqrt(px_max(0.0, 2.0 - 2.0 * c));
+}
+
+/* The highlight guard on node k over a lattice cell's grid R. Phong's term ks (R.V)^n (shade.c's
+ * light_term) peaks where the light's direction L meets the mirror direction m of the arriving
+ * ray, in a lobe about 1 / sqrt(n) wide in angle. The brightness test looks at the grid's nine
+ * points only: it sees a lobe the grid resolves, but a lobe narrower than the grid's steps in m
+ * can lie between the points unseen. So the guard fires where both hold:
+ * - the grid does not resolve the lobe: a point of the cell may lie farther than 1 / sqrt(n) in
+ *   angle from every grid point (half a grid square's diagonal, from the longest steps of m and L
+ *   between neighbouring points, grown by half again as shadow_guarded() grows its pencil);
+ * - a peak there may matter: the angle between m and L over the cell is at least the larger of
+ *   the centre's angle less the half-angles of the cones of m and L about the centre's (through
+ *   the farthest point's), and the grid's least angle less that step; (R.V)^n is at most that
+ *   angle's cosine to the n, and its excess over the largest (R.V)^n the grid saw, weighted by
+ *   the node's largest W_k, ks and the light's intensity and summed over the lights, exceeds the
+ *   share of the brightness tolerance that faint nodes may take.
+ * Then the node's direct term is shaded per sample. Lights every grid point found blocked are
+ * left to the shadow tests; area lights are shaded per sample anyway. The domain's first step
+ * (domain.c's highlight_guard(), pt_node_t.highlight) leaves out the nodes whose highlights cannot
+ * matter anywhere in the domain. */
+static __attribute__((noinline)) int highlight_guarded(const planning_t *P, int k) {
+  const pt_ctx_t *C = P->C;
+  const rt_scene_t *s = C->s;
+  const pt_node_t *n = &C->paths.node[k];
+  const rt_object_t *o = &s->object[n->object];
+  const rt_material_t *mt[2] = {&s->material[o->material],
+                                n->textured ? &s->material[o->material2] : NULL};
+  double ks = 0.0, narrow = 0.0, w = 0.0, in = 0.0; /* largest ks, narrowest lobe's exponent */
+  for (int i = 0; i < 2; i++)
+    if (mt[i] && mt[i]->ks > 0.0) {
+      ks = px_max(ks, mt[i]->ks);
+      narrow = px_max(narrow, mt[i]->phong);
+    }
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      w = px_max(w, norm_rgb(NULL, rgb_vec(P->R[r][c].g[k].w)));
+  for (int l = 0; l < s->nlight; l++) /* with inverse-square fall-off: bounded below */
+    in += s->light[l].falloff == RT_FALLOFF_NONE ? norm_rgb(NULL, rgb_vec(s->light[l].intensity))
+                                                 : INFINITY;
+  double tol = PT_FAINT_SHARE * P->ltol;
+  if (!(ks > 0.0) || w * ks * in <= tol)
+    return 0; /* no highlight could matter */
+  /* first whether the grid resolves the narrowest lobe for every light, from the hits alone:
+   * between neighbouring points m turns by at most the arriving rays' turn plus twice the
+   * normals' (2 asin(chord / 2r) on a sphere, 0 on a flat surface); L by at most hs / D for a
+   * step of hs and a light at least D away */
+  const rt_prim_t *pr = &s->prim[n->prim];
+  const px_vec3_t pc = P->R[1][1].g[k].p;
+  double hs = 0.0, hd = 1.0, reach = 0.0; /* longest step of the hits, of d (its cosine) */
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      const pt_geom_t *g = &P->R[r][c].g[k];
+      reach = px_max(reach, px_v3_norm(px_v3_sub(g->p, pc)));
+      for (int e = 0; e < 2; e++)
+        if (e ? r < 2 : c < 2) {
+          const pt_geom_t *h = e ? &P->R[r + 1][c].g[k] : &P->R[r][c + 1].g[k];
+          hs = px_max(hs, px_v3_norm(px_v3_sub(h->p, g->p)));
+          hd = px_min(hd, px_v3_dot(h->d, g->d));
+        }
+    }
+  reach *= 1.5;
+  double turn =
+      pr->kind != RT_PRIM_SPHERE ? 0.0 : 2.0 * asin(px_min(1.0, hs / (2.0 * pr->sphere.r)));
+  double hl_most = 0.0;
+  for (int l = 0; l < s->nlight; l++)
+    if (s->light[l].kind == RT_LIGHT_POINT) {
+      double dc = px_v3_norm(px_v3_sub(s->light[l].v, pc)) - reach;
+      hl_most = px_max(hl_most, dc > 0.0 ? hs / dc : INFINITY);
+    }
+  if (1.5 * (angle_above(hd) + 2.0 * turn + hl_most) / sqrt(2.0) <= 1.0 / sqrt(narrow))
+    return 0;
+  /* the mirror directions, their cone about the centre's and their longest step */
+  px_vec3_t m[3][3];
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      const pt_geom_t *g = &P->R[r][c].g[k];
+      px_vec3_t nu = rt_prim_normal_at(pr, g->p);
+      m[r][c] = px_v3_axpy(-2.0 * px_v3_dot(g->d, nu), nu, g->d);
+    }
+  double hm, tm = 1.5 * angle_above(cone_cos(m, &hm));
+  hm = angle_above(hm);
+  double span = 0.0, dmin = INFINITY;
+  for (int l = 0; l < s->nlight; l++) {
+    const rt_light_t *li = &s->light[l];
+    if (li->kind == RT_LIGHT_AREA)
+      continue;
+    int dark = l < PT_MAX_LIGHTS;
+    px_vec3_t L[3][3];
+    double rv = -1.0; /* the grid's largest R.V */
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        const pt_geom_t *g = &P->R[r][c].g[k];
+        dark = dark && (g->dark >> l & 1u);
+        if (li->kind == RT_LIGHT_PARALLEL) {
+          L[r][c] = px_v3_scale(li->v, -1.0);
+        } else {
+          px_vec3_t v = px_v3_sub(li->v, g->p);
+          double dist = px_v3_norm(v);
+          dmin = px_min(dmin, dist);
+          L[r][c] = px_v3_scale(v, 1.0 / dist);
+        }
+        rv = px_max(rv, px_v3_dot(m[r][c], L[r][c]));
+      }
+    if (dark)
+      continue;
+    double hl, tl = 1.5 * angle_above(cone_cos(L, &hl));
+    double step = 1.5 * (hm + angle_above(hl)) / sqrt(2.0); /* to the nearest grid point */
+    double amin =
+        px_max(angle_below(px_v3_dot(m[1][1], L[1][1])) - tm - tl, angle_below(rv) - step);
+    double li_in = norm_rgb(NULL, rgb_vec(li->intensity));
+    if (li->falloff == RT_FALLOFF_INVERSE_SQUARE) {
+      double d = dmin - reach; /* the nearest the cell comes to the light */
+      li_in = d > 0.0 ? li_in / (d * d) : INFINITY;
+    }
+    double most = 0.0; /* the larger of the two materials' */
+    for (int i = 0; i < 2; i++) {
+      if (!mt[i] || !(mt[i]->ks > 0.0) || step * sqrt(mt[i]->phong) <= 1.0)
+        continue; /* no highlight, or one the grid resolves */
+      double hi = amin <= 0.0 ? 1.0 : amin >= 0.5 * M_PI ? 0.0 : pow(cos(amin), mt[i]->phong);
+      double seen = rv > 0.0 ? pow(rv, mt[i]->phong) : 0.0;
+      double e = mt[i]->ks * li_in * px_max(hi - seen, 0.0);
+      most = e > most || e != e ? e : most; /* NaN kept */
+    }
+    span += most;
+  }
+  if (!(span > 0.0))
+    return span != 0.0; /* NaN: guarded */
+  return w * span > tol;
+}
+
 /* Step 4b, node k's brightness: whether it is linear over the lattice cell (every light's
  * visibility agrees at the domain's centre and corners, or at least at the nine points of the grid
  * - the brightness test then checks the shading between - and the small-object guard saw no shadow
@@ -248,6 +399,10 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
                (n->light_agree == ~0u || same_visibility(P->R, k)) &&
                !(n->light_guard && shadow_guarded(C, P->R, k)) && !caustic_guarded(P, k) &&
                !C->plan->area_lights; /* soft shadows: traced per sample, unseen by the lattice */
+  if (smooth && n->highlight && highlight_guarded(P, k)) {
+    smooth = 0;
+    P->pl->nhighlight++;
+  }
   *faint = 0;
   if (!smooth && (squares || n->child[0] < 0)) {
     double b = pt__faint_bound(C, P->lc, P->R, k);

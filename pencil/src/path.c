@@ -241,6 +241,7 @@ void pt_path_topology(const rt_scene_t *s, const rt_tree_t *tree, int k, const p
   out->mode = 0;
   out->spectral = 0;
   out->verify = 0;
+  out->highlight = 0;
   out->light_agree = 0;
   out->light_guard = 0;
   out->known = 0;

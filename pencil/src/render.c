@@ -63,6 +63,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->walk_left += b->walk_left;
   a->biquad_lattice_cells += b->biquad_lattice_cells;
   a->faint_lattice_cells += b->faint_lattice_cells;
+  a->highlight_lattice_cells += b->highlight_lattice_cells;
   a->halved_lattice_cells += b->halved_lattice_cells;
   a->measured += b->measured;
   a->with_points += b->with_points;

@@ -156,18 +156,20 @@ static void report(FILE *f, const rn_report_t *r) {
           (unsigned long long)st->paths_exact, (unsigned long long)st->paths_guard,
           (unsigned long long)st->lights_guard, (unsigned long long)rt_stats_total(&st->rays),
           r->out);
-  fprintf(f,
-          "ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
-          "cells, %llu with faint shadow edges, %llu halves; samples by "
-          "matrices: %llu small cell, %llu "
-          "left the paths, %llu reach, %llu error; "
-          "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
-          (unsigned long long)st->lattice_points, (unsigned long long)st->lattice_reused,
-          (unsigned long long)st->biquad_lattice_cells, (unsigned long long)st->faint_lattice_cells,
-          (unsigned long long)st->halved_lattice_cells, (unsigned long long)st->matrix_samples[0],
-          (unsigned long long)st->matrix_samples[1], (unsigned long long)st->matrix_samples[2],
-          (unsigned long long)st->matrix_samples[3], (unsigned long long)st->fallbacks,
-          (unsigned long long)st->partial, (unsigned long long)st->lerp_samples);
+  fprintf(
+      f,
+      "ray interpolation: %llu lattice points (%llu more reused), %llu biquadratic lattice "
+      "cells, %llu with faint shadow edges, %llu with narrow highlights, %llu halves; samples by "
+      "matrices: %llu small cell, %llu "
+      "left the paths, %llu reach, %llu error; "
+      "%llu fallback samples, %llu partial samples, %llu brightness-interpolated samples\n",
+      (unsigned long long)st->lattice_points, (unsigned long long)st->lattice_reused,
+      (unsigned long long)st->biquad_lattice_cells, (unsigned long long)st->faint_lattice_cells,
+      (unsigned long long)st->highlight_lattice_cells, (unsigned long long)st->halved_lattice_cells,
+      (unsigned long long)st->matrix_samples[0], (unsigned long long)st->matrix_samples[1],
+      (unsigned long long)st->matrix_samples[2], (unsigned long long)st->matrix_samples[3],
+      (unsigned long long)st->fallbacks, (unsigned long long)st->partial,
+      (unsigned long long)st->lerp_samples);
   if (st->walk_steps)
     fprintf(f,
             "exact walks in groups of samples: %llu steps, %.2f samples a step (%s), %llu "

@@ -80,6 +80,9 @@ typedef struct {
   int verify;           /**< PATH with ray interpolation where the corners' trees differ at or
                              above the node: the exact ray along the path must meet the node's
                              own surface first in a scene search, else it is traced exactly */
+  int highlight;        /**< 1: a Phong highlight may lie among the domain's hits (domain.c's
+                             highlight_guard()): interp_plan.c's highlight guard tests each
+                             lattice cell */
   uint32_t light_agree; /**< bit l: light l's visibility is the same at the centre and corners */
   uint32_t light_guard; /**< bit l: a bounded object may shadow part of the cell's hits from light
                              l although the corners agree (small-object guard): the direct term

@@ -155,12 +155,15 @@ typedef struct {
   uint64_t biquad_lattice_cells; /**< lattice cells where some node's hits were interpolated
                               biquadratically (bilinear was not accurate enough) */
   uint64_t
-      faint_lattice_cells;       /**< lattice cells where some node's shading was interpolated
-                              across a shadow edge, its whole light term being within a
-                              share of the brightness tolerance (interp_error.c, counted in interp.c) */
-  uint64_t halved_lattice_cells; /**< certified mode: lattice cells made by halving a cell whose
-                              nodes were too curved in one direction (interp_error.c, counted in
-                              interp.c) */
+      faint_lattice_cells;          /**< lattice cells where some node's shading was interpolated
+                                 across a shadow edge, its whole light term being within a
+                                 share of the brightness tolerance (interp_error.c, counted in interp.c) */
+  uint64_t highlight_lattice_cells; /**< lattice cells where the highlight guard shaded some
+                                         node per sample: a Phong lobe narrower than the grid's
+                                         steps may peak between its points (interp_plan.c) */
+  uint64_t halved_lattice_cells;    /**< certified mode: lattice cells made by halving a cell whose
+                                 nodes were too curved in one direction (interp_error.c, counted in
+                                 interp.c) */
   uint64_t walk_steps; /**< steps of exact walks carried for a group of up to four samples at once
                             (opt->simd): one node of the paths for the group */
   uint64_t walk_lanes; /**< the samples those steps carried (lanes per step: walk_lanes /
