@@ -1600,6 +1600,64 @@ static void lights_past_the_masks_keep_their_shadows(void **state) {
   rt_scene_free(&s);
 }
 
+/* A plate 4 x 3 x 0.2 at height 3 with a slot 2 long and `gap` wide through it along z (material
+ * m): one closed polyhedron, not convex, over a 3 x 3 grid of columns whose middle one is open. */
+static void add_slotted_plate(rt_scene_t *s, double gap, int m) {
+  const double xs[4] = {-2.0, -0.5 * gap, 0.5 * gap, 2.0}, zs[4] = {-1.5, -1.0, 1.0, 1.5};
+  px_vec3_t v[32];
+  for (int k = 0; k < 2; k++)
+    for (int j = 0; j < 4; j++)
+      for (int i = 0; i < 4; i++)
+        v[k * 16 + j * 4 + i] = px_vec3(xs[i], 3.0 + 0.2 * k, zs[j]);
+#define VX(i, j, k) ((k)*16 + (j)*4 + (i))
+  int idx[4 * 40], len[40], nf = 0;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      if (i == 1 && j == 1)
+        continue; /* the slot */
+      const int top[4] = {VX(i, j, 1), VX(i, j + 1, 1), VX(i + 1, j + 1, 1), VX(i + 1, j, 1)};
+      const int bot[4] = {VX(i, j, 0), VX(i + 1, j, 0), VX(i + 1, j + 1, 0), VX(i, j + 1, 0)};
+      memcpy(&idx[4 * nf], top, sizeof top), len[nf++] = 4;
+      memcpy(&idx[4 * nf], bot, sizeof bot), len[nf++] = 4;
+      /* the sides facing the outside or the slot: (di, dj) and the edge's ends (a, b) */
+      const int side[4][6] = {{-1, 0, i, j, i, j + 1},
+                              {1, 0, i + 1, j + 1, i + 1, j},
+                              {0, -1, i + 1, j, i, j},
+                              {0, 1, i, j + 1, i + 1, j + 1}};
+      for (int e = 0; e < 4; e++) {
+        int ni = i + side[e][0], nj = j + side[e][1];
+        if (ni >= 0 && ni < 3 && nj >= 0 && nj < 3 && !(ni == 1 && nj == 1))
+          continue;
+        const int q[4] = {VX(side[e][2], side[e][3], 0), VX(side[e][4], side[e][5], 0),
+                          VX(side[e][4], side[e][5], 1), VX(side[e][2], side[e][3], 1)};
+        memcpy(&idx[4 * nf], q, sizeof q), len[nf++] = 4;
+      }
+    }
+#undef VX
+  assert_int_equal(rt_scene_add_polyhedron(s, v, 32, idx, len, nf, m, NULL, NULL, 0), RT_OK);
+}
+
+/* A lit gap inside one object's shadow: a slot 0.03 wide through a plate, under a parallel light,
+ * seen on the floor as a lit strip about half a pixel wide. Every traced point beside the strip
+ * is blocked by the same object, so nothing but the shadow guard tells of the gap: a plate that
+ * is not convex holds nothing known and counts as thin, so the guard fires and the floor is
+ * shaded per sample near it. Given its bounding ball as what it holds instead, the strip was lost:
+ * 12 pixels off by more than 1/32, up to 0.36, at 96 x 96, 4 spp. */
+static void slots_in_shadows_kept(void **state) {
+  (void)state;
+  rt_scene_t s;
+  int mb = floor_scene(&s);
+  add_slotted_plate(&s, 0.03, mb);
+  rt_light_t sun = {RT_LIGHT_PARALLEL, {0.02, -1.0, 0.01}, {1, 1, 1}, RT_FALLOFF_NONE,
+                    {0, 0, 0},         {0, 0, 0},          0};
+  assert_int_equal(rt_scene_add_light(&s, &sun), RT_OK);
+  floor_scene_ready(&s);
+  int floor_px;
+  assert_true(floor_off(&s, 2, &floor_px) <= 1.0 / 32.0);
+  assert_true(floor_px > 5000);
+  rt_scene_free(&s);
+}
+
 /* A ball of Phong exponent `phong` over the white floor, under a point light. */
 static void highlight_scene(rt_scene_t *s, double phong) {
   floor_scene(s);
@@ -1792,6 +1850,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(nested_glass_shadows_not_reused),
       cmocka_unit_test(lights_past_the_masks_keep_their_shadows),
       cmocka_unit_test(narrow_highlights_kept),
+      cmocka_unit_test(slots_in_shadows_kept),
       cmocka_unit_test(thin_objects_keep_their_shadows),
       cmocka_unit_test(gaps_between_shadows_kept),
       cmocka_unit_test(bad_options_rejected),
