@@ -207,6 +207,25 @@ static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
  * in the cone that the hits' ball (hit_radius()) subtends from it. The angle between the two is at
  * least the axial angle less both half-angles, and (R.V)^n at most its cosine to the n; W_k is at
  * most 1. */
+/* A bound on W_k over the domain: each surface above node k passes on at most kr + kt T of its
+ * light to either child (the mirror child takes the refraction's share under Fresnel or total
+ * internal reflection), the larger of a checkerboard's two materials. */
+static double weight_bound(const pt_ctx_t *C, int k) {
+  double w = 1.0;
+  for (int j = C->paths.node[k].parent; j >= 0; j = C->paths.node[j].parent) {
+    const pt_node_t *a = &C->paths.node[j];
+    const rt_object_t *o = &C->s->object[a->object];
+    double most = 0.0;
+    for (int i = 0; i < (a->textured ? 2 : 1); i++) {
+      const rt_material_t *m = &C->s->material[i ? o->material2 : o->material];
+      double t = fmax(m->transmittance.r, fmax(m->transmittance.g, m->transmittance.b));
+      most = fmax(most, m->kr + m->kt * t);
+    }
+    w *= most;
+  }
+  return w;
+}
+
 static void highlight_guard(pt_ctx_t *C, pt_node_t *n, int k, boundary_t *b) {
   const rt_scene_t *s = C->s;
   n->highlight = 0;
@@ -260,7 +279,8 @@ static void highlight_guard(pt_ctx_t *C, pt_node_t *n, int k, boundary_t *b) {
     sum += ks * in * (amin <= 0.0 ? 1.0 : amin >= 0.5 * M_PI ? 0.0 : pow(cos(amin), phong));
   }
   /* the tolerance of a certified lattice cell, the smaller; a NaN sets the flag */
-  n->highlight = !(sum <= PT_FAINT_SHARE * PT_CERTIFIED_MARGIN * C->opt->brightness_tol);
+  n->highlight =
+      !(weight_bound(C, k) * sum <= PT_FAINT_SHARE * PT_CERTIFIED_MARGIN * C->opt->brightness_tol);
 }
 
 /* Node k's tolerance in units of rho (pt_node_t.tol_scale): with the image-space tolerance,
