@@ -39,6 +39,12 @@ mkdir "$tmp/side" && cp "$src/scenes/fig8.json" "$tmp/side/sweep.json"
 $pencil sweep "$tmp/side/sweep.json" --quick --rho 0.5 --size 12x8 --out "$tmp/side" >/dev/null 2>"$tmp/err"; rc=$?
 check "sweep: its scene as --out's sweep.json is not replaced (once overwritten, exit 0)" \
   "[ $rc -ne 0 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src/scenes/fig8.json' '$tmp/side/sweep.json'"
+check "... found before any work: exit 2, no sweep.csv written (once found at the JSON, after it)" \
+  "[ $rc -eq 2 ] && [ ! -e '$tmp/side/sweep.csv' ]"
+mkdir "$tmp/side2" && cp "$src/scenes/fig8.json" "$tmp/side2/fig9.png"
+$pencil figures "$tmp/side2/fig9.png" --quick --only fig9 --size 12x8 --out "$tmp/side2" >/dev/null 2>"$tmp/err"; rc=$?
+check "figures: a scene named like a plot of --out is refused before any work, nothing written" \
+  "[ $rc -eq 2 ] && grep -q 'fig9.png: is the input' '$tmp/err' && [ \"\$(ls '$tmp/side2')\" = fig9.png ]"
 
 $pencil render $small -o "$tmp/d.exr" --rho 0.5 >/dev/null 2>"$tmp/err"; rc=$?
 check "a pencil option without --method pencil: exit 2 naming it" \

@@ -108,6 +108,60 @@ static int load_scene(const val_figures_opts_t *o, rt_scene_t *s) {
   return 0;
 }
 
+/* Every file a run writes in the output directory, by the figure that writes it (VAL_ONLY_*
+ * bits; 0: every run of `figures`), and whether the plotting script writes it or only a run that
+ * renders (not a merge, which takes the images from the shard that made them). */
+static const struct {
+  unsigned figure;
+  const char *name;
+  int plot, image;
+} outputs[] = {{VAL_ONLY_FIG9, "fig9.csv", 0, 0},
+               {VAL_ONLY_FIG9, "fig9.png", 1, 0},
+               {VAL_ONLY_FIG8, "fig8.exr", 0, 1},
+               {VAL_ONLY_FIG8, "fig8.png", 0, 1},
+               {VAL_ONLY_FIG8, "fig8_exact.exr", 0, 1},
+               {VAL_ONLY_FIG8, "fig8_exact.png", 0, 1},
+               {VAL_ONLY_FIG8, "fig10_error_map.png", 0, 1},
+               {VAL_ONLY_FIG8, "fig10_hist.csv", 0, 0},
+               {VAL_ONLY_FIG8, "fig10_hist.png", 1, 0},
+               {VAL_ONLY_FIG8, "fig8_compare.png", 1, 0},
+               {0, "summary.json", 0, 0},
+               {VAL_ONLY_SWEEP, "sweep.csv", 0, 0},
+               {VAL_ONLY_SWEEP, "sweep.png", 1, 0}};
+
+/* Check every output of this run before any work (io_output_check(): writable, not a directory,
+ * not the scene it read): `pencil sweep` (sweep_only), a shard (its shard file and the images it
+ * may make), a merge (no images). 0, or VAL_EOUTPUT with the reason on stderr. */
+static int outputs_ok(const val_figures_opts_t *o, const char *command, int sweep_only) {
+  char path[4200], err[1024];
+  unsigned sel = val__selected(o, sweep_only);
+  if (o->nshards && !o->merge) {
+    snprintf(path, sizeof path, "%s/shards", o->out_dir);
+    if (io_make_dirs(path) != 0)
+      return VAL_EOUTPUT;
+    snprintf(path, sizeof path, "%s/shards/%s-%d-of-%d.json", o->out_dir, command, o->shard,
+             o->nshards);
+    if (io_output_check(path, err, sizeof err) != 0)
+      return fprintf(stderr, "pencil %s: %s\n", command, err), VAL_EOUTPUT;
+  }
+  for (size_t k = 0; k < sizeof outputs / sizeof outputs[0]; k++) {
+    int wanted = outputs[k].figure ? (sel & outputs[k].figure) != 0 : !sweep_only;
+    if (o->nshards && !o->merge) /* a shard writes its file and Fig. 8's images */
+      wanted = wanted && outputs[k].image;
+    if (o->merge)
+      wanted = wanted && !outputs[k].image;
+    if (outputs[k].plot && !o->plot)
+      wanted = 0;
+    path_in(o, outputs[k].name, path, sizeof path);
+    if (wanted && io_output_check(path, err, sizeof err) != 0)
+      return fprintf(stderr, "pencil %s: %s\n", command, err), VAL_EOUTPUT;
+  }
+  path_in(o, "sweep.json", path, sizeof path);
+  if (sweep_only && (!o->nshards || o->merge) && io_output_check(path, err, sizeof err) != 0)
+    return fprintf(stderr, "pencil %s: %s\n", command, err), VAL_EOUTPUT;
+  return 0;
+}
+
 /* ---- the method's options, set by name ------------------------------------------------------ */
 
 /** The options of the compared renderer: its defaults, then settings[0 .. n-1] = {name, value}
@@ -671,6 +725,8 @@ static int run(const val_figures_opts_t *opts, int sweep_only) {
   if (o.merge) {
     json_t *keep = NULL;
     rc = val__shard_merge(&o, command, &width, &height, r, &keep);
+    if (rc == 0)
+      rc = outputs_ok(&o, command, sweep_only);
     if (rc == 0) {
       if (o.log)
         fprintf(o.log, "pencil %s --merge: %s -> %s/\n", command,
@@ -693,7 +749,11 @@ static int run(const val_figures_opts_t *opts, int sweep_only) {
   int nitems = val__items(&o, sweep_only, items);
   methods_t m;
   val__results_init(&o, r);
-  rc = io_make_dirs(o.out_dir) == 0 && methods_make(&o, &m) == 0 ? 0 : -1;
+  /* every output checked before any work: a clash found at the last file would leave the
+   * others written */
+  rc = io_make_dirs(o.out_dir) == 0 ? outputs_ok(&o, command, sweep_only) : VAL_EOUTPUT;
+  if (rc == 0)
+    rc = methods_make(&o, &m);
   if (rc == 0 && o.log)
     fprintf(o.log, "pencil %s: %s, %dx%d, %d thread(s), median of %d runs%s -> %s/\n", command,
             o.scene ? o.scene : "built-in Fig. 8 scene", width, height, o.threads, o.runs,

@@ -149,15 +149,18 @@ void val_figures_defaults(val_figures_opts_t *o);
 
 /** val_figures() and val_sweep(): the scene file could not be read or the scene not built. */
 #define VAL_ESCENE (-2)
+/** val_figures() and val_sweep(): an output cannot be written (its directory cannot be made, it
+ *  is a directory, it is the scene read, ...); found before any work, nothing written. */
+#define VAL_EOUTPUT (-3)
 
 /** Run Figs. 8-10 (and the sweep) and write DIR/summary.json, CSV files, EXR/PNG images and
  *  plots, and print the comparison with the paper (which says when a target was missed).
- *  Returns 0, VAL_ESCENE (nothing written), or -1 on another error (message on stderr naming
- *  the file). */
+ *  Returns 0, VAL_ESCENE or VAL_EOUTPUT (nothing written), or -1 on another error (message on
+ *  stderr naming the file). */
 int val_figures(const val_figures_opts_t *o);
 
-/** The rho sweep alone: DIR/sweep.csv (+ sweep.json) and its plot. 0, VAL_ESCENE (nothing
- *  written), or -1 on an error. */
+/** The rho sweep alone: DIR/sweep.csv (+ sweep.json) and its plot. 0, VAL_ESCENE or
+ *  VAL_EOUTPUT (nothing written), or -1 on an error. */
 int val_sweep(const val_figures_opts_t *o);
 
 #endif
