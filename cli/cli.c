@@ -172,6 +172,13 @@ int cli_element_apply(const char *cmd, const cli_arg_t *g, cli_element_t *e) {
   }
   if (!cli_parse_double(g->name, g->value, target))
     return -1;
+  if ((target == &e->n1 || target == &e->n2) && !(*target >= RT_IOR_MIN && *target <= RT_IOR_MAX)) {
+    fprintf(stderr,
+            "pencil %s: %s: expected a refractive index from %g to %g (as a scene's ior), got "
+            "'%s'\n",
+            cmd, g->name, RT_IOR_MIN, RT_IOR_MAX, g->value);
+    return -1;
+  }
   if (target == &e->radius && e->radius == 0.0) {
     fprintf(stderr, "pencil %s: --radius must be non-zero (omit it for a plane)\n", cmd);
     return -1;
@@ -197,11 +204,6 @@ int cli_element_check(const char *cmd, cli_element_t *e) {
   }
   if (isnan(e->n1) || isnan(e->n2)) {
     fprintf(stderr, "pencil %s refract: --n1 and --n2 are required\n", cmd);
-    return 0;
-  }
-  if (!(e->n1 > 0.0) || !(e->n2 > 0.0)) {
-    fprintf(stderr, "pencil %s %s: indices must be positive (got n1=%g, n2=%g)\n", cmd, kind, e->n1,
-            e->n2);
     return 0;
   }
   return 1;

@@ -68,11 +68,13 @@ enum { CLI_EL_THETA = 100, CLI_EL_N1, CLI_EL_N2, CLI_EL_RADIUS, CLI_EL_VARIANT }
  *  which has no --n2). */
 int cli_element_specs(const cli_element_t *e, cli_spec_t *specs);
 /** Apply a parsed argument: 1 when it was an element option and valid, 0 when it is another
- *  argument, -1 after printing a usage error that names `cmd` and the option. */
+ *  argument, -1 after printing a usage error that names `cmd` ("matrix refract") and the option.
+ *  An index outside RT_IOR_MIN..RT_IOR_MAX (core/scene.h: what a scene's ior may be) is refused. */
 int cli_element_apply(const char *cmd, const cli_arg_t *g, cli_element_t *e);
 
-/** After parsing: check that the angle (in [0, 90]) and the indices (> 0) are given; fills in
- *  n1 = n2 for a reflection. Returns 1, or 0 after printing a usage error. */
+/** After parsing: check that the angle (in [0, 90]) and the indices are given (cli_element_apply()
+ *  took them only from RT_IOR_MIN to RT_IOR_MAX); fills in n1 = n2 for a reflection. Returns 1,
+ *  or 0 after printing a usage error. */
 int cli_element_check(const char *cmd, cli_element_t *e);
 
 int cmd_matrix(int argc, char **argv);

@@ -24,8 +24,9 @@ static void help(FILE *f) {
       "a length L: a 1/L, b 1, c L, d 1/L^2, e 1/L, f 1.\n\n"
       "options:\n"
       "  --theta-deg T   angle of incidence in degrees, 0 <= T <= 90 (90: grazing, exit 1)\n"
-      "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
-      "  --n2 N2         index of the far medium (> 0)\n"
+      "  --n1 N1         index of the incident medium, 0.001..100 (as a scene's\n"
+      "                  ior); optional for reflect\n"
+      "  --n2 N2         index of the far medium, 0.001..100\n"
       "  --radius R      radius of a spherical surface (non-zero; its sign, as in\n"
       "                  `pencil matrix`, does not change the coefficients). Without\n"
       "                  --radius the surface is a plane. A sphere has d_3m = 0.\n"
@@ -62,7 +63,7 @@ int cmd_bounds(int argc, char **argv) {
   if (!args)
     return rc;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
-    int r = cli_element_apply("bounds", &args[k], &el);
+    int r = cli_element_apply(cmd, &args[k], &el);
     if (r == 0 && !args[k].spec) {
       fprintf(stderr, "pencil bounds %s: unexpected argument '%s'\n", kind, args[k].value);
     } else if (r == 0 && cli_parse_double("--d3m", args[k].value, &d3m)) { /* --d3m */

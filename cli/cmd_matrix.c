@@ -22,8 +22,9 @@ static void help(FILE *f) {
           "Theta = diag(cos theta, 1) and Theta' = diag(cos theta', 1).\n\n"
           "options:\n"
           "  --theta-deg T   angle of incidence in degrees, 0 <= T <= 90 (90: grazing, exit 1)\n"
-          "  --n1 N1         index of the incident medium (> 0); optional for reflect\n"
-          "  --n2 N2         index of the far medium (> 0)\n"
+          "  --n1 N1         index of the incident medium, 0.001..100 (as a scene's\n"
+          "                  ior); optional for reflect\n"
+          "  --n2 N2         index of the far medium, 0.001..100\n"
           "  --radius R      radius of curvature of a spherical surface (non-zero). R > 0 when\n"
           "                  the centre of curvature is on the far side of the surface from the\n"
           "                  incoming light (a glass ball entered from outside, a convex mirror);\n"
@@ -91,7 +92,7 @@ int cmd_matrix(int argc, char **argv) {
     int r =
         is_transfer
             ? (args[k].spec ? cli_parse_double("--distance", args[k].value, &distance) ? 1 : -1 : 0)
-            : cli_element_apply("matrix", &args[k], &e);
+            : cli_element_apply(cmd, &args[k], &e);
     if (r == 0)
       fprintf(stderr, "pencil matrix %s: unexpected argument '%s'\n", kind, args[k].value);
     rc = r > 0 ? CLI_OK : CLI_USAGE;

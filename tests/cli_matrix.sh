@@ -38,6 +38,18 @@ $pencil matrix refract --theta-deg 1e400 --n1 1 --n2 1.5 >/dev/null 2>/tmp/penci
 check "1e400 is beyond a double, said so" "[ $rc -eq 2 ] && grep -q 'beyond the range' /tmp/pencil_err.$$"
 $pencil matrix refract --theta-deg 10 --n1 -1 --n2 1.5 >/dev/null 2>&1; rc=$?
 check "negative index is a usage error" "[ $rc -eq 2 ]"
+# indices: normal doubles from RT_IOR_MIN to RT_IOR_MAX (a scene's ior), else a usage error naming
+# the option (1e-323 is subnormal: once taken as eta 2/3 with an error bound of 1e-14)
+for bad in "--n1 1e-323 --n2 1.3e-323" "--n1 1 --n2 1e-4" "--n1 1e300 --n2 1.5" "--n1 1 --n2 101"; do
+  opt=$(echo "$bad" | $py -c 'import sys; a=sys.stdin.read().split(); print(a[0] if not 1e-3 <= float(a[1]) <= 100 else a[2])')
+  out=$($pencil matrix refract --theta-deg 10 $bad 2>/tmp/pencil_err.$$); rc=$?
+  check "index out of range ($bad): exit 2 naming $opt, nothing on stdout" \
+    "[ $rc -eq 2 ] && [ -z '$out' ] && grep -q -- '$opt: expected a refractive index from 0.001 to 100' /tmp/pencil_err.$$"
+done
+$pencil bounds reflect --theta-deg 10 --n1 0 >/dev/null 2>/tmp/pencil_err.$$; rc=$?
+check "bounds: the same range (--n1 0)" "[ $rc -eq 2 ] && grep -q -- 'pencil bounds reflect: --n1: expected a refractive index' /tmp/pencil_err.$$"
+out=$($pencil matrix refract --theta-deg 10 --n1 0.001 --n2 100 2>/dev/null); rc=$?
+check "the range's ends are indices" "[ $rc -eq 0 ] && echo '$out' | grep -q '\"T\"'"
 $pencil matrix refract --theta-deg 10 --n1 1 >/dev/null 2>&1; rc=$?
 check "missing --n2 is a usage error" "[ $rc -eq 2 ]"
 $pencil matrix transfer --theta-deg 10 >/dev/null 2>&1; rc=$?

@@ -40,7 +40,7 @@ static int parse_settings(io_parse_t *P, json_t *o) {
            io_get_int(P, o, "max_depth", 0, s->max_depth, 0, 32, &s->max_depth) &&
            io_get_int(P, o, "spp", 0, s->spp, 1, RT_MAX_SPP, &s->spp) &&
            io_get_bool(P, o, "shadows", 1, &s->shadows) &&
-           io_get_number(P, o, "ior", 0, 1.0, 0.0, 100.0, 1, &s->ior) &&
+           io_get_number(P, o, "ior", 0, 1.0, RT_IOR_MIN, RT_IOR_MAX, 0, &s->ior) &&
            io_get_int(P, o, "spectral_bins", 0, s->spectral_bins, RT_MIN_BINS, RT_MAX_BINS,
                       &s->spectral_bins);
   const char *caustics = NULL;
@@ -74,7 +74,7 @@ static int parse_settings(io_parse_t *P, json_t *o) {
 static int parse_ior(io_parse_t *P, json_t *o, rt_material_t *m) {
   json_t *v = json_object_get(o, "ior");
   if (!v || json_is_number(v)) {
-    int ok = io_get_number(P, o, "ior", 0, m->ior, 0, 100.0, 1, &m->ior);
+    int ok = io_get_number(P, o, "ior", 0, m->ior, RT_IOR_MIN, RT_IOR_MAX, 0, &m->ior);
     m->index = px_index_constant(m->ior);
     return ok;
   }
@@ -160,7 +160,7 @@ static int parse_ior(io_parse_t *P, json_t *o, rt_material_t *m) {
   }
   for (double l = 380.0; ok && l <= 780.0; l += 1.0) {
     double n;
-    if (px_index_eval(&x, l, &n, NULL) != PX_OK || !(n >= 1.0) || n > 100.0)
+    if (px_index_eval(&x, l, &n, NULL) != PX_OK || !(n >= 1.0) || n > RT_IOR_MAX)
       ok = io_fail(
           P, "the model does not give an index >= 1 at %g nm (it must hold on 380 to 780 nm)", l);
   }

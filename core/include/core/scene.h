@@ -16,6 +16,14 @@
 
 #define RT_NAME_MAX 48
 
+/** The refractive indices a scene's "ior" (a number, or a model over 380..780 nm) and the
+ *  command line's --n1, --n2 may take. Real media lie between about 0.05 (silver's real part in
+ *  the visible) and 4 (germanium in the infrared); [1e-3, 100] holds them all with room to
+ *  spare, and keeps every index a normal double whose ratios and products with another stay far
+ *  from underflow and overflow (an index of 1e-323, subnormal, kept 3 significant bits). */
+#define RT_IOR_MIN 1e-3
+#define RT_IOR_MAX 100.0
+
 /** Surface optics (textbook 9.1): I = ka Ia C + sum_l S_l I_l (kd C max(0, N.L) + ks (R.V)^phong)
  *  + kr I_r + kt T I_t, with C = color, T = transmittance, S_l the shadow transmittance. */
 typedef struct {
@@ -27,8 +35,8 @@ typedef struct {
   double phong;           /**< Phong exponent, >= 0 */
   double kr;              /**< coherent reflection coefficient */
   double kt;        /**< coherent refraction coefficient; > 0 makes the material transparent */
-  double ior;       /**< refractive index of the material's interior, > 0 (at the d-line when the
-                         index is a model) */
+  double ior;       /**< refractive index of the material's interior, RT_IOR_MIN..RT_IOR_MAX (at
+                         the d-line when the index is a model) */
   px_index_t index; /**< the index as a function of wavelength (paraxial/dispersion.h): constant
                          (ior) unless the scene gives a model (rt_scene_add_material() sets a
                          model that does not vary to ior); renderers use ior until dispersion
