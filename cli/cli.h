@@ -2,8 +2,9 @@
  *
  * Each subcommand lives in its own cmd_*.c with an entry `int cmd_NAME(int argc, char **argv)`
  * (argv[0] is the subcommand's own name) and returns a process exit code:
- * 0 success, 1 the computation reported a failure (e.g. TIR, failed verification),
- * 2 usage error (bad option or parameter; message on stderr).
+ * 0 success, 1 the computation reported a failure (e.g. TIR, failed verification, a write after
+ * the work), 2 usage or input error (bad option or parameter, a bad scene, an output path that
+ * cannot be written found before any work; message on stderr).
  */
 #ifndef PENCIL_CLI_H
 #define PENCIL_CLI_H

@@ -803,8 +803,8 @@ int cmd_bench(int argc, char **argv) {
     } else if (id == 4) {
       json = v;
       if (io_output_check(json, err, sizeof err) != 0) { /* before minutes of rendering */
-        fprintf(stderr, "pencil bench render: %s\n", err);
-        rc = CLI_FAIL;
+        fprintf(stderr, "pencil bench render: --json: %s\n", err);
+        rc = CLI_USAGE;
       }
     }
   }

@@ -92,7 +92,8 @@ static void help(FILE *f) {
          "(the rate at which it delivers the exact renderer's image), and POV-Ray's own count\n"
          "(its Rays and Shadow Ray Tests) over its time; and the time ratios side by side.\n"
          "Exit codes: 0 done (whether or not the targets were met); 1 a render or the JSON file\n"
-         "failed; 2 usage or scene error.\n");
+         "failed; 2 usage or scene error, or a JSON path that cannot be written (found before\n"
+         "rendering).\n");
 }
 
 typedef struct {
@@ -512,7 +513,7 @@ static int run(const args_t *a) {
                   (a->scene && io_output_not_input(a->json, a->scene, err, sizeof err) != 0))) {
     fprintf(stderr, "pencil bench pencil: %s\n", err);
     rt_scene_free(&s);
-    return CLI_FAIL;
+    return CLI_USAGE;
   }
   static val_povray_t pv; /* kilobytes of paths: not on the stack */
   peer_t peer = {.asked = a->peer, .pv = &pv};

@@ -20,33 +20,34 @@ static void help_export(FILE *f) {
 
 static void help_pov(FILE *f) {
   fprintf(
-      f, "usage: pencil export pov [SCENE.json] -o OUT.pov [--flat] [--size WxH] [--spp N]\n\n"
-         "Writes SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene as\n"
-         "a POV-Ray 3.7 scene: a camera whose rays through the pixel centres are the exact\n"
-         "renderer's, spheres, planes (a checkerboard as a checker texture of its two\n"
-         "materials), polygons, polyhedra (mesh2), point and parallel lights, the materials'\n"
-         "ambient, diffuse, Phong, mirror and transparent terms, the background and the ray\n"
-         "depth (max_trace_level = max_depth + 1, adc_bailout 0). What POV-Ray cannot be told\n"
-         "(area lights, dispersive or Fresnel glass, caustics, ...) is refused naming it; what\n"
-         "it will still shade differently is printed as notes and kept as comments in the file.\n"
-         "The header comments give the pencil version, this command line and the POV-Ray\n"
-         "command that renders the file.\n\n"
-         "options:\n"
-         "  -o, --output OUT.pov  the file to write (required)\n"
-         "  --flat                the export check's file: every object a flat colour that\n"
-         "                        encodes its index (code = index + 1, plus 2^23 on a\n"
-         "                        checkerboard's odd squares; R + 256 G + 65536 B of an 8-bit\n"
-         "                        PNG rendered with File_Gamma=1.0), no lights, no secondary\n"
-         "                        rays, black background (code 0)\n"
-         "  --size WxH            override the scene's image size (1 <= W, H <= 16384); the file\n"
-         "                        holds only its aspect ratio, the header the size to render\n"
-         "  --spp N               samples per pixel the file is for (1, 4, 9, ..., 1024): POV-Ray\n"
-         "                        renders it at sqrt(N) times the width and height without\n"
-         "                        anti-aliasing, and each sqrt(N) x sqrt(N) block averaged is\n"
-         "                        one pixel of the exact renderer's N-sample grid (default: the\n"
-         "                        scene's, as pencil render; 9 for the built-in scene)\n"
-         "Exit codes: 0 written; 1 the file could not be written; 2 usage or scene error, or a\n"
-         "scene the exporter refuses.\n");
+      f,
+      "usage: pencil export pov [SCENE.json] -o OUT.pov [--flat] [--size WxH] [--spp N]\n\n"
+      "Writes SCENE.json (docs/scene-format.md) or, without it, the built-in Fig. 8 scene as\n"
+      "a POV-Ray 3.7 scene: a camera whose rays through the pixel centres are the exact\n"
+      "renderer's, spheres, planes (a checkerboard as a checker texture of its two\n"
+      "materials), polygons, polyhedra (mesh2), point and parallel lights, the materials'\n"
+      "ambient, diffuse, Phong, mirror and transparent terms, the background and the ray\n"
+      "depth (max_trace_level = max_depth + 1, adc_bailout 0). What POV-Ray cannot be told\n"
+      "(area lights, dispersive or Fresnel glass, caustics, ...) is refused naming it; what\n"
+      "it will still shade differently is printed as notes and kept as comments in the file.\n"
+      "The header comments give the pencil version, this command line and the POV-Ray\n"
+      "command that renders the file.\n\n"
+      "options:\n"
+      "  -o, --output OUT.pov  the file to write (required)\n"
+      "  --flat                the export check's file: every object a flat colour that\n"
+      "                        encodes its index (code = index + 1, plus 2^23 on a\n"
+      "                        checkerboard's odd squares; R + 256 G + 65536 B of an 8-bit\n"
+      "                        PNG rendered with File_Gamma=1.0), no lights, no secondary\n"
+      "                        rays, black background (code 0)\n"
+      "  --size WxH            override the scene's image size (1 <= W, H <= 16384); the file\n"
+      "                        holds only its aspect ratio, the header the size to render\n"
+      "  --spp N               samples per pixel the file is for (1, 4, 9, ..., 1024): POV-Ray\n"
+      "                        renders it at sqrt(N) times the width and height without\n"
+      "                        anti-aliasing, and each sqrt(N) x sqrt(N) block averaged is\n"
+      "                        one pixel of the exact renderer's N-sample grid (default: the\n"
+      "                        scene's, as pencil render; 9 for the built-in scene)\n"
+      "Exit codes: 0 written; 1 the file could not be written; 2 usage or scene error, a scene\n"
+      "the exporter refuses, or an output path that cannot be written (found before the work).\n");
 }
 
 enum { OPT_OUTPUT = 1, OPT_FLAT, OPT_SIZE, OPT_SPP };
@@ -105,7 +106,7 @@ static int export_pov(int argc, char **argv) {
   if (io_output_check(a.out, err, sizeof err) != 0 ||
       (a.scene && io_output_not_input(a.out, a.scene, err, sizeof err) != 0)) {
     fprintf(stderr, "pencil export pov: %s\n", err);
-    return CLI_FAIL;
+    return CLI_USAGE;
   }
   rt_scene_t s;
   if (!cli_load_scene("export pov", a.scene, a.width, a.height, &s)) {

@@ -62,7 +62,8 @@ static void help_figures(FILE *f) {
       "                 povray_rays, pencil_over_povray and exact_over_povray; left out with a\n"
       "                 note when povray is not installed or the scene cannot be exported\n"
       "Exit codes: 0 done (the table says whether the paper's numbers and the targets were\n"
-      "met); 1 a render or a file failed; 2 usage or scene error.\n");
+      "met); 1 a render or a file failed; 2 usage or scene error, or an output that cannot be\n"
+      "written (every one is checked before the first render).\n");
 }
 
 static void help_sweep(FILE *f) {
@@ -84,7 +85,8 @@ static void help_sweep(FILE *f) {
          "  --shard K/N    run only the K-th of N shares of the rows (results in DIR/shards/)\n"
          "  --merge        merge DIR/shards/ into sweep.csv, sweep.json and the plot\n"
          "  --threads N    threads (default 1); --runs N timed runs (default 3); --size WxH\n"
-         "Exit codes: 0 done; 1 a render or a file failed; 2 usage or scene error.\n");
+         "Exit codes: 0 done; 1 a render or a file failed; 2 usage or scene error, or an output\n"
+         "that cannot be written (every one is checked before the first render).\n");
 }
 
 static int parse_rho(const char *v, val_figures_opts_t *o) {

@@ -105,10 +105,12 @@ static void help(FILE *f, const rn_renderer_t *r) {
   } else if (r) {
     fprintf(f, "\n%s\n", r->description);
   }
-  fprintf(f,
-          "\nA progress bar is drawn on stderr when it is a terminal; the closing lines give the\n"
-          "time and what was traced.\n"
-          "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error.\n");
+  fprintf(
+      f,
+      "\nA progress bar is drawn on stderr when it is a terminal; the closing lines give the\n"
+      "time and what was traced.\n"
+      "Exit codes: 0 image written; 1 rendering or writing failed; 2 usage or scene error, or an\n"
+      "output that cannot be written (found before rendering).\n");
 }
 
 typedef struct {
@@ -549,7 +551,7 @@ int cmd_render(int argc, char **argv) {
   if (a.out && io_render_check(a.out, err, sizeof err) != 0) { /* before a long render */
     fprintf(stderr, "pencil render: %s\n", err);
     free(a.opt);
-    return CLI_FAIL; /* the exit code of a failed write, found before rendering */
+    return CLI_USAGE; /* an input error, found before rendering */
   }
   rt_scene_t s;
   int rc = cli_load_scene("render", a.scene, a.width, a.height, &s) ? render(&a, &s) : CLI_USAGE;

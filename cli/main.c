@@ -35,7 +35,8 @@ static void usage(FILE *f) {
   for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
     fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
   fprintf(f, "\n'pencil COMMAND --help' describes each command.\n"
-             "Exit codes: 0 success, 1 computation or verification failure, 2 usage error.\n");
+             "Exit codes: 0 success, 1 computation or verification failure, 2 usage or input\n"
+             "error (an option, the scene, an output path that cannot be written).\n");
 }
 
 /* Whether s is valid UTF-8 (RFC 3629: no overlong forms, surrogates or code points past

@@ -108,8 +108,8 @@ check "no JSON after usage errors" "[ ! -e '$tmp/bad.json' ]"
 $pencil bench pencil "$tmp/missing.json" --size 8x8 >/dev/null 2>"$tmp/err"; rc=$?
 check "missing scene file: exit 2 naming it" "[ $rc -eq 2 ] && grep -q 'missing.json' '$tmp/err'"
 $pencil bench pencil --size 8x8 --spp 1 --runs 3 --json /nonexistent-dir/b.json >"$tmp/out" 2>"$tmp/err"; rc=$?
-check "unwritable JSON path: exit 1 naming it, before rendering" \
-  "[ $rc -eq 1 ] && grep -q '/nonexistent-dir/b.json' '$tmp/err' && [ ! -s '$tmp/out' ]"
+check "unwritable JSON path: exit 2 naming it, before rendering" \
+  "[ $rc -eq 2 ] && grep -q '/nonexistent-dir/b.json' '$tmp/err' && [ ! -s '$tmp/out' ]"
 
 $pencil bench pencil --help >"$tmp/help"; rc=$?
 check "bench pencil --help exits 0 with usage" "[ $rc -eq 0 ] && grep -q 'usage: pencil bench pencil' '$tmp/help'"
@@ -120,8 +120,8 @@ check "bench --help lists the pencil benchmark" "[ $rc -eq 0 ] && grep -q 'penci
 src=$(dirname "$0")/../scenes/fig11.json
 cp "$src" "$tmp/scene.json"
 $pencil bench pencil "$tmp/scene.json" --size 8x8 --json "$tmp/scene.json" >/dev/null 2>"$tmp/err"; rc=$?
-check "--json that is the scene: exit 1, says so, scene kept" \
-  "[ $rc -eq 1 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src' '$tmp/scene.json'"
+check "--json that is the scene: exit 2, says so, scene kept" \
+  "[ $rc -eq 2 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src' '$tmp/scene.json'"
 
 [ $fail -eq 0 ] && echo "cli_bench_pencil: all passed" || echo "cli_bench_pencil: FAILED"
 exit $fail

@@ -47,7 +47,7 @@ $pencil export pov "$src/scenes/fig14.json" -o "$tmp/fig14.pov" >/dev/null 2>"$t
 check "dispersive glass is refused naming the material" \
   "[ $rc -eq 2 ] && grep -q \"material 'sf11': a dispersive index\" '$tmp/err'"
 $pencil export pov -o /nonexistent-dir/x.pov >/dev/null 2>"$tmp/err"; rc=$?
-check "unwritable output: exit 1 naming it" "[ $rc -eq 1 ] && grep -q '/nonexistent-dir/x.pov' '$tmp/err'"
+check "unwritable output: exit 2 naming it, before the work" "[ $rc -eq 2 ] && grep -q '/nonexistent-dir/x.pov' '$tmp/err'"
 $pencil export pov --size 64x48 --spp 9 -o "$tmp/fig8.pov" >"$tmp/out" 2>"$tmp/err"; rc=$?
 check "shaded Fig. 8: exit 0, notes on stderr, header with version, command and render size" \
   "[ $rc -eq 0 ] && grep -q 'note: shadows through' '$tmp/err' && grep -q '^// POV-Ray 3.7 scene written by pencil' '$tmp/fig8.pov' && grep -q '^// command: .*export pov --size 64x48 --spp 9' '$tmp/fig8.pov' && grep -q '+W192 +H144' '$tmp/fig8.pov' && grep -q '^#version 3.7;' '$tmp/fig8.pov'"

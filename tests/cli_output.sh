@@ -67,14 +67,28 @@ $pencil render --method pencil --help >"$tmp/help"; rc=$?
 check "--method pencil --help lists the pencil options" "[ $rc -eq 0 ] && grep -q -- '--brightness-tol' '$tmp/help'"
 
 $pencil render $small -o "$tmp/x.png" >/dev/null 2>"$tmp/err"; rc=$?
-check "-o x.png is refused, saying why" "[ $rc -eq 1 ] && grep -q 'must be named NAME.exr' '$tmp/err' && [ ! -e '$tmp/x.png' ]"
+check "-o x.png is refused, saying why" "[ $rc -eq 2 ] && grep -q 'must be named NAME.exr' '$tmp/err' && [ ! -e '$tmp/x.png' ]"
 mkdir "$tmp/dir.exr"
 $pencil render $small -o "$tmp/dir.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "-o naming a directory is refused before rendering" \
-  "[ $rc -eq 1 ] && grep -q 'not a regular file' '$tmp/err' && [ -d '$tmp/dir.exr' ]"
+  "[ $rc -eq 2 ] && grep -q 'not a regular file' '$tmp/err' && [ -d '$tmp/dir.exr' ]"
 mkfifo "$tmp/fifo.exr"
 $pencil render $small -o "$tmp/fifo.exr" >/dev/null 2>"$tmp/err"; rc=$?
-check "-o naming a FIFO is refused and the FIFO stays" "[ $rc -eq 1 ] && [ -p '$tmp/fifo.exr' ]"
+check "-o naming a FIFO is refused and the FIFO stays" "[ $rc -eq 2 ] && [ -p '$tmp/fifo.exr' ]"
+# an output that cannot be written, found before any work, is an input error in every command:
+# exit 2 (render, export and bench pencil once said 1, verify, bench star and post star 2)
+mkdir "$tmp/adir.exr" "$tmp/adir.json" "$tmp/adir.pov"
+echo x >"$tmp/afile"
+for c in "render $small -o $tmp/adir.exr" "export pov -o $tmp/adir.pov" \
+  "bench pencil --size 8x8 --json $tmp/adir.json" "bench render --json $tmp/adir.json" \
+  "verify matrices --quick --json $tmp/adir.json" "bench star --json $tmp/adir.json" \
+  "post star $tmp/a.exr -o $tmp/adir.exr" "sweep --quick --out $tmp/afile" \
+  "illuminance $src/scenes/fig8.json --receiver checkerboard -o $tmp/adir.exr"; do
+  $pencil $c >/dev/null 2>"$tmp/err"; rc=$?
+  check "$(echo $c | cut -d' ' -f1-2): an output that cannot be written exits 2, before any work" "[ $rc -eq 2 ] && [ -s '$tmp/err' ]"
+done
+rmdir "$tmp/adir.exr" "$tmp/adir.json" "$tmp/adir.pov"
+rm "$tmp/afile"
 check "no temporary files are left behind" "[ -z \"\$(ls -A '$tmp' | grep '^\\.')\" ]"
 
 $pencil render --size 64x64 --threads 1 --max-memory 100K -o "$tmp/mem.exr" >/dev/null 2>"$tmp/err"; rc=$?
@@ -114,7 +128,7 @@ check "--max-memory 8Q is refused" "[ $rc -eq 2 ] && grep -q 'such as 512M' '$tm
 echo old >"$tmp/keep.exr"
 mkdir "$tmp/keep.png"
 $pencil render $small -o "$tmp/keep.exr" >/dev/null 2>&1; rc=$?
-check "a failed preview leaves the old EXR as it was" "[ $rc -eq 1 ] && [ \"\$(cat '$tmp/keep.exr')\" = old ]"
+check "a preview that cannot be written leaves the old EXR as it was (exit 2: found before rendering)" "[ $rc -eq 2 ] && [ \"\$(cat '$tmp/keep.exr')\" = old ]"
 
 check "EXR header carries version, commit, command line and date" \
   "grep -aq 'pencil:version' '$tmp/a.exr' && grep -aq 'pencil:commit' '$tmp/a.exr' && grep -aq 'pencil:command_line' '$tmp/a.exr' && grep -aq 'pencil:date' '$tmp/a.exr' && grep -aq -- '-o$tmp/a.exr' '$tmp/a.exr'"

@@ -107,7 +107,7 @@ check "bad scene: no image written" "[ ! -e '$tmp/c.exr' ]"
 $pencil render "$tmp/none.json" -o "$tmp/c.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "missing scene file: exit 2 naming it" "[ $rc -eq 2 ] && grep -q 'none.json' '$tmp/err'"
 $pencil render -o /nonexistent-dir/x.exr --size 4x4 >/dev/null 2>"$tmp/err"; rc=$?
-check "unwritable output: exit 1 naming it" "[ $rc -eq 1 ] && grep -q '/nonexistent-dir/x.exr' '$tmp/err'"
+check "unwritable output: exit 2 naming it, before rendering" "[ $rc -eq 2 ] && grep -q '/nonexistent-dir/x.exr' '$tmp/err'"
 
 out=$($pencil bench render --runs 1 --size 8x8 --json "$tmp/bench.json"); rc=$?
 check "bench render runs" "[ $rc -eq 0 ] && echo '$out' | grep -q mesh1000"
