@@ -41,6 +41,16 @@ static int parse_plane(io_parse_t *P, json_t *o, int mat, int *obj) {
     int ok = io_check_keys(P, chk, ckeys) &&
              io_get_number(P, chk, "size", 1, 1.0, IO_MIN_CHECK, 1e12, 0, &size) &&
              io_get_material(P, chk, "material", 1, &mat2) && io_get_vec3(P, chk, "u", 0, u, &u);
+    /* a u given along the normal has no direction in the plane: the frame would take another
+     * axis for it (px_frame_from_z's test, 1e-6 rad), and the squares would turn silently */
+    px_vec3_t along = px_vec3_scale(n, px_vec3_dot(u, n) / px_vec3_dot(n, n));
+    if (ok && json_object_get(chk, "u") &&
+        !(px_vec3_norm(px_vec3_sub(u, along)) > 1e-6 * px_vec3_norm(u))) {
+      io_push_key(P, "u");
+      ok = io_fail(P, "expected a direction of the squares' u axis that is not %s the normal",
+                   px_vec3_norm(u) == 0.0 ? "zero nor parallel to" : "parallel to");
+      io_pop(P);
+    }
     io_pop(P);
     if (!ok)
       return 0;
@@ -160,6 +170,21 @@ static int parse_faceted(io_parse_t *P, json_t *o, int mat, int *obj) {
          io_fail(P, "cannot build the faceted sphere");
 }
 
+/* An object's "name": 1 to RT_NAME_MAX - 1 bytes (it is kept whole, never cut), and no other
+ * object's, since --receiver and messages find an object by its name. Objects are added one per
+ * entry of "objects", so object i is objects[i]. */
+static int check_name(io_parse_t *P, const char *name) {
+  size_t len = strlen(name);
+  io_push_key(P, "name");
+  int ok = (len > 0 && len < RT_NAME_MAX) ||
+           io_fail(P, "object names must have 1 to %d bytes, got %zu", RT_NAME_MAX - 1, len);
+  for (int i = 0; ok && i < P->scene->nobject; i++)
+    if (strcmp(P->scene->object[i].name, name) == 0)
+      ok = io_fail(P, "duplicate object name '%s': objects[%d] has it already", name, i);
+  io_pop(P);
+  return ok;
+}
+
 typedef int (*object_parser_t)(io_parse_t *, json_t *, int, int *);
 
 static const struct {
@@ -180,7 +205,7 @@ static int parse_object(io_parse_t *P, json_t *o) {
     return io_fail(P, "the scene has %d primitives already, the most it may have",
                    IO_MAX_PRIMITIVES);
   if (!io_get_string(P, o, "type", 1, &type) || !io_get_string(P, o, "name", 0, &name) ||
-      !io_get_material(P, o, "material", 1, &mat))
+      !io_get_material(P, o, "material", 1, &mat) || (name && !check_name(P, name)))
     return 0;
   for (size_t k = 0; k < sizeof parsers / sizeof parsers[0]; k++)
     if (strcmp(type, parsers[k].type) == 0) {
