@@ -35,11 +35,13 @@ static px_index_t medium(double n, double vd) {
 }
 
 typedef struct {
-  px_status_t status;  /* PX_OK, or why no comparison was made */
-  double rel_err;      /* the column's scaled relative error */
-  double printed_err;  /* the printed Eq. (14)'s */
-  double lin[NOFF];    /* the linear model's scaled relative error at each offset (NaN: none) */
-  double optics[NOFF]; /* the same with the indices linear in wavelength: the optics' share */
+  px_status_t status;    /* PX_OK, or why no comparison was made */
+  px_status_t at_offset; /* PX_OK, or why exact tracing had no ray at an offset (its lin, optics
+                            and scaled entries nan) */
+  double rel_err;        /* the column's scaled relative error */
+  double printed_err;    /* the printed Eq. (14)'s */
+  double lin[NOFF];      /* the linear model's scaled relative error at each offset (NaN: none) */
+  double optics[NOFF];   /* the same with the indices linear in wavelength: the optics' share */
   double scaled[NOFF]; /* the linear model in the paper's Lambda (section 3.3) instead of lambda */
   /* Eq. (15), a pinhole pencil's image-solid vertex xi = B^-1 (x' - x_lambda dl) against the
    * exact direction that reaches x' at lambda_d + dl, relative to how far dispersion moves it:
@@ -292,8 +294,12 @@ static void check_system(const val_system_t *v, double vd, result_t *r) {
   for (int k = 0; k < NOFF && scale > 1e-12; k++)
     for (int tangent = 0; tangent < 2; tangent++) {
       double psi[4], lin[4], Lam;
-      if (exact_at(v, models, &ax, offsets[k], tangent, psi) != PX_OK)
+      px_status_t sk = exact_at(v, models, &ax, offsets[k], tangent, psi);
+      if (sk != PX_OK) {
+        if (r->at_offset == PX_OK)
+          r->at_offset = sk;
         continue;
+      }
       for (int i = 0; i < 4; i++)
         lin[i] = psi[i] - t5.w.v[i] * offsets[k];
       (tangent ? r->optics : r->lin)[k] = scaled_max(lin, L) / (scale * fabs(offsets[k]));
@@ -306,6 +312,29 @@ static void check_system(const val_system_t *v, double vd, result_t *r) {
   if (scale > 1e-12)
     check_solid(v, models, &ax, t5, have_ws ? &ws : NULL, L, r);
   r->status = PX_OK;
+}
+
+/* The CSV's status: "ok" when every column holds a number, else why some are nan
+ * (docs/verification.md, "The wavelength column"). The linear model's columns (lin_, optics_,
+ * lambda_scale_) are errors relative to the shift the column predicts; where the exact column
+ * vanishes (a transfer, a reflection, normal incidence: no dispersion moves the ray) that is 0/0.
+ */
+static const char *row_status(const result_t *r) {
+  if (r->status != PX_OK)
+    return px_strerror(r->status);
+  if (!(r->column_scale > 1e-12))
+    return "ok_zero_column";
+  if (r->at_offset == PX_ETIR)
+    return "ok_tir_at_offset";
+  if (r->at_offset != PX_OK)
+    return "ok_no_ray_at_offset";
+  for (int k = 0; k < NOFF; k++)
+    if (isnan(r->lin[k]) || isnan(r->optics[k]))
+      return "ok_not_finite_at_offset";
+  for (int k = 0; k < NOFF; k++)
+    if (isnan(r->scaled[k]))
+      return "ok_no_lambda_scale";
+  return "ok";
 }
 
 int val_verify_dispersion(const val_disp_opts_t *o) {
@@ -409,8 +438,8 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
       }
       if (csv) {
         fprintf(csv, "%zu,%s,\"%s\",%s,%s,%.6e,%.6e,%.6e", i, val_family_name(sw[i].family),
-                sw[i].label, glass_name[g], r.status == PX_OK ? "ok" : px_strerror(r.status),
-                r.rel_err, r.printed_err, r.column_scale);
+                sw[i].label, glass_name[g], row_status(&r), r.rel_err, r.printed_err,
+                r.column_scale);
         for (int k = 0; k < NOFF; k++)
           fprintf(csv, ",%.6e", r.lin[k]);
         for (int k = 0; k < NOFF; k++)
