@@ -18,6 +18,7 @@
 #include "cmocka_main.h"
 #include "core/builtin.h"
 #include "io/image_io.h"
+#include "io/output.h"
 #include "io/scene_json.h"
 #include "render/render.h"
 
@@ -194,6 +195,48 @@ static void png_preview_is_srgb(void **state) {
   assert_string_equal(p2, "b.png");
 }
 
+/* The PNG preview records the provenance the EXR header and JSON record: Software and
+ * pencil:version, commit, date as tEXt, the command line (any UTF-8) as iTXt, read back with
+ * libpng. */
+static void png_preview_records_provenance(void **state) {
+  (void)state;
+  char path[512], err[512];
+  temp_path(path, sizeof path, "prov.png");
+  char *argv[] = {"pencil", "render", "-o", "sc\xc3\xa8ne 'x'.exr", NULL};
+  io_provenance_set("9.8.7", "abc1234", 4, argv);
+  rt_image_t img;
+  assert_int_equal(rt_image_alloc(&img, 3, 2), RT_OK);
+  assert_int_equal(io_png_write(path, &img, err, sizeof err), 0);
+  rt_image_free(&img);
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+  png_infop info = png_create_info_struct(png);
+  assert_non_null(info);
+  png_init_io(png, f);
+  png_read_png(png, info, PNG_TRANSFORM_IDENTITY, NULL);
+  png_textp text = NULL;
+  int n = png_get_text(png, info, &text, NULL);
+  const char *const want[][2] = {
+      {"Software", "pencil 9.8.7 (abc1234)"},
+      {"pencil:version", "9.8.7"},
+      {"pencil:commit", "abc1234"},
+      {"pencil:date", io_provenance()->date},
+      {"pencil:command_line", "pencil render -o 'sc\xc3\xa8ne '\\''x'\\''.exr'"}};
+  for (int k = 0; k < 5; k++) {
+    int found = 0;
+    for (int j = 0; j < n; j++)
+      if (strcmp(text[j].key, want[k][0]) == 0) {
+        assert_string_equal(text[j].text, want[k][1]);
+        found = 1;
+      }
+    assert_true(found);
+  }
+  png_destroy_read_struct(&png, &info, NULL);
+  fclose(f);
+  remove(path);
+}
+
 /* The scene files load, from their path and from memory alike (io_scene_load_buffer: the same
  * objects, primitives, vertices, materials, lights and settings). */
 static void scene_files_load(void **state) {
@@ -337,6 +380,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(exr_header_write_error_reported),
       cmocka_unit_test(scene_path_not_a_regular_file),
       cmocka_unit_test(png_preview_is_srgb),
+      cmocka_unit_test(png_preview_records_provenance),
       cmocka_unit_test(scene_files_load),
       cmocka_unit_test(fig8_file_equals_builtin),
       cmocka_unit_test(json_locator_finds_lines),

@@ -1,6 +1,9 @@
 /* png.c -- the PNG preview of a render: R, G, B through the display transform (post/display.h),
- * written with libpng's simplified API; and io_render_write(), which replaces an EXR and its
- * preview together. */
+ * 8-bit sRGB written with libpng, with the provenance every output records as text chunks
+ * (Software, pencil:version, pencil:commit, pencil:date; pencil:command_line as UTF-8 iTXt, as
+ * the EXR header has them); and io_render_write(), which replaces an EXR and its preview
+ * together. */
+#include <errno.h>
 #include <math.h>
 #include <png.h>
 #include <stdio.h>
@@ -13,6 +16,61 @@
 #include "io/output.h"
 #include "post/display.h"
 
+/* libpng's error callback: keep the message, then return to the setjmp of write_rgb8. */
+static void png_error_fn(png_structp png, png_const_charp msg) {
+  char *why = png_get_error_ptr(png);
+  snprintf(why, 256, "%s", msg);
+  png_longjmp(png, 1);
+}
+
+static void png_warning_fn(png_structp png, png_const_charp msg) {
+  (void)png, (void)msg; /* nothing a preview's reader needs */
+}
+
+/* The RGB rows buf (w x h x 3 bytes) to the open file f with the provenance's text chunks; 1, or
+ * 0 with libpng's reason in why[256]. */
+static int write_rgb8(FILE *f, const unsigned char *buf, int w, int h, char *why) {
+  const io_provenance_t *p = io_provenance();
+  char software[256];
+  snprintf(software, sizeof software, "pencil %s (%s)", p->version, p->commit);
+  png_text text[5];
+  memset(text, 0, sizeof text);
+  const char *const keys[5] = {"Software", "pencil:version", "pencil:commit", "pencil:date",
+                               "pencil:command_line"};
+  const char *const values[5] = {software, p->version, p->commit, p->date, p->command_line};
+  for (int k = 0; k < 5; k++) {
+    /* the command line may hold any UTF-8 (main() refuses other arguments): iTXt; the rest is
+     * ASCII, tEXt */
+    text[k].compression = k == 4 ? PNG_ITXT_COMPRESSION_NONE : PNG_TEXT_COMPRESSION_NONE;
+    text[k].key = (png_charp)keys[k];
+    text[k].text = (png_charp)values[k];
+    text[k].text_length = strlen(values[k]);
+  }
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, why, png_error_fn, png_warning_fn);
+  png_infop info = png ? png_create_info_struct(png) : NULL;
+  if (!info) {
+    snprintf(why, 256, "out of memory");
+    png_destroy_write_struct(&png, NULL);
+    return 0;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return 0;
+  }
+  png_init_io(png, f);
+  png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL); /* as libpng's simplified API wrote it */
+  png_set_text(png, info, text, 5);
+  png_write_info(png, info);
+  for (int y = 0; y < h; y++)
+    png_write_row(png, buf + (size_t)y * (size_t)w * 3);
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return 1;
+}
+
 int io_png_write_file(const char *file, const char *path, const rt_image_t *img, char *err,
                       size_t cap) {
   size_t n = (size_t)img->width * (size_t)img->height;
@@ -22,16 +80,18 @@ int io_png_write_file(const char *file, const char *path, const rt_image_t *img,
     return -1;
   }
   pp_display_srgb8(img->ch[RT_CH_R], img->ch[RT_CH_G], img->ch[RT_CH_B], n, buf);
-  png_image pi;
-  memset(&pi, 0, sizeof pi);
-  pi.version = PNG_IMAGE_VERSION;
-  pi.width = (png_uint_32)img->width;
-  pi.height = (png_uint_32)img->height;
-  pi.format = PNG_FORMAT_RGB;
-  int ok = png_image_write_to_file(&pi, file, 0, buf, 0, NULL);
+  char why[256] = "";
+  FILE *f = fopen(file, "wb");
+  int ok = f && write_rgb8(f, buf, img->width, img->height, why);
+  if (f && ok && (fflush(f) != 0 || ferror(f)))
+    ok = 0, snprintf(why, sizeof why, "%s", strerror(errno));
+  if (f && fclose(f) != 0 && ok)
+    ok = 0, snprintf(why, sizeof why, "%s", strerror(errno));
+  if (!f)
+    snprintf(why, sizeof why, "%s", strerror(errno));
   free(buf);
   if (!ok) {
-    snprintf(err, cap, "%s: cannot write PNG: %s", path, pi.message);
+    snprintf(err, cap, "%s: cannot write PNG: %s", path, why);
     return -1;
   }
   return 0;
