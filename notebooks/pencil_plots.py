@@ -93,8 +93,9 @@ def read_exr(path):
 # ---- CSV / JSON -----------------------------------------------------------------------------
 
 def read_csv(path):
+    """A CSV of pencil's as columns; the provenance lines at its top ('# ...') are skipped."""
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     return {k: np.array([_num(r[k]) for r in rows]) for k in rows[0]} if rows else {}
 
 

@@ -133,6 +133,9 @@ check "a preview that cannot be written leaves the old EXR as it was (exit 2: fo
 check "EXR header carries version, commit, command line and date" \
   "grep -aq 'pencil:version' '$tmp/a.exr' && grep -aq 'pencil:commit' '$tmp/a.exr' && grep -aq 'pencil:command_line' '$tmp/a.exr' && grep -aq 'pencil:date' '$tmp/a.exr' && grep -aq -- '-o$tmp/a.exr' '$tmp/a.exr'"
 
+check "the PNG preview carries them too, as text chunks (once it had none)" \
+  "grep -aq 'pencil:version' '$tmp/a.png' && grep -aq 'pencil:commit' '$tmp/a.png' && grep -aq 'pencil:date' '$tmp/a.png' && grep -aq 'Software' '$tmp/a.png' && grep -aq 'pencil:command_line' '$tmp/a.png' && grep -aq -- '-o$tmp/a.exr' '$tmp/a.png'"
+
 # a quote, a backslash and a non-ASCII letter in the scene path and in --out
 odd="$tmp/o'q\"b\\s é"
 mkdir -p "$odd"
@@ -142,6 +145,8 @@ check "sweep with an odd scene path and --out" "[ $rc -eq 0 ] && [ -s \"\$odd/ou
 check "sweep.json round-trips the scene path and records the command line" \
   "$py -c 'import json,sys; d=json.load(open(sys.argv[1])); sys.exit(not (d[\"scene\"] == sys.argv[2] and d[\"provenance\"][\"command_line\"].count(\"sweep\") == 1 and len(d[\"sweep\"]) == 3))' \"\$odd/out/sweep.json\" \"\$odd/scène'.json\""
 check "the plot was made in the odd directory" "[ -s \"\$odd/out/sweep.png\" ]"
+check "sweep.csv starts with the provenance as '#' lines (once it had none), the header after them" \
+  "head -4 \"\$odd/out/sweep.csv\" | grep -q '^# version: ' && head -4 \"\$odd/out/sweep.csv\" | grep -q '^# commit: ' && head -4 \"\$odd/out/sweep.csv\" | grep -q '^# date: 20' && sed -n 4p \"\$odd/out/sweep.csv\" | grep -q '^# command_line: .* sweep .*sc.ne' && sed -n 5p \"\$odd/out/sweep.csv\" | grep -q '^rho,variant,'"
 check "no file escaped the output directory" "[ \"\$(ls \"\$odd\" | wc -l)\" -eq 2 ]"
 
 [ $fail -eq 0 ] && echo "cli_output: all passed" || echo "cli_output: FAILED"

@@ -10,7 +10,7 @@ import csv, json, sys
 d = sys.argv[1]
 s = json.load(open(f"{d}/v.json"))
 assert s["failures"] == 0 and s["worst_relative_error"] <= 1e-9, s
-rows = list(csv.DictReader(open(f"{d}/v.csv")))
+rows = list(csv.DictReader(l for l in open(f"{d}/v.csv") if not l.startswith("#")))
 assert len(rows) == s["systems"] > 100
 assert all(r["pass"] == "1" for r in rows)
 print("cli_verify: passed,", s["systems"], "systems")
@@ -48,7 +48,7 @@ d = sys.argv[1]
 s = json.load(open(f"{d}/i.json"))
 assert s["failures"] == 0 and "provenance" in s, s
 assert s["worst_relative_error_away"] <= s["tolerance"] == 1e-9, s
-rows = list(csv.DictReader(open(f"{d}/i.csv")))
+rows = list(csv.DictReader(l for l in open(f"{d}/i.csv") if not l.startswith("#")))
 assert len(rows) == s["cases"] > 200 and all(r["pass"] == "1" for r in rows)
 assert {r["source"] for r in rows} == {"point", "parallel"}
 assert any(r["status"] == "PX_ECAUSTIC" for r in rows), "no receiver came near enough a caustic"
@@ -75,7 +75,7 @@ assert lin[10]["optics_median"] < lin[10]["median"] < lin[190]["median"], lin
 # errs a tenth of lambda's or less
 for k in (-200, 190):
     assert lin[k]["lambda_scale_median"] < 0.1 * lin[k]["median"], lin[k]
-assert "lambda_scale_+190" in csv.DictReader(open(f"{d}/d.csv")).fieldnames
+assert "lambda_scale_+190" in csv.DictReader(l for l in open(f"{d}/d.csv") if not l.startswith("#")).fieldnames
 # Eq. (15) and 3.2.4 (erratum E8): the derived image-solid vertex errs by the linear model's
 # error, the printed one (absolute wavelength) by factors; the selective estimate printed is twice
 sol = {round(r["delta_lambda_nm"]): r for r in s["image_solids"]}
@@ -84,7 +84,7 @@ assert sol[10]["derived_median"] < 0.1 and sol[10]["printed_median"] > 10, sol[1
 assert sol[190]["lambda_scale_median"] < 0.2 * sol[190]["derived_median"], sol[190]
 sel = s["selective"]
 assert 0.5 < sel["median"] < 1.2 and sel["printed_median"] > 1.4 * sel["median"], sel
-rows = list(csv.DictReader(open(f"{d}/d.csv")))
+rows = list(csv.DictReader(l for l in open(f"{d}/d.csv") if not l.startswith("#")))
 assert len(rows) == s["cases"] and {r["glass"] for r in rows} == {"low", "high"}
 assert any("41.8" in r["label"] and r["status"].startswith("ok") for r in rows), "no case near the critical angle"
 # a nan in a row says why in its status (once 156 rows of --quick had "ok" and nan): "ok" rows

@@ -413,6 +413,34 @@ int io_run_logged(char *const argv[], char *const envp[], const char *log, doubl
 
 /* ---- CSV ----------------------------------------------------------------------------------- */
 
+/* s on one comment line: control characters escaped. */
+static void comment_text(FILE *f, const char *s) {
+  for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+    if (*p == '\n')
+      fputs("\\n", f);
+    else if (*p == '\t')
+      fputs("\\t", f);
+    else if (*p < 0x20 || *p == 0x7F)
+      fprintf(f, "\\x%02X", *p);
+    else
+      fputc(*p, f);
+  }
+}
+
+int io_csv_open(io_atomic_t *a, const char *path, char *err, size_t cap) {
+  if (io_atomic_open(a, path, err, cap) != 0)
+    return -1;
+  const io_provenance_t *p = io_provenance();
+  const char *const keys[4] = {"version", "commit", "date", "command_line"};
+  const char *const values[4] = {p->version, p->commit, p->date, p->command_line};
+  for (int k = 0; k < 4; k++) {
+    fprintf(a->f, "# %s: ", keys[k]);
+    comment_text(a->f, values[k]);
+    fputc('\n', a->f);
+  }
+  return 0;
+}
+
 void io_csv_field(FILE *f, const char *s) {
   size_t n = strlen(s);
   int quote = n > 0 && (s[0] == ' ' || s[n - 1] == ' ');

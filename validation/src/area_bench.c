@@ -466,7 +466,7 @@ static FILE *csv_open(const char *dir, const char *name, const char *header, io_
     return NULL;
   char path[4096], err[1024];
   snprintf(path, sizeof path, "%s/%s", dir, name);
-  if (io_atomic_open(at, path, err, sizeof err) != 0) {
+  if (io_csv_open(at, path, err, sizeof err) != 0) {
     fprintf(stderr, PROG ": %s\n", err);
     return NULL;
   }

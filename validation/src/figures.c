@@ -60,7 +60,7 @@ static void path_in(const val_figures_opts_t *o, const char *name, char *path, s
 static FILE *open_out(const val_figures_opts_t *o, const char *name, io_atomic_t *a) {
   char path[4096], err[1024];
   path_in(o, name, path, sizeof path);
-  if (io_atomic_open(a, path, err, sizeof err) != 0) {
+  if (io_csv_open(a, path, err, sizeof err) != 0) {
     fprintf(stderr, "pencil: %s\n", err);
     return NULL;
   }

@@ -228,7 +228,7 @@ static json_t *curve_out(const curve_row_t *r, int n, const char *dir, int *ok) 
   char path[4096], err[1024];
   snprintf(path, sizeof path, "%s/fig11-curve.csv", dir);
   io_atomic_t at;
-  if (io_atomic_open(&at, path, err, sizeof err) != 0) {
+  if (io_csv_open(&at, path, err, sizeof err) != 0) {
     fprintf(stderr, "pencil bench illuminance: %s\n", err);
     *ok = 0;
     return a;

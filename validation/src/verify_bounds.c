@@ -348,7 +348,7 @@ static json_t *stats_json(const ratio_stats_t *s, const val_system_t *sw) {
 static FILE *open_csv(const char *dir, const char *name, io_atomic_t *a, int *io_err) {
   char path[4096], err[1024];
   snprintf(path, sizeof path, "%s/%s", dir, name);
-  if (io_atomic_open(a, path, err, sizeof err) != 0) {
+  if (io_csv_open(a, path, err, sizeof err) != 0) {
     fprintf(stderr, "pencil verify bounds: %s\n", err);
     *io_err = 1;
     return NULL;

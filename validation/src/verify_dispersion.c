@@ -360,7 +360,7 @@ int val_verify_dispersion(const val_disp_opts_t *o) {
   io_atomic_t ca;
   FILE *csv = NULL;
   if (o->csv) {
-    if (io_atomic_open(&ca, o->csv, err, sizeof err) != 0) {
+    if (io_csv_open(&ca, o->csv, err, sizeof err) != 0) {
       fprintf(stderr, "pencil verify dispersion: %s\n", err);
       free(sw);
       free(lin);

@@ -279,7 +279,7 @@ int val_verify_illuminance(const val_illum_opts_t *o) {
   char err[1024];
   FILE *csv = NULL;
   if (o->csv) {
-    if (io_atomic_open(&ca, o->csv, err, sizeof err) != 0) {
+    if (io_csv_open(&ca, o->csv, err, sizeof err) != 0) {
       fprintf(stderr, "pencil verify illuminance: %s\n", err);
       free(sw);
       return -1;

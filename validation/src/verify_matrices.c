@@ -220,7 +220,7 @@ int val_verify_matrices(const val_matrices_opts_t *o) {
   FILE *csv = NULL;
   io_atomic_t ca; /* the CSV is written to a temporary file and renamed when complete */
   char err[1024];
-  if (o->csv && io_atomic_open(&ca, o->csv, err, sizeof err) != 0) {
+  if (o->csv && io_csv_open(&ca, o->csv, err, sizeof err) != 0) {
     fprintf(stderr, "pencil verify matrices: %s\n", err);
     free(sw);
     return -1;

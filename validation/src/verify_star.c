@@ -143,7 +143,7 @@ int val_verify_star(const val_star_opts_t *o) {
   char err[1024];
   io_atomic_t ac;
   if (o->csv) {
-    if (io_atomic_open(&ac, o->csv, err, sizeof err) != 0) {
+    if (io_csv_open(&ac, o->csv, err, sizeof err) != 0) {
       fprintf(stderr, "pencil verify star: %s\n", err);
       return -1;
     }

@@ -108,6 +108,16 @@ char *io_read_file(const char *path, size_t *len);
 /** "11.8 GB" style (powers of 1024) for messages. */
 void io_format_size(size_t bytes, char *buf, size_t cap);
 
+/** io_atomic_open() for a CSV file, which then starts with the provenance as comment lines, before
+ *  the header:
+ *    # version: 0.1.0
+ *    # commit: ccfbde6
+ *    # date: 2026-12-06T10:00:00Z
+ *    # command_line: pencil verify dispersion --quick --csv d.csv
+ *  (control characters in the command line escaped as \n, \t, \xNN, so that it stays one line).
+ *  Readers skip lines that start with '#' (docs/DEVELOPING.md, "Writing outputs"). */
+int io_csv_open(io_atomic_t *a, const char *path, char *err, size_t cap);
+
 /** Write s as one CSV field (RFC 4180: quoted, with doubled quotes, when it holds a comma, a
  *  quote, a line break or leading/trailing space). */
 void io_csv_field(FILE *f, const char *s);
