@@ -25,21 +25,6 @@
 
 #define MAX_RUNS 101
 
-static void help_bench(FILE *f) {
-  fprintf(f, "usage: pencil bench render|pencil|illuminance|caustics|area|beam|star|dispersion\n"
-             "                    [OPTIONS]\n\n"
-             "benchmarks:\n"
-             "  render       exact-tracing rays per second (Fig. 8 scene, 1,000-polygon scene)\n"
-             "  pencil       pencil / exact CPU-time ratio and accuracy at 49 spp (issue 5)\n"
-             "  illuminance  illuminance maps against exact references (issue 21 targets)\n"
-             "  caustics     renders with caustics against a converged reference (issue 25)\n"
-             "  area         area lights: meshes, plain and filtered, against the brute force\n"
-             "  beam         beam tracing of polyhedra against exact and pencil at equal error\n"
-             "  star         the cross-screen filter: 512 x 512 and 4096 x 4096 HDR images\n"
-             "  dispersion   1989 Fig. 14: dispersive glass, each method's time and CIEDE2000\n"
-             "'pencil bench NAME --help' describes each.\n");
-}
-
 static void help(FILE *f) {
   fprintf(f, "usage: pencil bench render [--runs N] [--size WxH] [--spp N] [--json FILE]\n\n"
              "Renders the built-in Fig. 8 scene (glass sphere over a checkerboard) and a\n"
@@ -118,7 +103,7 @@ static int write_json(const char *path, const result_t *r, int n, int w, int h, 
   char err[1024];
   int rc = root ? io_json_write(path, root, err, sizeof err) : -1;
   if (rc != 0)
-    fprintf(stderr, "pencil bench: %s\n", root ? err : "out of memory");
+    fprintf(stderr, "pencil bench render: %s\n", root ? err : "out of memory");
   json_decref(root);
   return rc == 0;
 }
@@ -131,7 +116,7 @@ static int run(int runs, long w, long h, int side, const char *json) {
     rt_scene_t s;
     rt_scene_init(&s);
     if (rt_builtin(names[k], &s) != RT_OK) {
-      fprintf(stderr, "pencil bench: cannot build scene %s\n", names[k]);
+      fprintf(stderr, "pencil bench render: cannot build scene %s\n", names[k]);
       rt_scene_free(&s);
       return CLI_FAIL;
     }
@@ -752,39 +737,14 @@ static int bench_star(int argc, char **argv) {
   return rc;
 }
 
-int cmd_bench(int argc, char **argv) {
-  if (argc < 2 || cli_is_help(argv[1])) {
-    help_bench(argc < 2 ? stderr : stdout);
-    return argc < 2 ? CLI_USAGE : CLI_OK;
-  }
-  if (strcmp(argv[1], "illuminance") == 0)
-    return bench_illuminance(argc - 1, argv + 1);
-  if (strcmp(argv[1], "pencil") == 0)
-    return cmd_bench_pencil(argc - 1, argv + 1);
-  if (strcmp(argv[1], "caustics") == 0)
-    return bench_caustics(argc - 1, argv + 1);
-  if (strcmp(argv[1], "area") == 0)
-    return bench_area(argc - 1, argv + 1);
-  if (strcmp(argv[1], "dispersion") == 0)
-    return bench_dispersion(argc - 1, argv + 1);
-  if (strcmp(argv[1], "beam") == 0)
-    return bench_beam(argc - 1, argv + 1);
-  if (strcmp(argv[1], "star") == 0)
-    return bench_star(argc - 1, argv + 1);
-  if (strcmp(argv[1], "render") != 0) {
-    fprintf(
-        stderr,
-        "pencil bench: unknown benchmark '%s' (available: render, pencil, illuminance, caustics, "
-        "area, beam, star)\n",
-        argv[1]);
-    return CLI_USAGE;
-  }
+/* `pencil bench render [--runs N] [--size WxH] [--spp N] [--json FILE]`; argv[0] is "render". */
+static int bench_render(int argc, char **argv) {
   long runs = 5, w = 256, h = 256, spp = 4;
   const char *json = NULL;
   static const cli_spec_t specs[] = {
       {"--runs", 0, 1, 1}, {"--size", 0, 1, 2}, {"--spp", 0, 1, 3}, {"--json", 0, 1, 4}};
   int n, rc;
-  cli_arg_t *args = cli_args("bench render", argc - 1, argv + 1, specs, 4, help, &n, &rc);
+  cli_arg_t *args = cli_args("bench render", argc, argv, specs, 4, help, &n, &rc);
   if (!args)
     return rc;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
@@ -796,9 +756,9 @@ int cmd_bench(int argc, char **argv) {
       rc = CLI_USAGE;
     } else if (id == 1 && !cli_parse_long("--runs", v, 1, MAX_RUNS, &runs)) {
       rc = CLI_USAGE;
-    } else if (id == 2 && !cli_parse_wxh("bench", "--size", v, 4096, &w, &h)) {
+    } else if (id == 2 && !cli_parse_wxh("bench render", "--size", v, 4096, &w, &h)) {
       rc = CLI_USAGE;
-    } else if (id == 3 && !cli_parse_spp("bench", "--spp", v, &spp)) {
+    } else if (id == 3 && !cli_parse_spp("bench render", "--spp", v, &spp)) {
       rc = CLI_USAGE;
     } else if (id == 4) {
       json = v;
@@ -812,4 +772,52 @@ int cmd_bench(int argc, char **argv) {
   if (rc != CLI_OK)
     return rc;
   return run((int)runs, w, h, (int)lrint(sqrt((double)spp)), json);
+}
+
+/* The benchmarks: `pencil bench --help`, the dispatch and the list an unknown name is given all
+ * come from this table. */
+static const struct {
+  const char *name;
+  int (*run)(int argc, char **argv); /**< argv[0] is the benchmark's name */
+  const char *summary;
+} benches[] = {
+    {"render", bench_render, "exact-tracing rays per second (Fig. 8 scene, 1,000-polygon scene)"},
+    {"pencil", cmd_bench_pencil, "pencil / exact CPU-time ratio and accuracy at 49 spp (issue 5)"},
+    {"illuminance", bench_illuminance, "illuminance maps against exact references (issue 21)"},
+    {"caustics", bench_caustics, "renders with caustics against a converged reference (issue 25)"},
+    {"area", bench_area, "area lights: meshes, plain and filtered, against the brute force"},
+    {"beam", bench_beam, "beam tracing of polyhedra against exact and pencil at equal error"},
+    {"star", bench_star, "the cross-screen filter: 512 x 512 and 4096 x 4096 HDR images"},
+    {"dispersion", bench_dispersion,
+     "1989 Fig. 14: dispersive glass, each method's time, CIEDE2000"},
+};
+#define NBENCHES (sizeof benches / sizeof benches[0])
+
+/* "render, pencil, ... or dispersion" (sep ", ", last " or ") or "render|pencil|..." (sep "|"). */
+static void bench_names(FILE *f, const char *sep, const char *last) {
+  for (size_t k = 0; k < NBENCHES; k++)
+    fprintf(f, "%s%s", k == 0 ? "" : k + 1 < NBENCHES ? sep : last, benches[k].name);
+}
+
+static void help_bench(FILE *f) {
+  fprintf(f, "usage: pencil bench ");
+  bench_names(f, "|", "|");
+  fprintf(f, "\n                    [OPTIONS]\n\nbenchmarks:\n");
+  for (size_t k = 0; k < NBENCHES; k++)
+    fprintf(f, "  %-12s %s\n", benches[k].name, benches[k].summary);
+  fprintf(f, "'pencil bench NAME --help' describes each.\n");
+}
+
+int cmd_bench(int argc, char **argv) {
+  if (argc < 2 || cli_is_help(argv[1])) {
+    help_bench(argc < 2 ? stderr : stdout);
+    return argc < 2 ? CLI_USAGE : CLI_OK;
+  }
+  for (size_t k = 0; k < NBENCHES; k++)
+    if (strcmp(argv[1], benches[k].name) == 0)
+      return benches[k].run(argc - 1, argv + 1);
+  fprintf(stderr, "pencil bench: unknown benchmark '%s' (available: ", argv[1]);
+  bench_names(stderr, ", ", " and ");
+  fprintf(stderr, ")\n");
+  return CLI_USAGE;
 }
