@@ -7,17 +7,18 @@
 #include <string.h>
 
 #include "core/builtin.h"
+#include "io/output.h"
 #include "io/scene_json.h"
 #include "renderers/renderer.h"
 
 int cli_parse_double(const char *opt, const char *text, double *out) {
   int r = rn_parse_double(text, out);
   if (r < 0)
-    fprintf(stderr, "pencil: %s: '%s' is beyond the range of a double (about 1.8e308)\n", opt,
-            text);
+    fprintf(stderr, "%s: %s: '%s' is beyond the range of a double (about 1.8e308)\n", io_command(),
+            opt, text);
   else if (r == 0)
-    fprintf(stderr, "pencil: %s: expected a decimal number such as 1.5 or -2e-3, got '%s'\n", opt,
-            text);
+    fprintf(stderr, "%s: %s: expected a decimal number such as 1.5 or -2e-3, got '%s'\n",
+            io_command(), opt, text);
   return r == 1;
 }
 
@@ -26,7 +27,8 @@ int cli_parse_double_in(const char *opt, const char *text, double lo, double hi,
   if (!cli_parse_double(opt, text, &v))
     return 0;
   if (!(v >= lo && v <= hi)) {
-    fprintf(stderr, "pencil: %s: expected a number from %g to %g, got '%s'\n", opt, lo, hi, text);
+    fprintf(stderr, "%s: %s: expected a number from %g to %g, got '%s'\n", io_command(), opt, lo,
+            hi, text);
     return 0;
   }
   *out = v;
@@ -42,8 +44,8 @@ int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *ou
   errno = 0;
   long v = digits ? strtol(text, &end, 10) : 0;
   if (!digits || errno == ERANGE || v < lo || v > hi) {
-    fprintf(stderr, "pencil: %s: expected an integer from %ld to %ld, got '%s'\n", opt, lo, hi,
-            text);
+    fprintf(stderr, "%s: %s: expected an integer from %ld to %ld, got '%s'\n", io_command(), opt,
+            lo, hi, text);
     return 0;
   }
   *out = v;
@@ -122,6 +124,17 @@ int cli_is_help(const char *arg) {
   return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0;
 }
 
+void cli_star_describe(const pp_star_t *p, char *buf, size_t cap) {
+  char v[8][IO_SHORTEST_MAX];
+  snprintf(buf, cap,
+           "directions %d, angle %s deg, ratio %s, sigma %s,%s rad, weight2 %s, ior %s, focal %s "
+           "mm, frame %s mm",
+           p->directions, io_shortest(p->angle_deg, v[0]), io_shortest(p->ratio, v[1]),
+           io_shortest(p->sigma1, v[2]), io_shortest(p->sigma2, v[3]),
+           io_shortest(p->weight2, v[4]), io_shortest(p->ior, v[5]), io_shortest(p->focal_mm, v[6]),
+           io_shortest(p->frame_mm, v[7]));
+}
+
 void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]) {
   fprintf(f, "{\"%s\": [", key);
   for (int i = 0; i < 4; i++) {
@@ -193,8 +206,9 @@ int cli_element_check(const char *cmd, cli_element_t *e) {
     return 0;
   }
   if (e->theta_deg < 0.0 || e->theta_deg > 90.0) {
-    fprintf(stderr, "pencil %s %s: --theta-deg must be in [0, 90], got %g\n", cmd, kind,
-            e->theta_deg);
+    char got[IO_SHORTEST_MAX];
+    fprintf(stderr, "pencil %s %s: --theta-deg must be in [0, 90], got %s\n", cmd, kind,
+            io_shortest(e->theta_deg, got));
     return 0;
   }
   if (e->reflect) {

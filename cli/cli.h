@@ -14,10 +14,12 @@
 #include "args.h"
 #include "core/scene.h"
 #include "paraxial/system.h"
+#include "post/star.h"
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
-/** Parse a finite double for option `opt`; on failure print "pencil: OPT: ..." and return 0. */
+/** Parse a finite double for option `opt`; on failure print "pencil CMD: OPT: ..." (io_command())
+ *  and return 0. */
 int cli_parse_double(const char *opt, const char *text, double *out);
 /** cli_parse_double() of a number in [lo, hi]; on failure print an error and return 0. */
 int cli_parse_double_in(const char *opt, const char *text, double lo, double hi, double *out);
@@ -48,6 +50,10 @@ int cli_load_scene(const char *cmd, const char *path, long width, long height, r
  *  The signature is the renderers' and drivers' progress callback, with ctx = the label (a
  *  const char *). Callers install it only when isatty(2). */
 void cli_progress(void *label, int done, int total);
+
+/** The star filter's parameters as the pencil:star attribute holds them ("directions 4, angle 20
+ *  deg, ratio 0.01, ..."), every number in its shortest round-trip form (io_shortest()). */
+void cli_star_describe(const pp_star_t *p, char *buf, size_t cap);
 
 /** Print a JSON array of a 4x4 matrix as {"T": [[...], ...]} with 17 significant digits. */
 void cli_print_matrix_json(FILE *f, const char *key, const double m[4][4]);

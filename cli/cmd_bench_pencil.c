@@ -334,10 +334,12 @@ static void print_rates(const row_t *rows, int n, const peer_t *peer) {
 
 static void print_table(const rt_scene_t *s, const args_t *a, const row_t *rows, int n,
                         const peer_t *peer) {
-  printf("pencil bench: %s, %dx%d, rho %g (%s tolerance), brightness tolerance %g, %ld thread%s; "
+  char rho[IO_SHORTEST_MAX], btol[IO_SHORTEST_MAX];
+  printf("pencil bench: %s, %dx%d, rho %s (%s tolerance), brightness tolerance %s, %ld thread%s; "
          "process CPU seconds, median of %ld interleaved runs\n",
-         a->scene ? a->scene : "built-in Fig. 8 scene", s->camera.width, s->camera.height, a->rho,
-         a->tolerance, a->btol, a->threads, a->threads == 1 ? "" : "s", a->runs);
+         a->scene ? a->scene : "built-in Fig. 8 scene", s->camera.width, s->camera.height,
+         io_shortest(a->rho, rho), a->tolerance, io_shortest(a->btol, btol), a->threads,
+         a->threads == 1 ? "" : "s", a->runs);
   printf("%4s %-10s %9s %9s %7s %11s %9s %10s %7s  %s\n", "spp", "mode", "exact_s", "pencil_s",
          "ratio", "within rho", "over rho", "max error", "p99", "target met");
   for (int k = 0; k < n; k++) {

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "io/output.h"
 #include "paraxial/paraxial.h"
 
 static void help(FILE *f) {
@@ -69,7 +70,7 @@ int cmd_bounds(int argc, char **argv) {
     } else if (r == 0 && cli_parse_double("--d3m", args[k].value, &d3m)) { /* --d3m */
       r = d3m >= 0.0 ? 1 : 0;
       if (!r)
-        fprintf(stderr, "pencil bounds: --d3m must be >= 0, got %g\n", d3m);
+        fprintf(stderr, "pencil bounds %s: --d3m must be >= 0, got %s\n", kind, args[k].value);
     }
     rc = r > 0 ? CLI_OK : CLI_USAGE;
   }
@@ -91,9 +92,10 @@ int cmd_bounds(int argc, char **argv) {
   px_cos_sin_deg(theta, &c, &s);
   px_status_t st = px_error_coeffs_cs(&g, c, s, variant, &k);
   if (st != PX_OK) {
-    fprintf(stderr,
-            "pencil bounds %s: no error coefficients at theta = %g deg, n1 = %g, n2 = %g: %s\n",
-            kind, theta, n1, n2, px_strerror(st));
+    char th[IO_SHORTEST_MAX], s1[IO_SHORTEST_MAX], s2[IO_SHORTEST_MAX];
+    fprintf(
+        stderr, "pencil bounds %s: no error coefficients at theta = %s deg, n1 = %s, n2 = %s: %s\n",
+        kind, io_shortest(theta, th), io_shortest(n1, s1), io_shortest(n2, s2), px_strerror(st));
     return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
   }
   const double v[6] = {k.a, k.b, k.c, k.d, k.e, k.f};

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "io/output.h"
 #include "paraxial/paraxial.h"
 
 static void help(FILE *f) {
@@ -123,9 +124,11 @@ int cmd_matrix(int argc, char **argv) {
       w = t5.w;
     }
     if (st != PX_OK) {
+      char th[IO_SHORTEST_MAX], n1[IO_SHORTEST_MAX], n2[IO_SHORTEST_MAX];
       fprintf(stderr,
-              "pencil matrix %s: no system matrix at theta = %g deg, n1 = %g, n2 = %g: %s\n", kind,
-              e.theta_deg, e.n1, e.n2, px_strerror(st));
+              "pencil matrix %s: no system matrix at theta = %s deg, n1 = %s, n2 = %s: %s\n", kind,
+              io_shortest(e.theta_deg, th), io_shortest(e.n1, n1), io_shortest(e.n2, n2),
+              px_strerror(st));
       return st == PX_EINVAL ? CLI_USAGE : CLI_FAIL;
     }
   }

@@ -115,10 +115,11 @@ static int read_rgb(const char *path, float *rgb[3], int *w, int *h) {
     }
     for (size_t k = 0; k < n; k++)
       if (!isfinite(rgb[c][k]) || rgb[c][k] < 0.0f) {
+        char got[IO_SHORTEST_MAX];
         fprintf(stderr,
-                "pencil post star: %s: channel %s, pixel (%zu, %zu): %g; the filter needs "
+                "pencil post star: %s: channel %s, pixel (%zu, %zu): %s; the filter needs "
                 "finite radiance >= 0\n",
-                path, names[c], k % (size_t)*w, k / (size_t)*w, (double)rgb[c][k]);
+                path, names[c], k % (size_t)*w, k / (size_t)*w, io_shortest(rgb[c][k], got));
         return 0;
       }
   }
@@ -254,11 +255,7 @@ static int post_star(int argc, char **argv) {
       prev.ch[RT_CH_R + c][q] = pp_tone(flt[c][q], exposure, white);
   io_exr_channel_t ch[3] = {{"R", flt[0]}, {"G", flt[1]}, {"B", flt[2]}};
   char params[512];
-  snprintf(params, sizeof params,
-           "directions %d, angle %g deg, ratio %g, sigma %g,%g rad, weight2 %g, ior %g, focal %g "
-           "mm, frame %g mm",
-           p.directions, p.angle_deg, p.ratio, p.sigma1, p.sigma2, p.weight2, p.ior, p.focal_mm,
-           p.frame_mm);
+  cli_star_describe(&p, params, sizeof params);
   io_attr_t attrs[3] = {{"pencil:filter", "star (1989 section 4, Eq. 16)"},
                         {"pencil:star", params},
                         {"pencil:input", in}};

@@ -414,11 +414,7 @@ static int render(const args_t *a, rt_scene_t *s) {
               a->scene ? a->scene : "the built-in scene", kwhy);
       return CLI_USAGE;
     }
-    snprintf(star_attr, sizeof star_attr,
-             "directions %d, angle %g deg, ratio %g, sigma %g,%g rad, weight2 %g, ior %g, focal %g "
-             "mm, frame %g mm",
-             sp.directions, sp.angle_deg, sp.ratio, sp.sigma1, sp.sigma2, sp.weight2, sp.ior,
-             sp.focal_mm, sp.frame_mm);
+    cli_star_describe(&sp, star_attr, sizeof star_attr);
   }
   rn_common_t c = RN_COMMON_DEFAULT;
   c.spp_side = (int)lrint(sqrt(spp));
@@ -530,7 +526,7 @@ static int render(const args_t *a, rt_scene_t *s) {
       rn_errors_t e;
       a->r->errors(stats, &e);
       if (e.with_points == 0)
-        fprintf(stderr, "pencil: warning: no sample had a traced point on a surface with a "
+        fprintf(stderr, "pencil render: warning: no sample had a traced point on a surface with a "
                         "diffuse term, so the Fig. 10 error compared nothing\n");
     }
   }

@@ -10,21 +10,23 @@ typedef struct {
   const char *name;
   int (*run)(int argc, char **argv);
   const char *summary;
+  int kinds; /**< 1: the next word names what (`bench star`, `verify bounds`, `matrix refract`) */
 } command_t;
 
 static const command_t commands[] = {
-    {"matrix", cmd_matrix, "system matrix calculator (transfer, refraction, reflection)"},
-    {"verify", cmd_verify, "verify the paper's formulas against exact tracing"},
-    {"render", cmd_render, "render a scene (exact Whitted or pencil tracing) to OpenEXR + PNG"},
+    {"matrix", cmd_matrix, "system matrix calculator (transfer, refraction, reflection)", 1},
+    {"verify", cmd_verify, "verify the paper's formulas against exact tracing", 1},
+    {"render", cmd_render, "render a scene (exact Whitted or pencil tracing) to OpenEXR + PNG", 0},
     {"bench", cmd_bench,
-     "benchmarks: 'bench render' rays per second, 'bench pencil' the 49-spp targets"},
-    {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)"},
+     "benchmarks: 'bench render' rays per second, 'bench pencil' the 49-spp targets", 1},
+    {"bounds", cmd_bounds, "error coefficients a-f of Appendix A-1 (refraction, reflection)", 1},
     {"illuminance", cmd_illuminance,
-     "illuminance map of a receiver: grid-pencil tracing or photon counting (1989 section 2)"},
-    {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep"},
-    {"sweep", cmd_sweep, "time ratio and errors of the pencil renderer against rho"},
-    {"post", cmd_post, "post-processing of HDR images: the cross-screen (star) filter (1989)"},
-    {"export", cmd_export, "a scene for another renderer: 'export pov', POV-Ray 3.7"},
+     "illuminance map of a receiver: grid-pencil tracing or photon counting (1989 section 2)", 0},
+    {"figures", cmd_figures, "the paper's Figs. 8-10 with the pencil renderer, and the rho sweep",
+     0},
+    {"sweep", cmd_sweep, "time ratio and errors of the pencil renderer against rho", 0},
+    {"post", cmd_post, "post-processing of HDR images: the cross-screen (star) filter (1989)", 1},
+    {"export", cmd_export, "a scene for another renderer: 'export pov', POV-Ray 3.7", 1},
 };
 
 static void usage(FILE *f) {
@@ -92,8 +94,14 @@ int main(int argc, char **argv) {
     return CLI_OK;
   }
   for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-    if (strcmp(argv[1], commands[i].name) == 0)
+    if (strcmp(argv[1], commands[i].name) == 0) {
+      char name[128]; /* what messages start with: "pencil sweep", "pencil bench star" */
+      int kind = commands[i].kinds && argc > 2 && argv[2][0] != '-';
+      snprintf(name, sizeof name, "pencil %s%s%.64s", argv[1], kind ? " " : "",
+               kind ? argv[2] : "");
+      io_command_set(name);
       return commands[i].run(argc - 1, argv + 1);
+    }
   fprintf(stderr, "pencil: unknown command '%s' (try 'pencil --help')\n", argv[1]);
   return CLI_USAGE;
 }

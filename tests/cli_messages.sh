@@ -20,5 +20,48 @@ for b in $names; do grep -qw "$b" "$tmp/err" || missing="$missing $b"; done
 check "bench foo: exit 2 naming every benchmark (once it left out dispersion)" \
   "[ $rc -eq 2 ] && [ -z '$missing' ] && grep -q \"unknown benchmark 'foo'\" '$tmp/err'"
 
+# --- every error names its command
+echo x >"$tmp/afile"
+$pencil render --size 8x8 --spp 1 -o "$tmp/a.exr" >/dev/null 2>&1 # an input for post star
+while IFS='|' read -r want args; do
+  # shellcheck disable=SC2086
+  $pencil $args >/dev/null 2>"$tmp/err"; rc=$?
+  check "'$args': exit 2, the message starts '$want: '" \
+    "[ $rc -eq 2 ] && head -1 '$tmp/err' | grep -q '^$want: ' && ! grep -q '^pencil: ' '$tmp/err'"
+done <<EOF2
+pencil render|render --size 8x8 --threads x -o $tmp/b.exr
+pencil verify stability|verify stability --samples x
+pencil verify matrices|verify matrices --quick --json $tmp
+pencil bench star|bench star --runs x
+pencil bench render|bench render --runs 0
+pencil post star|post star $tmp/a.exr -o $tmp/c.exr --angle x
+pencil matrix refract|matrix refract --theta-deg x --n1 1 --n2 1.5
+pencil bounds reflect|bounds reflect --theta-deg 10 --d3m -1
+pencil sweep|sweep --quick --out $tmp/afile
+pencil figures|figures --quick --out $tmp/afile
+pencil illuminance|illuminance $src/scenes/fig8.json --receiver checkerboard -o $tmp/m.exr --rays x
+EOF2
+
+# --- numbers echoed as they read back, not rounded by %g
+$pencil matrix refract --theta-deg 90.0000000001 --n1 1 --n2 1.5 >/dev/null 2>"$tmp/err"; rc=$?
+check "theta 90.0000000001 is echoed whole (once 'got 90')" \
+  "[ $rc -eq 2 ] && grep -q 'got 90.0000000001$' '$tmp/err'"
+$pencil matrix refract --theta-deg 89.9999999999 --n1 1 --n2 1.5 >/dev/null 2>"$tmp/err"; rc=$?
+check "theta 89.9999999999 (grazing): 'theta = 89.9999999999 deg' (once 'theta = 90 deg')" \
+  "[ $rc -eq 1 ] && grep -q 'theta = 89.9999999999 deg, n1 = 1, n2 = 1.5' '$tmp/err'"
+$pencil bounds refract --theta-deg 89.9999999999 --n1 1.000000000001 --n2 1.5 >/dev/null 2>"$tmp/err"
+check "bounds echoes theta and n1 whole" \
+  "grep -q 'theta = 89.9999999999 deg, n1 = 1.000000000001, n2 = 1.5' '$tmp/err'"
+sed 's/"fov": [0-9.]*/"fov": 179.0000000001/' "$src/scenes/fig8.json" >"$tmp/fov.json"
+$pencil render "$tmp/fov.json" -o "$tmp/f.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a scene's number out of range is echoed whole: 'got 179.0000000001' (once 'got 179')" \
+  "[ $rc -eq 2 ] && grep -q 'camera.fov: expected a number > 0 and <= 179, got 179.0000000001' '$tmp/err'"
+$pencil sweep --quick --size 12x8 --rho 0.1234567 --out "$tmp/s" >/dev/null 2>&1; rc=$?
+check "sweep.csv holds rho as given (once 0.123457)" \
+  "[ $rc -eq 0 ] && grep -v '^#' '$tmp/s/sweep.csv' | grep -q '^0.1234567,corrected,'"
+$pencil post star "$tmp/a.exr" -o "$tmp/st.exr" --angle 20.123456789 >/dev/null 2>&1; rc=$?
+check "post star: the EXR's pencil:star holds the angle as given (once 20.1235)" \
+  "[ $rc -eq 0 ] && grep -aq 'angle 20.123456789 deg' '$tmp/st.exr'"
+
 [ $fail -eq 0 ] && echo "cli_messages: all passed" || echo "cli_messages: FAILED"
 exit $fail

@@ -3,6 +3,7 @@
 #include "io/output.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
@@ -55,6 +56,16 @@ void io_provenance_set(const char *version, const char *commit, int argc, char *
 
 const io_provenance_t *io_provenance(void) {
   return &provenance;
+}
+
+static char command_name[128] = "pencil";
+
+void io_command_set(const char *name) {
+  snprintf(command_name, sizeof command_name, "%s", name);
+}
+
+const char *io_command(void) {
+  return command_name;
 }
 
 /* ---- checks -------------------------------------------------------------------------------- */
@@ -413,6 +424,17 @@ int io_run_logged(char *const argv[], char *const envp[], const char *log, doubl
 
 /* ---- CSV ----------------------------------------------------------------------------------- */
 
+const char *io_shortest(double v, char buf[IO_SHORTEST_MAX]) {
+  /* at least the integer digits below 1e17, so that 200 is not written 2e+02 */
+  int x = isfinite(v) && v != 0.0 ? (int)floor(log10(fabs(v))) : 0;
+  for (int digits = x >= 0 && x < 17 ? x + 1 : 1; digits <= 17; digits++) {
+    snprintf(buf, IO_SHORTEST_MAX, "%.*g", digits, v);
+    if (strtod(buf, NULL) == v)
+      break; /* 17 digits read back as every double; NaN stops there too */
+  }
+  return buf;
+}
+
 /* s on one comment line: control characters escaped. */
 static void comment_text(FILE *f, const char *s) {
   for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
@@ -543,14 +565,14 @@ int io_make_dirs(const char *d) {
       char c = buf[i];
       buf[i] = '\0';
       if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-        fprintf(stderr, "pencil: cannot create directory %s: %s\n", buf, strerror(errno));
+        fprintf(stderr, "%s: cannot create directory %s: %s\n", io_command(), buf, strerror(errno));
         return -1;
       }
       buf[i] = c;
     }
   struct stat st;
   if (stat(d, &st) != 0 || !S_ISDIR(st.st_mode)) {
-    fprintf(stderr, "pencil: %s exists and is not a directory\n", d);
+    fprintf(stderr, "%s: %s exists and is not a directory\n", io_command(), d);
     return -1;
   }
   return 0;

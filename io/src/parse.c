@@ -139,12 +139,14 @@ static int number_in(io_parse_t *P, json_t *v, double lo, double hi, int lo_stri
   if (!json_is_number(v))
     return io_fail(P, "expected a number, got %s", type_name(v));
   double x = json_number_value(v);
+  char got[IO_SHORTEST_MAX]; /* as read: %g would print 100.0000001 as 100 beside "<= 100" */
   if (!isfinite(x) || x < lo || (lo_strict && x == lo) || x > hi) {
     if (isinf(hi))
-      return io_fail(P, "expected a number %s %g, got %g", lo_strict ? ">" : ">=", lo, x);
+      return io_fail(P, "expected a number %s %g, got %s", lo_strict ? ">" : ">=", lo,
+                     io_shortest(x, got));
     if (lo_strict)
-      return io_fail(P, "expected a number > %g and <= %g, got %g", lo, hi, x);
-    return io_fail(P, "expected a number from %g to %g, got %g", lo, hi, x);
+      return io_fail(P, "expected a number > %g and <= %g, got %s", lo, hi, io_shortest(x, got));
+    return io_fail(P, "expected a number from %g to %g, got %s", lo, hi, io_shortest(x, got));
   }
   *out = x;
   return 1;
@@ -172,9 +174,11 @@ int io_get_int(io_parse_t *P, json_t *o, const char *key, int required, int def,
   }
   io_push_key(P, key);
   int ok = 1;
+  char got[IO_SHORTEST_MAX];
   if (!json_is_integer(v)) {
     if (json_is_number(v))
-      ok = io_fail(P, "expected an integer from %d to %d, got %g", lo, hi, json_number_value(v));
+      ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi,
+                   io_shortest(json_number_value(v), got));
     else
       ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi, type_name(v));
   } else if (json_integer_value(v) < lo || json_integer_value(v) > hi) {

@@ -61,7 +61,7 @@ static FILE *open_out(const val_figures_opts_t *o, const char *name, io_atomic_t
   char path[4096], err[1024];
   path_in(o, name, path, sizeof path);
   if (io_csv_open(a, path, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil: %s\n", err);
+    fprintf(stderr, "%s: %s\n", io_command(), err);
     return NULL;
   }
   return a->f;
@@ -70,7 +70,7 @@ static FILE *open_out(const val_figures_opts_t *o, const char *name, io_atomic_t
 static int close_out(io_atomic_t *a) {
   char err[1024];
   if (io_atomic_commit(a, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil: %s\n", err);
+    fprintf(stderr, "%s: %s\n", io_command(), err);
     return -1;
   }
   return 0;
@@ -81,7 +81,7 @@ static int write_json(const val_figures_opts_t *o, const char *name, json_t *roo
   path_in(o, name, path, sizeof path);
   int rc = root ? io_json_write(path, root, err, sizeof err) : -1;
   if (rc != 0)
-    fprintf(stderr, "pencil: %s\n", root ? err : "out of memory");
+    fprintf(stderr, "%s: %s\n", io_command(), root ? err : "out of memory");
   json_decref(root);
   return rc;
 }
@@ -91,11 +91,11 @@ static int load_scene(const val_figures_opts_t *o, rt_scene_t *s) {
   char err[1024];
   rt_scene_init(s);
   if (o->scene && io_scene_load(o->scene, s, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil: %s\n", err);
+    fprintf(stderr, "%s: %s\n", io_command(), err);
     return VAL_ESCENE;
   }
   if (!o->scene && rt_builtin_fig8(s) != RT_OK) {
-    fprintf(stderr, "pencil: cannot build the built-in Fig. 8 scene\n");
+    fprintf(stderr, "%s: cannot build the built-in Fig. 8 scene\n", io_command());
     return VAL_ESCENE;
   }
   int w = o->width, h = o->height;
@@ -177,12 +177,13 @@ static int method_make(const val_figures_opts_t *o, method_t *m, const char *con
   m->m.r = o->method;
   m->m.options = m->buf;
   if (o->method->options_size > sizeof m->buf)
-    return fprintf(stderr, "pencil: the %s renderer's options are too large\n", o->method->name),
+    return fprintf(stderr, "%s: the %s renderer's options are too large\n", io_command(),
+                   o->method->name),
            -1;
   rn_defaults(o->method, m->buf);
   for (int k = 0; k < n; k++)
     if (!rn_set(o->method, m->buf, set[k][0], set[k][1], err, sizeof err))
-      return fprintf(stderr, "pencil: %s\n", err), -1;
+      return fprintf(stderr, "%s: %s\n", io_command(), err), -1;
   return 0;
 }
 
@@ -231,7 +232,7 @@ static int write_images(const val_figures_opts_t *o, const char *stem, const rt_
       ch[nch] = (io_exr_channel_t){m->r->channels[nch], channels[nch]};
   }
   if (io_render_write(exr, img, ch, nch, attrs, na, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil: %s\n", err);
+    fprintf(stderr, "%s: %s\n", io_command(), err);
     return -1;
   }
   return 0;
@@ -255,7 +256,7 @@ static int write_error_map(const val_figures_opts_t *o, const val_method_t *m,
   path_in(o, "fig10_error_map.png", path, sizeof path);
   int rc = io_png_write(path, &img, err, sizeof err);
   if (rc != 0)
-    fprintf(stderr, "pencil: %s\n", err);
+    fprintf(stderr, "%s: %s\n", io_command(), err);
   rt_image_free(&img);
   return rc;
 }
@@ -339,11 +340,12 @@ static int write_sweep(const val_figures_opts_t *o, const sweep_row_t *rows, int
              "samples_with_points\n");
   for (int k = 0; k < n; k++) {
     const sweep_row_t *r = &rows[k];
-    fprintf(f, "%g,%s,%d,%.6g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%llu\n",
-            r->rho, variant_name(r), o->sweep_spp, r->t.exact_s, r->t.pencil_s, r->t.ratio,
-            (unsigned long long)r->e.samples, r->e.fraction_within, r->e.p99, r->e.max_error,
-            (unsigned long long)r->e.mismatches, r->e.fraction_within_strict, r->e.max_error_strict,
-            r->e.image_rms, (unsigned long long)r->e.counts.samples_exact,
+    char rho[IO_SHORTEST_MAX]; /* as given: %g would print 0.1234567 as 0.123457 */
+    fprintf(f, "%s,%s,%d,%.6g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%.9g,%.6g,%.6g,%llu,%llu\n",
+            io_shortest(r->rho, rho), variant_name(r), o->sweep_spp, r->t.exact_s, r->t.pencil_s,
+            r->t.ratio, (unsigned long long)r->e.samples, r->e.fraction_within, r->e.p99,
+            r->e.max_error, (unsigned long long)r->e.mismatches, r->e.fraction_within_strict,
+            r->e.max_error_strict, r->e.image_rms, (unsigned long long)r->e.counts.samples_exact,
             (unsigned long long)r->e.samples_with_points);
   }
   return close_out(&a);
@@ -369,7 +371,8 @@ static void run_plot(const val_figures_opts_t *o) {
   char err[1024];
   char *argv[] = {"/usr/bin/python3", (char *)o->plot, (char *)o->out_dir, NULL};
   if (io_run(argv, err, sizeof err) != 0)
-    fprintf(stderr, "pencil: the plotting script failed (%s); CSV and JSON are complete\n", err);
+    fprintf(stderr, "%s: the plotting script failed (%s); CSV and JSON are complete\n",
+            io_command(), err);
 }
 
 /* The top of every JSON file: the scene, the image, the method and how things were timed. */

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/output.h"
+
 static int side_of(int spp) {
   return (int)lrint(sqrt((double)spp));
 }
@@ -60,7 +62,7 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   }
   rt_image_free(&img);
   if (rc != 0) {
-    fprintf(stderr, "pencil: a timed render at %d spp failed\n", spp);
+    fprintf(stderr, "%s: a timed render at %d spp failed\n", io_command(), spp);
     return -1;
   }
   out->exact_rays = rt_stats_total(&xst);
@@ -168,7 +170,7 @@ int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_e
   size_t n = (size_t)w * (size_t)h * (size_t)spp;
   memset(out, 0, sizeof *out);
   if (!m.r->errors) {
-    fprintf(stderr, "pencil: the %s renderer has nothing to measure\n", m.r->name);
+    fprintf(stderr, "%s: the %s renderer has nothing to measure\n", io_command(), m.r->name);
     return -1;
   }
   float *err = sample_error ? sample_error : malloc(n * sizeof *err);
@@ -195,7 +197,7 @@ int val_measure(const rt_scene_t *s, val_method_t m, int spp, int threads, val_e
     compare(s, err, n, P, X, out);
     rc = 0;
   } else {
-    fprintf(stderr, "pencil: a measured render failed\n");
+    fprintf(stderr, "%s: a measured render failed\n", io_command());
   }
   if (!sample_error)
     free(err);

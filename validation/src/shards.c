@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "io/json.h"
+#include "io/output.h"
 
 /* ---- the work items ------------------------------------------------------------------------ */
 
@@ -283,7 +284,7 @@ int val__shard_write(const val_figures_opts_t *o, const char *command, json_t *c
   char dir[4096], path[4200], err[1024];
   snprintf(dir, sizeof dir, "%s/shards", o->out_dir);
   if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-    return fprintf(stderr, "pencil: cannot create directory %s\n", dir), -1;
+    return fprintf(stderr, "%s: cannot create directory %s\n", io_command(), dir), -1;
   snprintf(path, sizeof path, "%s/%s-%d-of-%d.json", dir, command, o->shard, o->nshards);
   json_t *done = json_object();
   for (int j = 0; j < nitems; j++)
@@ -296,7 +297,7 @@ int val__shard_write(const val_figures_opts_t *o, const char *command, json_t *c
                            config, "items", done);
   int rc = root ? io_json_write(path, root, err, sizeof err) : -1;
   if (rc != 0)
-    fprintf(stderr, "pencil: %s\n", root ? err : "out of memory");
+    fprintf(stderr, "%s: %s\n", io_command(), root ? err : "out of memory");
   json_decref(root);
   return rc;
 }

@@ -25,6 +25,13 @@ void io_provenance_set(const char *version, const char *commit, int argc, char *
 /** The provenance set by io_provenance_set(), or "unknown" fields when it was not called. */
 const io_provenance_t *io_provenance(void);
 
+/** Name the command for messages ("pencil sweep", "pencil bench star"; copied): errors of io/ and
+ *  of the drivers shared by several commands start with it, as the commands' own do. Set once
+ *  from main(); "pencil" until then. */
+void io_command_set(const char *name);
+/** The name io_command_set() gave, or "pencil". */
+const char *io_command(void);
+
 /** Create directory d and its missing parents (as mkdir -p); 0, or -1 with the reason on stderr. */
 int io_make_dirs(const char *d);
 
@@ -117,6 +124,14 @@ void io_format_size(size_t bytes, char *buf, size_t cap);
  *  (control characters in the command line escaped as \n, \t, \xNN, so that it stays one line).
  *  Readers skip lines that start with '#' (docs/DEVELOPING.md, "Writing outputs"). */
 int io_csv_open(io_atomic_t *a, const char *path, char *err, size_t cap);
+
+/** Room for io_shortest()'s text. */
+#define IO_SHORTEST_MAX 32
+/** The shortest decimal text of v that reads back as v (%.Ng for the least N from the number of
+ *  its integer digits to 17: 200, 0.1234567, 1e-323; "nan", "inf"), in
+ *  buf[IO_SHORTEST_MAX]; returns buf. For values echoed in messages, CSV files and attributes,
+ *  where %g would print 89.9999999999 as 90. */
+const char *io_shortest(double v, char buf[IO_SHORTEST_MAX]);
 
 /** Write s as one CSV field (RFC 4180: quoted, with doubled quotes, when it holds a comma, a
  *  quote, a line break or leading/trailing space). */
