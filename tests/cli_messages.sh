@@ -63,5 +63,14 @@ $pencil post star "$tmp/a.exr" -o "$tmp/st.exr" --angle 20.123456789 >/dev/null 
 check "post star: the EXR's pencil:star holds the angle as given (once 20.1235)" \
   "[ $rc -eq 0 ] && grep -aq 'angle 20.123456789 deg' '$tmp/st.exr'"
 
+# --- a UTF-8 byte order mark is skipped; a scene error after it keeps its line
+printf '\xef\xbb\xbf' >"$tmp/bom.json"
+cat "$src/scenes/fig8.json" >>"$tmp/bom.json"
+$pencil render "$tmp/bom.json" --size 8x8 --spp 1 -o "$tmp/bom.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "a scene starting with a UTF-8 BOM renders (once 'invalid JSON')" "[ $rc -eq 0 ] && [ -s '$tmp/bom.exr' ]"
+printf '\xef\xbb\xbf{\n "camera": 3}\n' >"$tmp/bom2.json"
+$pencil render "$tmp/bom2.json" -o "$tmp/bom.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "... and its errors keep the file's lines" "[ $rc -eq 2 ] && grep -q 'bom2.json:2: camera: expected an object' '$tmp/err'"
+
 [ $fail -eq 0 ] && echo "cli_messages: all passed" || echo "cli_messages: FAILED"
 exit $fail

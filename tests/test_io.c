@@ -237,6 +237,33 @@ static void png_preview_records_provenance(void **state) {
   remove(path);
 }
 
+/* A UTF-8 byte order mark at the start of a scene is skipped, from a file and from memory, and a
+ * later error keeps the file's line numbers. */
+static void scene_bom_skipped(void **state) {
+  (void)state;
+  char path[512], err[512];
+  temp_path(path, sizeof path, "bom.json");
+  const char *json =
+      "\xEF\xBB\xBF{\"camera\": {\"eye\": [0, 0, -5], \"look_at\": [0, 0, 0]},\n"
+      " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1,\n"
+      "               \"material\": \"m\"}],\n \"materials\": {\"m\": {\"kd\": 0.5}}}\n";
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  fputs(json, f);
+  fclose(f);
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  assert_int_equal(s.nobject, 1);
+  rt_scene_free(&s);
+  assert_int_equal(io_scene_load_buffer("m.json", json, strlen(json), &s, err, sizeof err), 0);
+  rt_scene_free(&s);
+  const char *bad = "\xEF\xBB\xBF{\n \"camera\": 3}\n";
+  assert_int_equal(io_scene_load_buffer("b.json", bad, strlen(bad), &s, err, sizeof err), -1);
+  assert_non_null(strstr(err, "b.json:2: camera: expected an object"));
+  remove(path);
+}
+
 /* The scene files load, from their path and from memory alike (io_scene_load_buffer: the same
  * objects, primitives, vertices, materials, lights and settings). */
 static void scene_files_load(void **state) {
@@ -381,6 +408,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(scene_path_not_a_regular_file),
       cmocka_unit_test(png_preview_is_srgb),
       cmocka_unit_test(png_preview_records_provenance),
+      cmocka_unit_test(scene_bom_skipped),
       cmocka_unit_test(scene_files_load),
       cmocka_unit_test(fig8_file_equals_builtin),
       cmocka_unit_test(json_locator_finds_lines),

@@ -4,6 +4,7 @@
  * parallel lights, a pinhole camera. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -388,6 +389,12 @@ static int load_root(const char *name, const char *text, size_t len, json_t *roo
   return ok ? 0 : -1;
 }
 
+/* The length of a UTF-8 byte order mark at data[0 .. len-1] (3), or 0. Editors on Windows write
+ * one; JSON (RFC 8259, 8.1) lets a parser ignore it, and jansson does not: it is skipped. */
+static size_t bom(const char *data, size_t len) {
+  return len >= 3 && memcmp(data, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+}
+
 int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
   json_error_t je;
   rt_scene_free(s);
@@ -396,6 +403,24 @@ int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap) {
     snprintf(err, cap, "%s: not a regular file (%s)", path,
              S_ISDIR(st.st_mode) ? "a directory" : "a device, pipe or socket");
     return -1;
+  }
+  char head[3];
+  FILE *f = fopen(path, "rb");
+  size_t got = f ? fread(head, 1, sizeof head, f) : 0;
+  if (f)
+    fclose(f);
+  if (bom(head, got)) { /* read whole, from memory past the mark: lines stay the file's */
+    size_t len;
+    char *text = io_read_file(path, &len);
+    if (!text)
+      return snprintf(err, cap, "%s: cannot read the file", path), -1;
+    json_t *root = json_loadb(text + 3, len - 3, JSON_REJECT_DUPLICATES, &je);
+    if (root)
+      io_protect_input(path);
+    int rc = root ? load_root(path, text + 3, len - 3, root, s, err, cap)
+                  : json_syntax_error(path, &je, err, cap);
+    free(text);
+    return rc;
   }
   json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
   if (root)
@@ -408,6 +433,9 @@ int io_scene_load_buffer(const char *name, const char *data, size_t len, rt_scen
                          size_t cap) {
   json_error_t je;
   rt_scene_free(s);
+  size_t skip = bom(data, len);
+  data += skip;
+  len -= skip;
   json_t *root = json_loadb(data, len, JSON_REJECT_DUPLICATES, &je);
   return root ? load_root(name, data, len, root, s, err, cap)
               : json_syntax_error(name, &je, err, cap);
