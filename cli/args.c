@@ -66,6 +66,16 @@ int cli_parse(const char *cmd, int argc, char **argv, const cli_spec_t *specs, i
     } else if (!positional_only && arg[0] == '-' && arg[1] != '\0') {
       if (option(cmd, argc, argv, &i, specs, nspecs, &out[n]) != 0)
         return -1;
+      const cli_spec_t *s = out[n].spec;
+      for (int j = 0; j < n && s->has_value != CLI_REPEATED; j++)
+        if (out[j].spec == s) { /* the last would win silently */
+          char alias[8] = "";
+          if (s->short_name)
+            snprintf(alias, sizeof alias, " (-%c)", s->short_name);
+          fprintf(stderr, "pencil %s: %s%s is given twice; give it once (see --help)\n", cmd,
+                  s->name, alias);
+          return -1;
+        }
       n++;
     } else {
       out[n++] = (cli_arg_t){NULL, NULL, arg};

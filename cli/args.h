@@ -9,11 +9,16 @@
 #ifndef PENCIL_CLI_ARGS_H
 #define PENCIL_CLI_ARGS_H
 
+/** cli_spec_t.has_value of an option that takes a value each time it is given, and may be given
+ *  more than once (illuminance --receiver). Every other option given twice is an error: the last
+ *  would win silently. */
+#define CLI_REPEATED 2
+
 /** One option a command accepts. */
 typedef struct {
   const char *name; /**< the long option, "--output" */
   char short_name;  /**< 'o' for -o, or 0 */
-  int has_value;    /**< 1: takes a value; 0: a flag */
+  int has_value;    /**< 0: a flag; 1: takes a value; CLI_REPEATED: a value, and may repeat */
   int id;           /**< the caller's code for it */
 } cli_spec_t;
 
@@ -30,7 +35,8 @@ typedef struct {
 /** Parse argv[1 .. argc-1] (argv[0] is the subcommand) against specs[0 .. nspecs-1] into
  *  out[] (room for argc entries). Returns the number of arguments, CLI_ARGS_HELP when -h or
  *  --help was given, or -1 after printing "pencil CMD: what is wrong (see --help)" on stderr
- *  (an unknown option, a missing value, a value given to a flag). */
+ *  (an unknown option, a missing value, a value given to a flag, an option given twice that is
+ *  not cli_spec_t.repeat). */
 int cli_parse(const char *cmd, int argc, char **argv, const cli_spec_t *specs, int nspecs,
               cli_arg_t *out);
 

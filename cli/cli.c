@@ -36,14 +36,8 @@ int cli_parse_double_in(const char *opt, const char *text, double lo, double hi,
 }
 
 int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *out) {
-  char *end = NULL;
-  const char *p = text + (*text == '+' || *text == '-');
-  int digits = *p != '\0';
-  for (; *p && digits; p++)
-    digits = *p >= '0' && *p <= '9';
-  errno = 0;
-  long v = digits ? strtol(text, &end, 10) : 0;
-  if (!digits || errno == ERANGE || v < lo || v > hi) {
+  long v;
+  if (rn_parse_long(text, &v) != 1 || v < lo || v > hi) {
     fprintf(stderr, "%s: %s: expected an integer from %ld to %ld, got '%s'\n", io_command(), opt,
             lo, hi, text);
     return 0;
@@ -53,12 +47,11 @@ int cli_parse_long(const char *opt, const char *text, long lo, long hi, long *ou
 }
 
 int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out) {
-  char *end = NULL;
-  errno = 0;
-  long v = strtol(text, &end, 10), s = 1;
-  while (s * s < v && s <= RT_MAX_SPP_SIDE)
+  long v = 0, s = 1;
+  int ok = rn_parse_long(text, &v) == 1 && v >= 1 && v <= RT_MAX_SPP;
+  while (ok && s * s < v)
     s++;
-  if (end == text || *end != '\0' || errno == ERANGE || v < 1 || v > RT_MAX_SPP || s * s != v) {
+  if (!ok || s * s != v) {
     fprintf(stderr,
             "pencil %s: %s: expected a square number of samples per pixel (1, 4, 9, ..., %d), got "
             "'%s'\n",
@@ -70,8 +63,15 @@ int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out)
 }
 
 int cli_parse_wxh(const char *cmd, const char *opt, const char *text, long max, long *w, long *h) {
-  char tail;
-  if (sscanf(text, "%ldx%ld%c", w, h, &tail) != 2 || *w < 1 || *h < 1 || *w > max || *h > max) {
+  const char *x = strchr(text, 'x');
+  char wtext[32];
+  int ok = x && (size_t)(x - text) < sizeof wtext;
+  if (ok) {
+    memcpy(wtext, text, (size_t)(x - text));
+    wtext[x - text] = '\0';
+    ok = rn_parse_long(wtext, w) == 1 && rn_parse_long(x + 1, h) == 1;
+  }
+  if (!ok || *w < 1 || *h < 1 || *w > max || *h > max) {
     fprintf(stderr, "pencil %s: %s: expected WxH with 1 <= W, H <= %ld, got '%s'\n", cmd, opt, max,
             text);
     return 0;
@@ -79,29 +79,46 @@ int cli_parse_wxh(const char *cmd, const char *opt, const char *text, long max, 
   return 1;
 }
 
+int cli_split_list(const char *opt, const char *text, char *buf, size_t cap, const char **item,
+                   int max, int *n) {
+  size_t len = strlen(text);
+  *n = 0;
+  int ok = len < cap;
+  if (ok) {
+    memcpy(buf, text, len + 1);
+    for (char *t = buf; ok; t++) {
+      char *end = strchr(t, ',');
+      if (end)
+        *end = '\0';
+      ok = *t != '\0' && *n < max; /* no empty item: no leading, trailing or double comma */
+      if (ok)
+        item[(*n)++] = t;
+      if (!end)
+        break;
+      t = end;
+    }
+  }
+  if (!ok)
+    fprintf(stderr,
+            "%s: %s: expected a comma-separated list of 1 to %d values, none empty (no leading, "
+            "trailing or double comma), got '%s'\n",
+            io_command(), opt, max, text);
+  return ok;
+}
+
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
                        int *n) {
-  *n = 0;
-  for (const char *t = text;; t++) {
-    const char *end = strchr(t, ',');
-    size_t len = end ? (size_t)(end - t) : strlen(t);
-    char item[32];
-    if (*n >= max || len == 0 || len >= sizeof item) {
-      fprintf(stderr,
-              "pencil %s: %s: expected a comma-separated list of at most %d squares, got '%s'\n",
-              cmd, opt, max, text);
-      return 0;
-    }
-    memcpy(item, t, len);
-    item[len] = '\0';
+  char buf[512];
+  const char *item[64];
+  if (!cli_split_list(opt, text, buf, sizeof buf, item, max < 64 ? max : 64, n))
+    return 0;
+  for (int k = 0; k < *n; k++) {
     long v;
-    if (!cli_parse_spp(cmd, opt, item, &v))
+    if (!cli_parse_spp(cmd, opt, item[k], &v))
       return 0;
-    out[(*n)++] = (int)v;
-    if (!end)
-      return 1;
-    t = end;
+    out[k] = (int)v;
   }
+  return 1;
 }
 
 cli_arg_t *cli_args(const char *cmd, int argc, char **argv, const cli_spec_t *specs, int nspecs,

@@ -18,6 +18,10 @@
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
+/** Numbers on the command line follow one rule, rn_parse_double() and rn_parse_long()
+ *  (renderers/renderer.h): an optional '-', digits, for a double an optional point and exponent;
+ *  no spaces, no '+', no hexadecimal. */
+
 /** Parse a finite double for option `opt`; on failure print "pencil CMD: OPT: ..." (io_command())
  *  and return 0. */
 int cli_parse_double(const char *opt, const char *text, double *out);
@@ -31,7 +35,15 @@ int cli_parse_spp(const char *cmd, const char *opt, const char *text, long *out)
 /** Parse "WxH" for option `opt` of command `cmd`, both in 1..max; on failure print an error
  *  naming the option and return 0. */
 int cli_parse_wxh(const char *cmd, const char *opt, const char *text, long max, long *w, long *h);
-/** A comma-separated list of such numbers, at most `max`, into out[0 .. *n - 1]. */
+/** Split `text`, a comma-separated list for option `opt`, the one list rule of every command: 1
+ *  to `max` items, none empty (no leading, trailing or double comma), nothing trimmed (each item
+ *  is then parsed by the number rule, rn_parse_double()/rn_parse_long()). The items are copied
+ *  into buf (cap bytes) and item[0 .. *n - 1] point into it. On failure prints "pencil CMD: OPT:
+ *  ..." and returns 0. */
+int cli_split_list(const char *opt, const char *text, char *buf, size_t cap, const char **item,
+                   int max, int *n);
+/** A comma-separated list (cli_split_list()) of such numbers, at most `max`, into
+ *  out[0 .. *n - 1]. */
 int cli_parse_spp_list(const char *cmd, const char *opt, const char *text, int *out, int max,
                        int *n);
 /** cli_parse() of argv[1 .. argc-1] for `pencil CMD` (argv[0] the subcommand's word) into a

@@ -204,6 +204,12 @@ static int bench_illuminance(int argc, char **argv) {
   free(args);
   if (rc != CLI_OK)
     return rc;
+  if (o.quick && o.fig11) {
+    fprintf(stderr,
+            "pencil bench illuminance: --fig11 has no effect with --quick (which leaves out "
+            "Fig. 11)\n");
+    return CLI_USAGE;
+  }
   o.threads = (int)threads;
   o.max_split = (int)split;
   char err[1024]; /* the outputs before minutes of tracing */
@@ -284,9 +290,13 @@ static int bench_caustics(int argc, char **argv) {
       rc = cli_parse_long("--reference-rays", g->value, 3, LT_MAX_GRID, &ref_rays) ? CLI_OK
                                                                                    : CLI_USAGE;
     } else if (g->spec->id == 8) {
-      char bad[256];
+      char bad[256], buf[256];
+      const char *item[16];
+      int nc;
       o.cases = g->value;
-      if (!val_bench_caustics_cases_ok(g->value, bad, sizeof bad)) {
+      if (!cli_split_list("--case", g->value, buf, sizeof buf, item, 16, &nc))
+        rc = CLI_USAGE;
+      else if (!val_bench_caustics_cases_ok(g->value, bad, sizeof bad)) {
         fprintf(stderr,
                 "pencil bench caustics: --case: no case '%s' (fig8, fig11, pool or glass)\n", bad);
         rc = CLI_USAGE;
@@ -453,9 +463,13 @@ static int bench_beam(int argc, char **argv) {
     } else if (g->spec->id == 9) {
       rc = cli_parse_double_in("--rho", g->value, 1e-6, 1e6, &o.rho) ? CLI_OK : CLI_USAGE;
     } else if (g->spec->id == 8) {
-      char bad[256];
+      char bad[256], buf[256];
+      const char *item[16];
+      int nc;
       o.cases = g->value;
-      if (!val_bench_beam_cases_ok(g->value, bad, sizeof bad)) {
+      if (!cli_split_list("--case", g->value, buf, sizeof buf, item, 16, &nc))
+        rc = CLI_USAGE;
+      else if (!val_bench_beam_cases_ok(g->value, bad, sizeof bad)) {
         fprintf(stderr, "pencil bench beam: --case: no case '%s' (%s)\n", bad,
                 val_bench_beam_case_names());
         rc = CLI_USAGE;
@@ -640,18 +654,14 @@ static int bench_star(int argc, char **argv) {
     } else if (g->spec->id == 1) {
       rc = cli_parse_long("--runs", g->value, 1, MAX_RUNS, &runs) ? CLI_OK : CLI_USAGE;
     } else if (g->spec->id == 2) {
-      nsizes = 0;
-      for (const char *p = g->value; *p && rc == CLI_OK;) {
-        char *end;
-        long v = strtol(p, &end, 10);
-        if (end == p || (*end && *end != ',') || v < 16 || v > 8192 || nsizes == 8) {
-          fprintf(stderr, "pencil bench star: --sizes: expected up to 8 sides 16..8192, got '%s'\n",
-                  g->value);
-          rc = CLI_USAGE;
-          break;
-        }
-        sizes[nsizes++] = (int)v;
-        p = *end ? end + 1 : end;
+      char buf[256];
+      const char *item[8];
+      if (!cli_split_list("--sizes", g->value, buf, sizeof buf, item, 8, &nsizes))
+        rc = CLI_USAGE;
+      for (int q = 0; q < nsizes && rc == CLI_OK; q++) {
+        long v;
+        rc = cli_parse_long("--sizes", item[q], 16, 8192, &v) ? CLI_OK : CLI_USAGE;
+        sizes[q] = (int)v;
       }
     } else if (g->spec->id == 3) {
       rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;

@@ -7,6 +7,7 @@
 
 #include "args.h"
 #include "cli.h"
+#include "renderers/renderer.h"
 #include "validation/figures.h"
 
 #ifndef PENCIL_PLOT_SCRIPT
@@ -91,21 +92,16 @@ static void help_sweep(FILE *f) {
 
 static int parse_rho(const char *v, val_figures_opts_t *o) {
   char buf[1024];
-  if (strlen(v) >= sizeof buf)
-    return fprintf(stderr, "pencil sweep: --rho: list too long\n"), 0;
-  strcpy(buf, v);
-  o->nrho = 0;
-  for (char *t = strtok(buf, ","); t; t = strtok(NULL, ",")) {
-    double r;
-    if (o->nrho >= VAL_MAX_RHO)
-      return fprintf(stderr, "pencil sweep: --rho: at most %d values\n", VAL_MAX_RHO), 0;
-    if (!cli_parse_double("--rho", t, &r))
+  const char *item[VAL_MAX_RHO];
+  if (!cli_split_list("--rho", v, buf, sizeof buf, item, VAL_MAX_RHO, &o->nrho))
+    return 0;
+  for (int k = 0; k < o->nrho; k++) {
+    if (!cli_parse_double("--rho", item[k], &o->rho[k]))
       return 0;
-    if (!(r > 0.0))
-      return fprintf(stderr, "pencil sweep: --rho: expected values > 0, got '%s'\n", t), 0;
-    o->rho[o->nrho++] = r;
+    if (!(o->rho[k] > 0.0))
+      return fprintf(stderr, "pencil sweep: --rho: expected values > 0, got '%s'\n", item[k]), 0;
   }
-  return o->nrho > 0 || (fprintf(stderr, "pencil sweep: --rho: empty list\n"), 0);
+  return 1;
 }
 
 enum {
@@ -167,11 +163,20 @@ static int parse_method(const char *cmd, const char *v, val_figures_opts_t *o) {
   return 1;
 }
 
-/* "K/N" with 1 <= K <= N <= 10000. */
+/* "K/N" with 1 <= K <= N <= 10000, each an integer by the number rule (rn_parse_long()). */
 static int parse_shard(const char *cmd, const char *v, val_figures_opts_t *o) {
-  char tail;
-  if (sscanf(v, "%d/%d%c", &o->shard, &o->nshards, &tail) != 2 || o->nshards < 1 ||
-      o->nshards > 10000 || o->shard < 1 || o->shard > o->nshards)
+  const char *slash = strchr(v, '/');
+  char k[16];
+  long ks = 0, ns = 0;
+  int ok = slash && (size_t)(slash - v) < sizeof k;
+  if (ok) {
+    memcpy(k, v, (size_t)(slash - v));
+    k[slash - v] = '\0';
+    ok = rn_parse_long(k, &ks) == 1 && rn_parse_long(slash + 1, &ns) == 1;
+  }
+  o->shard = ok && ks >= 1 && ks <= 10000 ? (int)ks : 0;
+  o->nshards = ok && ns >= 1 && ns <= 10000 ? (int)ns : 0;
+  if (!ok || o->nshards < 1 || o->shard < 1 || o->shard > o->nshards)
     return fprintf(stderr, "pencil %s: --shard: expected K/N with 1 <= K <= N <= 10000, got '%s'\n",
                    cmd, v),
            0;
@@ -188,12 +193,16 @@ static int parse_only(const char *v, val_figures_opts_t *o) {
                {"fig9", VAL_ONLY_FIG9},
                {"targets", VAL_ONLY_TARGETS},
                {"sweep", VAL_ONLY_SWEEP}};
+  char buf[256];
+  const char *item[8];
+  int n;
   o->only = 0;
-  for (const char *t = v;;) {
-    size_t len = strcspn(t, ",");
+  if (!cli_split_list("--only", v, buf, sizeof buf, item, 8, &n))
+    return 0;
+  for (int j = 0; j < n; j++) {
     unsigned bit = 0;
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
-      if (strlen(names[k].name) == len && strncmp(names[k].name, t, len) == 0)
+      if (strcmp(names[k].name, item[j]) == 0)
         bit = names[k].bit;
     if (!bit)
       return fprintf(stderr,
@@ -202,17 +211,14 @@ static int parse_only(const char *v, val_figures_opts_t *o) {
                      v),
              0;
     o->only |= bit;
-    if (!t[len])
-      return 1;
-    t += len + 1;
   }
+  return 1;
 }
 
 /* One argument; 1 ok, 0 usage error (printed). */
 static int apply(const char *cmd, const cli_arg_t *g, val_figures_opts_t *o, int *given) {
   const char *v = g->value;
   long l;
-  char tail;
   if (!g->spec) {
     if (o->scene)
       return fprintf(stderr, "pencil %s: unexpected argument '%s' (see --help)\n", cmd, v), 0;
@@ -228,13 +234,18 @@ static int apply(const char *cmd, const cli_arg_t *g, val_figures_opts_t *o, int
     return cli_parse_long("--threads", v, 1, 1024, &l) && (o->threads = (int)l);
   case OPT_RUNS:
     return cli_parse_long("--runs", v, 3, 101, &l) && (o->runs = (int)l);
-  case OPT_SIZE:
-    if (sscanf(v, "%dx%d%c", &o->width, &o->height, &tail) != 2 || o->width < 8 || o->height < 8 ||
-        o->width > 4096 || o->height > 4096)
+  case OPT_SIZE: {
+    long w, h;
+    if (!cli_parse_wxh(cmd, "--size", v, 4096, &w, &h))
+      return 0;
+    if (w < 8 || h < 8)
       return fprintf(stderr, "pencil %s: --size: expected WxH with 8 <= W, H <= 4096, got '%s'\n",
                      cmd, v),
              0;
+    o->width = (int)w;
+    o->height = (int)h;
     return 1;
+  }
   case OPT_RHO:
     return parse_rho(v, o);
   case OPT_SPP:
@@ -282,6 +293,19 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
                   "its shard files\n",
                   cmd),
           0);
+  /* options that --only leaves without an effect */
+  if (ok && o->only && (given & (1 << OPT_NO_SWEEP)))
+    ok = (fprintf(stderr,
+                  "pencil %s: --no-sweep has no effect with --only (which names the "
+                  "figures run)\n",
+                  cmd),
+          0);
+  if (ok && o->only && !(o->only & (VAL_ONLY_FIG9 | VAL_ONLY_TARGETS)) && (given & (1 << OPT_FIG9)))
+    ok = (fprintf(stderr,
+                  "pencil %s: --fig9-spp has no effect with --only without fig9 or targets\n", cmd),
+          0);
+  if (ok && o->only && !(o->only & VAL_ONLY_FIG9) && (given & (1 << OPT_PEER)))
+    ok = (fprintf(stderr, "pencil %s: --peer has no effect with --only without fig9\n", cmd), 0);
   if (ok && o->merge && o->scene)
     ok =
         (fprintf(stderr, "pencil %s: --merge takes no scene: it comes from the shard files\n", cmd),

@@ -12,6 +12,7 @@
 #include "io/json.h"
 #include "io/output.h"
 #include "light/illuminance.h"
+#include "renderers/renderer.h"
 #include "validation/timing.h"
 
 static void help(FILE *f) {
@@ -114,22 +115,24 @@ typedef struct {
   double linear_tol, uniform_tol;
   int have_extent;
   double ext[4];
+  const char *tuning; /**< the first of --max-split, --linear-tol, --uniform-tol given, or NULL */
 } args_t;
 
 static int parse_extent(const char *v, double ext[4]) {
-  char *end = NULL;
-  const char *p = v;
-  for (int k = 0; k < 4; k++) {
-    char buf[64];
-    size_t n = strcspn(p, ",");
-    if (n == 0 || n >= sizeof buf || (k < 3 && p[n] != ',') || (k == 3 && p[n] != '\0'))
-      goto bad;
-    memcpy(buf, p, n);
-    buf[n] = '\0';
-    ext[k] = strtod(buf, &end);
-    if (*end != '\0' || !isfinite(ext[k]) || fabs(ext[k]) > 1e12)
-      goto bad;
-    p += n + (k < 3);
+  char buf[256];
+  const char *item[4];
+  int n = 0;
+  if (!cli_split_list("--extent", v, buf, sizeof buf, item, 4, &n))
+    return 0;
+  int ok = n == 4;
+  for (int k = 0; ok && k < 4; k++) /* the number rule of every option (rn_parse_double) */
+    ok = rn_parse_double(item[k], &ext[k]) == 1 && fabs(ext[k]) <= 1e12;
+  if (!ok) {
+    fprintf(stderr,
+            "pencil illuminance: --extent: expected U0,U1,V0,V1 (four numbers within 1e12), got "
+            "'%s'\n",
+            v);
+    return 0;
   }
   if (!(ext[1] > ext[0]) || !(ext[3] > ext[2])) {
     fprintf(stderr,
@@ -139,12 +142,6 @@ static int parse_extent(const char *v, double ext[4]) {
     return 0;
   }
   return 1;
-bad:
-  fprintf(stderr,
-          "pencil illuminance: --extent: expected U0,U1,V0,V1 (four numbers within 1e12), got "
-          "'%s'\n",
-          v);
-  return 0;
 }
 
 static int parse_grid(const char *v, long *w, long *h) {
@@ -153,7 +150,7 @@ static int parse_grid(const char *v, long *w, long *h) {
 
 static int parse(int argc, char **argv, args_t *a) {
   static const cli_spec_t specs[] = {{"--output", 'o', 1, OPT_OUT},
-                                     {"--receiver", 0, 1, OPT_RECEIVER},
+                                     {"--receiver", 0, CLI_REPEATED, OPT_RECEIVER},
                                      {"--grid", 0, 1, OPT_GRID},
                                      {"--extent", 0, 1, OPT_EXTENT},
                                      {"--method", 0, 1, OPT_METHOD},
@@ -182,6 +179,9 @@ static int parse(int argc, char **argv, args_t *a) {
       a->scene = g->value;
       continue;
     }
+    if (!a->tuning &&
+        (g->spec->id == OPT_SPLIT || g->spec->id == OPT_LINEAR || g->spec->id == OPT_UNIFORM))
+      a->tuning = g->spec->name;
     switch (g->spec->id) {
     case OPT_OUT:
       a->out = g->value;
@@ -277,6 +277,13 @@ int cmd_illuminance(int argc, char **argv) {
     fprintf(stderr,
             "pencil illuminance: --method: expected grid-pencil, photons or polygons, got '%s'\n",
             a.method);
+    return CLI_USAGE;
+  }
+  if (method == LT_METHOD_PHOTONS && a.tuning) {
+    fprintf(stderr,
+            "pencil illuminance: %s has no effect with --method photons (only with grid-pencil "
+            "and polygons)\n",
+            a.tuning);
     return CLI_USAGE;
   }
   if (method == LT_METHOD_POLYGONS && a.rays > 0) {

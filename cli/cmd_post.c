@@ -11,6 +11,7 @@
 #include "io/image_io.h"
 #include "io/output.h"
 #include "post/star.h"
+#include "renderers/renderer.h"
 #include "validation/timing.h"
 
 static void help_post(FILE *f) {
@@ -72,16 +73,17 @@ enum {
   O_THREADS
 };
 
-/* Parse "S1,S2" into two positive numbers; 0 after a message. */
+/* Parse "S1,S2" into two positive numbers (the list and number rules of every option:
+ * cli_split_list(), rn_parse_double()); 0 after a message. */
 static int parse_sigma(const char *text, double *s1, double *s2) {
-  char *end;
-  *s1 = strtod(text, &end);
-  if (end != text && *end == ',') {
-    const char *t2 = end + 1;
-    *s2 = strtod(t2, &end);
-    if (end != t2 && *end == '\0' && *s1 > 0 && *s2 > 0 && isfinite(*s1) && isfinite(*s2))
-      return 1;
-  }
+  char buf[128];
+  const char *item[2];
+  int n;
+  if (!cli_split_list("--sigma", text, buf, sizeof buf, item, 2, &n))
+    return 0;
+  if (n == 2 && rn_parse_double(item[0], s1) == 1 && rn_parse_double(item[1], s2) == 1 && *s1 > 0 &&
+      *s2 > 0)
+    return 1;
   fprintf(stderr, "pencil post star: --sigma: expected two numbers > 0 as S1,S2, got '%s'\n", text);
   return 0;
 }

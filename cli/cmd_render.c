@@ -143,7 +143,8 @@ static int all_specs(cli_spec_t *specs) {
   return n;
 }
 
-/* The entry named by the last --method, or the exact renderer; NULL after an error. */
+/* The entry named by --method (given once: the parser refuses a second), or the exact renderer;
+ * NULL after an error. */
 static const rn_renderer_t *method_of(const cli_arg_t *args, int n) {
   const char *name = "exact";
   for (int k = 0; k < n; k++)
@@ -256,6 +257,16 @@ static int parse_args(int argc, char **argv, args_t *a) {
     rn_defaults(a->r, a->opt);
   for (int k = 0; ok && k < n; k++)
     ok = apply(a, &args[k]);
+  /* an option given where it does nothing is refused, naming what it needs */
+  char err[256];
+  for (int k = 0; ok && k < n; k++)
+    if (args[k].spec && args[k].spec->id == OPT_RENDERER &&
+        rn_option_idle(a->r, a->opt, args[k].name, err, sizeof err))
+      ok = (fprintf(stderr, "pencil render: %s\n", err), 0);
+  if (ok && a->caustic_rays && a->caustic_method == LT_METHOD_POLYGONS + 1)
+    ok = (fprintf(stderr, "pencil render: --caustic-rays has no effect with --caustic-method "
+                          "polygons (its beams trace the rays they need)\n"),
+          0);
   free(args);
   if (ok && !a->out && !a->explain)
     ok = (fprintf(stderr, "pencil render: -o OUT.exr is required (see --help)\n"), 0);

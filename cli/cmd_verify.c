@@ -155,6 +155,7 @@ static int run_stability(int argc, char **argv) {
     return CLI_USAGE;
   val_stability_opts_t o = {10000000, 1, 1000, 0, NULL, stdout, NULL, NULL};
   long samples = -1, v;
+  int quick = 0;
   for (int k = 0; k < n; k++) {
     const cli_arg_t *g = &args[k];
     if (!g->spec)
@@ -180,8 +181,13 @@ static int run_stability(int argc, char **argv) {
       break;
     default:
       o.samples = 20000;
+      quick = 1;
     }
   }
+  if (samples > 0 && quick) /* --quick sets only the count --samples sets */
+    return fprintf(stderr, "pencil verify stability: --quick has no effect with --samples (it "
+                           "only sets 20,000 samples)\n"),
+           CLI_USAGE;
   if (samples > 0)
     o.samples = (uint64_t)samples;
   if (outputs_ok("verify stability", o.json, NULL, 0) != CLI_OK)

@@ -67,8 +67,8 @@ static void options_parse_and_refuse(void **state) {
   assert_string_equal(err, "the exact renderer has no option --rho");
 }
 
-/* Numbers as users write them; what strtod() would also take (spaces, hexadecimal, inf) is
- * refused, and an underflow is kept rather than called "not finite". */
+/* Numbers as users write them, one way each; what strtod() would also take (spaces, a leading
+ * '+', hexadecimal, inf) is refused, and an underflow is kept rather than called "not finite". */
 static void numbers_are_decimal(void **state) {
   (void)state;
   double v = -1.0;
@@ -77,21 +77,67 @@ static void numbers_are_decimal(void **state) {
   assert_int_equal(rn_parse_double("-2e-3", &v), 1);
   assert_int_equal(rn_parse_double(".5", &v), 1);
   assert_int_equal(rn_parse_double("5.", &v), 1);
-  assert_int_equal(rn_parse_double("+3E2", &v), 1);
+  assert_int_equal(rn_parse_double("3E+2", &v), 1);
   assert_true(v == 300.0);
   assert_int_equal(rn_parse_double("1e-320", &v), 1);
   assert_true(v > 0.0 && v < 1e-300);
   assert_int_equal(rn_parse_double("1e400", &v), -1);
-  const char *bad[] = {"", " 5", "5 ", "0x10", "inf", "nan", "1e", ".", "-", "1.2.3", "1e+"};
+  const char *bad[] = {"",  " 5", "5 ",    "0x10", "inf", "nan", "1e",
+                       ".", "-",  "1.2.3", "1e+",  "+5",  "+3E2"};
   for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
     assert_int_equal(rn_parse_double(bad[k], &v), 0);
   const rn_renderer_t *p = rn_find("pencil");
   pt_options_t o;
   char err[256];
   rn_defaults(p, &o);
+  long l = 0;
+  assert_int_equal(rn_parse_long("-12", &l), 1);
+  assert_int_equal(l, -12);
+  assert_int_equal(rn_parse_long("99999999999999999999", &l), -1);
+  const char *badl[] = {"", " 5", "+5", "5 ", "5.0", "0x5", "-", "1e3"};
+  for (size_t k = 0; k < sizeof badl / sizeof badl[0]; k++)
+    assert_int_equal(rn_parse_long(badl[k], &l), 0);
   assert_int_equal(rn_set(p, &o, "--domain", " 5", err, sizeof err), 0);
+  assert_int_equal(rn_set(p, &o, "--domain", "+5", err, sizeof err), 0);
   assert_int_equal(rn_set(p, &o, "--domain", "5.0", err, sizeof err), 0);
   assert_int_equal(rn_set(p, &o, "--rho", "0x1p-1", err, sizeof err), 0);
+}
+
+/* An option that acts only with another's values (rn_renderer_t.needs) is found idle, naming
+ * both; every dependency names options of its entry, the one it depends on a choice or a flag. */
+static void idle_options_named(void **state) {
+  (void)state;
+  for (int k = 0; k < rn_count(); k++) {
+    const rn_renderer_t *r = rn_entry(k);
+    for (int j = 0; j < r->nneeds; j++) {
+      const rn_option_t *on = rn_option_find(r, r->needs[j].on);
+      assert_non_null(rn_option_find(r, r->needs[j].option));
+      assert_non_null(on);
+      assert_true(on->kind == RN_OPT_CHOICE || on->kind == RN_OPT_FLAG);
+    }
+  }
+  char err[256];
+  double opt[64]; /* any entry's options struct, aligned */
+  for (int k = 0; k < rn_count(); k++)
+    assert_true(rn_entry(k)->options_size <= sizeof opt);
+  const rn_renderer_t *x = rn_exact();
+  rn_defaults(x, opt);
+  assert_int_equal(rn_option_idle(x, opt, "--spectral-tol", err, sizeof err), 1);
+  assert_string_equal(
+      err, "--spectral-tol has no effect with --wavelengths fan (only with --wavelengths "
+           "pencil)");
+  assert_int_equal(rn_option_idle(x, opt, "--bins", err, sizeof err), 0);
+  assert_int_equal(rn_set(x, opt, "--wavelengths", "pencil", err, sizeof err), 1);
+  assert_int_equal(rn_option_idle(x, opt, "--spectral-tol", err, sizeof err), 0);
+  assert_int_equal(rn_option_idle(x, opt, "--bins", err, sizeof err), 1);
+  const rn_renderer_t *p = rn_find("pencil");
+  rn_defaults(p, opt);
+  assert_int_equal(rn_option_idle(p, opt, "--brightness-tol", err, sizeof err), 0);
+  assert_int_equal(rn_option_idle(p, opt, "--weight-floor", err, sizeof err), 1);
+  assert_int_equal(rn_set(p, opt, "--no-interp", NULL, err, sizeof err), 1);
+  assert_int_equal(rn_option_idle(p, opt, "--brightness-tol", err, sizeof err), 1);
+  assert_non_null(strstr(err, "with --no-interp"));
+  assert_int_equal(rn_option_idle(p, opt, "--rho", err, sizeof err), 0);
 }
 
 /* The table's pencil entry with --certified gives the image pt_render gives directly. */
@@ -165,7 +211,7 @@ int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(entries_are_well_formed),       cmocka_unit_test(options_parse_and_refuse),
       cmocka_unit_test(numbers_are_decimal),           cmocka_unit_test(nonfinite_pixels_are_found),
-      cmocka_unit_test(entry_renders_as_the_renderer),
+      cmocka_unit_test(entry_renders_as_the_renderer), cmocka_unit_test(idle_options_named),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

@@ -3,8 +3,8 @@
 #include "io/output.h"
 
 #include <errno.h>
-#include <math.h>
 #include <fcntl.h>
+#include <math.h>
 #include <pthread.h>
 #include <signal.h>
 #include <spawn.h>
@@ -500,9 +500,18 @@ size_t io_memory_available(void) {
 
 int io_parse_size(const char *text, size_t *bytes) {
   char *end = NULL;
-  if (!(*text >= '0' && *text <= '9'))
+  const char *d = text; /* digits with an optional point, as the command's numbers: no '+', no
+                           spaces, no hexadecimal or exponent */
+  while (*d >= '0' && *d <= '9')
+    d++;
+  if (d == text || (*d == '.' && !(d[1] >= '0' && d[1] <= '9')))
     return 0;
+  if (*d == '.')
+    for (d++; *d >= '0' && *d <= '9'; d++)
+      ;
   double v = strtod(text, &end);
+  if (end != d) /* strtod read more: 0x10, 1e9 */
+    return 0;
   double unit = 1.0;
   if (*end && end[1] == '\0') {
     const char *units = "KMGT";

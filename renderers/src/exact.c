@@ -54,6 +54,13 @@ static const rn_option_t options_[] = {
      "itself (as where glasses differ), to measure what the scale removes"},
 };
 
+/* options that act only with some --wavelengths (rn_option_idle()) */
+static const rn_needs_t needs[] = {
+    {"--bins", "--wavelengths", 1u << WL_FAN | 1u << WL_PRIMARY, "--wavelengths fan or primary"},
+    {"--spectral-tol", "--wavelengths", 1u << WL_PENCIL, "--wavelengths pencil"},
+    {"--wavelength-axis", "--wavelengths", 1u << WL_PENCIL, "--wavelengths pencil"},
+};
+
 static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
   const exact_options_t *o = options;
   if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
@@ -168,4 +175,6 @@ const rn_renderer_t rn_exact_entry = {
     .thread_bytes = thread_bytes,
     .dispersion = 1,
     .adapt_plan = adapt_plan,
+    .needs = needs,
+    .nneeds = (int)(sizeof needs / sizeof needs[0]),
 };

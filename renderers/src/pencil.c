@@ -77,6 +77,18 @@ static const rn_option_t pencil_options[] = {
      "itself (as where glasses differ), to measure what the scale removes"},
 };
 
+/* options that act only with others' values (rn_option_idle()): --no-interp stores interp = 0,
+ * and without ray interpolation its brightness tolerance, its lattice memo and its four-at-once
+ * walks do nothing */
+static const rn_needs_t needs[] = {
+    {"--weight-floor", "--tolerance", 1u << PT_TOL_IMAGE, "--tolerance image"},
+    {"--spectral-tol", "--wavelengths", 1u << 0, "--wavelengths pencil"},
+    {"--wavelength-axis", "--wavelengths", 1u << 0, "--wavelengths pencil"},
+    {"--brightness-tol", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
+    {"--no-memo", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
+    {"--no-simd", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
+};
+
 static void adapt_plan(rt_plan_t *p, const rt_scene_t *s, const void *options) {
   const pt_options_t *o = options;
   if (!rt_plan_has(p, RT_EFFECT_DISPERSION))
@@ -248,4 +260,6 @@ const rn_renderer_t rn_pencil_entry = {
     .thread_bytes = thread_bytes,
     .dispersion = 1,
     .adapt_plan = adapt_plan,
+    .needs = needs,
+    .nneeds = (int)(sizeof needs / sizeof needs[0]),
 };

@@ -67,7 +67,7 @@ static void expected(const rn_option_t *o, char *buf, size_t cap) {
 int rn_parse_double(const char *text, double *out) {
   const char *p = text;
   int digits = 0;
-  p += *p == '+' || *p == '-';
+  p += *p == '-'; /* no '+': one way to write a number, as rn_parse_long() */
   for (; *p >= '0' && *p <= '9'; p++)
     digits++;
   if (*p == '.')
@@ -91,9 +91,8 @@ int rn_parse_double(const char *text, double *out) {
   return 1;
 }
 
-/* A decimal integer: an optional sign and digits only. */
-static int parse_int(const char *text, double *out) {
-  const char *p = text + (*text == '+' || *text == '-');
+int rn_parse_long(const char *text, long *out) {
+  const char *p = text + (*text == '-');
   if (!*p)
     return 0;
   for (; *p; p++)
@@ -101,8 +100,19 @@ static int parse_int(const char *text, double *out) {
       return 0;
   errno = 0;
   long v = strtol(text, NULL, 10);
+  if (errno == ERANGE)
+    return -1;
+  *out = v;
+  return 1;
+}
+
+/* A decimal integer (rn_parse_long()) as a double. */
+static int parse_int(const char *text, double *out) {
+  long v;
+  if (rn_parse_long(text, &v) != 1)
+    return 0;
   *out = (double)v;
-  return errno != ERANGE;
+  return 1;
 }
 
 static int set_number(const rn_option_t *o, void *field, const char *text, char *err, size_t cap) {
@@ -166,6 +176,26 @@ int rn_set(const rn_renderer_t *r, void *options, const char *name, const char *
     return 0;
   }
   return rn_option_set(o, options, text, err, cap);
+}
+
+int rn_option_idle(const rn_renderer_t *r, const void *options, const char *name, char *err,
+                   size_t cap) {
+  for (int k = 0; k < r->nneeds; k++) {
+    const rn_needs_t *d = &r->needs[k];
+    const rn_option_t *on = rn_option_find(r, d->on);
+    if (strcmp(d->option, name) != 0 || !on)
+      continue;
+    int v = *(const int *)((const char *)options + on->offset);
+    if (v >= 0 && v < 32 && (d->values >> v & 1u))
+      continue;
+    if (on->kind == RN_OPT_CHOICE)
+      snprintf(err, cap, "%s has no effect with %s %s (only with %s)", name, on->name,
+               on->choices[v], d->when);
+    else
+      snprintf(err, cap, "%s has no effect with %s (only with %s)", name, on->name, d->when);
+    return 1;
+  }
+  return 0;
 }
 
 void rn_print_options(FILE *f, const rn_renderer_t *r, int indent) {

@@ -52,7 +52,7 @@ int val_case_listed(const char *list, const char *name) {
 }
 
 int val_case_list_ok(const char *list, const char *const *names, int n, char *bad, size_t cap) {
-  for (const char *p = list; *p;) {
+  for (const char *p = list;;) { /* every item a name: "" and a trailing comma's are not */
     size_t k = strcspn(p, ",");
     int known = 0;
     for (int c = 0; c < n; c++)
@@ -61,7 +61,8 @@ int val_case_list_ok(const char *list, const char *const *names, int n, char *ba
       snprintf(bad, cap, "%.*s", (int)k, p);
       return 0;
     }
-    p += k + (p[k] == ',');
+    if (!p[k])
+      return 1;
+    p += k + 1;
   }
-  return 1;
 }

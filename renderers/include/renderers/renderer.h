@@ -51,6 +51,17 @@ typedef struct {
   const char *help;           /**< one or more lines of --help text (no trailing newline) */
 } rn_option_t;
 
+/** An option of a renderer that has an effect only when another of its options holds certain
+ *  values (--spectral-tol only with --wavelengths pencil): given otherwise it is refused, naming
+ *  both (rn_option_idle()). */
+typedef struct {
+  const char *option; /**< the dependent option, "--spectral-tol" */
+  const char *on;     /**< the option it depends on, a choice or a flag: "--wavelengths" */
+  unsigned values;    /**< bit k set: `option` has an effect when `on`'s int field holds k (a
+                           choice's index; a flag's stored value) */
+  const char *when;   /**< those values as a user writes them: "--wavelengths pencil" */
+} rn_needs_t;
+
 /** What every renderer is asked for, whatever its own options. */
 typedef struct {
   int spp_side; /**< s: s x s samples per pixel, 1..RT_MAX_SPP_SIDE */
@@ -195,6 +206,8 @@ typedef struct {
   /** Adjust the plan to the options (the exact renderer's --wavelengths and --bins); may be
    *  NULL. Called by rn_plan_make(). */
   void (*adapt_plan)(rt_plan_t *plan, const rt_scene_t *s, const void *options);
+  const rn_needs_t *needs; /**< options with an effect only with others' values (may be NULL) */
+  int nneeds;
 } rn_renderer_t;
 
 /** The table, in the order `pencil render --help` lists it; rn_count() entries. */
@@ -224,12 +237,22 @@ int rn_option_set(const rn_option_t *o, void *options, const char *text, char *e
 int rn_set(const rn_renderer_t *r, void *options, const char *name, const char *text, char *err,
            size_t cap);
 
-/** Parse a decimal number as users write one: an optional sign, digits with an optional point,
- *  an optional exponent, and nothing else (no spaces, no hexadecimal, no "inf" or "nan").
- *  Values too small for a normal double are kept (subnormal or zero); values too large for a
- *  double are refused. Returns 1 with *out set, 0 for text that is not such a number, -1 for a
- *  number beyond the range of a double. */
+/** Parse a decimal number as users write one, the one rule of every number the pencil command
+ *  takes: an optional '-', digits with an optional point, an optional exponent (1e-3, 2E+5), and
+ *  nothing else (no spaces, no leading '+', no hexadecimal, no "inf" or "nan"). Values too small
+ *  for a normal double are kept (subnormal or zero); values too large for a double are refused.
+ *  Returns 1 with *out set, 0 for text that is not such a number, -1 for a number beyond the
+ *  range of a double. */
 int rn_parse_double(const char *text, double *out);
+/** Parse a decimal integer by the same rule: an optional '-' and digits only. Returns 1 with
+ *  *out set, 0 for text that is not one, -1 beyond the range of a long. */
+int rn_parse_long(const char *text, long *out);
+
+/** Whether option `name` of r, given, has no effect with the other options as set in `options`
+ *  (rn_renderer_t.needs): 1 with "--spectral-tol has no effect with --wavelengths fan (only with
+ *  --wavelengths pencil)" in err[cap], else 0 (also for an option without a dependency). */
+int rn_option_idle(const rn_renderer_t *r, const void *options, const char *name, char *err,
+                   size_t cap);
 
 /** Find the first pixel of img whose R, G or B is NaN or infinite (row-major from the top):
  *  1 with its column, row and channel (0 R, 1 G, 2 B), or 0 when every value is finite. A
