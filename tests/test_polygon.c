@@ -401,6 +401,31 @@ static void intersect_exact_cases(void **state) {
   assert_close(px_poly2_area(&r), 0.5, 1e-15, 0.0);
 }
 
+/* A clip polygon whose two nearly equal vertices make an edge of rounding's length (1.4e-17,
+ * beside sides of 1): its direction says nothing, here the square's diagonal. Such an edge bounds
+ * nothing: the pieces left are p less the square, none reaching into it. Before, the diagonal cut
+ * the square and left half of it in a piece (the beam renderer's slotted plate drawn with the
+ * background over it, docs/journal/2026-12-06-highlight-guard.md). */
+static void subtract_ignores_rounding_edges(void **state) {
+  (void)state;
+  px_poly2_t p = rect(-1.0, -1.0, 2.0, 2.0), sq = rect(0.0, 0.0, 1.0, 1.0), out[8];
+  px_poly2_t clip = {5, {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}, {1e-17, 1e-17}}};
+  int count = -1;
+  assert_int_equal(px_poly2_subtract(&p, &clip, 0.0, out, 8, &count), PX_OK);
+  double total = 0.0;
+  for (int k = 0; k < count; k++) {
+    px_poly2_t in;
+    assert_int_equal(px_poly2_intersect(&out[k], &sq, &in), PX_OK);
+    assert_true(in.n == 0 || px_poly2_area(&in) <= 1e-15);
+    total += px_poly2_area(&out[k]);
+  }
+  assert_close(total, 8.0, 1e-14, 0.0);
+  /* and an intersection with it is the square */
+  px_poly2_t r;
+  assert_int_equal(px_poly2_intersect(&p, &clip, &r), PX_OK);
+  assert_close(px_poly2_area(&r), 1.0, 1e-14, 0.0);
+}
+
 static void subtract_exact_cases(void **state) {
   (void)state;
   /* a unit square inside [-1, 2]^2: one piece beyond each of its edges */
@@ -659,6 +684,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(subtract_exact_cases),
       cmocka_unit_test(subtract_capacity),
       cmocka_unit_test(subtract_drops_slivers),
+      cmocka_unit_test(subtract_ignores_rounding_edges),
       cmocka_unit_test(random_pairs_tile),
       cmocka_unit_test(map_keeps_area_times_det),
   };

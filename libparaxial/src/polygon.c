@@ -88,13 +88,21 @@ px_status_t px_poly2_split(const px_poly2_t *p, double a, double b, double c, px
   return PX_OK;
 }
 
+/* Relative length below which an edge bounds nothing (edge_line()). */
+#define PX_EDGE_REL 1e-9
+
 /* The line of clip's edge k as a x + b y <= c for the inside (left of a counter-clockwise edge);
- * 0 for an edge of zero length, which bounds nothing. */
-static int edge_line(const px_poly2_t *clip, int k, double *a, double *b, double *c) {
+ * 0 for an edge shorter than PX_EDGE_REL times the polygon's extent (`extent`, the larger side of
+ * its bounding box), which bounds nothing: the direction of so short an edge is rounding (a
+ * clipped piece's two nearly equal vertices, 8.7e-18 apart, gave a line across the polygon, and
+ * a subtraction that left part of the polygon in), while its neighbours' lines bound the polygon
+ * to within its length. */
+static int edge_line(const px_poly2_t *clip, int k, double extent, double *a, double *b,
+                     double *c) {
   const double *u = clip->v[k], *w = clip->v[(k + 1) % clip->n];
   double ex = w[0] - u[0], ey = w[1] - u[1];
-  if (ex == 0.0 && ey == 0.0)
-    return 0;
+  if (fabs(ex) <= PX_EDGE_REL * extent && fabs(ey) <= PX_EDGE_REL * extent)
+    return 0; /* (a NaN is kept: the split refuses its line) */
   /* left of u -> w: ex (y - uy) - ey (x - ux) >= 0, i.e. ey x - ex y <= ey ux - ex uy */
   *a = ey;
   *b = -ex;
@@ -102,13 +110,25 @@ static int edge_line(const px_poly2_t *clip, int k, double *a, double *b, double
   return 1;
 }
 
+/* The larger side of p's bounding box. */
+static double extent_of(const px_poly2_t *p) {
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int k = 0; k < p->n; k++)
+    for (int i = 0; i < 2; i++) {
+      lo[i] = fmin(lo[i], p->v[k][i]);
+      hi[i] = fmax(hi[i], p->v[k][i]);
+    }
+  return p->n > 0 ? fmax(hi[0] - lo[0], hi[1] - lo[1]) : 0.0;
+}
+
 px_status_t px_poly2_intersect(const px_poly2_t *p, const px_poly2_t *clip, px_poly2_t *out) {
   px_poly2_t cur = *p;
+  double extent = extent_of(clip);
   if (clip->n < 3)
     cur.n = 0; /* an empty clip polygon covers nothing */
   for (int k = 0; k < clip->n && cur.n > 0; k++) {
     double a, b, c;
-    if (!edge_line(clip, k, &a, &b, &c))
+    if (!edge_line(clip, k, extent, &a, &b, &c))
       continue;
     px_poly2_t next;
     px_status_t st = px_poly2_split(&cur, a, b, c, &next, NULL);
@@ -124,9 +144,10 @@ px_status_t px_poly2_subtract(const px_poly2_t *p, const px_poly2_t *clip, doubl
                               px_poly2_t *out, int cap, int *count) {
   px_poly2_t cur = *p;
   int m = 0;
+  double extent = extent_of(clip);
   for (int k = 0; clip->n >= 3 && k < clip->n && cur.n > 0; k++) {
     double a, b, c;
-    if (!edge_line(clip, k, &a, &b, &c))
+    if (!edge_line(clip, k, extent, &a, &b, &c))
       continue;
     px_poly2_t inside, beyond;
     px_status_t st = px_poly2_split(&cur, a, b, c, &inside, &beyond);
