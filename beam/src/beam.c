@@ -514,6 +514,24 @@ static double depth(const bm_source_t *src, const bm_model_t *m, const bm_face_t
   return bm_model_hit(m, src, p, f->n, f->d, &x, &s) == PX_OK ? s : INFINITY;
 }
 
+/* Whether faces f and g cross over their projections' overlap `both`: each is nearer at some of
+ * its vertices, by more than rounding (faces that meet along an edge tie there). Then the one
+ * nearer at the overlap's centroid does not hide the other everywhere: two objects that cut into
+ * each other, such as a box sunk into a floor, whose buried part was drawn over the floor. Asked
+ * of faces of different objects only: a polyhedron's own faces meet along edges, where a
+ * reflected or refracted beam's model ties them only to within its error. */
+static int crossing(const bm_source_t *src, const bm_model_t *m, const bm_face_t *f,
+                    const bm_face_t *g, const px_poly2_t *both) {
+  int nearer_f = 0, nearer_g = 0;
+  for (int k = 0; k < both->n; k++) {
+    double sf = depth(src, m, f, both->v[k]), sg = depth(src, m, g, both->v[k]);
+    double tie = 1e-9 * fmax(fabs(sf), fabs(sg));
+    nearer_f |= sf < sg - tie;
+    nearer_g |= sg < sf - tie;
+  }
+  return nearer_f && nearer_g;
+}
+
 /* Replace the pieces l[from ..] by their parts outside polygon c. */
 static rt_status_t subtract_all(bm_pieces_t *l, int from, const px_poly2_t *c, int face) {
   int end = l->n;
@@ -672,6 +690,9 @@ rt_status_t bm_partition_capped(const bm_scene_t *b, const bm_source_t *src, con
         continue;
       double si = depth(src, m, &b->face[cand[i].face], c),
              sj = depth(src, m, &b->face[cand[j].face], c);
+      if (i < j && b->face[cand[i].face].object != b->face[cand[j].face].object &&
+          crossing(src, m, &b->face[cand[i].face], &b->face[cand[j].face], &both))
+        *unsure = 1; /* the nearer at the centroid is not the nearer everywhere */
       if (sj < si || (sj == si && j < i))
         status = subtract_all(&tmp, 0, &cand[j].p, cand[i].face);
     }
