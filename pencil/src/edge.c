@@ -167,32 +167,36 @@ static void held(const rt_scene_t *s, const rt_object_t *ob, pt_bsphere_t *b) {
   }
 }
 
+/* The bounding sphere of object o (not a plane) and what it holds into *b; 0 when it has none. */
+static int object_sphere(const rt_scene_t *s, int o, pt_bsphere_t *b) {
+  const rt_object_t *ob = &s->object[o];
+  if (ob->kind == RT_OBJ_PLANE)
+    return 0;
+  if (ob->kind == RT_OBJ_SPHERE) {
+    const rt_sphere_t *sp = &s->prim[ob->first_prim].sphere;
+    *b = pt_bsphere_ball(sp->c, sp->r, o);
+    return 1;
+  }
+  px_vec3_t lo = px_v3(INFINITY, INFINITY, INFINITY), hi = px_v3(-INFINITY, -INFINITY, -INFINITY);
+  for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
+    px_vec3_t a, c;
+    if (!rt_prim_bounds(s, p, &a, &c))
+      continue;
+    lo = px_v3(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
+    hi = px_v3(fmax(hi.x, c.x), fmax(hi.y, c.y), fmax(hi.z, c.z));
+  }
+  if (!(lo.x <= hi.x))
+    return 0;
+  px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
+  *b = (pt_bsphere_t){c, 0.5 * px_v3_norm(px_v3_sub(hi, lo)), o, c, 0.0, {0.0, 0.0, 0.0}, -1};
+  held(s, ob, b);
+  return 1;
+}
+
 int pt_guard_spheres(const rt_scene_t *s, pt_bsphere_t *out, int cap) {
   int n = 0;
-  for (int o = 0; o < s->nobject && n < cap; o++) {
-    const rt_object_t *ob = &s->object[o];
-    if (ob->kind == RT_OBJ_PLANE)
-      continue;
-    if (ob->kind == RT_OBJ_SPHERE) {
-      const rt_sphere_t *sp = &s->prim[ob->first_prim].sphere;
-      out[n++] = pt_bsphere_ball(sp->c, sp->r, o);
-      continue;
-    }
-    px_vec3_t lo = px_v3(INFINITY, INFINITY, INFINITY), hi = px_v3(-INFINITY, -INFINITY, -INFINITY);
-    for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
-      px_vec3_t a, b;
-      if (!rt_prim_bounds(s, p, &a, &b))
-        continue;
-      lo = px_v3(fmin(lo.x, a.x), fmin(lo.y, a.y), fmin(lo.z, a.z));
-      hi = px_v3(fmax(hi.x, b.x), fmax(hi.y, b.y), fmax(hi.z, b.z));
-    }
-    if (!(lo.x <= hi.x))
-      continue;
-    px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
-    out[n] = (pt_bsphere_t){c, 0.5 * px_v3_norm(px_v3_sub(hi, lo)), o, c, 0.0, {0.0, 0.0, 0.0}};
-    held(s, ob, &out[n]);
-    n++;
-  }
+  for (int o = 0; o < s->nobject && n < cap; o++)
+    n += object_sphere(s, o, &out[n]);
   return n;
 }
 
@@ -290,6 +294,52 @@ int pt_guards_of_scene(const rt_scene_t *s, pt_guards_t *g) {
   return ok;
 }
 
+int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guards_t *g) {
+  *g = (pt_guards_t){0};
+  int n = 0;
+  for (int p = 0; p < s->nprim; p++)
+    n += s->prim[p].kind == RT_PRIM_POLYGON;
+  if (n == 0)
+    return 1;
+  pt_bsphere_t *b = malloc((size_t)n * sizeof *b);
+  double *convex = calloc((size_t)s->nobject, sizeof *convex);
+  if (!b || !convex) {
+    free(b);
+    free(convex);
+    return 0;
+  }
+  for (int i = 0; i < objects->n; i++) { /* 1: the object hides nothing of itself */
+    const pt_bsphere_t *o = &objects->b[i];
+    const rt_object_t *ob = &s->object[o->object];
+    convex[o->object] = (ob->kind == RT_OBJ_POLYGON && ob->nprim == 1) ||
+                                (ob->kind == RT_OBJ_POLYHEDRON && o->w > 0.0) /* held() */
+                            ? 1.0
+                            : 0.0;
+  }
+  n = 0;
+  for (int p = 0; p < s->nprim; p++) {
+    if (s->prim[p].kind != RT_PRIM_POLYGON)
+      continue;
+    const rt_polygon_t *f = &s->prim[p].polygon;
+    px_vec3_t lo = s->vertex[f->first], hi = lo;
+    for (int k = 1; k < f->count; k++) {
+      px_vec3_t v = s->vertex[f->first + k];
+      lo = px_v3(fmin(lo.x, v.x), fmin(lo.y, v.y), fmin(lo.z, v.z));
+      hi = px_v3(fmax(hi.x, v.x), fmax(hi.y, v.y), fmax(hi.z, v.z));
+    }
+    px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
+    double r = 0.0;
+    for (int k = 0; k < f->count; k++)
+      r = fmax(r, px_v3_norm(px_v3_sub(s->vertex[f->first + k], c)));
+    b[n++] =
+        (pt_bsphere_t){c, r, s->prim[p].object, c, convex[s->prim[p].object], {0.0, 0.0, 0.0}, p};
+  }
+  int ok = pt_guards_make(b, n, g);
+  free(b);
+  free(convex);
+  return ok;
+}
+
 void pt_guards_free(pt_guards_t *g) {
   free(g->b);
   free(g->node);
@@ -307,7 +357,17 @@ static double angle_to(px_vec3_t v, double dist, px_vec3_t axis) {
   return acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
 }
 
-enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW };
+enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW, Q_VIEW };
+
+/* A half-space of pt_guard_view(): the points x with n.(x - o) + rel |x - eye| >= 0 (n a unit
+ * normal; rel > 0 grows it by that share of the distance from the eye, rel < 0 shrinks it). */
+typedef struct {
+  px_vec3_t n, o;
+  double rel;
+} half_t;
+
+/* Vertices a clipped polygon may have: a polygon of more gives up (fires). */
+#define VIEW_MAX_VERTICES 256
 
 typedef struct {
   int kind;
@@ -319,6 +379,10 @@ typedef struct {
   int parallel;
   double dist, gap; /* the light to p (INFINITY for a parallel light); the narrowed gap */
   double gap0;      /* the gap not narrowed */
+  /* Q_VIEW: the front (h[0], when nh is 5) and the pyramid's four sides, the primitive met */
+  const rt_scene_t *s;
+  half_t h[5];
+  int nh, face;
 } query_t;
 
 /* Whether sphere (c, R) may hold a sphere that fires (1 also when unsure: NaN). */
@@ -341,6 +405,14 @@ static int may(const query_t *q, px_vec3_t c, double R) {
     double dist = px_v3_norm(v), grown = R + q->r;
     return !(dist > grown) || !(angle_to(v, dist, q->axis) >=
                                 asin(fmin(1.0, grown / dist)) + q->half + GUARD_ANGLE_SLACK);
+  }
+  case Q_VIEW: { /* outside one of the half-spaces by more than R: none of it is inside */
+    px_vec3_t v = px_v3_sub(c, q->p); /* |v| at most its coordinates' sum */
+    double slack = R * (1.0 + 1e-9) + 1e-9 * (fabs(v.x) + fabs(v.y) + fabs(v.z) + R);
+    for (int i = 0; i < q->nh; i++)
+      if (px_v3_dot(q->h[i].n, px_v3_sub(c, q->h[i].o)) < -slack)
+        return 0;
+    return 1;
   }
   default: { /* Q_SHADOW */
     if (q->parallel) {
@@ -384,6 +456,67 @@ static double gap_for(const query_t *q, const pt_bsphere_t *b) {
   return round ? q->gap : q->gap0;
 }
 
+/* Polygon in[0..n) clipped by half-space h into out (at most n + 1 vertices); -1 when a
+ * vertex's side is NaN. f is scratch for n values. The distance from the eye in h's margin is
+ * bounded by the sum of the coordinates' sizes (at most sqrt 3 times it). */
+static int clip(const half_t *h, px_vec3_t eye, const px_vec3_t *in, int n, px_vec3_t *out,
+                double *f) {
+  for (int i = 0; i < n; i++) {
+    px_vec3_t e = px_v3_sub(in[i], eye);
+    f[i] = px_v3_dot(h->n, px_v3_sub(in[i], h->o)) + h->rel * (fabs(e.x) + fabs(e.y) + fabs(e.z));
+    if (isnan(f[i]))
+      return -1;
+  }
+  int m = 0;
+  for (int i = 0; i < n; i++) {
+    int j = i + 1 < n ? i + 1 : 0;
+    if (f[i] >= 0.0)
+      out[m++] = in[i];
+    if ((f[i] >= 0.0) != (f[j] >= 0.0))
+      out[m++] = px_v3_add(in[i], px_v3_scale(px_v3_sub(in[j], in[i]), f[i] / (f[i] - f[j])));
+  }
+  return m;
+}
+
+/* Whether what is left of v[0..n) (a polygon, or a segment when n is 2) inside half-spaces
+ * h[0..nh) is not empty (1 also when unsure). */
+static int left_inside(const query_t *q, const half_t *h, int nh, const px_vec3_t *v, int n) {
+  if (n > VIEW_MAX_VERTICES - 6)
+    return 1;
+  px_vec3_t buf[2][VIEW_MAX_VERTICES];
+  double f[VIEW_MAX_VERTICES];
+  const px_vec3_t *in = v;
+  for (int i = 0; i < nh && n > 0; i++) {
+    n = clip(&h[i], q->p, in, n, buf[i & 1], f);
+    if (n < 0)
+      return 1;
+    in = buf[i & 1];
+  }
+  return n > 0;
+}
+
+/* Whether polygon `prim` reaches into the pyramid of a Q_VIEW query, in front of what it met. */
+static int polygon_in_view(const query_t *q, int prim) {
+  const rt_polygon_t *f = &q->s->prim[prim].polygon;
+  if (f->count > VIEW_MAX_VERTICES - 6)
+    return 1;
+  return left_inside(q, q->h, q->nh, &q->s->vertex[f->first], f->count);
+}
+
+/* Whether polygon f is convex: every turn along its vertices on the same side of its normal
+ * (within 1e-9 of its edges' products; a vertex where it turns back counts as not convex). */
+static int polygon_convex(const rt_scene_t *s, const rt_polygon_t *f) {
+  for (int k = 0; k < f->count; k++) {
+    px_vec3_t a = s->vertex[f->first + k], b = s->vertex[f->first + (k + 1) % f->count],
+              c = s->vertex[f->first + (k + 2) % f->count];
+    px_vec3_t u = px_v3_sub(b, a), w = px_v3_sub(c, b);
+    double turn = px_v3_dot(px_v3_cross(u, w), f->n);
+    if (!(turn >= -1e-9 * px_v3_norm(u) * px_v3_norm(w)))
+      return 0;
+  }
+  return 1;
+}
+
 /* Whether sphere b fires: the tests of the scans over every sphere. */
 static int fires(const query_t *q, const pt_bsphere_t *b) {
   switch (q->kind) {
@@ -403,6 +536,9 @@ static int fires(const query_t *q, const pt_bsphere_t *b) {
     double dist = px_v3_norm(px_v3_sub(v, px_v3_scale(pq, t))); /* to the nearest point */
     return !(dist > b->r + q->r);                               /* a NaN radius fires */
   }
+  case Q_VIEW: /* not the face met, nor another of its object when that is convex */
+    return b->prim != q->face && !(b->w > 0.0 && b->object == q->skip_a) && may(q, b->c, b->r) &&
+           polygon_in_view(q, b->prim);
   case Q_CONE: {
     if (b->object == q->skip_a)
       return 0;
@@ -473,6 +609,79 @@ static int any_fires(const pt_guards_t *g, const query_t *q) {
 int pt_guard_fires(const pt_guards_t *g, px_vec3_t eye, px_vec3_t axis, double half) {
   query_t q = {.kind = Q_FIRES, .p = eye, .axis = axis, .half = half};
   return any_fires(g, &q);
+}
+
+/* The front of a Q_VIEW query (h, *has 0 when there is none): the eye's side of the plane of
+ * `prim` met by the corner rays d[0..3], or for a sphere the points no farther along the axis than
+ * the farthest corner's hit (the nearest hit is quasi-convex over the directions: the largest over
+ * the pyramid is at a corner), shrunk by 1e-9 of the distance from the eye. */
+static void front_of(const rt_scene_t *s, int prim, px_vec3_t eye, const px_vec3_t d[4],
+                     px_vec3_t axis, half_t *h, int *has) {
+  *has = 0;
+  if (prim < 0)
+    return;
+  const rt_prim_t *pr = &s->prim[prim];
+  px_vec3_t n, o;
+  if (pr->kind == RT_PRIM_SPHERE) {
+    double far = 0.0;
+    for (int i = 0; i < 4; i++) {
+      px_vec3_t u = px_v3_unit(d[i]), w = px_v3_sub(pr->sphere.c, eye);
+      double b = px_v3_dot(u, w), disc = b * b - (px_v3_dot(w, w) - pr->sphere.r * pr->sphere.r);
+      if (!(disc >= 0.0))
+        return; /* a corner ray that misses it after all: no front */
+      double sq = sqrt(disc), t = b - sq > 0.0 ? b - sq : b + sq;
+      far = fmax(far, t);
+    }
+    n = px_v3_scale(axis, -1.0);
+    o = px_v3_add(eye, px_v3_scale(axis, far));
+  } else {
+    n = pr->kind == RT_PRIM_PLANE ? pr->plane.n : pr->polygon.n;
+    o = pr->kind == RT_PRIM_PLANE ? pr->plane.p : px_v3_scale(pr->polygon.n, pr->polygon.d);
+    double side = px_v3_dot(n, px_v3_sub(eye, o));
+    if (!(side != 0.0))
+      return; /* the eye in its plane (or NaN): no front */
+    if (side < 0.0)
+      n = px_v3_scale(n, -1.0);
+  }
+  *h = (half_t){n, o, -1e-9};
+  *has = 1;
+}
+
+int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt_scene_t *s,
+                  px_vec3_t eye, const px_vec3_t d[4], px_vec3_t axis, double half, int prim) {
+  if (objects->n && pt_guard_fires(objects, eye, axis, half))
+    return 1;
+  const rt_polygon_t *own =
+      prim >= 0 && s->prim[prim].kind == RT_PRIM_POLYGON ? &s->prim[prim].polygon : NULL;
+  int concave = own && !polygon_convex(s, own);
+  if (!faces->n && !concave)
+    return 0;
+  query_t q = {.kind = Q_VIEW,
+               .p = eye,
+               .axis = axis,
+               .half = half,
+               .s = s,
+               .face = prim,
+               .skip_a = prim >= 0 ? s->prim[prim].object : -1};
+  int front; /* first, where there is one: it leaves out the faces behind `prim` in one pass */
+  front_of(s, prim, eye, d, axis, &q.h[0], &front);
+  for (int i = 0; i < 4; i++) { /* the sides, through the eye, facing the axis */
+    px_vec3_t n = px_v3_cross(d[i], d[(i + 1) % 4]);
+    double len = px_v3_norm(n);
+    if (!(len > 0.0))
+      return 1;
+    n = px_v3_scale(n, (px_v3_dot(n, axis) < 0.0 ? -1.0 : 1.0) / len);
+    q.h[front + i] = (half_t){n, eye, 1e-9};
+  }
+  q.nh = 4 + front;
+  if (concave) { /* its own edges inside the pyramid's sides: a notch the corners do not see */
+    for (int k = 0; k < own->count; k++) {
+      px_vec3_t e[2] = {s->vertex[own->first + k], s->vertex[own->first + (k + 1) % own->count]};
+      if (left_inside(&q, q.h + front, 4, e, 2))
+        return 1;
+    }
+  }
+  return faces->n && any_fires(faces, &q);
 }
 
 int pt_guard_segment(const pt_guards_t *g, px_vec3_t p, px_vec3_t q, double r, int skip_a,

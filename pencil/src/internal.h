@@ -191,6 +191,7 @@ typedef struct {
   pt_extra_t *extra;        /**< the caller's extra channels (or NULL) */
   float *sample_error;      /**< the caller's per-sample errors (or NULL) */
   const pt_guards_t *guard; /**< the small-object guard's bounding spheres */
+  const pt_guards_t *faces; /**< ... and the scene's polygons one by one (pt_guard_view()) */
   int weights_vary;         /**< the weights W_k vary with the hits (a Fresnel split): a
                                  lattice cell's nodes shaded per sample count the error of
                                  their interpolated W_k (interp_error.c) */

@@ -96,8 +96,9 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
     return RT_EINVAL;
   int nt = rt_thread_count(opt->threads), n = opt->domain;
   int nx = (img->width + n - 1) / n, ny = (img->height + n - 1) / n;
-  pt_guards_t guard;
+  pt_guards_t guard, faces;
   int guarded = pt_guards_of_scene(s, &guard);
+  guarded = pt_guards_of_faces(s, &guard, &faces) && guarded;
   pt_ctx_t *ctx = calloc((size_t)nt, sizeof *ctx);
   rt_status_t st = guarded && ctx ? RT_OK : RT_ENOMEM;
   for (int t = 0; t < nt && st == RT_OK; t++) {
@@ -109,6 +110,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
                         .extra = extra,
                         .sample_error = sample_error,
                         .guard = &guard,
+                        .faces = &faces,
                         .weights_vary = rt_plan_has(plan, RT_EFFECT_FRESNEL),
                         .ex = xr_exact_make(s, plan, NULL)};
     if (!pt__ctx_alloc(&ctx[t], plan->tree_nodes, n))
@@ -145,6 +147,7 @@ rt_status_t pt_render(const rt_scene_t *s, const rt_plan_t *plan, const pt_optio
     pt__ctx_free(&ctx[t]);
   free(ctx);
   pt_guards_free(&guard);
+  pt_guards_free(&faces);
   if (stats)
     *stats = total;
   return st;

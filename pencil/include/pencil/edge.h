@@ -70,11 +70,12 @@ typedef struct {
   px_vec3_t in; /**< centre of the ball or disc held */
   double w;     /**< its radius */
   px_vec3_t n;  /**< a disc's unit normal; zero for a ball */
+  int prim;     /**< the polygon it bounds (pt_guards_of_faces()); -1 about a whole object */
 } pt_bsphere_t;
 
 /** A bounded sphere (c, r) of `object` that is itself the object: a ball of radius r inside. */
 static inline pt_bsphere_t pt_bsphere_ball(px_vec3_t c, double r, int object) {
-  return (pt_bsphere_t){c, r, object, c, r, {0.0, 0.0, 0.0}};
+  return (pt_bsphere_t){c, r, object, c, r, {0.0, 0.0, 0.0}, -1};
 }
 
 /** Bounding spheres of the scene's bounded objects (spheres exactly; polygons and polyhedra
@@ -117,6 +118,33 @@ void pt_guards_free(pt_guards_t *g);
  *  i.e. the sphere's angular disk neither misses the cone nor contains it. Such a cone may hold
  *  an object, or part of one, that none of its traced rays met. */
 int pt_guard_fires(const pt_guards_t *g, px_vec3_t eye, px_vec3_t axis, double half);
+
+/** The guards of the scene's polygons, one by one (a face of a polyhedron, or a polygon object):
+ *  the sphere about each polygon's vertices, with `prim` its primitive, `object` its object, and
+ *  w 1 when that object hides nothing of itself (one polygon, or a polyhedron that `objects`, the
+ *  scene's guards, find convex), else 0; 0 when out of memory. For pt_guard_view(). */
+int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guards_t *g);
+
+/** The guard of what a domain's primary rays see: 1 when a ray of the pyramid from `eye` through
+ *  the domain's corner directions d[0..3] (in order around it; `axis` and `half` a cone that
+ *  holds them, as for pt_guard_fires()) may meet something before primitive `prim`, which every
+ *  corner ray met first (-1: every one met nothing), though no corner ray did:
+ *  - a sphere object whose silhouette crosses the cone (`objects`, as pt_guard_fires(); what
+ *    other objects' bounding spheres say is left to the faces);
+ *  - a polygon of `faces` other than `prim` that reaches into the pyramid in front of `prim`:
+ *    before its plane for a polygon or a plane, nearer than the farthest corner's hit along
+ *    `axis` for a sphere, anywhere ahead for nothing (the polygon clipped by those half-spaces,
+ *    the pyramid grown and the front shrunk by 1e-9 of the distance from the eye). A corner ray
+ *    met `prim` first, so a face that meets it only at `prim`'s plane (one sharing an edge)
+ *    hides nothing;
+ *  - the boundary of `prim` itself inside the pyramid, when `prim` is a polygon that is not
+ *    convex (a notch between the corners).
+ *  A thin object (a rod, a plate seen edge-on, a comb's fins) whose bounding sphere's disk holds
+ *  the whole cone, and a non-convex object's own faces, slip between the corners unseen by the
+ *  bounding spheres; they do not slip past this. Polygons of more than 250 vertices fire
+ *  whenever their spheres meet the cone (the clip is not done). */
+int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt_scene_t *s,
+                  px_vec3_t eye, const px_vec3_t d[4], px_vec3_t axis, double half, int prim);
 
 /** The small-object guard for a secondary ray segment: 1 when some bounding sphere, other than
  *  those of objects `skip_a` and `skip_b` (where the segment starts and ends), comes within
