@@ -176,22 +176,25 @@ static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
 /* The small-object guard for node n's shadow rays: a light whose visibility the domain's corners
  * agree on may still be cut off from part of the domain's hits by a bounded object whose shadow
  * is narrower than the gaps between them (a small ball's shadow between the corners is otherwise
- * lost: tests/test_pencil.c). Such a light no longer counts as agreeing for the node: the lattice
- * points trace their shadow rays, and interp_plan.c's shadow_guarded() decides per lattice cell.
- * A light they disagree on is guarded too, where the test fires: a thin object's shadow that
- * crosses a corner runs on between the lattice points of other cells. */
+ * lost: tests/test_pencil.c), or by the node's own object where it is not convex (an edge of its
+ * silhouette from the light in the pencil, pt_guard_self_shadow()). Such a light no longer counts
+ * as agreeing for the node: the lattice points trace their shadow rays, and interp_plan.c's
+ * shadow_guarded() decides per lattice cell. A light they disagree on is guarded too, where the
+ * test fires: a thin object's shadow that crosses a corner runs on between the lattice points of
+ * other cells. */
 static void shadow_guard(pt_ctx_t *C, pt_node_t *n, boundary_t *b) {
-  int any = 0;
+  int any = 0, self = C->faces->across != NULL; /* other objects; its own (not convex) */
   for (int i = 0; i < C->guard->n && !any; i++)
     any = C->guard->b[i].object != n->object;
   double r = -1.0;
-  for (int l = 0; any && l < C->s->nlight && l < 32; l++) {
+  for (int l = 0; (any || self) && l < C->s->nlight && l < 32; l++) {
     uint32_t bit = 1u << l;
     if (r < 0.0)
       r = hit_radius(C, n, b); /* the corners and the centre leave no larger gap */
     const px_vec3_t *plane = C->s->prim[n->prim].kind == RT_PRIM_PLANE ? &n->n : NULL;
-    if (pt_guard_shadow(C->guard, n->o, r, r / PT_GUARD_INFLATE, plane, &C->s->light[l],
-                        n->object)) {
+    if ((any && pt_guard_shadow(C->guard, n->o, r, r / PT_GUARD_INFLATE, plane, &C->s->light[l],
+                                n->object)) ||
+        (self && pt_guard_self_shadow(C->faces, C->s, n->prim, n->o, r, &C->s->light[l]))) {
       C->st.lights_guard += (n->light_agree & bit) != 0;
       n->light_agree &= ~bit;
       n->light_guard |= bit;

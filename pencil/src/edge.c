@@ -294,6 +294,68 @@ int pt_guards_of_scene(const rt_scene_t *s, pt_guards_t *g) {
   return ok;
 }
 
+/* An edge of a polygon for edges_across(): its ends in lexicographic order, the vertex slot it
+ * starts from and its polygon. */
+typedef struct {
+  px_vec3_t lo, hi;
+  int slot, prim;
+} edge_t;
+
+static int lex(px_vec3_t a, px_vec3_t b) {
+  return a.x != b.x   ? (a.x > b.x) - (a.x < b.x)
+         : a.y != b.y ? (a.y > b.y) - (a.y < b.y)
+                      : (a.z > b.z) - (a.z < b.z);
+}
+
+static int by_ends(const void *pa, const void *pb) {
+  const edge_t *a = pa, *b = pb;
+  int c = lex(a->lo, b->lo);
+  return c ? c : lex(a->hi, b->hi);
+}
+
+/* g->across for the faces of the polyhedra that are not convex (convex[o] 0): an edge's two faces
+ * share its ends' coordinates exactly (rt_scene_add_polyhedron() copies each face's vertices from
+ * the same input), so sorting the edges by their ends pairs them. 0 when out of memory. */
+static int edges_across(const rt_scene_t *s, const double *convex, pt_guards_t *g) {
+  g->across = malloc((size_t)(s->nvertex > 0 ? s->nvertex : 1) * sizeof *g->across);
+  if (!g->across)
+    return 0;
+  for (int i = 0; i < s->nvertex; i++)
+    g->across[i] = -1;
+  int ne = 0;
+  for (int p = 0; p < s->nprim; p++)
+    if (s->prim[p].kind == RT_PRIM_POLYGON &&
+        s->object[s->prim[p].object].kind == RT_OBJ_POLYHEDRON && !convex[s->prim[p].object])
+      ne += s->prim[p].polygon.count;
+  if (ne == 0)
+    return 1;
+  edge_t *e = malloc((size_t)ne * sizeof *e);
+  if (!e)
+    return 0;
+  ne = 0;
+  for (int p = 0; p < s->nprim; p++) {
+    if (!(s->prim[p].kind == RT_PRIM_POLYGON &&
+          s->object[s->prim[p].object].kind == RT_OBJ_POLYHEDRON && !convex[s->prim[p].object]))
+      continue;
+    const rt_polygon_t *f = &s->prim[p].polygon;
+    for (int k = 0; k < f->count; k++) {
+      px_vec3_t a = s->vertex[f->first + k], b = s->vertex[f->first + (k + 1) % f->count];
+      int ab = lex(a, b) <= 0;
+      e[ne++] = (edge_t){ab ? a : b, ab ? b : a, f->first + k, p};
+    }
+  }
+  qsort(e, (size_t)ne, sizeof *e, by_ends);
+  for (int i = 0; i + 1 < ne; i++)
+    if (by_ends(&e[i], &e[i + 1]) == 0 &&
+        s->prim[e[i].prim].object == s->prim[e[i + 1].prim].object) {
+      g->across[e[i].slot] = e[i + 1].prim;
+      g->across[e[i + 1].slot] = e[i].prim;
+      i++;
+    }
+  free(e);
+  return 1;
+}
+
 int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guards_t *g) {
   *g = (pt_guards_t){0};
   int n = 0;
@@ -334,15 +396,18 @@ int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guard
     b[n++] =
         (pt_bsphere_t){c, r, s->prim[p].object, c, convex[s->prim[p].object], {0.0, 0.0, 0.0}, p};
   }
-  int ok = pt_guards_make(b, n, g);
+  int ok = pt_guards_make(b, n, g) && edges_across(s, convex, g);
   free(b);
   free(convex);
+  if (!ok)
+    pt_guards_free(g);
   return ok;
 }
 
 void pt_guards_free(pt_guards_t *g) {
   free(g->b);
   free(g->node);
+  free(g->across);
   *g = (pt_guards_t){0};
 }
 
@@ -357,7 +422,7 @@ static double angle_to(px_vec3_t v, double dist, px_vec3_t axis) {
   return acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
 }
 
-enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW, Q_VIEW };
+enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW, Q_VIEW, Q_SELF };
 
 /* A half-space of pt_guard_view(): the points x with n.(x - o) + rel |x - eye| >= 0 (n a unit
  * normal; rel > 0 grows it by that share of the distance from the eye, rel < 0 shrinks it). */
@@ -379,10 +444,13 @@ typedef struct {
   int parallel;
   double dist, gap; /* the light to p (INFINITY for a parallel light); the narrowed gap */
   double gap0;      /* the gap not narrowed */
-  /* Q_VIEW: the front (h[0], when nh is 5) and the pyramid's four sides, the primitive met */
+  /* Q_VIEW: the front (h[0], when nh is 5) and the pyramid's four sides, the primitive met;
+   * Q_SELF: the pencil's half-spaces and the light's side of the face, the face, its object
+   * (skip_a), the faces' guards (for `across`) */
   const rt_scene_t *s;
-  half_t h[5];
+  half_t h[8];
   int nh, face;
+  const pt_guards_t *g;
 } query_t;
 
 /* Whether sphere (c, R) may hold a sphere that fires (1 also when unsure: NaN). */
@@ -406,7 +474,8 @@ static int may(const query_t *q, px_vec3_t c, double R) {
     return !(dist > grown) || !(angle_to(v, dist, q->axis) >=
                                 asin(fmin(1.0, grown / dist)) + q->half + GUARD_ANGLE_SLACK);
   }
-  case Q_VIEW: { /* outside one of the half-spaces by more than R: none of it is inside */
+  case Q_VIEW:
+  case Q_SELF: { /* outside one of the half-spaces by more than R: none of it is inside */
     px_vec3_t v = px_v3_sub(c, q->p); /* |v| at most its coordinates' sum */
     double slack = R * (1.0 + 1e-9) + 1e-9 * (fabs(v.x) + fabs(v.y) + fabs(v.z) + R);
     for (int i = 0; i < q->nh; i++)
@@ -503,6 +572,31 @@ static int polygon_in_view(const query_t *q, int prim) {
   return left_inside(q, q->h, q->nh, &q->s->vertex[f->first], f->count);
 }
 
+/* Whether polygon `prim` faces the light of a Q_SELF query (q->axis towards a parallel light,
+ * q->light's position for a point light). */
+static int faces_light(const query_t *q, int prim) {
+  const rt_polygon_t *f = &q->s->prim[prim].polygon;
+  return q->parallel ? px_v3_dot(f->n, q->axis) > 0.0 : px_v3_dot(f->n, q->light->v) - f->d > 0.0;
+}
+
+/* Whether an edge of polygon `prim` on its object's silhouette from the light (the polygon faces
+ * the light, the one across the edge does not, or there is none) passes through the pencil of a
+ * Q_SELF query (1 also when unsure). */
+static int silhouette_in_pencil(const query_t *q, int prim) {
+  if (!faces_light(q, prim))
+    return 0; /* its edges on the silhouette are those of the faces facing the light too */
+  const rt_polygon_t *f = &q->s->prim[prim].polygon;
+  for (int k = 0; k < f->count; k++) {
+    int other = q->g->across ? q->g->across[f->first + k] : -1;
+    if (other >= 0 && faces_light(q, other))
+      continue;
+    px_vec3_t e[2] = {q->s->vertex[f->first + k], q->s->vertex[f->first + (k + 1) % f->count]};
+    if (left_inside(q, q->h, q->nh, e, 2))
+      return 1;
+  }
+  return 0;
+}
+
 /* Whether polygon f is convex: every turn along its vertices on the same side of its normal
  * (within 1e-9 of its edges' products; a vertex where it turns back counts as not convex). */
 static int polygon_convex(const rt_scene_t *s, const rt_polygon_t *f) {
@@ -536,6 +630,9 @@ static int fires(const query_t *q, const pt_bsphere_t *b) {
     double dist = px_v3_norm(px_v3_sub(v, px_v3_scale(pq, t))); /* to the nearest point */
     return !(dist > b->r + q->r);                               /* a NaN radius fires */
   }
+  case Q_SELF:
+    return b->object == q->skip_a && b->prim != q->face && may(q, b->c, b->r) &&
+           silhouette_in_pencil(q, b->prim);
   case Q_VIEW: /* not the face met, nor another of its object when that is convex */
     return b->prim != q->face && !(b->w > 0.0 && b->object == q->skip_a) && may(q, b->c, b->r) &&
            polygon_in_view(q, b->prim);
@@ -682,6 +779,65 @@ int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt
     }
   }
   return faces->n && any_fires(faces, &q);
+}
+
+/* Two unit vectors perpendicular to unit u and to each other. */
+static void perpendiculars(px_vec3_t u, px_vec3_t *e1, px_vec3_t *e2) {
+  px_vec3_t t = fabs(u.x) < 0.6 ? px_v3(1, 0, 0) : px_v3(0, 1, 0);
+  *e1 = px_v3_unit(px_v3_cross(u, t));
+  *e2 = px_v3_cross(u, *e1);
+}
+
+int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim, px_vec3_t p,
+                         double r, const rt_light_t *light) {
+  if (!faces->n || !faces->across || prim < 0 || s->prim[prim].kind != RT_PRIM_POLYGON)
+    return 0;
+  int o = s->prim[prim].object;
+  if (s->object[o].kind != RT_OBJ_POLYHEDRON)
+    return 0;
+  const rt_polygon_t *f = &s->prim[prim].polygon;
+  int open = 0; /* does the object hold any edge of a silhouette at all (a face not convex)? */
+  for (int k = 0; k < f->count && !open; k++)
+    open = faces->across[f->first + k] >= 0;
+  if (!open)
+    return 0; /* a convex polyhedron's faces have no pairs: it does not shadow itself */
+  if (!(r >= 0.0))
+    return 1;
+  query_t q = {
+      .kind = Q_SELF, .p = p, .s = s, .face = prim, .skip_a = o, .g = faces, .light = light};
+  q.parallel = light->kind == RT_LIGHT_PARALLEL;
+  px_vec3_t n = f->n, e1, e2;
+  if (q.parallel) { /* the square prism about the ray from p to the light, from r behind p */
+    q.axis = px_v3_scale(light->v, -1.0);
+    perpendiculars(q.axis, &e1, &e2);
+    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+    for (int i = 0; i < 4; i++)
+      q.h[q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
+    q.h[q.nh++] = (half_t){q.axis, px_v3_sub(p, px_v3_scale(q.axis, r)), 1e-9};
+    if (!(px_v3_dot(n, q.axis) > 0.0))
+      return 0; /* facing away from the light (or edge-on): no direct light to shadow */
+  } else {      /* the square pyramid from the light about the cone through the ball about p */
+    px_vec3_t d = px_v3_sub(p, light->v);
+    double dist = px_v3_norm(d);
+    if (!(dist > r))
+      return 1;
+    px_vec3_t u = px_v3_scale(d, 1.0 / dist);
+    q.axis = u;
+    double sh = r / dist, ch = sqrt(fmax(0.0, 1.0 - sh * sh));
+    perpendiculars(u, &e1, &e2);
+    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+    for (int i = 0; i < 4; i++)
+      q.h[q.nh++] =
+          (half_t){px_v3_sub(px_v3_scale(u, sh), px_v3_scale(side[i], ch)), light->v, 1e-9};
+    q.h[q.nh++] = (half_t){u, light->v, 1e-9};
+    q.h[q.nh++] =
+        (half_t){px_v3_scale(u, -1.0), px_v3_add(light->v, px_v3_scale(u, dist + r)), 1e-9};
+    if (!(px_v3_dot(n, light->v) - f->d > 0.0))
+      return 0;
+  }
+  /* the light's side of the face's plane, shrunk: the faces sharing its edges stay out */
+  q.h[q.nh++] = (half_t){n, px_v3_scale(n, f->d), -1e-9};
+  return any_fires(faces, &q);
 }
 
 int pt_guard_segment(const pt_guards_t *g, px_vec3_t p, px_vec3_t q, double r, int skip_a,

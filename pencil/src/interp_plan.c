@@ -51,7 +51,8 @@ static int shadow_guarded(const pt_ctx_t *C, const lattice_point_t (*R)[3], int 
   const px_vec3_t *plane = C->s->prim[n->prim].kind == RT_PRIM_PLANE ? &n->n : NULL;
   for (int l = 0; l < C->s->nlight && l < 32; l++)
     if ((n->light_guard & (1u << l)) &&
-        pt_guard_shadow(C->guard, c, r, h, plane, &C->s->light[l], n->object))
+        (pt_guard_shadow(C->guard, c, r, h, plane, &C->s->light[l], n->object) ||
+         pt_guard_self_shadow(C->faces, C->s, n->prim, c, r, &C->s->light[l])))
       return 1;
   return 0;
 }

@@ -105,6 +105,9 @@ typedef struct {
   pt_gnode_t *node; /**< the hierarchy; node 0 is the root (none when n is 0) */
   int nnode;        /**< nodes; 0 with n > 0: the spheres are scanned one by one (a reference
                          for the hierarchy's tests) */
+  int *across;      /**< the faces' guards (pt_guards_of_faces()): per vertex slot of the scene,
+                         the primitive across the edge from that vertex of its polygon to the
+                         next, for the faces of polyhedra that are not convex; -1 elsewhere */
 } pt_guards_t;
 
 /** The guards of n spheres b (copied); 0 when out of memory (g then empty). */
@@ -145,6 +148,19 @@ int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guard
  *  whenever their spheres meet the cone (the clip is not done). */
 int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt_scene_t *s,
                   px_vec3_t eye, const px_vec3_t d[4], px_vec3_t axis, double half, int prim);
+
+/** The guard of the shadow an object casts on itself, which pt_guard_shadow() leaves out (it
+ *  skips the hit's own object): 1 when an edge of the silhouette, seen from `light`, of the object
+ *  that polygon `prim` belongs to, a polyhedron that is not convex, passes through the pencil of
+ *  shadow rays from within `r` of p (on `prim`) towards the light, on the light's side of
+ *  `prim`'s plane. Its faces are thin as far as the guard knows, so the gap between the traced
+ *  points does not enter. The pencil: a square prism about the ray to a parallel light (from r
+ *  behind p), a square pyramid about the cone to a point light (between the light and r beyond
+ *  p), each holding the round pencil; the silhouette: the edges between a face that faces the light
+ *  and one that does not (`faces->across`; an edge with nothing across counts). 0 for any other
+ *  primitive, or when `prim` faces away from the light. */
+int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim, px_vec3_t p,
+                         double r, const rt_light_t *light);
 
 /** The small-object guard for a secondary ray segment: 1 when some bounding sphere, other than
  *  those of objects `skip_a` and `skip_b` (where the segment starts and ends), comes within
