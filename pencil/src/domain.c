@@ -159,18 +159,20 @@ static double miss_spread(pt_ctx_t *C, const pt_node_t *n, const pt_node_t *par,
  * (a small ball reflected against the sky, tests/test_pencil.c). */
 static int segment_guarded(pt_ctx_t *C, int k, boundary_t *b) {
   pt_node_t *n = &C->paths.node[k], *par = &C->paths.node[n->parent];
-  int any = 0;
+  int any = 0, own = C->faces->across != NULL; /* other objects; the ends' own faces */
   for (int i = 0; i < C->guard->n && !any; i++)
     any = C->guard->b[i].object != n->object && C->guard->b[i].object != par->object;
-  if (!any)
+  if (!any && !own)
     return 0;
   if (n->miss) {
     px_vec3_t axis = C->trees.axial.node[k].dir;
-    return pt_guard_cone(C->guard, par->o, hit_radius(C, par, b), axis,
-                         miss_spread(C, n, par, axis, b), par->object);
+    double r = hit_radius(C, par, b), half = miss_spread(C, n, par, axis, b);
+    return (any && pt_guard_cone(C->guard, par->o, r, axis, half, par->object)) ||
+           (own && pt_guard_own_cone(C->faces, C->s, par->o, r, axis, half, par->prim));
   }
   double r = fmax(hit_radius(C, par, b), hit_radius(C, n, b));
-  return pt_guard_segment(C->guard, par->o, n->o, r, par->object, n->object);
+  return (any && pt_guard_segment(C->guard, par->o, n->o, r, par->object, n->object)) ||
+         (own && pt_guard_own_segment(C->faces, C->s, par->o, n->o, r, par->prim, n->prim));
 }
 
 /* The small-object guard for node n's shadow rays: a light whose visibility the domain's corners

@@ -422,7 +422,7 @@ static double angle_to(px_vec3_t v, double dist, px_vec3_t axis) {
   return acos(fmax(-1.0, fmin(1.0, px_v3_dot(v, axis) / dist)));
 }
 
-enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW, Q_VIEW, Q_SELF };
+enum { Q_FIRES, Q_SEGMENT, Q_CONE, Q_SHADOW, Q_VIEW, Q_SELF, Q_OWN };
 
 /* A half-space of pt_guard_view(): the points x with n.(x - o) + rel |x - eye| >= 0 (n a unit
  * normal; rel > 0 grows it by that share of the distance from the eye, rel < 0 shrinks it). */
@@ -449,7 +449,7 @@ typedef struct {
    * (skip_a), the faces' guards (for `across`) */
   const rt_scene_t *s;
   half_t h[8];
-  int nh, face;
+  int nh, face, face_b; /* Q_OWN: the faces the pencil starts and ends on (-1: none) */
   const pt_guards_t *g;
 } query_t;
 
@@ -475,7 +475,8 @@ static int may(const query_t *q, px_vec3_t c, double R) {
                                 asin(fmin(1.0, grown / dist)) + q->half + GUARD_ANGLE_SLACK);
   }
   case Q_VIEW:
-  case Q_SELF: { /* outside one of the half-spaces by more than R: none of it is inside */
+  case Q_SELF:
+  case Q_OWN: { /* outside one of the half-spaces by more than R: none of it is inside */
     px_vec3_t v = px_v3_sub(c, q->p); /* |v| at most its coordinates' sum */
     double slack = R * (1.0 + 1e-9) + 1e-9 * (fabs(v.x) + fabs(v.y) + fabs(v.z) + R);
     for (int i = 0; i < q->nh; i++)
@@ -633,6 +634,10 @@ static int fires(const query_t *q, const pt_bsphere_t *b) {
   case Q_SELF:
     return b->object == q->skip_a && b->prim != q->face && may(q, b->c, b->r) &&
            silhouette_in_pencil(q, b->prim);
+  case Q_OWN: /* a face of a non-convex end's object, not an end's own face */
+    return b->w == 0.0 && (b->object == q->skip_a || b->object == q->skip_b) &&
+           b->prim != q->face && b->prim != q->face_b && may(q, b->c, b->r) &&
+           polygon_in_view(q, b->prim);
   case Q_VIEW: /* not the face met, nor another of its object when that is convex */
     return b->prim != q->face && !(b->w > 0.0 && b->object == q->skip_a) && may(q, b->c, b->r) &&
            polygon_in_view(q, b->prim);
@@ -838,6 +843,97 @@ int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim
   /* the light's side of the face's plane, shrunk: the faces sharing its edges stay out */
   q.h[q.nh++] = (half_t){n, px_v3_scale(n, f->d), -1e-9};
   return any_fires(faces, &q);
+}
+
+/* The object of primitive `prim` when it is a polygon of a polyhedron whose faces may hide each
+ * other (pt_guards_of_faces() paired its edges), else -1. */
+static int own_object(const pt_guards_t *faces, const rt_scene_t *s, int prim) {
+  if (prim < 0 || !faces->across || s->prim[prim].kind != RT_PRIM_POLYGON)
+    return -1;
+  const rt_polygon_t *f = &s->prim[prim].polygon;
+  for (int k = 0; k < f->count; k++)
+    if (faces->across[f->first + k] >= 0)
+      return s->prim[prim].object;
+  return -1;
+}
+
+/* The half-space on the side of polygon `prim`'s plane that direction v points to, shrunk (so that
+ * the faces sharing its edges stay out); 0 when v runs along the plane (none). */
+static int side_of(const rt_scene_t *s, int prim, px_vec3_t v, half_t *h) {
+  const rt_polygon_t *f = &s->prim[prim].polygon;
+  double c = px_v3_dot(f->n, v);
+  if (!(c != 0.0))
+    return 0;
+  px_vec3_t n = c > 0.0 ? f->n : px_v3_scale(f->n, -1.0);
+  *h = (half_t){n, px_v3_scale(f->n, f->d), -1e-9};
+  return 1;
+}
+
+int pt_guard_own_segment(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_t p, px_vec3_t q,
+                         double r, int prim_a, int prim_b) {
+  int oa = own_object(faces, s, prim_a), ob = own_object(faces, s, prim_b);
+  if (oa < 0 && ob < 0)
+    return 0;
+  px_vec3_t d = px_v3_sub(q, p);
+  double len = px_v3_norm(d);
+  if (!(len > 0.0) || !(r >= 0.0))
+    return 1;
+  px_vec3_t u = px_v3_scale(d, 1.0 / len), e1, e2;
+  perpendiculars(u, &e1, &e2);
+  query_t Q = {.kind = Q_OWN,
+               .p = p,
+               .s = s,
+               .skip_a = oa,
+               .skip_b = ob,
+               .face = prim_a,
+               .face_b = prim_b,
+               .g = faces};
+  const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+  for (int i = 0; i < 4; i++) /* the square prism about the segment, r from it */
+    Q.h[Q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
+  Q.h[Q.nh++] = (half_t){u, px_v3_sub(p, px_v3_scale(u, r)), 1e-9};
+  Q.h[Q.nh++] = (half_t){px_v3_scale(u, -1.0), px_v3_add(q, px_v3_scale(u, r)), 1e-9};
+  if (prim_a >= 0 && s->prim[prim_a].kind == RT_PRIM_POLYGON)
+    Q.nh += side_of(s, prim_a, u, &Q.h[Q.nh]);
+  if (prim_b >= 0 && s->prim[prim_b].kind == RT_PRIM_POLYGON)
+    Q.nh += side_of(s, prim_b, px_v3_scale(u, -1.0), &Q.h[Q.nh]);
+  return any_fires(faces, &Q);
+}
+
+int pt_guard_own_cone(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_t p, double r,
+                      px_vec3_t axis, double half, int prim) {
+  int o = own_object(faces, s, prim);
+  if (o < 0)
+    return 0;
+  if (!(r >= 0.0) || !(half >= 0.0) || !(half < 0.5 * M_PI - 1e-6))
+    return 1;
+  query_t Q = {.kind = Q_OWN,
+               .p = p,
+               .s = s,
+               .skip_a = o,
+               .skip_b = -1,
+               .face = prim,
+               .face_b = -1,
+               .g = faces};
+  px_vec3_t e1, e2;
+  perpendiculars(axis, &e1, &e2);
+  /* the cone of half-angle `half` from apex a behind p holds the one from every point within r
+   * of p; the square pyramid about it */
+  double sh = sin(half), ch = cos(half);
+  px_vec3_t a = sh > 0.0 ? px_v3_sub(p, px_v3_scale(axis, r / sh)) : p;
+  if (!(sh > 0.0) && r > 0.0) { /* no spread: the square prism about the ray, r from it */
+    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+    for (int i = 0; i < 4; i++)
+      Q.h[Q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
+  } else {
+    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+    for (int i = 0; i < 4; i++)
+      Q.h[Q.nh++] = (half_t){px_v3_sub(px_v3_scale(axis, sh), px_v3_scale(side[i], ch)), a, 1e-9};
+  }
+  Q.h[Q.nh++] = (half_t){axis, px_v3_sub(p, px_v3_scale(axis, r)), 1e-9};
+  if (s->prim[prim].kind == RT_PRIM_POLYGON)
+    Q.nh += side_of(s, prim, axis, &Q.h[Q.nh]);
+  return any_fires(faces, &Q);
 }
 
 int pt_guard_segment(const pt_guards_t *g, px_vec3_t p, px_vec3_t q, double r, int skip_a,

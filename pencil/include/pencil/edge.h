@@ -162,6 +162,22 @@ int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt
 int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim, px_vec3_t p,
                          double r, const rt_light_t *light);
 
+/** The guard of a non-convex polyhedron's own faces for a secondary segment, which
+ *  pt_guard_segment() leaves out (it skips the objects the segment joins): 1 when a face of the
+ *  object of polygon `prim_a` (where the segment starts, at p) or `prim_b` (where it ends, at q),
+ *  where that object is a polyhedron that is not convex, other than those two faces, reaches into
+ *  the square prism r about the segment (from r before p to r past q), on the side of `prim_a`'s
+ *  plane the segment leaves to and of `prim_b`'s it comes from (-1, or another primitive: no
+ *  such side). */
+int pt_guard_own_segment(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_t p, px_vec3_t q,
+                         double r, int prim_a, int prim_b);
+
+/** The same for a ray that leaves the scene from polygon `prim` at p: the square pyramid about the
+ *  cone of directions within `half` of unit `axis` from within r of p, on the side of `prim`'s
+ *  plane the axis points to (1 also for a half-angle of 90 degrees or more, or NaN). */
+int pt_guard_own_cone(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_t p, double r,
+                      px_vec3_t axis, double half, int prim);
+
 /** The small-object guard for a secondary ray segment: 1 when some bounding sphere, other than
  *  those of objects `skip_a` and `skip_b` (where the segment starts and ends), comes within
  *  `r` of the segment from p to q: the segment's pencil, every ray from a ball of radius r about
