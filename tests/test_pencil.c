@@ -10,6 +10,7 @@
 
 #include "bound.h"
 #include "cmocka_main.h"
+#include "core/builtin.h"
 #include "core/camera.h"
 #include "exact/trace.h"
 #include "internal.h"
@@ -1864,6 +1865,45 @@ static void thin_objects_seen(void **state) {
   rt_scene_free(&s);
 }
 
+/* How many of scene s's polygon edges the faces' guards pair with the face across them. */
+static int edges_paired(const rt_scene_t *s) {
+  pt_guards_t objects, faces;
+  assert_true(pt_guards_of_scene(s, &objects));
+  assert_true(pt_guards_of_faces(s, &objects, &faces));
+  int paired = 0;
+  for (int i = 0; i < s->nvertex; i++)
+    paired += faces.across && faces.across[i] >= 0;
+  pt_guards_free(&faces);
+  pt_guards_free(&objects);
+  return paired;
+}
+
+/* The faces' guards pair the edges of polyhedra that may hide their own faces, and of no other:
+ * two boxes in one polyhedron (not convex: all 48 edge slots paired), one box (convex by the
+ * objects' guard: none), a faceted sphere of 10,000 faces, whose convexity the objects' guard
+ * does not test (above GUARD_MAX_FACES), found convex by its edges, its centre and its solid
+ * angle (none). */
+static void faces_guard_pairs_own_edges(void **state) {
+  (void)state;
+  rt_scene_t s;
+  int m = floor_scene(&s);
+  px_vec3_t lo[2] = {px_vec3(0, 0, 0), px_vec3(2, 0, 0)},
+            hi[2] = {px_vec3(1, 1, 1), px_vec3(3, 1, 1)};
+  add_boxes(&s, lo, hi, 2, m);
+  assert_int_equal(edges_paired(&s), 48);
+  rt_scene_free(&s);
+  m = floor_scene(&s);
+  add_boxes(&s, lo, hi, 1, m);
+  assert_int_equal(edges_paired(&s), 0);
+  rt_scene_free(&s);
+  m = floor_scene(&s);
+  assert_int_equal(rt_scene_add_faceted_sphere(&s, px_vec3(0, 1, 0), 1.0, 100, 100, m, NULL),
+                   RT_OK);
+  assert_true(s.object[1].nprim > 4096);
+  assert_int_equal(edges_paired(&s), 0);
+  rt_scene_free(&s);
+}
+
 /* A ball of Phong exponent `phong` over the white floor, under a point light. */
 static void highlight_scene(rt_scene_t *s, double phong) {
   floor_scene(s);
@@ -2031,6 +2071,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(guard_catches_small_objects),
       cmocka_unit_test(guard_hierarchy_answers_as_the_scan),
       cmocka_unit_test(view_guard_sees_faces_in_front),
+      cmocka_unit_test(faces_guard_pairs_own_edges),
       cmocka_unit_test(guard_catches_objects_seen_in_mirrors),
       cmocka_unit_test(guard_catches_small_shadows),
       cmocka_unit_test(faint_shadow_edges_interpolated),

@@ -414,7 +414,11 @@ void pt__domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
   double xi_domain = 0.0;
   for (int i = 0; i < 4 && !edge && !deep; i++)
     xi_domain = fmax(xi_domain, xi_norm(C, xs[i], ys[i]));
-  if (!edge && !deep && (C->guard->n || C->faces->n)) {
+  if (!edge && !deep && C->guard->n && !C->faces->n && /* no polygons: spheres alone */
+      pt_guard_fires(C->guard, C->view->eye, axial.d, asin(fmin(1.0, xi_domain)))) {
+    edge = 1;
+    st->domains_guard++;
+  } else if (!edge && !deep && C->faces->n) {
     px_vec3_t d[4];
     for (int i = 0; i < 4; i++)
       d[i] = rt_view_ray(C->view, xs[i], ys[i], C->s->ior).d;

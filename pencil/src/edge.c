@@ -5,6 +5,7 @@
 #include "pencil/edge.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -222,18 +223,41 @@ static void enclose(const pt_bsphere_t *b, int n, pt_gnode_t *nd) {
   nd->r = r * (1.0 + 1e-9) + 1e-9 * (1.0 + px_v3_norm(nd->c));
 }
 
-/* qsort() orders of spheres by their centres' x, y and z (NaN compares equal). */
-static int by_x(const void *a, const void *b) {
-  double u = ((const pt_bsphere_t *)a)->c.x, v = ((const pt_bsphere_t *)b)->c.x;
-  return (u > v) - (u < v);
+/* A sphere's centre's coordinate `axis` (0 x, 1 y, 2 z), NaN as infinity: a total order. */
+static double key_of(const pt_bsphere_t *b, int axis) {
+  double v = axis == 0 ? b->c.x : axis == 1 ? b->c.y : b->c.z;
+  return v == v ? v : INFINITY;
 }
-static int by_y(const void *a, const void *b) {
-  double u = ((const pt_bsphere_t *)a)->c.y, v = ((const pt_bsphere_t *)b)->c.y;
-  return (u > v) - (u < v);
-}
-static int by_z(const void *a, const void *b) {
-  double u = ((const pt_bsphere_t *)a)->c.z, v = ((const pt_bsphere_t *)b)->c.z;
-  return (u > v) - (u < v);
+
+/* Reorders a[0..n) so that a[m] is where sorting by key_of(axis) would put it, no sphere before it
+ * with a larger key and none after it with a smaller one (Hoare's selection, the median of three
+ * as pivot): the halves of a split in O(n), where sorting each node's spheres had made building
+ * the faces' guards of a 10,000-face mesh cost 55e6 instructions. */
+static void select_nth(pt_bsphere_t *a, int n, int m, int axis) {
+  int lo = 0, hi = n - 1;
+  while (hi > lo) {
+    double x = key_of(&a[lo], axis), y = key_of(&a[lo + (hi - lo) / 2], axis),
+           z = key_of(&a[hi], axis);
+    double pivot = fmax(fmin(x, y), fmin(fmax(x, y), z));
+    int i = lo, j = hi;
+    while (i <= j) {
+      while (key_of(&a[i], axis) < pivot)
+        i++;
+      while (key_of(&a[j], axis) > pivot)
+        j--;
+      if (i <= j) {
+        pt_bsphere_t t = a[i];
+        a[i++] = a[j];
+        a[j--] = t;
+      }
+    }
+    if (m <= j)
+      hi = j;
+    else if (m >= i)
+      lo = i;
+    else
+      return;
+  }
 }
 
 /* Node k over b[first .. first + n): split in halves along the longest side of the centres' box.
@@ -252,11 +276,8 @@ static void build(pt_guards_t *g, int k, int first, int n) {
     hi = px_v3(fmax(hi.x, g->b[i].c.x), fmax(hi.y, g->b[i].c.y), fmax(hi.z, g->b[i].c.z));
   }
   px_vec3_t ext = px_v3_sub(hi, lo);
-  qsort(g->b + first, (size_t)n, sizeof *g->b,
-        ext.x >= ext.y && ext.x >= ext.z ? by_x
-        : ext.y >= ext.z                 ? by_y
-                                         : by_z);
   int m = n / 2;
+  select_nth(g->b + first, n, m, ext.x >= ext.y && ext.x >= ext.z ? 0 : ext.y >= ext.z ? 1 : 2);
   int left = g->nnode;
   g->nnode += 2;
   nd->first = left;
@@ -307,21 +328,83 @@ static int lex(px_vec3_t a, px_vec3_t b) {
                       : (a.z > b.z) - (a.z < b.z);
 }
 
+/* A hash of an edge's ends (their coordinates' bits; -0 and 0 differ, as no vertex is copied
+ * with another sign). */
+static size_t ends_hash(const edge_t *e) {
+  const double c[6] = {e->lo.x, e->lo.y, e->lo.z, e->hi.x, e->hi.y, e->hi.z};
+  uint64_t h = 1469598103934665603ull;
+  for (int i = 0; i < 6; i++) {
+    uint64_t bits;
+    memcpy(&bits, &c[i], sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+    h ^= h >> 29;
+  }
+  return (size_t)h;
+}
+
 static int by_ends(const void *pa, const void *pb) {
   const edge_t *a = pa, *b = pb;
   int c = lex(a->lo, b->lo);
   return c ? c : lex(a->hi, b->hi);
 }
 
-/* g->across for the faces of the polyhedra that are not convex (convex[o] 0): an edge's two faces
- * share its ends' coordinates exactly (rt_scene_add_polyhedron() copies each face's vertices from
- * the same input), so sorting the edges by their ends pairs them. 0 when out of memory. */
-static int edges_across(const rt_scene_t *s, const double *convex, pt_guards_t *g) {
-  g->across = malloc((size_t)(s->nvertex > 0 ? s->nvertex : 1) * sizeof *g->across);
-  if (!g->across)
-    return 0;
+/* The largest height of polygon f's vertices over the plane of polygon g (n . v - d). */
+static double above(const rt_scene_t *s, const rt_polygon_t *f, const rt_polygon_t *g) {
+  double h = -INFINITY;
+  for (int k = 0; k < f->count; k++)
+    h = fmax(h, px_v3_dot(g->n, s->vertex[f->first + k]) - g->d);
+  return h;
+}
+
+/* The signed solid angle of triangle a, b, c seen from m (Van Oosterom and Strackee: tan(omega / 2)
+ * = a . (b x c) / (|a||b||c| + (a . b)|c| + (a . c)|b| + (b . c)|a|), relative to m). */
+static double solid_angle(px_vec3_t m, px_vec3_t a, px_vec3_t b, px_vec3_t c) {
+  px_vec3_t A = px_v3_sub(a, m), B = px_v3_sub(b, m), C = px_v3_sub(c, m);
+  double la = px_v3_norm(A), lb = px_v3_norm(B), lc = px_v3_norm(C);
+  double num = px_v3_dot(A, px_v3_cross(B, C));
+  double den = la * lb * lc + px_v3_dot(A, B) * lc + px_v3_dot(A, C) * lb + px_v3_dot(B, C) * la;
+  return 2.0 * atan2(num, den);
+}
+
+/* Whether polyhedron o, every edge of which `across` pairs, is convex: convex at every edge
+ * (neither face's vertices above the other's plane, within 1e-9 of its size), its vertices'
+ * centroid m inside every face's plane, and its faces' solid angle from m 4 pi (it wraps m once,
+ * which local convexity alone does not say). O(faces x vertices of a face), where the test of
+ * every vertex against every face (rt_polyhedron_convex()) is O(faces x vertices): the guard of
+ * objects gives that one up above GUARD_MAX_FACES. */
+static int wraps_convex(const rt_scene_t *s, const rt_object_t *ob, const int *across) {
+  px_vec3_t m = vertex_centroid(s, ob->first_prim, ob->nprim);
+  double size = 0.0, omega = 0.0;
+  for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
+    const rt_polygon_t *f = &s->prim[p].polygon;
+    for (int k = 0; k < f->count; k++)
+      size = fmax(size, px_v3_norm(px_v3_sub(s->vertex[f->first + k], m)));
+  }
+  double tol = 1e-9 * size;
+  for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++) {
+    const rt_polygon_t *f = &s->prim[p].polygon;
+    if (!(px_v3_dot(f->n, m) - f->d < -tol))
+      return 0;
+    for (int k = 0; k < f->count; k++) {
+      int q = across[f->first + k];
+      if (q < 0 || !(above(s, &s->prim[q].polygon, f) <= tol))
+        return 0;
+      if (k >= 1 && k + 1 < f->count)
+        omega += solid_angle(m, s->vertex[f->first], s->vertex[f->first + k],
+                             s->vertex[f->first + k + 1]);
+    }
+  }
+  return fabs(fabs(omega) - 4.0 * M_PI) < 1e-6 * 4.0 * M_PI;
+}
+
+/* The faces across the edges of the polyhedra not known convex (convex[o] 0) into across[] (one per
+ * vertex slot, -1 elsewhere): an edge's two faces share its ends' coordinates exactly
+ * (rt_scene_add_polyhedron() copies each face's vertices from the same input), so sorting the
+ * edges by their ends pairs them. A polyhedron found convex after all (wraps_convex()) gets
+ * convex[o] 1 and no pairs. 0 when out of memory. */
+static int edges_across(const rt_scene_t *s, double *convex, int *across) {
   for (int i = 0; i < s->nvertex; i++)
-    g->across[i] = -1;
+    across[i] = -1;
   int ne = 0;
   for (int p = 0; p < s->nprim; p++)
     if (s->prim[p].kind == RT_PRIM_POLYGON &&
@@ -344,15 +427,46 @@ static int edges_across(const rt_scene_t *s, const double *convex, pt_guards_t *
       e[ne++] = (edge_t){ab ? a : b, ab ? b : a, f->first + k, p};
     }
   }
-  qsort(e, (size_t)ne, sizeof *e, by_ends);
-  for (int i = 0; i + 1 < ne; i++)
-    if (by_ends(&e[i], &e[i + 1]) == 0 &&
-        s->prim[e[i].prim].object == s->prim[e[i + 1].prim].object) {
-      g->across[e[i].slot] = e[i + 1].prim;
-      g->across[e[i + 1].slot] = e[i].prim;
-      i++;
+  /* pairs by a hash of the ends (open addressing, a table at most half full): an edge waits in
+   * it until the one with the same ends and object comes */
+  size_t cap = 16;
+  while (cap < 2 * (size_t)ne)
+    cap *= 2;
+  int *table = malloc(cap * sizeof *table);
+  if (!table) {
+    free(e);
+    return 0;
+  }
+  for (size_t i = 0; i < cap; i++)
+    table[i] = -1;
+  for (int i = 0; i < ne; i++) {
+    size_t h = ends_hash(&e[i]) & (cap - 1);
+    for (;; h = (h + 1) & (cap - 1)) {
+      int j = table[h];
+      if (j < 0) {
+        table[h] = i;
+        break;
+      }
+      if (j < ne && by_ends(&e[i], &e[j]) == 0 &&
+          s->prim[e[i].prim].object == s->prim[e[j].prim].object) {
+        across[e[i].slot] = e[j].prim;
+        across[e[j].slot] = e[i].prim;
+        table[h] = ne; /* taken: a tombstone, so that later probes pass on */
+        break;
+      }
     }
+  }
+  free(table);
   free(e);
+  for (int o = 0; o < s->nobject; o++) {
+    const rt_object_t *ob = &s->object[o];
+    if (ob->kind != RT_OBJ_POLYHEDRON || convex[o] || !wraps_convex(s, ob, across))
+      continue;
+    convex[o] = 1.0;
+    for (int p = ob->first_prim; p < ob->first_prim + ob->nprim; p++)
+      for (int k = 0; k < s->prim[p].polygon.count; k++)
+        across[s->prim[p].polygon.first + k] = -1;
+  }
   return 1;
 }
 
@@ -365,9 +479,11 @@ int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guard
     return 1;
   pt_bsphere_t *b = malloc((size_t)n * sizeof *b);
   double *convex = calloc((size_t)s->nobject, sizeof *convex);
-  if (!b || !convex) {
+  int *across = malloc((size_t)(s->nvertex > 0 ? s->nvertex : 1) * sizeof *across);
+  if (!b || !convex || !across) {
     free(b);
     free(convex);
+    free(across);
     return 0;
   }
   for (int i = 0; i < objects->n; i++) { /* 1: the object hides nothing of itself */
@@ -377,6 +493,12 @@ int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guard
                                 (ob->kind == RT_OBJ_POLYHEDRON && o->w > 0.0) /* held() */
                             ? 1.0
                             : 0.0;
+  }
+  if (!edges_across(s, convex, across)) {
+    free(b);
+    free(convex);
+    free(across);
+    return 0;
   }
   n = 0;
   for (int p = 0; p < s->nprim; p++) {
@@ -396,11 +518,16 @@ int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guard
     b[n++] =
         (pt_bsphere_t){c, r, s->prim[p].object, c, convex[s->prim[p].object], {0.0, 0.0, 0.0}, p};
   }
-  int ok = pt_guards_make(b, n, g) && edges_across(s, convex, g);
+  int ok = pt_guards_make(b, n, g), any = 0;
   free(b);
   free(convex);
-  if (!ok)
-    pt_guards_free(g);
+  for (int i = 0; i < s->nvertex && !any; i++)
+    any = across[i] >= 0;
+  if (ok &&
+      any) /* none when no polyhedron may hide its own faces: their guards then cost nothing */
+    g->across = across;
+  else
+    free(across);
   return ok;
 }
 
@@ -453,6 +580,18 @@ typedef struct {
   const pt_guards_t *g;
 } query_t;
 
+/* may() for the queries of half-spaces (Q_VIEW, Q_SELF, Q_OWN): 0 when sphere (c, R) lies outside
+ * one of them by more than R (none of it is inside). Apart from may(), so that the other queries'
+ * test stays small enough to be inlined. */
+static int may_halves(const query_t *q, px_vec3_t c, double R) {
+  px_vec3_t v = px_v3_sub(c, q->p); /* |v| at most its coordinates' sum */
+  double slack = R * (1.0 + 1e-9) + 1e-9 * (fabs(v.x) + fabs(v.y) + fabs(v.z) + R);
+  for (int i = 0; i < q->nh; i++)
+    if (px_v3_dot(q->h[i].n, px_v3_sub(c, q->h[i].o)) < -slack)
+      return 0;
+  return 1;
+}
+
 /* Whether sphere (c, R) may hold a sphere that fires (1 also when unsure: NaN). */
 static int may(const query_t *q, px_vec3_t c, double R) {
   switch (q->kind) {
@@ -473,16 +612,6 @@ static int may(const query_t *q, px_vec3_t c, double R) {
     double dist = px_v3_norm(v), grown = R + q->r;
     return !(dist > grown) || !(angle_to(v, dist, q->axis) >=
                                 asin(fmin(1.0, grown / dist)) + q->half + GUARD_ANGLE_SLACK);
-  }
-  case Q_VIEW:
-  case Q_SELF:
-  case Q_OWN: { /* outside one of the half-spaces by more than R: none of it is inside */
-    px_vec3_t v = px_v3_sub(c, q->p); /* |v| at most its coordinates' sum */
-    double slack = R * (1.0 + 1e-9) + 1e-9 * (fabs(v.x) + fabs(v.y) + fabs(v.z) + R);
-    for (int i = 0; i < q->nh; i++)
-      if (px_v3_dot(q->h[i].n, px_v3_sub(c, q->h[i].o)) < -slack)
-        return 0;
-    return 1;
   }
   default: { /* Q_SHADOW */
     if (q->parallel) {
@@ -632,15 +761,15 @@ static int fires(const query_t *q, const pt_bsphere_t *b) {
     return !(dist > b->r + q->r);                               /* a NaN radius fires */
   }
   case Q_SELF:
-    return b->object == q->skip_a && b->prim != q->face && may(q, b->c, b->r) &&
+    return b->object == q->skip_a && b->prim != q->face && may_halves(q, b->c, b->r) &&
            silhouette_in_pencil(q, b->prim);
   case Q_OWN: /* a face of a non-convex end's object, not an end's own face */
     return b->w == 0.0 && (b->object == q->skip_a || b->object == q->skip_b) &&
-           b->prim != q->face && b->prim != q->face_b && may(q, b->c, b->r) &&
+           b->prim != q->face && b->prim != q->face_b && may_halves(q, b->c, b->r) &&
            polygon_in_view(q, b->prim);
   case Q_VIEW: /* not the face met, nor another of its object when that is convex */
-    return b->prim != q->face && !(b->w > 0.0 && b->object == q->skip_a) && may(q, b->c, b->r) &&
-           polygon_in_view(q, b->prim);
+    return b->prim != q->face && !(b->w > 0.0 && b->object == q->skip_a) &&
+           may_halves(q, b->c, b->r) && polygon_in_view(q, b->prim);
   case Q_CONE: {
     if (b->object == q->skip_a)
       return 0;
@@ -694,7 +823,7 @@ static int any_fires(const pt_guards_t *g, const query_t *q) {
   stack[sp++] = 0;
   while (sp > 0) {
     const pt_gnode_t *nd = &g->node[stack[--sp]];
-    if (!may(q, nd->c, nd->r))
+    if (!(q->kind >= Q_VIEW ? may_halves(q, nd->c, nd->r) : may(q, nd->c, nd->r)))
       continue;
     if (nd->count > 0) {
       for (int i = nd->first; i < nd->first + nd->count; i++)

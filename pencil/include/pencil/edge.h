@@ -107,7 +107,8 @@ typedef struct {
                          for the hierarchy's tests) */
   int *across;      /**< the faces' guards (pt_guards_of_faces()): per vertex slot of the scene,
                          the primitive across the edge from that vertex of its polygon to the
-                         next, for the faces of polyhedra that are not convex; -1 elsewhere */
+                         next, for the faces of polyhedra that are not convex; -1 elsewhere;
+                         NULL when there are none */
 } pt_guards_t;
 
 /** The guards of n spheres b (copied); 0 when out of memory (g then empty). */
