@@ -398,11 +398,14 @@ static void guard_catches_small_objects(void **state) {
   rt_scene_free(&s);
 }
 
+/* Vertices a test polygon of view_fires() may have. */
+#define VIEW_VERTICES 300
+
 /* pt_guard_view() in a scene of polygons v[k][0..n[k]), k < m (and a sphere first when r > 0:
- * centre c, radius r), from the origin through the corners (+-0.01, +-0.01, 1); `met`
- * the primitive every corner met (-1: none). Only the faces are asked, not the objects' spheres. */
-static int view_fires(const px_vec3_t (*v)[12], const int *n, int m, px_vec3_t c, double r,
-                      int met) {
+ * centre c, radius r), from the origin through the corners (+-w, +-w, 1); `met` the primitive
+ * every corner met (-1: none). Only the faces are asked, not the objects' spheres. */
+static int view_fires_wide(const px_vec3_t (*v)[VIEW_VERTICES], const int *n, int m, px_vec3_t c,
+                           double r, int met, double w) {
   rt_scene_t s;
   rt_scene_init(&s);
   rt_material_t white = rt_material_default("white");
@@ -414,13 +417,19 @@ static int view_fires(const px_vec3_t (*v)[12], const int *n, int m, px_vec3_t c
     assert_int_equal(rt_scene_add_polygon(&s, v[k], n[k], mw, NULL), RT_OK);
   pt_guards_t none = {0}, faces;
   assert_true(pt_guards_of_faces(&s, &none, &faces));
-  const px_vec3_t d[4] = {px_vec3(-0.01, -0.01, 1), px_vec3(0.01, -0.01, 1), px_vec3(0.01, 0.01, 1),
-                          px_vec3(-0.01, 0.01, 1)};
+  const px_vec3_t d[4] = {px_vec3(-w, -w, 1), px_vec3(w, -w, 1), px_vec3(w, w, 1),
+                          px_vec3(-w, w, 1)};
   int fired = pt_guard_view(&none, &faces, &s, px_vec3(0, 0, 0), d, px_vec3(0, 0, 1),
-                            asin(0.01 * sqrt(2.0) / sqrt(1.0002)), met);
+                            asin(w * sqrt(2.0) / sqrt(1.0 + 2.0 * w * w)), met);
   pt_guards_free(&faces);
   rt_scene_free(&s);
   return fired;
+}
+
+/* ... through the corners (+-0.01, +-0.01, 1). */
+static int view_fires(const px_vec3_t (*v)[VIEW_VERTICES], const int *n, int m, px_vec3_t c,
+                      double r, int met) {
+  return view_fires_wide(v, n, m, c, r, met, 0.01);
 }
 
 /* The guard of what primary rays see: the corners (+-0.01, +-0.01, 1) from the origin all meet
@@ -433,7 +442,8 @@ static int view_fires(const px_vec3_t (*v)[12], const int *n, int m, px_vec3_t c
  * F not convex: a notch between the corners fires, one beside them does not. */
 static void view_guard_sees_faces_in_front(void **state) {
   (void)state;
-  px_vec3_t v[2][12], o = px_vec3(0, 0, 0);
+  static px_vec3_t v[2][VIEW_VERTICES];
+  px_vec3_t o = px_vec3(0, 0, 0);
   int n[2] = {4, 4};
   const double fx[4] = {-1, -1, 0.11, 0.11}, fy[4] = {-1, 1, 1, -1};
   for (int k = 0; k < 4; k++)
@@ -481,6 +491,31 @@ static void view_guard_sees_faces_in_front(void **state) {
     n[0] = 8;
     assert_int_equal(view_fires(v, n, 1, o, 0, 0), i == 0);
   }
+  /* the eye inside a sphere of radius 10.5 about (0, 0, 10), the corners 10 degrees out: their
+   * exits 19.9 away, the axis's 20.5. A square on the axis 20.2 away is before the sphere's wall
+   * there, farther than every corner's hit: it fires (the farthest corner is no bound inside) */
+  for (int k = 0; k < 4; k++)
+    v[0][k] = px_vec3(sx[k], sy[k], 20.2);
+  n[0] = 4;
+  assert_true(view_fires_wide(v, n, 1, px_vec3(0, 0, 10), 10.5, 0, 0.18));
+  /* a saw of 124 teeth before F, whose tips a side of the pyramid cuts: clipped, it would have
+   * more vertices than the clip holds (about 375 from 251); it fires, and nothing is written past
+   * the buffers (the ASan build) */
+  for (int k = 0; k < 4; k++)
+    v[0][k] = px_vec3(fx[k], fy[k], 10.0);
+  int m = 0; /* its teeth across y = -0.05, the pyramid's side there, cut before the others */
+  v[1][m++] = px_vec3(-1.0, 1.0, 5.0);
+  for (int t = 0; t < 124; t++) {
+    double x = -1.0 + 2.0 * t / 124.0;
+    v[1][m++] = px_vec3(x, -0.04, 5.0);
+    v[1][m++] = px_vec3(x + 1.0 / 124.0, -0.06, 5.0);
+  }
+  v[1][m++] = px_vec3(1.0, -0.04, 5.0);
+  v[1][m++] = px_vec3(1.0, 1.0, 5.0);
+  n[0] = 4;
+  n[1] = m;
+  assert_true(m <= 256);
+  assert_true(view_fires(v, n, 2, o, 0, 0));
 }
 
 /* A uniform number in [a, b) from a 64-bit LCG (the test's own, so that it runs the same
@@ -1904,6 +1939,43 @@ static void faces_guard_pairs_own_edges(void **state) {
   rt_scene_free(&s);
 }
 
+/* The guard of the shadow an object casts on itself, on two boxes in one polyhedron: A = [0, 1]^3
+ * and a slat B = [2, 3] x [0.45, 0.55] x [0, 1], a point light at (3.5, 0.5, 0.5) beyond B, and
+ * the shadow rays' pencil from within 0.6 of a point of A. From A's face x = 1, which faces the
+ * light, B's silhouette runs through the pencil: it fires. From A's face x = 0 hit from inside (the
+ * light on the inner side of its plane, the shadow rays through A), it fires too. With the light
+ * at (-5, 0.5, 0.5) instead, nothing of the object lies between the face x = 0 and it. */
+static void self_shadow_guard_sees_both_sides(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  rt_material_t white = rt_material_default("white");
+  int m;
+  rt_scene_add_material(&s, &white, &m);
+  px_vec3_t lo[2] = {px_vec3(0, 0, 0), px_vec3(2, 0.45, 0)},
+            hi[2] = {px_vec3(1, 1, 1), px_vec3(3, 0.55, 1)};
+  add_boxes(&s, lo, hi, 2, m);
+  pt_guards_t objects, faces;
+  assert_true(pt_guards_of_scene(&s, &objects));
+  assert_true(pt_guards_of_faces(&s, &objects, &faces));
+  int x0 = -1, x1 = -1; /* A's faces x = 0 and x = 1 */
+  for (int p = 0; p < 6; p++) {
+    const rt_polygon_t *f = &s.prim[p].polygon;
+    x0 = f->n.x < -0.5 ? p : x0;
+    x1 = f->n.x > 0.5 ? p : x1;
+  }
+  assert_true(x0 >= 0 && x1 >= 0);
+  rt_light_t lamp = {RT_LIGHT_POINT, {3.5, 0.5, 0.5}, {1, 1, 1}, RT_FALLOFF_NONE,
+                     {0, 0, 0},      {0, 0, 0},       0};
+  assert_true(pt_guard_self_shadow(&faces, &s, x1, px_vec3(1, 0.5, 0.5), 0.6, &lamp));
+  assert_true(pt_guard_self_shadow(&faces, &s, x0, px_vec3(0, 0.5, 0.5), 0.6, &lamp));
+  lamp.v = px_vec3(-5, 0.5, 0.5);
+  assert_false(pt_guard_self_shadow(&faces, &s, x0, px_vec3(0, 0.5, 0.5), 0.6, &lamp));
+  pt_guards_free(&faces);
+  pt_guards_free(&objects);
+  rt_scene_free(&s);
+}
+
 /* A ball of Phong exponent `phong` over the white floor, under a point light. */
 static void highlight_scene(rt_scene_t *s, double phong) {
   floor_scene(s);
@@ -2072,6 +2144,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(guard_hierarchy_answers_as_the_scan),
       cmocka_unit_test(view_guard_sees_faces_in_front),
       cmocka_unit_test(faces_guard_pairs_own_edges),
+      cmocka_unit_test(self_shadow_guard_sees_both_sides),
       cmocka_unit_test(guard_catches_objects_seen_in_mirrors),
       cmocka_unit_test(guard_catches_small_shadows),
       cmocka_unit_test(faint_shadow_edges_interpolated),

@@ -316,10 +316,12 @@ int pt_guards_of_scene(const rt_scene_t *s, pt_guards_t *g) {
 }
 
 /* An edge of a polygon for edges_across(): its ends in lexicographic order, the vertex slot it
- * starts from and its polygon. */
+ * starts from, its polygon and its direction (the face across it runs the other way: a polyhedron
+ * that touches itself along an edge pairs the right faces). */
 typedef struct {
   px_vec3_t lo, hi;
   int slot, prim;
+  int up; /* 1 when the polygon runs from lo to hi */
 } edge_t;
 
 static int lex(px_vec3_t a, px_vec3_t b) {
@@ -424,7 +426,7 @@ static int edges_across(const rt_scene_t *s, double *convex, int *across) {
     for (int k = 0; k < f->count; k++) {
       px_vec3_t a = s->vertex[f->first + k], b = s->vertex[f->first + (k + 1) % f->count];
       int ab = lex(a, b) <= 0;
-      e[ne++] = (edge_t){ab ? a : b, ab ? b : a, f->first + k, p};
+      e[ne++] = (edge_t){ab ? a : b, ab ? b : a, f->first + k, p, ab};
     }
   }
   /* pairs by a hash of the ends (open addressing, a table at most half full): an edge waits in
@@ -447,7 +449,7 @@ static int edges_across(const rt_scene_t *s, double *convex, int *across) {
         table[h] = i;
         break;
       }
-      if (j < ne && by_ends(&e[i], &e[j]) == 0 &&
+      if (j < ne && by_ends(&e[i], &e[j]) == 0 && e[i].up != e[j].up &&
           s->prim[e[i].prim].object == s->prim[e[j].prim].object) {
         across[e[i].slot] = e[j].prim;
         across[e[j].slot] = e[i].prim;
@@ -558,7 +560,7 @@ typedef struct {
   double rel;
 } half_t;
 
-/* Vertices a clipped polygon may have: a polygon of more gives up (fires). */
+/* Vertices a polygon may have on the way through the clips: one of more gives up (fires). */
 #define VIEW_MAX_VERTICES 256
 
 typedef struct {
@@ -655,9 +657,11 @@ static double gap_for(const query_t *q, const pt_bsphere_t *b) {
   return round ? q->gap : q->gap0;
 }
 
-/* Polygon in[0..n) clipped by half-space h into out (at most n + 1 vertices); -1 when a
- * vertex's side is NaN. f is scratch for n values. The distance from the eye in h's margin is
- * bounded by the sum of the coordinates' sizes (at most sqrt 3 times it). */
+/* Polygon in[0..n) clipped by half-space h into out[VIEW_MAX_VERTICES]; -1 when a vertex's side
+ * is NaN or the result would not fit (a polygon that is not convex can come out half as large
+ * again: two vertices for every run of vertices inside). f is scratch for n values. The distance
+ * from the eye in h's margin is bounded by the sum of the coordinates' sizes (at most sqrt 3
+ * times it). */
 static int clip(const half_t *h, px_vec3_t eye, const px_vec3_t *in, int n, px_vec3_t *out,
                 double *f) {
   for (int i = 0; i < n; i++) {
@@ -669,6 +673,8 @@ static int clip(const half_t *h, px_vec3_t eye, const px_vec3_t *in, int n, px_v
   int m = 0;
   for (int i = 0; i < n; i++) {
     int j = i + 1 < n ? i + 1 : 0;
+    if (m + 2 > VIEW_MAX_VERTICES)
+      return -1;
     if (f[i] >= 0.0)
       out[m++] = in[i];
     if ((f[i] >= 0.0) != (f[j] >= 0.0))
@@ -678,9 +684,10 @@ static int clip(const half_t *h, px_vec3_t eye, const px_vec3_t *in, int n, px_v
 }
 
 /* Whether what is left of v[0..n) (a polygon, or a segment when n is 2) inside half-spaces
- * h[0..nh) is not empty (1 also when unsure). */
+ * h[0..nh) is not empty (1 also when unsure, or when it has more than VIEW_MAX_VERTICES
+ * vertices at any step). */
 static int left_inside(const query_t *q, const half_t *h, int nh, const px_vec3_t *v, int n) {
-  if (n > VIEW_MAX_VERTICES - 6)
+  if (n > VIEW_MAX_VERTICES)
     return 1;
   px_vec3_t buf[2][VIEW_MAX_VERTICES];
   double f[VIEW_MAX_VERTICES];
@@ -697,8 +704,6 @@ static int left_inside(const query_t *q, const half_t *h, int nh, const px_vec3_
 /* Whether polygon `prim` reaches into the pyramid of a Q_VIEW query, in front of what it met. */
 static int polygon_in_view(const query_t *q, int prim) {
   const rt_polygon_t *f = &q->s->prim[prim].polygon;
-  if (f->count > VIEW_MAX_VERTICES - 6)
-    return 1;
   return left_inside(q, q->h, q->nh, &q->s->vertex[f->first], f->count);
 }
 
@@ -728,7 +733,8 @@ static int silhouette_in_pencil(const query_t *q, int prim) {
 }
 
 /* Whether polygon f is convex: every turn along its vertices on the same side of its normal
- * (within 1e-9 of its edges' products; a vertex where it turns back counts as not convex). */
+ * (within 1e-9 of its edges' products). The scene's polygons do not cross themselves, so turns
+ * of one sign make it convex. */
 static int polygon_convex(const rt_scene_t *s, const rt_polygon_t *f) {
   for (int k = 0; k < f->count; k++) {
     px_vec3_t a = s->vertex[f->first + k], b = s->vertex[f->first + (k + 1) % f->count],
@@ -854,6 +860,10 @@ static void front_of(const rt_scene_t *s, int prim, px_vec3_t eye, const px_vec3
   const rt_prim_t *pr = &s->prim[prim];
   px_vec3_t n, o;
   if (pr->kind == RT_PRIM_SPHERE) {
+    px_vec3_t wc = px_v3_sub(pr->sphere.c, eye);
+    if (!(px_v3_dot(wc, wc) > pr->sphere.r * pr->sphere.r))
+      return; /* the eye inside: the exit's distance is largest towards the centre, not at a
+                 corner; no front */
     double far = 0.0;
     for (int i = 0; i < 4; i++) {
       px_vec3_t u = px_v3_unit(d[i]), w = px_v3_sub(pr->sphere.c, eye);
@@ -948,9 +958,12 @@ int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim
     for (int i = 0; i < 4; i++)
       q.h[q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
     q.h[q.nh++] = (half_t){q.axis, px_v3_sub(p, px_v3_scale(q.axis, r)), 1e-9};
-    if (!(px_v3_dot(n, q.axis) > 0.0))
-      return 0; /* facing away from the light (or edge-on): no direct light to shadow */
-  } else {      /* the square pyramid from the light about the cone through the ball about p */
+    double facing = px_v3_dot(n, q.axis);
+    if (!(facing != 0.0)) /* edge-on: no direct light to shadow (NaN: unsure) */
+      return facing == facing ? 0 : 1;
+    if (facing < 0.0) /* lit from inside (a hit from within a transparent object) */
+      n = px_v3_scale(n, -1.0);
+  } else { /* the square pyramid from the light about the cone through the ball about p */
     px_vec3_t d = px_v3_sub(p, light->v);
     double dist = px_v3_norm(d);
     if (!(dist > r))
@@ -966,11 +979,15 @@ int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim
     q.h[q.nh++] = (half_t){u, light->v, 1e-9};
     q.h[q.nh++] =
         (half_t){px_v3_scale(u, -1.0), px_v3_add(light->v, px_v3_scale(u, dist + r)), 1e-9};
-    if (!(px_v3_dot(n, light->v) - f->d > 0.0))
-      return 0;
+    double facing = px_v3_dot(n, light->v) - f->d;
+    if (!(facing != 0.0))
+      return facing == facing ? 0 : 1;
+    if (facing < 0.0)
+      n = px_v3_scale(n, -1.0);
   }
-  /* the light's side of the face's plane, shrunk: the faces sharing its edges stay out */
-  q.h[q.nh++] = (half_t){n, px_v3_scale(n, f->d), -1e-9};
+  /* the light's side of the face's plane (outside, or inside for a hit from within the object),
+   * shrunk: the faces sharing its edges stay out */
+  q.h[q.nh++] = (half_t){n, px_v3_scale(f->n, f->d), -1e-9};
   return any_fires(faces, &q);
 }
 
@@ -1046,18 +1063,15 @@ int pt_guard_own_cone(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_t p
                .g = faces};
   px_vec3_t e1, e2;
   perpendiculars(axis, &e1, &e2);
-  /* the cone of half-angle `half` from apex a behind p holds the one from every point within r
-   * of p; the square pyramid about it */
+  /* the cone of half-angle `half` from the apex r / sin(half) behind p holds the one from every
+   * point within r of p; the square pyramid about it, its sides nu . (x - p) + r >= 0 for nu =
+   * axis sin(half) - s cos(half) (nu . (p - apex) is r): written from p, so that no far apex
+   * rounds, and a prism of radius r when the spread is 0 */
   double sh = sin(half), ch = cos(half);
-  px_vec3_t a = sh > 0.0 ? px_v3_sub(p, px_v3_scale(axis, r / sh)) : p;
-  if (!(sh > 0.0) && r > 0.0) { /* no spread: the square prism about the ray, r from it */
-    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
-    for (int i = 0; i < 4; i++)
-      Q.h[Q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
-  } else {
-    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
-    for (int i = 0; i < 4; i++)
-      Q.h[Q.nh++] = (half_t){px_v3_sub(px_v3_scale(axis, sh), px_v3_scale(side[i], ch)), a, 1e-9};
+  const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+  for (int i = 0; i < 4; i++) {
+    px_vec3_t nu = px_v3_sub(px_v3_scale(axis, sh), px_v3_scale(side[i], ch));
+    Q.h[Q.nh++] = (half_t){nu, px_v3_sub(p, px_v3_scale(nu, r)), 1e-9};
   }
   Q.h[Q.nh++] = (half_t){axis, px_v3_sub(p, px_v3_scale(axis, r)), 1e-9};
   if (s->prim[prim].kind == RT_PRIM_POLYGON)

@@ -133,20 +133,20 @@ int pt_guards_of_faces(const rt_scene_t *s, const pt_guards_t *objects, pt_guard
  *  the domain's corner directions d[0..3] (in order around it; `axis` and `half` a cone that
  *  holds them, as for pt_guard_fires()) may meet something before primitive `prim`, which every
  *  corner ray met first (-1: every one met nothing), though no corner ray did:
- *  - a sphere object whose silhouette crosses the cone (`objects`, as pt_guard_fires(); what
- *    other objects' bounding spheres say is left to the faces);
+ *  - the silhouette of an object's bounding sphere crossing the cone (`objects`, as
+ *    pt_guard_fires(), which alone is exact for spheres only);
  *  - a polygon of `faces` other than `prim` that reaches into the pyramid in front of `prim`:
  *    before its plane for a polygon or a plane, nearer than the farthest corner's hit along
- *    `axis` for a sphere, anywhere ahead for nothing (the polygon clipped by those half-spaces,
- *    the pyramid grown and the front shrunk by 1e-9 of the distance from the eye). A corner ray
- *    met `prim` first, so a face that meets it only at `prim`'s plane (one sharing an edge)
- *    hides nothing;
+ *    `axis` for a sphere the eye is outside of, anywhere ahead for nothing or a sphere about
+ *    the eye; the polygon clipped by those half-spaces, the pyramid grown and the front shrunk
+ *    by 1e-9 of the distance from the eye. A corner ray met `prim` first, so a face that meets
+ *    it only at `prim`'s plane (one sharing an edge) hides nothing;
  *  - the boundary of `prim` itself inside the pyramid, when `prim` is a polygon that is not
  *    convex (a notch between the corners).
  *  A thin object (a rod, a plate seen edge-on, a comb's fins) whose bounding sphere's disk holds
  *  the whole cone, and a non-convex object's own faces, slip between the corners unseen by the
- *  bounding spheres; they do not slip past this. Polygons of more than 250 vertices fire
- *  whenever their spheres meet the cone (the clip is not done). */
+ *  bounding spheres; they do not slip past this. A polygon that would have more than 256
+ *  vertices at some step of the clip fires whenever its sphere meets the pyramid. */
 int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt_scene_t *s,
                   px_vec3_t eye, const px_vec3_t d[4], px_vec3_t axis, double half, int prim);
 
@@ -158,8 +158,9 @@ int pt_guard_view(const pt_guards_t *objects, const pt_guards_t *faces, const rt
  *  points does not enter. The pencil: a square prism about the ray to a parallel light (from r
  *  behind p), a square pyramid about the cone to a point light (between the light and r beyond
  *  p), each holding the round pencil; the silhouette: the edges between a face that faces the light
- *  and one that does not (`faces->across`; an edge with nothing across counts). 0 for any other
- *  primitive, or when `prim` faces away from the light. */
+ *  and one that does not (`faces->across`; an edge with nothing across counts). The light's side
+ *  is the outside or, for a hit from within a transparent object, the inside. 0 for any other
+ *  primitive, or when the light lies in `prim`'s plane. */
 int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim, px_vec3_t p,
                          double r, const rt_light_t *light);
 
