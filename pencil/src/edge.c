@@ -932,6 +932,22 @@ static void perpendiculars(px_vec3_t u, px_vec3_t *e1, px_vec3_t *e2) {
   *e2 = px_v3_cross(u, *e1);
 }
 
+/* Adds to q the four sides of the square pyramid about unit axis u with its apex r / sh behind o
+ * (sh the sine of its half-angle): the half-spaces nu . (x - o) + r >= 0 for nu = u sh - s ch,
+ * s = +-e1, +-e2 (nu . (o - apex) is r). It holds the circular cone of that half-angle from the
+ * apex, so the rays from every point within r of o in those directions; with sh 0, the square
+ * prism r about the line through o. Written from o, so that no far apex rounds. */
+static void add_square(query_t *q, px_vec3_t o, px_vec3_t u, double sh, double r) {
+  px_vec3_t e1, e2;
+  perpendiculars(u, &e1, &e2);
+  double ch = sqrt(fmax(0.0, 1.0 - sh * sh));
+  const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
+  for (int i = 0; i < 4; i++) {
+    px_vec3_t nu = px_v3_sub(px_v3_scale(u, sh), px_v3_scale(side[i], ch));
+    q->h[q->nh++] = (half_t){nu, px_v3_sub(o, px_v3_scale(nu, r)), 1e-9};
+  }
+}
+
 int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim, px_vec3_t p,
                          double r, const rt_light_t *light) {
   if (!faces->n || !faces->across || prim < 0 || s->prim[prim].kind != RT_PRIM_POLYGON)
@@ -950,13 +966,10 @@ int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim
   query_t q = {
       .kind = Q_SELF, .p = p, .s = s, .face = prim, .skip_a = o, .g = faces, .light = light};
   q.parallel = light->kind == RT_LIGHT_PARALLEL;
-  px_vec3_t n = f->n, e1, e2;
+  px_vec3_t n = f->n;
   if (q.parallel) { /* the square prism about the ray from p to the light, from r behind p */
     q.axis = px_v3_scale(light->v, -1.0);
-    perpendiculars(q.axis, &e1, &e2);
-    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
-    for (int i = 0; i < 4; i++)
-      q.h[q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
+    add_square(&q, p, q.axis, 0.0, r);
     q.h[q.nh++] = (half_t){q.axis, px_v3_sub(p, px_v3_scale(q.axis, r)), 1e-9};
     double facing = px_v3_dot(n, q.axis);
     if (!(facing != 0.0)) /* edge-on: no direct light to shadow (NaN: unsure) */
@@ -970,12 +983,7 @@ int pt_guard_self_shadow(const pt_guards_t *faces, const rt_scene_t *s, int prim
       return 1;
     px_vec3_t u = px_v3_scale(d, 1.0 / dist);
     q.axis = u;
-    double sh = r / dist, ch = sqrt(fmax(0.0, 1.0 - sh * sh));
-    perpendiculars(u, &e1, &e2);
-    const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
-    for (int i = 0; i < 4; i++)
-      q.h[q.nh++] =
-          (half_t){px_v3_sub(px_v3_scale(u, sh), px_v3_scale(side[i], ch)), light->v, 1e-9};
+    add_square(&q, light->v, u, r / dist, 0.0);
     q.h[q.nh++] = (half_t){u, light->v, 1e-9};
     q.h[q.nh++] =
         (half_t){px_v3_scale(u, -1.0), px_v3_add(light->v, px_v3_scale(u, dist + r)), 1e-9};
@@ -1024,8 +1032,7 @@ int pt_guard_own_segment(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_
   double len = px_v3_norm(d);
   if (!(len > 0.0) || !(r >= 0.0))
     return 1;
-  px_vec3_t u = px_v3_scale(d, 1.0 / len), e1, e2;
-  perpendiculars(u, &e1, &e2);
+  px_vec3_t u = px_v3_scale(d, 1.0 / len);
   query_t Q = {.kind = Q_OWN,
                .p = p,
                .s = s,
@@ -1034,9 +1041,7 @@ int pt_guard_own_segment(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_
                .face = prim_a,
                .face_b = prim_b,
                .g = faces};
-  const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
-  for (int i = 0; i < 4; i++) /* the square prism about the segment, r from it */
-    Q.h[Q.nh++] = (half_t){side[i], px_v3_sub(p, px_v3_scale(side[i], r)), 1e-9};
+  add_square(&Q, p, u, 0.0, r); /* the square prism about the segment, r from it */
   Q.h[Q.nh++] = (half_t){u, px_v3_sub(p, px_v3_scale(u, r)), 1e-9};
   Q.h[Q.nh++] = (half_t){px_v3_scale(u, -1.0), px_v3_add(q, px_v3_scale(u, r)), 1e-9};
   if (prim_a >= 0 && s->prim[prim_a].kind == RT_PRIM_POLYGON)
@@ -1061,18 +1066,9 @@ int pt_guard_own_cone(const pt_guards_t *faces, const rt_scene_t *s, px_vec3_t p
                .face = prim,
                .face_b = -1,
                .g = faces};
-  px_vec3_t e1, e2;
-  perpendiculars(axis, &e1, &e2);
-  /* the cone of half-angle `half` from the apex r / sin(half) behind p holds the one from every
-   * point within r of p; the square pyramid about it, its sides nu . (x - p) + r >= 0 for nu =
-   * axis sin(half) - s cos(half) (nu . (p - apex) is r): written from p, so that no far apex
-   * rounds, and a prism of radius r when the spread is 0 */
-  double sh = sin(half), ch = cos(half);
-  const px_vec3_t side[4] = {e1, px_v3_scale(e1, -1.0), e2, px_v3_scale(e2, -1.0)};
-  for (int i = 0; i < 4; i++) {
-    px_vec3_t nu = px_v3_sub(px_v3_scale(axis, sh), px_v3_scale(side[i], ch));
-    Q.h[Q.nh++] = (half_t){nu, px_v3_sub(p, px_v3_scale(nu, r)), 1e-9};
-  }
+  /* the square pyramid about the cone of half-angle `half` from r / sin(half) behind p, which
+   * holds the rays from every point within r of p (a prism r about the ray when it is 0) */
+  add_square(&Q, p, axis, sin(half), r);
   Q.h[Q.nh++] = (half_t){axis, px_v3_sub(p, px_v3_scale(axis, r)), 1e-9};
   if (s->prim[prim].kind == RT_PRIM_POLYGON)
     Q.nh += side_of(s, prim, axis, &Q.h[Q.nh]);
