@@ -547,11 +547,23 @@ static px_vec3_t depth_inside(const tile_t *T, int prim, px_vec3_t x) {
   return best;
 }
 
+/* A plane pl that an exact ray meets before point x of face f: the shortest move of x within f's
+ * plane to pl's line across it, as a vector into *in; 0 when the planes are parallel. */
+static int plane_ahead(const bm_face_t *pl, const bm_face_t *f, px_vec3_t x, px_vec3_t *in) {
+  px_vec3_t nt = px_v3_sub(pl->n, px_v3_scale(f->n, px_v3_dot(pl->n, f->n)));
+  double nn = px_v3_dot(nt, nt);
+  if (!(nn > 1e-24))
+    return 0;
+  *in = px_v3_scale(nt, (pl->d - px_v3_dot(pl->n, x)) / nn);
+  return 1;
+}
+
 /* Check one point p of a piece along path: on face f (NULL: the piece meets nothing), the
  * models' points (mp, the partition's, and md, the drawing's) against the exact ray's, in pixel
  * intervals (u, v), at most `limit` (the largest into *em; over it sets *over). The exact ray must
  * meet f (within rho of its polygon's edges: a point that lands beside f counts by how far, one
- * that meets another face first by how deep inside that face; the largest into *ee), and its
+ * that meets another face first by how deep inside that face, or a plane by how far along f it
+ * must move to pass in front of it; the largest into *ee, over rho failing), and its
  * children there must have code `code`. A `strict` point (a sample's, in certified mode) allows no
  * edge error: its exact ray must meet f itself first (or nothing, for a piece that meets nothing),
  * so that the sample's path is the piece's. */
@@ -586,9 +598,17 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
   if (strict && (f ? !hit || h.prim != f->prim : hit))
     return 0; /* a sample's exact ray must follow the piece's path itself */
   if (hit && (!f || h.prim != f->prim) && h.t < tf) {
-    px_vec3_t in = depth_inside(T, h.prim, h.p);
-    e = fmax(e,
-             T->b->face_of_prim[h.prim] < 0 ? INFINITY : hypot(px_v3_dot(u, in), px_v3_dot(v, in)));
+    int g = T->b->face_of_prim[h.prim];
+    px_vec3_t in;
+    if (g < 0)
+      e = INFINITY;
+    else if (T->b->face[g].count > 0) {
+      in = depth_inside(T, h.prim, h.p);
+      e = fmax(e, hypot(px_v3_dot(u, in), px_v3_dot(v, in)));
+    } else if (f && plane_ahead(&T->b->face[g], f, sf.hit.p, &in))
+      e = fmax(e, hypot(px_v3_dot(u, in), px_v3_dot(v, in)));
+    else
+      e = INFINITY; /* a plane met first that nothing on f escapes */
   }
   *em = fmax(*em, m);
   *ee = fmax(*ee, e);
@@ -596,8 +616,8 @@ static int check_point(tile_t *T, const bm_path_t *path, const bm_model_t *mp, c
     *over = 1;
     return 0;
   }
-  if (path->n > 0 && !(e <= T->o->rho))
-    return 0;
+  if (!(e <= T->o->rho))
+    return 0; /* from the eye too: faces that cut into each other, a plane in front */
   if (!f)
     return 1;
   rt_child_t ch[2];
