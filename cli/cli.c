@@ -10,6 +10,13 @@
 #include "io/output.h"
 #include "io/scene_json.h"
 #include "renderers/renderer.h"
+#include "validation/status.h"
+
+int cli_exit_of(int val_rc) {
+  return val_rc == 0                                     ? CLI_OK
+         : val_rc == VAL_ESCENE || val_rc == VAL_EOUTPUT ? CLI_USAGE
+                                                         : CLI_FAIL;
+}
 
 int cli_parse_double(const char *opt, const char *text, double *out) {
   int r = rn_parse_double(text, out);

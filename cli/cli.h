@@ -18,6 +18,10 @@
 
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
+/** The exit code of a validation driver's result (validation/status.h): 0 CLI_OK; VAL_ESCENE and
+ *  VAL_EOUTPUT CLI_USAGE (the input was wrong); any other failure CLI_FAIL (the work failed). */
+int cli_exit_of(int val_rc);
+
 /** Numbers on the command line follow one rule, rn_parse_double() and rn_parse_long()
  *  (renderers/renderer.h): an optional '-', digits, for a double an optional point and exponent;
  *  no spaces, no '+', no hexadecimal. */

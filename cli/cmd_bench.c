@@ -219,8 +219,7 @@ static int bench_illuminance(int argc, char **argv) {
     fprintf(stderr, "pencil bench illuminance: --json: %s\n", err);
     return CLI_USAGE;
   }
-  int r = val_bench_illuminance(&o);
-  return r < 0 ? CLI_USAGE : r ? CLI_FAIL : CLI_OK;
+  return cli_exit_of(val_bench_illuminance(&o));
 }
 
 static void help_caustics(FILE *f) {
@@ -318,7 +317,7 @@ static int bench_caustics(int argc, char **argv) {
   o.runs = (int)runs;
   o.threads = (int)threads;
   o.ref_rays = (int)ref_rays;
-  return val_bench_caustics(&o) == 0 ? CLI_OK : CLI_USAGE;
+  return cli_exit_of(val_bench_caustics(&o));
 }
 
 static void help_area(FILE *f) {
@@ -394,7 +393,7 @@ static int bench_area(int argc, char **argv) {
   o.runs = (int)runs;
   o.threads = (int)threads;
   o.ref_mesh = (int)ref_mesh;
-  return val_bench_area(&o) == 0 ? CLI_OK : CLI_USAGE;
+  return cli_exit_of(val_bench_area(&o));
 }
 
 static void help_beam(FILE *f) {
@@ -491,7 +490,7 @@ static int bench_beam(int argc, char **argv) {
   o.runs = (int)runs;
   o.threads = (int)threads;
   o.size = (int)size;
-  return val_bench_beam(&o) == 0 ? CLI_OK : CLI_USAGE;
+  return cli_exit_of(val_bench_beam(&o));
 }
 
 static void help_dispersion(FILE *f) {
@@ -597,7 +596,7 @@ static int bench_dispersion(int argc, char **argv) {
   o.ref_bins = (int)bins;
   o.spp = (int)spp;
   o.ref_spp = (int)ref_spp;
-  return val_bench_dispersion(&o) == 0 ? CLI_OK : CLI_USAGE;
+  return cli_exit_of(val_bench_dispersion(&o));
 }
 
 static void help_star(FILE *f) {
@@ -726,7 +725,7 @@ static int bench_star(int argc, char **argv) {
     }
     if (!ok) {
       fprintf(stderr, "pencil bench star: %s\n", why[0] ? why : "out of memory");
-      rc = CLI_USAGE;
+      rc = CLI_FAIL;
     }
     for (int c = 0; c < 3; c++) {
       free(in[c]);
@@ -738,7 +737,7 @@ static int bench_star(int argc, char **argv) {
         json_pack("{s:s, s:i, s:o}", "benchmark", "star", "runs", (int)runs, "rows", rows);
     if (io_json_write(json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil bench star: %s\n", err);
-      rc = CLI_USAGE;
+      rc = CLI_FAIL;
     }
     json_decref(root);
   } else {

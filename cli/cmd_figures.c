@@ -333,7 +333,7 @@ static int run(int argc, char **argv, int sweep) {
   if (p <= 0)
     return p < 0 ? CLI_OK : CLI_USAGE;
   int rc = sweep ? val_sweep(&o) : val_figures(&o);
-  return rc == 0 ? CLI_OK : rc == VAL_ESCENE || rc == VAL_EOUTPUT ? CLI_USAGE : CLI_FAIL;
+  return cli_exit_of(rc);
 }
 
 int cmd_figures(int argc, char **argv) {

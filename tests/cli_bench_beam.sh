@@ -4,7 +4,8 @@
 # scripts read (cases[]: case, faces, variants[]: variant, renderer, spp, seconds, mean, p99,
 # max; equal_error: exact_seconds, bracket, exact_over_beam); the beams' image errs less than
 # exact tracing at 1 spp and the exact ladder's errors fall with samples; bad options exit 2
-# naming the option before any rendering. DIR (argument 2) keeps the outputs for the notebook.
+# naming the option before any rendering; out of memory exits 1 with its reason. DIR (argument
+# 2) keeps the outputs for the notebook.
 set -u
 pencil=$1
 out=${2:-}
@@ -64,12 +65,16 @@ $pencil bench beam --size 4 >/dev/null 2>"$tmp/err"; rc=$?
 check "--size 4: exit 2 naming --size" "[ $rc -eq 2 ] && grep -q -- '--size' '$tmp/err'"
 $pencil bench beam --json "$tmp" >/dev/null 2>"$tmp/err"; rc=$?
 check "--json naming a directory: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q -- '--json' '$tmp/err'"
-$pencil bench beam --scenes "$tmp/nowhere" --quick >/dev/null 2>"$tmp/err"; rc=$?
-check "--scenes without the scene: exit 2 naming the file" "[ $rc -eq 2 ] && grep -q 'fig11.json' '$tmp/err'"
 $pencil bench beam --case fig11,nope --quick >/dev/null 2>"$tmp/err"; rc=$?
 check "--case with an unknown name: exit 2 naming it" "[ $rc -eq 2 ] && grep -q -- \"--case: no case 'nope'\" '$tmp/err'"
 $pencil bench beam --case prism --quick --runs 1 --json "$tmp/one.json" >/dev/null 2>"$tmp/err"; rc=$?
 check "--case prism runs that case alone" "[ $rc -eq 0 ] && $py -c \"import json,sys; assert [c['case'] for c in json.load(open(sys.argv[1]))['cases']] == ['prism']\" '$tmp/one.json'"
+$pencil bench beam --scenes "$tmp/nowhere" --quick >"$tmp/o" 2>"$tmp/e"; rc=$?
+check "--scenes without the scene: exit 2 naming the file, no line -1" "[ $rc -eq 2 ] && grep -q 'nowhere/fig1[14].json: ' '$tmp/e' && ! grep -q ':-1:' '$tmp/e'"
+# Out of memory is a failure of the work (1), not of the input (2), and says so: an address space
+# of 400 MB holds the scene but not a 4096 x 4096 image (before, exit 2 and no message).
+(ulimit -v 400000; $pencil bench beam --quick --size 4096 --threads 1 --runs 1) >"$tmp/o" 2>"$tmp/e"; rc=$?
+check "out of memory: exit 1 with the reason" "[ $rc -eq 1 ] && grep -q 'cannot allocate a 4096x4096 image' '$tmp/e'"
 $pencil bench beam --help >"$tmp/help"; rc=$?
 check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
 echo "cli_bench_beam: $([ $fail -eq 0 ] && echo passed || echo FAILED)"

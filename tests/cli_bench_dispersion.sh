@@ -8,7 +8,7 @@
 # points; spp and reference_spp); Takagi's wavelength supersampling and the fan of as many bins
 # give the same colours; the error falls as the bins grow, and drawing the glass at n_d errs most;
 # against a reference of area averages (--reference-spp) the beams err least; bad options exit 2
-# before any rendering. DIR (argument 2) keeps the outputs.
+# before any rendering; out of memory exits 1 with its reason. DIR (argument 2) keeps the outputs.
 set -u
 pencil=$1
 out=${2:-}
@@ -130,6 +130,12 @@ for bad in "--spp 3" "--reference-spp 0" "--spp x"; do
 done
 $pencil bench dispersion --json "$tmp/no/such/dir/x.json" >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "--json in a missing directory: exit 2 before rendering" "[ $rc -eq 2 ] && grep -q -- '--json' '$tmp/e' && [ ! -s '$tmp/o' ]"
+$pencil bench dispersion --scenes "$tmp/nowhere" --quick >"$tmp/o" 2>"$tmp/e"; rc=$?
+check "--scenes without the scene: exit 2 naming the file, no line -1" "[ $rc -eq 2 ] && grep -q 'nowhere/fig1[14].json: ' '$tmp/e' && ! grep -q ':-1:' '$tmp/e'"
+# Out of memory is a failure of the work (1), not of the input (2), and says so: an address space
+# of 400 MB holds the scene but not a 4096 x 4096 image (before, exit 2 and no message).
+(ulimit -v 400000; $pencil bench dispersion --quick --size 4096 --threads 1 --runs 1) >"$tmp/o" 2>"$tmp/e"; rc=$?
+check "out of memory: exit 1 with the reason" "[ $rc -eq 1 ] && grep -q 'cannot allocate a 4096x4096 image' '$tmp/e'"
 $pencil bench dispersion --help >"$tmp/h"; rc=$?
 check "--help" "[ $rc -eq 0 ] && grep -q 'usage: pencil bench dispersion' '$tmp/h'"
 echo "cli_bench_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"

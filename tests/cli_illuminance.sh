@@ -132,7 +132,12 @@ print("ok: bench illuminance --quick meets the targets")
 PY
 $pencil bench illuminance --fig11 "$dir/none.json" >/dev/null 2>"$dir/err"; rc=$?
 check "bench illuminance: a missing Fig. 11 scene is refused at once, named" \
-  "[ $rc -eq 2 ] && grep -q 'cannot read the Fig. 11 scene $dir/none.json' '$dir/err'"
+  "[ $rc -eq 2 ] && grep -q 'cannot read the Fig. 11 scene: $dir/none.json' '$dir/err'"
+printf '{"camera": {"eye": [0, 0, -5], "look_at": [0, 0, 0], "fov": 40},\n "objects": [1]}\n' \
+  >"$dir/bad11.json"
+$pencil bench illuminance --fig11 "$dir/bad11.json" >/dev/null 2>"$dir/err"; rc=$?
+check "bench illuminance: a malformed Fig. 11 scene is refused at once, at its line" \
+  "[ $rc -eq 2 ] && grep -q 'cannot read the Fig. 11 scene: $dir/bad11.json:2: objects\[0\]' '$dir/err'"
 # an area light (1989 section 2.3): mapped as a mesh of Lambertian point sources, the mesh in the
 # JSON; the renderers and the polygons method refuse it, naming it, writing nothing
 cat >"$dir/area.json" <<'JSON'

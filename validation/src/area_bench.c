@@ -325,6 +325,7 @@ static json_t *run_case(case_t *c, const val_area_bench_opts_t *o, int ref_mesh,
   }
   if (exact) {
     if (lt_map_alloc(&ref, c->grid, c->grid, c->ext[0], c->ext[1], c->ext[2], c->ext[3]) != RT_OK) {
+      fprintf(stderr, PROG ": out of memory\n");
       lt_map_free(&brute);
       lt_map_free(&half);
       return NULL;
@@ -486,12 +487,12 @@ int val_bench_area(const val_area_bench_opts_t *o) {
                          "resampled\n",
                          &ac);
   if (o->out && !curve)
-    return -1;
+    return VAL_EOUTPUT;
   FILE *sizes =
       csv_open(o->out, "area-size.csv", "scale,cell_rad,mesh,filter,rms,max,seconds\n", &as);
   if (o->out && !sizes) {
     io_atomic_abort(&ac);
-    return -1;
+    return VAL_EOUTPUT;
   }
   if (o->report)
     fprintf(o->report,
@@ -541,5 +542,5 @@ int val_bench_area(const val_area_bench_opts_t *o) {
   }
   json_decref(cases);
   json_decref(sweep);
-  return ok ? 0 : -1;
+  return ok ? 0 : VAL_EFAIL;
 }

@@ -72,7 +72,7 @@ static int compare(const rt_image_t *a, const rt_image_t *b, result_t *r) {
   size_t n = (size_t)a->width * a->height;
   double *d = malloc(n * sizeof *d);
   if (!d)
-    return -1;
+    return fprintf(stderr, "pencil bench beam: out of memory\n"), VAL_EFAIL;
   double sum = 0.0, mx = 0.0;
   for (size_t k = 0; k < n; k++) {
     double e = 0.0;
@@ -91,7 +91,7 @@ static int compare(const rt_image_t *a, const rt_image_t *b, result_t *r) {
 }
 
 /* The case's scene, prepared at side x side: fig11.json, its polyhedron replaced where the case
- * says. 0, or -1 with the reason on stderr. */
+ * says. 0, or VAL_ESCENE (the file) or VAL_EFAIL with the reason on stderr. */
 static int make_scene(const bench_case_t *bc, const val_beam_bench_opts_t *o, int side,
                       rt_scene_t *s) {
   char path[4096], err[1024];
@@ -101,10 +101,12 @@ static int make_scene(const bench_case_t *bc, const val_beam_bench_opts_t *o, in
   json_t *root = json_load_file(path, 0, &je);
   json_t *objs = root ? json_object_get(root, "objects") : NULL;
   if (!json_is_array(objs)) {
-    fprintf(stderr, "pencil bench beam: %s:%d: %s\n", path, root ? 0 : je.line,
-            root ? "no \"objects\" array" : je.text);
+    if (root || je.line < 1)
+      fprintf(stderr, "pencil bench beam: %s: %s\n", path, root ? "no \"objects\" array" : je.text);
+    else
+      fprintf(stderr, "pencil bench beam: %s:%d: %s\n", path, je.line, je.text);
     json_decref(root);
-    return -1;
+    return VAL_ESCENE;
   }
   if (bc->stacks != 0) /* the polyhedron goes; another comes below */
     for (size_t k = json_array_size(objs); k-- > 0;) {
@@ -117,14 +119,14 @@ static int make_scene(const bench_case_t *bc, const val_beam_bench_opts_t *o, in
   if (!text || io_scene_load_buffer(path, text, strlen(text), s, err, sizeof err) != 0) {
     fprintf(stderr, "pencil bench beam: %s\n", text ? err : "out of memory");
     free(text);
-    return -1;
+    return text ? VAL_ESCENE : VAL_EFAIL;
   }
   free(text);
   int glass = rt_scene_find_material(s, "glass"), obj = -1;
   rt_status_t st = RT_OK;
   if (bc->stacks != 0 && glass < 0) {
     fprintf(stderr, "pencil bench beam: %s: no material \"glass\"\n", path);
-    return -1;
+    return VAL_ESCENE;
   }
   if (bc->stacks > 0) {
     st = rt_scene_add_faceted_sphere(s, px_vec3(0.0, 1.5, 0.0), 1.0, bc->stacks, bc->slices, glass,
@@ -146,7 +148,7 @@ static int make_scene(const bench_case_t *bc, const val_beam_bench_opts_t *o, in
   if (st != RT_OK) {
     fprintf(stderr, "pencil bench beam: case %s: cannot build the scene: %s\n", bc->name,
             rt_strerror(st));
-    return -1;
+    return st == RT_ENOMEM ? VAL_EFAIL : VAL_ESCENE;
   }
   return 0;
 }
@@ -163,6 +165,9 @@ static int render(const rt_scene_t *s, const variant_t *v, const val_beam_bench_
   void *opt = malloc(rn->options_size), *stats = calloc(1, rn->stats_size);
   double t[128];
   int ok = opt && stats && rt_image_alloc(img, s->camera.width, s->camera.height) == RT_OK;
+  if (!ok)
+    fprintf(stderr, "pencil bench beam: the %s render: cannot allocate a %dx%d image\n", v->name,
+            s->camera.width, s->camera.height);
   if (ok) {
     rn_defaults(rn, opt);
     if (strcmp(v->renderer, "beam") == 0) {
@@ -267,7 +272,11 @@ static int measure(const rt_scene_t *s, const val_beam_bench_opts_t *o, int cert
   bt_stats_t st;
   char why[256];
   if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
-    return -1;
+    return fprintf(stderr,
+                   "pencil bench beam: the measured beam render: cannot allocate a %dx%d "
+                   "image\n",
+                   s->camera.width, s->camera.height),
+           VAL_EFAIL;
   double t0 = val_wall_seconds();
   rt_status_t r = bt_render(s, &plan, &bo, &img, NULL, &st, why, sizeof why);
   m->seconds = val_wall_seconds() - t0;
@@ -294,14 +303,17 @@ static int faces_of(const bench_case_t *bc) {
   return bc->stacks > 0 ? bc->stacks * bc->slices : bc->stacks < 0 ? 5 : 100;
 }
 
-/* One case: every variant against the reference. NULL on an error. */
+/* One case: every variant against the reference. NULL on an error, its kind in *rc
+ * (validation/status.h), after a message. */
 static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, int side,
-                        int ref_side, FILE *f) {
+                        int ref_side, FILE *f, int *rc) {
   rt_scene_t s;
-  if (make_scene(bc, o, side, &s) != 0) {
+  *rc = make_scene(bc, o, side, &s);
+  if (*rc != 0) {
     rt_scene_free(&s);
     return NULL;
   }
+  *rc = VAL_EFAIL;
   const variant_t vs[NVARIANTS] = {
       {"reference", "exact", ref_side, 0},
       {"beam", "beam", 1, BT_BOUND_CORRECTED},
@@ -375,6 +387,8 @@ static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, 
                   "exact_over_beam_probe", io_json_number(tp / res[V_PROBE].seconds),
                   "beam_over_exact16", res[V_BEAM].seconds / res[V_EXACT16].seconds,
                   "beam_over_pencil16", res[V_BEAM].seconds / res[V_PENCIL16].seconds);
+    if (!j)
+      fprintf(stderr, "pencil bench beam: out of memory\n");
     if (j && with10)
       json_object_set_new(j, "fig10",
                           json_pack("{s:o, s:o}", "default", fig10_json(&m10[0]), "certified",
@@ -411,10 +425,11 @@ int val_bench_beam(const val_beam_bench_opts_t *o) {
   for (int k = 0; k < NCASES; k++) {
     if (o->cases ? !val_case_listed(o->cases, cases[k].name) : o->quick && !cases[k].quick)
       continue;
-    json_t *j = run_case(&cases[k], o, side, ref_side, f);
+    int rc;
+    json_t *j = run_case(&cases[k], o, side, ref_side, f, &rc);
     if (!j) {
       json_decref(all);
-      return -1;
+      return rc;
     }
     json_array_append_new(all, j);
   }
@@ -426,7 +441,7 @@ int val_bench_beam(const val_beam_bench_opts_t *o) {
                              "runs", o->runs, "quick", o->quick);
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil bench beam: %s\n", err);
-      rc = -1;
+      rc = VAL_EFAIL;
     }
     json_decref(root);
   } else {

@@ -84,7 +84,7 @@ static int compare(const rt_image_t *a, const rt_image_t *b, double *rms, double
   size_t n = (size_t)a->width * a->height;
   double *d = malloc(n * sizeof *d);
   if (!d)
-    return -1;
+    return fprintf(stderr, "pencil bench caustics: out of memory\n"), VAL_EFAIL;
   double s2 = 0.0, mx = 0.0;
   for (size_t k = 0; k < n; k++) {
     double e = 0.0;
@@ -128,6 +128,9 @@ static int render(const rt_scene_t *s0, const variant_t *v, const val_caustic_be
   void *opt = malloc(rn->options_size), *stats = calloc(1, rn->stats_size);
   double t[16];
   int ok = opt && stats && rt_image_alloc(img, s.camera.width, s.camera.height) == RT_OK;
+  if (!ok)
+    fprintf(stderr, "pencil bench caustics: the %s render: cannot allocate a %dx%d image\n",
+            v->name, s.camera.width, s.camera.height);
   if (ok)
     rn_defaults(rn, opt);
   rn_caustic_stats_t cs;
@@ -179,13 +182,16 @@ static json_t *result_json(const variant_t *v, const variant_t *against, const r
                    reference ? json_null() : io_json_number(r->max));
 }
 
-/* One scene: every variant, compared with the reference. NULL on an error. */
-static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *o, FILE *f) {
+/* One scene: every variant, compared with the reference. NULL on an error, its kind in *rc
+ * (validation/status.h), after a message. */
+static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *o, FILE *f,
+                        int *rc) {
   char path[4096], err[1024];
   snprintf(path, sizeof path, "%s/%s", o->scenes ? o->scenes : PENCIL_SOURCE_DIR "/scenes",
            bc->file);
   rt_scene_t s;
   rt_scene_init(&s);
+  *rc = VAL_ESCENE;
   if (io_scene_load(path, &s, err, sizeof err) != 0) {
     fprintf(stderr, "pencil bench caustics: %s\n", err);
     rt_scene_free(&s);
@@ -200,11 +206,15 @@ static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *
     s.camera.width = s.camera.height = QUICK_SIZE;
     s.spp = 1;
   }
-  if (rt_scene_prepare(&s) != RT_OK) {
-    fprintf(stderr, "pencil bench caustics: %s: cannot prepare the scene\n", path);
+  rt_status_t ps = rt_scene_prepare(&s);
+  if (ps != RT_OK) {
+    fprintf(stderr, "pencil bench caustics: %s: cannot prepare the scene: %s\n", path,
+            rt_strerror(ps));
     rt_scene_free(&s);
+    *rc = ps == RT_ENOMEM ? VAL_EFAIL : VAL_ESCENE;
     return NULL;
   }
+  *rc = VAL_EFAIL;
   /* illuminance polygons where the scene is polyhedral; not in the quick run (their cost does
    * not shrink with the map: Fig. 11's torus takes half a minute whatever the cells) */
   int polyhedral = !o->quick && !bc->no_polygons &&
@@ -303,6 +313,8 @@ static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *
         res[V_PENCIL].seconds / res[V_REF].seconds, "equal_error", "photon_rays",
         io_json_number(eq_rays), "photon_seconds", io_json_number(eq_seconds), "over_grid_pencil",
         io_json_number(eq_seconds / gp_map), "grid_pencil_seconds", gp_map);
+    if (!j)
+      fprintf(stderr, "pencil bench caustics: out of memory\n");
   }
   for (int v = 0; v < NVARIANTS; v++)
     rt_image_free(&img[v]);
@@ -329,10 +341,11 @@ int val_bench_caustics(const val_caustic_bench_opts_t *o) {
   for (int k = 0; k < NCASES; k++) {
     if (!val_case_listed(o->cases, cases[k].name))
       continue;
-    json_t *j = run_case(&cases[k], o, f);
+    int rc;
+    json_t *j = run_case(&cases[k], o, f, &rc);
     if (!j) {
       json_decref(all);
-      return -1;
+      return rc;
     }
     json_array_append_new(all, j);
   }
@@ -342,7 +355,7 @@ int val_bench_caustics(const val_caustic_bench_opts_t *o) {
     json_t *root = json_pack("{s:o, s:i, s:b}", "cases", all, "runs", o->runs, "quick", o->quick);
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil bench caustics: %s\n", err);
-      rc = -1;
+      rc = VAL_EFAIL;
     }
     json_decref(root);
   } else {

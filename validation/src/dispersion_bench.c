@@ -40,7 +40,7 @@ static int delta_e(const rt_image_t *a, const rt_image_t *b, result_t *r) {
   size_t n = (size_t)a->width * a->height;
   double *d = malloc(n * sizeof *d);
   if (!d)
-    return -1;
+    return fprintf(stderr, "pencil bench dispersion: out of memory\n"), VAL_EFAIL;
   double sum = 0.0, mx = 0.0;
   for (size_t k = 0; k < n; k++) {
     double ca[3], cb[3], la[3], lb[3];
@@ -70,6 +70,9 @@ static int render(const rt_scene_t *s, const method_t *m, const val_dispersion_b
   void *opt = rn ? malloc(rn->options_size) : NULL, *stats = rn ? calloc(1, rn->stats_size) : NULL;
   char err[200], bins[16];
   int ok = opt && stats && rt_image_alloc(img, s->camera.width, s->camera.height) == RT_OK;
+  if (!ok)
+    fprintf(stderr, "pencil bench dispersion: the %s render: cannot allocate a %dx%d image\n",
+            m->name, s->camera.width, s->camera.height);
   if (ok) {
     rn_defaults(rn, opt);
     snprintf(bins, sizeof bins, "%d", m->bins);
@@ -129,14 +132,14 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
   rt_scene_init(&s);
   if (io_scene_load(path, &s, err, sizeof err) != 0) {
     fprintf(stderr, "pencil bench dispersion: %s\n", err);
-    return -1;
+    return VAL_ESCENE;
   }
   s.camera.width = s.camera.height = side;
   rt_status_t st = rt_scene_prepare(&s);
   if (st != RT_OK) {
     fprintf(stderr, "pencil bench dispersion: %s: %s\n", path, rt_strerror(st));
     rt_scene_free(&s);
-    return -1;
+    return st == RT_ENOMEM ? VAL_EFAIL : VAL_ESCENE;
   }
   int spp = o->spp > 0 ? o->spp : s.spp, ref_spp = o->ref_spp > 0 ? o->ref_spp : spp;
   enum { NM = 12, ND = 3, BM = 9 }; /* ND: exact-nd, the times' unit; BM .. BM + 2: beams */
@@ -172,7 +175,7 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
   }
   result_t same = {0}; /* the solids against spectral pencils at the same points */
   bad = bad || delta_e(&img[BM + 1], &img[BM + 2], &same) != 0;
-  int rc = bad ? -1 : 0;
+  int rc = bad ? VAL_EFAIL : 0;
   /* the targets: rows 1 (pencil), 2 (pencil-spectral), ND (exact-nd) */
   double over_pencil = res[2].seconds / fmax(res[1].seconds, 1e-9);
   double over_nd = res[2].seconds / fmax(res[ND].seconds, 1e-9);
@@ -247,7 +250,7 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
                   "time_over_exact_nd", over_nd, "faster_than_exact_nd", over_nd < 1.0));
     if (io_json_write(o->json, root, err, sizeof err) != 0) {
       fprintf(stderr, "pencil bench dispersion: %s\n", err);
-      rc = -1;
+      rc = VAL_EFAIL;
     }
     json_decref(root);
   }

@@ -427,15 +427,17 @@ static json_t *bench_fig11(const val_illum_bench_opts_t *o, FILE *f, int *met) {
 }
 
 int val_bench_illuminance(const val_illum_bench_opts_t *o) {
-  if (!o->quick) { /* a missing Fig. 11 scene is an error before minutes of work, not after */
+  if (!o->quick) { /* a bad Fig. 11 scene is an error before minutes of work, not after */
     const char *path = o->fig11 ? o->fig11 : PENCIL_SOURCE_DIR "/scenes/fig11.json";
-    FILE *t = fopen(path, "r");
-    if (!t) {
-      fprintf(stderr, "pencil bench illuminance: cannot read the Fig. 11 scene %s: %s\n", path,
-              strerror(errno));
-      return -1;
+    char err[1024];
+    rt_scene_t t;
+    rt_scene_init(&t);
+    int bad = io_scene_load(path, &t, err, sizeof err) != 0;
+    rt_scene_free(&t);
+    if (bad) {
+      fprintf(stderr, "pencil bench illuminance: cannot read the Fig. 11 scene: %s\n", err);
+      return VAL_ESCENE;
     }
-    fclose(t);
   }
   int grid = o->quick ? 32 : 128;
   long rings = o->quick ? 100000 : 1000000;

@@ -16,6 +16,7 @@
 #ifndef VALIDATION_AREA_BENCH_H
 #define VALIDATION_AREA_BENCH_H
 
+#include "validation/status.h"
 #include <stdio.h>
 
 typedef struct {
@@ -29,7 +30,8 @@ typedef struct {
   FILE *report;     /**< table (stdout) or NULL */
 } val_area_bench_opts_t;
 
-/** Run the benchmark; 0 on success, -1 on an error (message on stderr). */
+/** Run the benchmark; 0 on success, else VAL_ESCENE (a scene it reads), VAL_EOUTPUT (an
+ *  output) or VAL_EFAIL (validation/status.h), each after a message on stderr. */
 int val_bench_area(const val_area_bench_opts_t *o);
 
 #endif

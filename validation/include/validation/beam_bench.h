@@ -15,6 +15,7 @@
 #ifndef VALIDATION_BEAM_BENCH_H
 #define VALIDATION_BEAM_BENCH_H
 
+#include "validation/status.h"
 #include <stddef.h>
 #include <stdio.h>
 
@@ -39,7 +40,8 @@ const char *val_bench_beam_case_names(void);
  *  bad[cap]. */
 int val_bench_beam_cases_ok(const char *list, char *bad, size_t cap);
 
-/** Run the benchmark; 0 on success, -1 on an error (message on stderr). */
+/** Run the benchmark; 0 on success, else VAL_ESCENE (a scene it reads), VAL_EOUTPUT (an
+ *  output) or VAL_EFAIL (validation/status.h), each after a message on stderr. */
 int val_bench_beam(const val_beam_bench_opts_t *o);
 
 #endif

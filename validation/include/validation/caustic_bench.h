@@ -14,6 +14,7 @@
 #ifndef VALIDATION_CAUSTIC_BENCH_H
 #define VALIDATION_CAUSTIC_BENCH_H
 
+#include "validation/status.h"
 #include <stdio.h>
 
 typedef struct {
@@ -34,7 +35,8 @@ typedef struct {
  *  first unknown name in bad[cap]. */
 int val_bench_caustics_cases_ok(const char *list, char *bad, size_t cap);
 
-/** Run the benchmark; 0 on success, -1 on an error (message on stderr). */
+/** Run the benchmark; 0 on success, else VAL_ESCENE (a scene it reads), VAL_EOUTPUT (an
+ *  output) or VAL_EFAIL (validation/status.h), each after a message on stderr. */
 int val_bench_caustics(const val_caustic_bench_opts_t *o);
 
 #endif

@@ -19,6 +19,7 @@
 #ifndef VALIDATION_DISPERSION_BENCH_H
 #define VALIDATION_DISPERSION_BENCH_H
 
+#include "validation/status.h"
 #include <stdio.h>
 
 typedef struct {
@@ -37,7 +38,8 @@ typedef struct {
   FILE *report;       /**< table (stdout) or NULL */
 } val_dispersion_bench_opts_t;
 
-/** Run the benchmark; 0 on success, -1 on an error (message on stderr). */
+/** Run the benchmark; 0 on success, else VAL_ESCENE (a scene it reads), VAL_EOUTPUT (an
+ *  output) or VAL_EFAIL (validation/status.h), each after a message on stderr. */
 int val_bench_dispersion(const val_dispersion_bench_opts_t *o);
 
 #endif

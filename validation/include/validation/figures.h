@@ -15,6 +15,7 @@
 #include <stdio.h>
 
 #include "renderers/renderer.h"
+#include "validation/status.h"
 
 #define VAL_MAX_SPP 12
 #define VAL_MAX_RHO 16
@@ -146,12 +147,6 @@ enum {
 /** Defaults for `pencil figures`: Fig. 9 at 1, 4, ..., 49 spp, 3 runs, 1 thread, the sweep at
  *  rho 0.05 ... 2 with 9 spp. */
 void val_figures_defaults(val_figures_opts_t *o);
-
-/** val_figures() and val_sweep(): the scene file could not be read or the scene not built. */
-#define VAL_ESCENE (-2)
-/** val_figures() and val_sweep(): an output cannot be written (its directory cannot be made, it
- *  is a directory, it is the scene read, ...); found before any work, nothing written. */
-#define VAL_EOUTPUT (-3)
 
 /** Run Figs. 8-10 (and the sweep) and write DIR/summary.json, CSV files, EXR/PNG images and
  *  plots, and print the comparison with the paper (which says when a target was missed).

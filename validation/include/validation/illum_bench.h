@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "light/illuminance.h"
+#include "validation/status.h"
 
 /** A glass ball (radius r, index n, transmitting everything: kt 1, kr 0) with its centre at height
  *  h above a floor, lit from above along the axis by a parallel light (source_height <= 0) or a
@@ -36,7 +37,8 @@ typedef struct {
   FILE *report;                   /**< table (stdout) or NULL */
 } val_illum_bench_opts_t;
 
-/** Run the benchmark; 0 when the targets are met, 1 when not, -1 on an error (message on
+/** Run the benchmark; 0 when the targets are met, 1 when not, VAL_ESCENE when the Fig. 11 scene
+ *  cannot be read (before any work), VAL_EFAIL on another error (validation/status.h; messages on
  *  stderr). */
 int val_bench_illuminance(const val_illum_bench_opts_t *o);
 
