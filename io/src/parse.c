@@ -176,10 +176,12 @@ int io_get_int(io_parse_t *P, json_t *o, const char *key, int required, int def,
   int ok = 1;
   char got[IO_SHORTEST_MAX];
   if (!json_is_integer(v)) {
-    if (json_is_number(v))
-      ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi,
-                   io_shortest(json_number_value(v), got));
-    else
+    if (json_is_number(v)) {
+      /* 5.0 is a real to JSON: say so, rather than echo "5" as if it were refused by value */
+      const char *g = io_shortest(json_number_value(v), got);
+      ok = io_fail(P, "expected an integer from %d to %d, got %s%s", lo, hi, g,
+                   strpbrk(g, ".eEin") ? "" : ".0");
+    } else
       ok = io_fail(P, "expected an integer from %d to %d, got %s", lo, hi, type_name(v));
   } else if (json_integer_value(v) < lo || json_integer_value(v) > hi) {
     ok = io_fail(P, "expected an integer from %d to %d, got %lld", lo, hi,
