@@ -99,6 +99,35 @@ def read_csv(path):
     return {k: np.array([_num(r[k]) for r in rows]) for k in rows[0]} if rows else {}
 
 
+def provenance(path):
+    """Where a pencil output came from: a CSV's provenance lines ('# version: ...', '# commit:
+    ...', '# date: ...', '# command_line: ...') or an EXR's pencil:* header attributes, as a dict
+    of those four keys (empty when it has none)."""
+    keys = ("version", "commit", "date", "command_line")
+    if path.endswith(".exr"):
+        _, attrs = read_exr(path)
+        return {k: attrs["pencil:" + k] for k in keys if "pencil:" + k in attrs}
+    out = {}
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            if not line.startswith("# "):
+                break
+            k, _, v = line[2:].rstrip("\n").partition(": ")
+            if k in keys:
+                out[k] = v
+    return out
+
+
+def save(fig, path, source, dpi=100):
+    """fig as PNG at path, its text chunks saying what drew it and from which output (source):
+    Software, Source and that output's pencil:version, pencil:commit, pencil:date and
+    pencil:command_line, as pencil's own PNGs carry them."""
+    meta = {"Software": f"pencil notebooks/pencil_plots.py (matplotlib {matplotlib.__version__})",
+            "Source": os.path.basename(source)}
+    meta.update({"pencil:" + k: v for k, v in provenance(source).items()})
+    fig.savefig(path, dpi=dpi, metadata=meta)
+
+
 def _num(s):
     try:
         return float(s)
@@ -130,7 +159,7 @@ def plot_fig9(d, show=False):
     ax[1].set_ylabel("CPU seconds (median)")
     ax[1].legend()
     fig.tight_layout()
-    fig.savefig(os.path.join(d, "fig9.png"), dpi=100)
+    save(fig, os.path.join(d, "fig9.png"), os.path.join(d, "fig9.csv"))
     return fig if show else plt.close(fig)
 
 
@@ -151,7 +180,7 @@ def plot_fig10(d, show=False):
                  f"(paper 99.8%), max {s['max_error']:.3f}")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(d, "fig10_hist.png"), dpi=100)
+    save(fig, os.path.join(d, "fig10_hist.png"), os.path.join(d, "fig10_hist.csv"))
     return fig if show else plt.close(fig)
 
 
@@ -176,7 +205,7 @@ def plot_images(d, show=False):
         a.set_xticks([])
         a.set_yticks([])
     fig.tight_layout()
-    fig.savefig(os.path.join(d, "fig8_compare.png"), dpi=90)
+    save(fig, os.path.join(d, "fig8_compare.png"), os.path.join(d, "fig8.exr"), dpi=90)
     return fig if show else plt.close(fig)
 
 
@@ -201,7 +230,7 @@ def plot_sweep(d, show=False):
         a.legend(fontsize=7)
     ax[0].set_title(f"what accuracy costs ({int(t['spp'][0])} spp)")
     fig.tight_layout()
-    fig.savefig(os.path.join(d, "sweep.png"), dpi=100)
+    save(fig, os.path.join(d, "sweep.png"), os.path.join(d, "sweep.csv"))
     return fig if show else plt.close(fig)
 
 
@@ -210,8 +239,8 @@ def plot_curves(path, show=False):
     default and certified mode, by CPU time and, where counted, by instructions; saved beside
     the CSV as curves.png."""
     t = read_csv(path)
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))  # the instruction columns are empty where not counted
+    with open(path, newline="") as f:  # the instruction columns are empty where not counted
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     names = [c for c in ("spp", "size", "spheres", "rho") if c in set(t["curve"])]
     xlabel = {"spp": "samples per pixel", "size": "image side (pixels)",
               "spheres": "spheres over the board", "rho": "rho (pixel intervals)"}
@@ -235,7 +264,7 @@ def plot_curves(path, show=False):
         a.set_title(c)
         a.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(os.path.dirname(path), "curves.png"), dpi=100)
+    save(fig, os.path.join(os.path.dirname(path), "curves.png"), path)
     return fig if show else plt.close(fig)
 
 

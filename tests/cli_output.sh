@@ -145,6 +145,26 @@ check "sweep with an odd scene path and --out" "[ $rc -eq 0 ] && [ -s \"\$odd/ou
 check "sweep.json round-trips the scene path and records the command line" \
   "$py -c 'import json,sys; d=json.load(open(sys.argv[1])); sys.exit(not (d[\"scene\"] == sys.argv[2] and d[\"provenance\"][\"command_line\"].count(\"sweep\") == 1 and len(d[\"sweep\"]) == 3))' \"\$odd/out/sweep.json\" \"\$odd/scène'.json\""
 check "the plot was made in the odd directory" "[ -s \"\$odd/out/sweep.png\" ]"
+check "the plot carries its data's provenance in text chunks (once it had none)" "$py - \"\$odd/out/sweep.png\" <<'PY'
+import struct, sys, zlib
+d, i, t = open(sys.argv[1], 'rb').read(), 8, {}
+while i < len(d):
+    n, kind = struct.unpack('>I', d[i:i + 4])[0], d[i + 4:i + 8]
+    body = d[i + 8:i + 8 + n]
+    if kind == b'tEXt':
+        k, v = body.split(b'\\0', 1)
+        t[k.decode('latin-1')] = v.decode('latin-1')
+    elif kind == b'iTXt':
+        k, rest = body.split(b'\\0', 1)
+        comp, rest = rest[0], rest[2:]
+        v = rest.split(b'\\0', 2)[2]
+        t[k.decode('latin-1')] = (zlib.decompress(v) if comp else v).decode('utf-8')
+    i += 12 + n
+assert 'pencil_plots.py' in t['Software'] and t['Source'] == 'sweep.csv', t
+assert t['pencil:version'].startswith('0.') or t['pencil:version'], t
+assert ' sweep ' in t['pencil:command_line'] and 'scène' in t['pencil:command_line'], t
+assert t['pencil:date'].startswith('20') and t['pencil:commit'], t
+PY"
 check "sweep.csv starts with the provenance as '#' lines (once it had none), the header after them" \
   "head -4 \"\$odd/out/sweep.csv\" | grep -q '^# version: ' && head -4 \"\$odd/out/sweep.csv\" | grep -q '^# commit: ' && head -4 \"\$odd/out/sweep.csv\" | grep -q '^# date: 20' && sed -n 4p \"\$odd/out/sweep.csv\" | grep -q '^# command_line: .* sweep .*sc.ne' && sed -n 5p \"\$odd/out/sweep.csv\" | grep -q '^rho,variant,'"
 check "no file escaped the output directory" "[ \"\$(ls \"\$odd\" | wc -l)\" -eq 2 ]"
