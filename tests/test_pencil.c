@@ -1812,6 +1812,27 @@ static void measured_all_within(const rt_scene_t *s) {
   assert_int_equal(st.within, st.measured);
 }
 
+/* A total internal reflection inside a lattice cell (tests/data/pencil_star_tir.json, a glass star
+ * prism without Fresnel): the reflected node's weight is kr at seven grid points and kr + kt at
+ * two, its ray and surface the same at all nine, so the scene search confirmed it and the bilinear
+ * weight (0.54 against the exact 0.085) scaled its subtree traced per sample: 29 pixels of the
+ * star more than 1/32 too bright, up to 0.235, with --measure silent. A grid whose points' weights
+ * differ does not confirm the node now. */
+static void weight_jump_not_interpolated(void **state) {
+  (void)state;
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/tests/data/pencil_star_tir.json", PENCIL_SOURCE_DIR);
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  int star_px;
+  double most = object_seen_off(&s, 1, 1, 0, &star_px);
+  assert_true(star_px > 2000);
+  assert_true(most <= 1.0 / 32.0);
+  rt_scene_free(&s);
+}
+
 /* Thin things seen directly, which the bounding spheres do not tell of: a domain's corner rays all
  * meet one face, and the guard of what primary rays see (pt_guard_view()) finds what lies in
  * front of it in the domain's pyramid though no corner ray met it. At 96 x 96, 9 spp:
@@ -2172,6 +2193,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(lights_past_the_masks_keep_their_shadows),
       cmocka_unit_test(narrow_highlights_kept),
       cmocka_unit_test(slots_in_shadows_kept),
+      cmocka_unit_test(weight_jump_not_interpolated),
       cmocka_unit_test(thin_objects_seen),
       cmocka_unit_test(thin_objects_keep_their_shadows),
       cmocka_unit_test(gaps_between_shadows_kept),

@@ -118,7 +118,12 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
 
 /* Step 3: a verify node (below an edge the corners saw) that some grid point did not confirm is
  * traced exactly per sample in this lattice cell, with its subtree (C->lattice.plan.exact_subtree).
- */
+ * The scene search confirms the node's surface, not its weight: a total internal reflection at an
+ * ancestor spawns the same reflected ray as a partial one, with weight kr + kt instead of kr, so a
+ * grid that confirms the node everywhere can still straddle that edge. Without a Fresnel split
+ * W_k is then the same product of constants at every point on the node's path, bit for bit; a
+ * grid whose points' W_k differ is not confirmed either (its interpolated W_k would weight the
+ * node's direct term and its children traced exactly per sample). */
 static void mark_exact_subtrees(pt_ctx_t *C, const lattice_point_t (*R)[3]) {
   uint8_t *exact = C->lattice.plan.exact_subtree;
   for (int k = 0; k < C->paths.n; k++) {
@@ -127,6 +132,14 @@ static void mark_exact_subtrees(pt_ctx_t *C, const lattice_point_t (*R)[3]) {
     for (int r = 0; r < 3 && n->verify && !exact[k]; r++)
       for (int c = 0; c < 3; c++)
         exact[k] |= R[r][c].g[k].ok != 1;
+    if (n->verify && !exact[k] && !C->weights_vary) {
+      const rt_rgb_t w0 = R[0][0].g[k].w;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+          const rt_rgb_t w = R[r][c].g[k].w;
+          exact[k] |= w.r != w0.r || w.g != w0.g || w.b != w0.b;
+        }
+    }
   }
 }
 
