@@ -8,12 +8,9 @@
 # sums converge with the mesh; through the ball the quadratic filter beats the plain sum and the
 # printed linear one; flux is kept. Bad options exit 2 naming the option before any work. DIR
 # (argument 2) keeps the outputs for the notebook.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 out=${2:-}
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -n "$out" ] || out=$tmp/out
@@ -79,5 +76,4 @@ $pencil bench area --json "$tmp" >/dev/null 2>"$tmp/err"; rc=$?
 check "--json naming a directory: exit 2 before work" "[ $rc -eq 2 ] && grep -q -- '--json' '$tmp/err'"
 $pencil bench area --help >"$tmp/help"; rc=$?
 check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
-echo "cli_bench_area: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_bench_area

@@ -6,12 +6,9 @@
 # exact tracing at 1 spp and the exact ladder's errors fall with samples; bad options exit 2
 # naming the option before any rendering; out of memory exits 1 with its reason. DIR (argument
 # 2) keeps the outputs for the notebook.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 out=${2:-}
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -n "$out" ] || out=$tmp/out
@@ -77,5 +74,4 @@ check "--scenes without the scene: exit 2 naming the file, no line -1" "[ $rc -e
 check "out of memory: exit 1 with the reason" "[ $rc -eq 1 ] && grep -q 'cannot allocate a 4096x4096 image' '$tmp/e'"
 $pencil bench beam --help >"$tmp/help"; rc=$?
 check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
-echo "cli_bench_beam: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_bench_beam

@@ -3,12 +3,9 @@
 # CASE-VARIANT.exr and .png for every variant into --out and a JSON summary whose keys scripts
 # read (cases[].variants[]: variant, seconds, rms, p99, max; pencil_over_exact); bad options exit
 # 2 naming the option before any rendering. DIR (argument 2) keeps the outputs for the notebook.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 out=${2:-}
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -n "$out" ] || out=$tmp/out
@@ -57,5 +54,4 @@ $pencil bench caustics --case fig8 --quick --runs 1 --json "$tmp/one.json" >/dev
 check "--case fig8 runs that case alone" "[ $rc -eq 0 ] && $py -c \"import json,sys; assert [c['case'] for c in json.load(open(sys.argv[1]))['cases']] == ['fig8']\" '$tmp/one.json'"
 $pencil bench caustics --help >"$tmp/help"; rc=$?
 check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
-echo "cli_bench_caustics: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_bench_caustics

@@ -9,12 +9,9 @@
 # give the same colours; the error falls as the bins grow, and drawing the glass at n_d errs most;
 # against a reference of area averages (--reference-spp) the beams err least; bad options exit 2
 # before any rendering; out of memory exits 1 with its reason. DIR (argument 2) keeps the outputs.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 out=${2:-}
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -n "$out" ] || out=$tmp/out
@@ -138,5 +135,4 @@ check "--scenes without the scene: exit 2 naming the file, no line -1" "[ $rc -e
 check "out of memory: exit 1 with the reason" "[ $rc -eq 1 ] && grep -q 'cannot allocate a 4096x4096 image' '$tmp/e'"
 $pencil bench dispersion --help >"$tmp/h"; rc=$?
 check "--help" "[ $rc -eq 0 ] && grep -q 'usage: pencil bench dispersion' '$tmp/h'"
-echo "cli_bench_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_bench_dispersion

@@ -5,11 +5,8 @@
 # thresholds); --no-measure leaves accuracy and verdict null; bad options exit 2 naming the
 # option, an unwritable JSON path exits 1 naming it. Tiny images keep it under a few seconds;
 # the times themselves are not asserted (speed is for the benchmark, not for tests).
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -123,5 +120,4 @@ $pencil bench pencil "$tmp/scene.json" --size 8x8 --json "$tmp/scene.json" >/dev
 check "--json that is the scene: exit 2, says so, scene kept" \
   "[ $rc -eq 2 ] && grep -q 'is the input' '$tmp/err' && cmp -s '$src' '$tmp/scene.json'"
 
-[ $fail -eq 0 ] && echo "cli_bench_pencil: all passed" || echo "cli_bench_pencil: FAILED"
-exit $fail
+finish cli_bench_pencil

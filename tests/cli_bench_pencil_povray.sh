@@ -3,11 +3,8 @@
 # exporter refuses is timed without it, with a note; POV-Ray's columns and JSON are consistent
 # with the times; its private directories are removed, even under a TMPDIR with a space. The
 # checks without POV-Ray are tests/cli_bench_pencil.sh's. Skipped (77) without povray.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 if ! command -v povray >/dev/null; then
   echo "SKIP: povray (POV-Ray 3.7) is not installed (scripts/deps installs it)"
   exit 77

@@ -2,11 +2,8 @@
 # The `pencil bounds` contract: JSON {"a".."f"} on stdout with the conventions of `pencil matrix`;
 # no coefficients -> exit 1, reason on stderr, nothing on stdout; bad parameters -> exit 2; --help.
 # Values are checked against closed forms evaluated independently here (docs/bounds.md).
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 err=$(mktemp)
 trap 'rm -f "$err"' EXIT
 
@@ -89,5 +86,4 @@ $pencil bounds --help | grep -q usage; rc=$?
 check "pencil bounds --help prints usage" "[ $rc -eq 0 ]"
 $pencil bounds refract --help | grep -q usage; rc=$?
 check "pencil bounds refract --help prints usage" "[ $rc -eq 0 ]"
-echo "cli_bounds: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_bounds

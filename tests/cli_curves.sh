@@ -5,13 +5,10 @@
 # instruction counts (the counts' quotient), else those columns stay empty; curves.json records the
 # version, the command line and each bench command; a bad option exits 2 naming it, a pencil that
 # is not an executable file exits 2. DIR (argument 3) keeps the outputs.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 curves=$1
 pencil=$2
 out=${3:-}
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [ -n "$out" ] || out=$tmp/out
@@ -56,4 +53,4 @@ $py "$curves" --quick --pencil "$tmp" --out "$tmp/x" >/dev/null 2>"$tmp/err"; rc
 check "a --pencil that is no executable file exits 2 naming it" "[ $rc -eq 2 ] && grep -q -- '--pencil' '$tmp/err'"
 $py "$curves" --help >"$tmp/help" 2>&1; rc=$?
 check "--help exits 0 and names the curves" "[ $rc -eq 0 ] && grep -q 'spheres' '$tmp/help'"
-exit $fail
+finish cli_curves

@@ -4,11 +4,8 @@
 # pencil renderer by spectral pencils, or with --wavelengths off at its index at the d-line (so its
 # image equals the same scene with that number, and the plan says why); "spectral_bins" sets the
 # bins.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 scene() { # $1: the ior JSON
@@ -131,5 +128,4 @@ check "image solids past --max-memory: refused before the render, saying so and 
 $pencil render "$src/scenes/prism.json" --method beam --wavelengths off --size 512x512 \
   --max-memory 200M -o "$tmp/nd.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "... and not counted where the glass is drawn at n_d" "[ $rc -eq 0 ] && [ -s '$tmp/nd.exr' ]"
-echo "cli_dispersion: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_dispersion

@@ -17,12 +17,9 @@
 # a refused scene exits 2 naming what is refused, an unwritable path exits 1; and Fig. 9 with
 # POV-Ray beside it (`pencil figures --peer povray`), in one run and merged from shards.
 # Exit 77 (skipped) when POV-Ray is not installed (scripts/deps installs it).
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 src=$(cd "$(dirname "$0")/.." && pwd)
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -146,5 +143,4 @@ for t in s['fig9']:
     assert {'povray_s', 'povray_rays', 'pencil_over_povray', 'exact_over_povray'} <= set(t), t
 PY"
 
-[ $fail -eq 0 ] && echo "cli_export_pov: all passed" || echo "cli_export_pov: FAILED"
-exit $fail
+finish cli_export_pov

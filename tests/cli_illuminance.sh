@@ -2,12 +2,10 @@
 # `pencil illuminance`: the contract scripts read (options, the EXR's one channel E and its row
 # order, MAP.json's keys, MAP.png), and the refusals of bad input: each exits 2, names the option
 # or the name at fault, and writes nothing.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$(realpath "$1")
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 cat >"$dir/both.json" <<'JSON'
 {"camera": {"eye": [0, 3, -6], "look_at": [0, 0, 0]},
  "materials": {"white": {"kd": 0.8}},
@@ -179,5 +177,4 @@ $pencil render "$dir/area.json" --size 16x16 --spp 1 -o "$dir/area-render.exr" >
 check "pencil render draws the area light (its mesh points' soft light)" \
   "[ $rc -eq 0 ] && [ -s '$dir/area-render.exr' ]"
 
-[ $fail -eq 0 ] && echo "cli_illuminance: all passed"
-exit $fail
+finish cli_illuminance

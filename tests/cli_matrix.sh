@@ -1,11 +1,8 @@
 #!/usr/bin/env bash
 # The `pencil matrix` contract: JSON {"T": 4x4} on stdout; no matrix -> exit 1, reason on
 # stderr, nothing on stdout; bad parameters -> exit 2; --help everywhere.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 
 out=$($pencil matrix refract --theta-deg 30 --n1 1 --n2 1.5 --radius 2)
 check "refract prints a 4x4 JSON matrix" \
@@ -131,5 +128,4 @@ for c in "" "matrix" "verify"; do
   check "pencil $c --help exits 0 and prints usage" "[ $rc -eq 0 ] && grep -q usage /tmp/pencil_help.$$"
 done
 rm -f /tmp/pencil_err.$$ /tmp/pencil_help.$$
-echo "cli_matrix: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_matrix

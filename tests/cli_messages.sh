@@ -3,11 +3,9 @@
 # from one table; every error names its command ("pencil CMD: ...", never a plain "pencil: "
 # once a command is known); numbers echoed as they read back (not %g: 89.9999999999 is not 90);
 # a UTF-8 byte order mark at the start of a scene skipped.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$(realpath "$1")
 src=$(cd "$(dirname "$0")/.." && pwd)
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -72,5 +70,4 @@ printf '\xef\xbb\xbf{\n "camera": 3}\n' >"$tmp/bom2.json"
 $pencil render "$tmp/bom2.json" -o "$tmp/bom.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "... and its errors keep the file's lines" "[ $rc -eq 2 ] && grep -q 'bom2.json:2: camera: expected an object' '$tmp/err'"
 
-[ $fail -eq 0 ] && echo "cli_messages: all passed" || echo "cli_messages: FAILED"
-exit $fail
+finish cli_messages

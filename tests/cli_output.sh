@@ -4,12 +4,9 @@
 # render (a directory, a device or a .png name is refused and nothing is left behind), the
 # provenance in EXR headers and JSON, and paths with a quote, a backslash and a non-ASCII letter
 # round-tripping through summary.json and the plots.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$(realpath "$1")
 src=$(cd "$(dirname "$0")/.." && pwd)
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 small="--size 12x8 --spp 1 --threads 1"
@@ -169,5 +166,4 @@ check "sweep.csv starts with the provenance as '#' lines (once it had none), the
   "head -4 \"\$odd/out/sweep.csv\" | grep -q '^# version: ' && head -4 \"\$odd/out/sweep.csv\" | grep -q '^# commit: ' && head -4 \"\$odd/out/sweep.csv\" | grep -q '^# date: 20' && sed -n 4p \"\$odd/out/sweep.csv\" | grep -q '^# command_line: .* sweep .*sc.ne' && sed -n 5p \"\$odd/out/sweep.csv\" | grep -q '^rho,variant,'"
 check "no file escaped the output directory" "[ \"\$(ls \"\$odd\" | wc -l)\" -eq 2 ]"
 
-[ $fail -eq 0 ] && echo "cli_output: all passed" || echo "cli_output: FAILED"
-exit $fail
+finish cli_output

@@ -4,11 +4,9 @@
 # comma-separated with no empty item (no leading, trailing or double comma), an option given twice
 # is refused naming it (but --receiver, repeated by design), and an option that has no effect
 # with the others given is refused naming both. Every case fails before any work: exit 2.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$(realpath "$1")
 src=$(cd "$(dirname "$0")/.." && pwd)
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 o="$tmp/o.exr"
@@ -96,5 +94,4 @@ refused "figures --peer with --only fig8" "peer has no effect with --only" figur
 $pencil render --wavelengths pencil --spectral-tol 0.2 --size 8x8 --spp 1 -o "$tmp/ok.exr" >/dev/null 2>&1; rc=$?
 check "... and accepted where it acts (--wavelengths pencil --spectral-tol)" "[ $rc -eq 0 ] && [ -s '$tmp/ok.exr' ]"
 
-[ $fail -eq 0 ] && echo "cli_parsing: all passed" || echo "cli_parsing: FAILED"
-exit $fail
+finish cli_parsing

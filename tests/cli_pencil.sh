@@ -4,11 +4,8 @@
 # --measure prints the Fig. 10 statistics; bad options exit 2 naming the option; `pencil sweep`
 # writes sweep.csv with one row per rho and variant; --help exits 0 for every new command; `pencil figures --fig9-spp` extends Fig. 9 beyond 49 spp; a scene
 # with nothing to measure says so.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -88,5 +85,4 @@ check "sweep.csv has the three variants" \
   "grep -q ',corrected,' '$tmp/s/sweep.csv' && grep -q ',printed,' '$tmp/s/sweep.csv' && grep -q ',certified,' '$tmp/s/sweep.csv'"
 check "sweep.json written" "[ -s '$tmp/s/sweep.json' ]"
 
-[ $fail -eq 0 ] && echo "cli_pencil: all passed" || echo "cli_pencil: FAILED"
-exit $fail
+finish cli_pencil

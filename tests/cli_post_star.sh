@@ -8,13 +8,10 @@
 # or --star filters R, G, B and keeps the unfiltered image; a bad "star" key or a plate too coarse
 # for the image is a scene error found before rendering. DIR (argument 3; argument 2 is the source
 # tree) keeps the glints render and the verification for the notebook.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 src=$2
 keep=${3:-}
-fail=0
-py=/usr/bin/python3
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -146,5 +143,4 @@ check "a plate too coarse for the image: exit 2 before rendering" "[ $rc -eq 2 ]
 $pencil render --star --size 4096x4096 --max-memory 100M -o "$tmp/y.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "the star filter's memory counted before rendering" "[ $rc -eq 2 ] && grep -q \"the star filter's FFT grid\" '$tmp/err' && [ ! -e '$tmp/y.exr' ]"
 $pencil verify star --quick --json "$keep/verify-star.json" --csv "$keep/verify-star.csv" >/dev/null
-echo "cli_post_star: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_post_star

@@ -4,12 +4,9 @@
 # plan; usage and scene errors exit 2 naming the option or file:line; --method pencil hands over
 # to the pencil tracer (tests/cli_pencil.sh has its contract); bench writes JSON with 1- and
 # 2-thread rows for both scenes.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$1
 src=$(cd "$(dirname "$0")/.." && pwd)
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -134,5 +131,4 @@ for c in "render" "bench"; do
   $pencil $c --help >"$tmp/help" 2>&1; rc=$?
   check "pencil $c --help exits 0 and prints usage" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
 done
-echo "cli_render: $([ $fail -eq 0 ] && echo passed || echo FAILED)"
-exit $fail
+finish cli_render

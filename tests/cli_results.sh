@@ -1,10 +1,8 @@
 #!/usr/bin/env bash
 # scripts/results: the stamped page from a small fake out/ directory (JSON files with the keys
 # the main job writes), the numbers in its tables, and "not run" for a missing input.
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 results=$1
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 mkdir -p "$dir/out/figures"
@@ -246,4 +244,4 @@ check "--help" "'$results' --help | grep -q 'usage: scripts/results'"
 touch "$dir/plainfile"   # a file where a directory is needed: fails even for root
 "$results" "$dir/out" -o "$dir/plainfile/r.md" >/dev/null 2>"$dir/err"; rc=$?
 check "unwritable output: exit 1, named on stderr" "[ $rc -eq 1 ] && grep -q plainfile/r.md '$dir/err'"
-exit $fail
+finish cli_results

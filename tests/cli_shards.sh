@@ -5,12 +5,9 @@
 # Fig. 8 image identical); a merge refuses a missing shard, a shard of another run and extra
 # options; the Slurm job-array script and the MPI launcher run the same split (the launcher only
 # where mpirun is installed: openmpi-bin, which scripts/deps installs).
-set -u
+source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$(realpath "$1")
 src=$(cd "$(dirname "$0")/.." && pwd)
-fail=0
-check() { if ! eval "$2"; then echo "FAIL: $1"; fail=1; else echo "ok: $1"; fi; }
-py=/usr/bin/python3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cd "$tmp"
@@ -108,5 +105,4 @@ else
   echo "skip: the MPI launcher (mpirun missing: apt-get install openmpi-bin)"
 fi
 
-[ $fail -eq 0 ] && echo "cli_shards: all passed" || echo "cli_shards: FAILED"
-exit $fail
+finish cli_shards
