@@ -159,7 +159,8 @@ static void help_illum(FILE *f) {
           "                command was built from)\n"
           "  --max-split S, --linear-tol C, --uniform-tol R\n"
           "                the grid-pencil runs' settings (pencil illuminance; defaults its own)\n"
-          "Exit codes: 0 targets met; 1 not met; 2 usage or I/O error.\n");
+          "Exit codes: 0 targets met; 1 not met, or the work failed; 2 usage, a Fig. 11\n"
+          "scene that cannot be read, an output that cannot be written.\n");
 }
 
 static int bench_illuminance(int argc, char **argv) {
@@ -254,7 +255,8 @@ static void help_caustics(FILE *f) {
              "                for Fig. 8, 16384 for the others; --quick 513); the half reference\n"
              "                takes N / sqrt(2); an area light's N x N points share them\n"
              "  --case LIST   only these cases, comma-separated (default: all four)\n"
-             "Exit codes: 0 done; 2 usage or I/O error.\n");
+             "Exit codes: 0 done; 1 the work failed (out of memory, a render, a write);\n"
+             "2 usage, a scene that cannot be read, an output that cannot be written.\n");
 }
 
 static int bench_caustics(int argc, char **argv) {
@@ -345,7 +347,8 @@ static void help_area(FILE *f) {
              "  --quick       32 x 32 maps, M = 1, 2 against 16 x 16 points (tests)\n"
              "  --reference-mesh M\n"
              "                the reference's points a side, 2..256 (default 64; --quick 16)\n"
-             "Exit codes: 0 done; 2 usage or I/O error.\n");
+             "Exit codes: 0 done; 1 the work failed (out of memory, a render, a write);\n"
+             "2 usage, a scene that cannot be read, an output that cannot be written.\n");
 }
 
 static int bench_area(int argc, char **argv) {
@@ -424,7 +427,8 @@ static void help_beam(FILE *f) {
           "  --scenes DIR  the directory holding fig11.json (default: scenes/ of the source\n"
           "                tree the command was built from)\n"
           "  --case LIST   only these cases, comma-separated (%s)\n"
-          "Exit codes: 0 done; 2 usage or I/O error.\n",
+          "Exit codes: 0 done; 1 the work failed (out of memory, a render, a write);\n"
+          "2 usage, a scene that cannot be read, an output that cannot be written.\n",
           val_bench_beam_case_names());
 }
 
@@ -533,7 +537,8 @@ static void help_dispersion(FILE *f) {
              "                       methods at higher --spp are compared at equal error\n"
              "  --scenes DIR         the directory holding fig14.json (default: scenes/ of the\n"
              "                       source tree the command was built from)\n"
-             "Exit codes: 0 done; 2 usage or I/O error.\n");
+             "Exit codes: 0 done; 1 the work failed (out of memory, a render, a write);\n"
+             "2 usage, a scene that cannot be read, an output that cannot be written.\n");
 }
 
 static int bench_dispersion(int argc, char **argv) {
@@ -616,7 +621,8 @@ static void help_star(FILE *f) {
              "  --json FILE     also write the results as JSON\n"
              "  --same-pixels   the 512 x 512 image's kernel in pixels at every size (the sensor\n"
              "                  grows with the image) instead of the same star on the sensor\n"
-             "Exit codes: 0 done; 2 usage or I/O error.\n");
+             "Exit codes: 0 done; 1 the work failed (out of memory, a render, a write);\n"
+             "2 usage, a scene that cannot be read, an output that cannot be written.\n");
 }
 
 /* A synthetic HDR plane: background in [0, 0.2), a few spots 3,200 times the background's mean. */

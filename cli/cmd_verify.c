@@ -65,7 +65,8 @@ static void help(FILE *f) {
       "...}\n"
       "  --csv FILE    write one row per system\n"
       "  --quick       a small sweep (for tests)\n\n"
-      "Exit codes: 0 all systems pass, 1 some fail, 2 usage or I/O error.\n");
+      "Exit codes: 0 all systems pass, 1 some fail or a write failed, 2 usage or an\n"
+      "output that cannot be written.\n");
 }
 
 /* The options both verifications take. */
