@@ -1,9 +1,12 @@
 /* cmd_figures.c -- `pencil figures` and `pencil sweep`: the paper's section 5 experiments with
  * the pencil renderer (Fig. 8 image, Fig. 9 time ratio against samples per pixel, Fig. 10 error
  * distribution) and the rho sweep, written under one directory with a comparison table. */
+#define _GNU_SOURCE /* fopencookie(): the log that clears the progress bar */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
+#include <unistd.h>
 
 #include "args.h"
 #include "cli.h"
@@ -62,6 +65,7 @@ static void help_figures(FILE *f) {
       "                 Trace Time CPU seconds): fig9.csv and summary.json get povray_s,\n"
       "                 povray_rays, pencil_over_povray and exact_over_povray; left out with a\n"
       "                 note when povray is not installed or the scene cannot be exported\n"
+      "A progress bar of work items is drawn on stderr when it is a terminal.\n"
       "Exit codes: 0 done (the table says whether the paper's numbers and the targets were\n"
       "met); 1 a render or a file failed; 2 usage or scene error, or an output that cannot be\n"
       "written (every one is checked before the first render).\n");
@@ -86,6 +90,7 @@ static void help_sweep(FILE *f) {
          "  --shard K/N    run only the K-th of N shares of the rows (results in DIR/shards/)\n"
          "  --merge        merge DIR/shards/ into sweep.csv, sweep.json and the plot\n"
          "  --threads N    threads (default 1); --runs N timed runs (default 3); --size WxH\n"
+         "A progress bar of work items is drawn on stderr when it is a terminal.\n"
          "Exit codes: 0 done; 1 a render or a file failed; 2 usage or scene error, or an output\n"
          "that cannot be written (every one is checked before the first render).\n");
 }
@@ -325,6 +330,37 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
   return ok;
 }
 
+/* The progress bar, on stderr when it is a terminal: work items done of the run's, drawn before
+ * each item and erased at the end. When stdout is that terminal too, the log reaches it through
+ * log_write(), which erases the bar first, so that no log line starts after the bar. */
+static int bar_drawn;
+
+static void bar_erase(void) {
+  if (bar_drawn)
+    fputs("\r\033[K", stderr);
+  bar_drawn = 0;
+}
+
+static void bar_progress(void *label, int done, int total) {
+  bar_erase();
+  if (done < total) {
+    int w = 40, k = total > 0 ? (int)((long)w * done / total) : w;
+    fprintf(stderr, "%s [%.*s%*s] %d/%d work items", (const char *)label, k,
+            "########################################", w - k, "", done, total);
+    bar_drawn = 1;
+  }
+  fflush(stderr);
+}
+
+static ssize_t log_write(void *cookie, const char *buf, size_t n) {
+  (void)cookie;
+  bar_erase();
+  fflush(stderr);
+  size_t w = fwrite(buf, 1, n, stdout);
+  fflush(stdout);
+  return w == n ? (ssize_t)n : -1;
+}
+
 static int run(int argc, char **argv, int sweep) {
   val_figures_opts_t o;
   val_figures_defaults(&o);
@@ -332,7 +368,19 @@ static int run(int argc, char **argv, int sweep) {
   int p = parse(argc, argv, &o, sweep);
   if (p <= 0)
     return p < 0 ? CLI_OK : CLI_USAGE;
+  FILE *log = NULL;
+  if (isatty(2)) {
+    o.progress = bar_progress;
+    o.progress_ctx = (void *)(sweep ? "pencil sweep" : "pencil figures");
+    if (isatty(1) && (log = fopencookie(NULL, "w", (cookie_io_functions_t){.write = log_write}))) {
+      setvbuf(log, NULL, _IOLBF, 0);
+      o.log = log;
+    }
+  }
   int rc = sweep ? val_sweep(&o) : val_figures(&o);
+  if (log)
+    fclose(log);
+  bar_erase(); /* a run that failed part way */
   return cli_exit_of(rc);
 }
 

@@ -70,6 +70,22 @@ for list in 1,4,64 1,49,64; do # Fig. 9 beyond the paper's 49; the targets stay 
 done
 check "figures: the targets' cost with no accuracy asked, in JSON and the table" \
   "grep -q 'with no accuracy asked (rho 100, brightness 100)' '$tmp/log' && $py -c 'import json; t=json.load(open(\"$tmp/f1,49,64/summary.json\"))[\"targets\"][\"no_accuracy\"]; assert t[\"rho\"] == 100 and t[\"brightness_tol\"] == 100 and t[\"ratio\"] > 0 and t[\"certified_ratio\"] > 0, t'"
+# a progress bar on a terminal's stderr, erased before each log line and at the end, none else
+$pencil figures --quick --no-sweep --size 16x16 --fig9-spp 1,4 --out "$tmp/fb" >"$tmp/log" 2>"$tmp/err"; rc=$?
+check "figures without a terminal: no progress bar" "[ $rc -eq 0 ] && [ ! -s '$tmp/err' ]"
+script -qec "$pencil figures --quick --no-sweep --size 16x16 --fig9-spp 1,4 --out '$tmp/ft'" /dev/null \
+  >"$tmp/tty" 2>&1; rc=$?
+check "figures on a terminal: a bar of work items, erased before the log's lines and at the end" \
+  "[ $rc -eq 0 ] && $py - '$tmp/tty' '$tmp/log' <<'PY'
+import re, sys
+t = open(sys.argv[1], encoding='utf-8', newline='').read().replace('\\r\\n', '\\n')
+bars = re.findall(r'pencil figures \\[[# ]{40}\\] (\\d+)/(\\d+) work items(.{0,4})', t, re.S)
+assert len(bars) >= 5 and all(b[2].startswith('\\r\\x1b[K') for b in bars), bars
+assert [int(b[0]) for b in bars] == list(range(len(bars))) and {b[1] for b in bars} == {str(len(bars))}
+seen = re.sub(r'[^\\n]*\\r\\x1b\\[K', '', t)  # what the terminal shows once a bar is erased
+log = [l for l in open(sys.argv[2]).read().splitlines() if l.startswith('  Fig. 9:')]
+assert [l[:16] for l in log] == [l[:16] for l in seen.splitlines() if l.startswith('  Fig. 9:')], (log, seen)
+PY"
 $pencil figures --bogus >/dev/null 2>"$tmp/err"; rc=$?
 check "figures --bogus: exit 2" "[ $rc -eq 2 ] && grep -q -- '--bogus' '$tmp/err'"
 for cmd in figures sweep; do # a scene error is an input error, as for render; nothing written

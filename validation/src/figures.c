@@ -772,9 +772,17 @@ static int run(const val_figures_opts_t *opts, int sweep_only) {
     else if (pr > 0 && o.log)
       fprintf(o.log, "  note: --peer povray: %s; Fig. 9 without POV-Ray\n", why);
   }
+  int mine = 0, done = 0; /* this run's items: all, or this shard's */
+  for (int j = 0; j < nitems; j++)
+    mine += !o.nshards || j % o.nshards == o.shard - 1;
   for (int j = 0; j < nitems && rc == 0; j++)
-    if (!o.nshards || j % o.nshards == o.shard - 1)
+    if (!o.nshards || j % o.nshards == o.shard - 1) {
+      if (o.progress)
+        o.progress(o.progress_ctx, done++, mine);
       rc = run_item(&o, &s, &m, items[j], &peer, r);
+    }
+  if (o.progress && rc == 0)
+    o.progress(o.progress_ctx, mine, mine);
   val_povray_close(&peer.pv);
   rt_scene_free(&s);
   if (rc == 0 && o.nshards) {

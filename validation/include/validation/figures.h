@@ -134,6 +134,10 @@ typedef struct {
                            validation/povray.h): fig9.csv and summary.json get its columns; left
                            out with a note when povray is not installed or the scene cannot be
                            exported */
+  void (*progress)(void *ctx, int done, int total); /**< or NULL: called with the work items done
+                                                       of this run's total before each item and
+                                                       once at the end (done == total) */
+  void *progress_ctx;
 } val_figures_opts_t;
 
 /** Figures that `--only` selects (val_figures_opts_t.only). */
