@@ -1833,6 +1833,47 @@ static void weight_jump_not_interpolated(void **state) {
   rt_scene_free(&s);
 }
 
+/* The same star with a Fresnel split (kr 0, kt 1, the light twice as bright): the reflected node's
+ * weight rises continuously but steeply to 1 at the critical angle, and bilinear interpolation
+ * over the cell missed it: 43 pixels of the star more than 1/32 too bright, up to 0.155. Now a
+ * verify node whose weight's interpolation error, times a bound on what its subtree brings, is
+ * over the brightness tolerance is traced per sample. Left: 4 pixels of another cell, 0.065 too
+ * dark at most, brightness interpolated across the kink of F between the grid points (gone with
+ * --brightness-tol 0). */
+static void fresnel_weight_near_the_critical_angle(void **state) {
+  (void)state;
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/tests/data/pencil_star_tir.json", PENCIL_SOURCE_DIR);
+  rt_scene_t s;
+  rt_scene_init(&s);
+  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  int glass = rt_scene_find_material(&s, "glass");
+  assert_true(glass >= 0 && s.nlight == 1);
+  s.material[glass].fresnel = 1;
+  s.material[glass].kr = 0.0;
+  s.material[glass].kt = 1.0;
+  s.light[0].intensity = rt_rgb(2.0, 2.0, 2.0);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  rt_image_t e, p;
+  fx_render_exact(&s, 1, 2, &e);
+  fx_render_pencil(&s, 1, 2, NULL, &p, NULL, NULL);
+  int off = 0;
+  double most = 0.0;
+  for (size_t k = 0; k < (size_t)e.width * e.height; k++)
+    if (e.ch[RT_CH_ID][k] == 1.0f) {
+      double d = 0.0;
+      for (int c = RT_CH_R; c <= RT_CH_B; c++)
+        d = fmax(d, fabs((double)p.ch[c][k] - (double)e.ch[c][k]));
+      off += d > 1.0 / 32.0;
+      most = fmax(most, d);
+    }
+  print_message("star pixels off by more than 1/32: %d, largest %.4f\n", off, most);
+  assert_true(off <= 8 && most < 0.1);
+  rt_image_free(&e);
+  rt_image_free(&p);
+  rt_scene_free(&s);
+}
+
 /* Thin things seen directly, which the bounding spheres do not tell of: a domain's corner rays all
  * meet one face, and the guard of what primary rays see (pt_guard_view()) finds what lies in
  * front of it in the domain's pyramid though no corner ray met it. At 96 x 96, 9 spp:
@@ -2194,6 +2235,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(narrow_highlights_kept),
       cmocka_unit_test(slots_in_shadows_kept),
       cmocka_unit_test(weight_jump_not_interpolated),
+      cmocka_unit_test(fresnel_weight_near_the_critical_angle),
       cmocka_unit_test(thin_objects_seen),
       cmocka_unit_test(thin_objects_keep_their_shadows),
       cmocka_unit_test(gaps_between_shadows_kept),

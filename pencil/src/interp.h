@@ -254,6 +254,10 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
                        int k);
 double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
                         int k);
+/* With a Fresnel split: node k's weight's interpolation error times a bound on what its subtree
+ * brings unweighted (interp_error.c). */
+double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
+                                const lattice_point_t (*R)[3], int k);
 int pt__halving(const pt_ctx_t *C, const lattice_cell_t *lc, double rho, double xi2);
 
 /* interp_plan.c */

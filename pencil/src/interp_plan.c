@@ -123,8 +123,12 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
  * grid that confirms the node everywhere can still straddle that edge. Without a Fresnel split
  * W_k is then the same product of constants at every point on the node's path, bit for bit; a
  * grid whose points' W_k differ is not confirmed either (its interpolated W_k would weight the
- * node's direct term and its children traced exactly per sample). */
-static void mark_exact_subtrees(pt_ctx_t *C, const lattice_point_t (*R)[3]) {
+ * node's direct term and its children traced exactly per sample). With a Fresnel split W_k varies
+ * anyway, steeply near the critical angle: a grid is not confirmed when W_k's interpolation error
+ * could carry more than the brightness tolerance (pt__subtree_weight_error()). */
+static void mark_exact_subtrees(const planning_t *P) {
+  pt_ctx_t *C = P->C;
+  const lattice_point_t(*R)[3] = P->R;
   uint8_t *exact = C->lattice.plan.exact_subtree;
   for (int k = 0; k < C->paths.n; k++) {
     const pt_node_t *n = &C->paths.node[k];
@@ -140,6 +144,8 @@ static void mark_exact_subtrees(pt_ctx_t *C, const lattice_point_t (*R)[3]) {
           exact[k] |= w.r != w0.r || w.g != w0.g || w.b != w0.b;
         }
     }
+    if (n->verify && !exact[k] && C->weights_vary) /* with Fresnel: by the weight's error */
+      exact[k] = !(pt__subtree_weight_error(C, P->lc, R, k) <= P->ltol);
   }
 }
 
@@ -617,7 +623,7 @@ int pt__make_plan(pt_ctx_t *C, const lattice_cell_t *lc, interp_plan_t *pl, int 
   }
   planning_t P;
   plan_begin(&P, C, lc, pl, can_cut);
-  mark_exact_subtrees(C, P.R);
+  mark_exact_subtrees(&P);
   int failed; /* *why is written on failure only */
   for (int k = 0; k < C->paths.n; k++)
     if (!plan_node(&P, k, &failed)) {
