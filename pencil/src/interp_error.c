@@ -174,12 +174,14 @@ double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const latti
 
 /* With a Fresnel split: the error of node k's weight W_k interpolated over lattice cell lc (the
  * grid's interpolation error of W_k) times a bound on what the node and its subtree bring
- * unweighted: the largest direct term of any material, D (as pt__faint_bound() bounds a node's),
- * once for each level from the node's depth to the depth limit, a level's weights at most g =
- * max(1, kr + kt) of the level above. Near a total internal reflection at an ancestor W_k rises
- * steeply to the whole share (F -> 1 as the angle nears the critical one), which a bilinear
- * interpolation misses, and the subtree a verify node traces per sample takes the interpolated
- * W_k, unseen by the brightness test (docs/journal/2026-12-06-self-crossing.md). */
+ * unweighted: the larger of the background (a miss) and the largest direct term of any material,
+ * D (as pt__faint_bound() bounds a node's), once for each level from the node's depth to the depth
+ * limit, a level's weights at most g = max(1, kr + kt max(1, T)) of the level above (a total
+ * internal reflection hands the mirror child kt untinted, refract.c). Near a total internal
+ * reflection at an ancestor W_k rises steeply to the whole share (F -> 1 as the angle nears the
+ * critical one), which a bilinear interpolation misses, and the subtree a verify node traces per
+ * sample takes the interpolated W_k, unseen by the brightness test
+ * (docs/journal/2026-12-06-self-crossing.md). */
 double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
                                 const lattice_point_t (*R)[3], int k) {
   const rt_scene_t *s = C->s;
@@ -188,10 +190,12 @@ double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
     for (int c = 0; c < 3; c++)
       w.v[r][c] = rgb_vec(R[r][c].g[k].w);
   double e = pt__grid_error(lc, &w, norm_rgb, NULL);
-  if (!(e > 0.0))
+  if (e == 0.0)
     return 0.0;
+  if (!(e > 0.0))
+    return INFINITY; /* a NaN error is never accepted */
   int spec = rt_plan_has(C->plan, RT_EFFECT_SPECULAR);
-  double d = 0.0, g = 1.0;
+  double d = norm_rgb(NULL, rgb_vec(s->background)), g = 1.0;
   for (int m = 0; m < s->nmaterial; m++) {
     const rt_material_t *mt = &s->material[m];
     double dm = mt->ka * norm_rgb(NULL, rgb_vec(rt_rgb_mul(s->ambient, mt->color)));
@@ -201,13 +205,13 @@ double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
                 ? INFINITY
                 : norm_rgb(NULL, rgb_vec(s->light[l].intensity)) * lit;
     d = px_max(d, dm);
-    g = px_max(g, mt->kr + mt->kt * px_max(px_max(mt->transmittance.r, mt->transmittance.g),
-                                           mt->transmittance.b));
+    double t = px_max(px_max(mt->transmittance.r, mt->transmittance.g), mt->transmittance.b);
+    g = px_max(g, mt->kr + mt->kt * px_max(1.0, t));
   }
   if (C->plan->maps) /* caustic maps add light no direct term bounds */
     return INFINITY;
   double sub = 0.0, gl = 1.0;
-  for (int lv = C->paths.node[k].nterm; lv <= C->plan->max_depth; lv++, gl *= g)
+  for (int lv = C->paths.node[k].depth; lv <= C->plan->max_depth; lv++, gl *= g)
     sub += d * gl;
   return e * sub;
 }

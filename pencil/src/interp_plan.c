@@ -125,8 +125,9 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
  * grid whose points' W_k differ is not confirmed either (its interpolated W_k would weight the
  * node's direct term and its children traced exactly per sample). With a Fresnel split W_k varies
  * anyway, steeply near the critical angle: a grid is not confirmed when W_k's interpolation error
- * could carry more than the brightness tolerance (pt__subtree_weight_error()). */
-static void mark_exact_subtrees(const planning_t *P) {
+ * could carry more than what is left of the brightness tolerance (pt__subtree_weight_error()),
+ * and the error of one that is counted against it. */
+static void mark_exact_subtrees(planning_t *P) {
   pt_ctx_t *C = P->C;
   const lattice_point_t(*R)[3] = P->R;
   uint8_t *exact = C->lattice.plan.exact_subtree;
@@ -144,8 +145,13 @@ static void mark_exact_subtrees(const planning_t *P) {
           exact[k] |= w.r != w0.r || w.g != w0.g || w.b != w0.b;
         }
     }
-    if (n->verify && !exact[k] && C->weights_vary) /* with Fresnel: by the weight's error */
-      exact[k] = !(pt__subtree_weight_error(C, P->lc, R, k) <= P->ltol);
+    if (n->verify && !exact[k] && C->weights_vary) { /* with Fresnel: by the weight's error */
+      double e = pt__subtree_weight_error(C, P->lc, R, k);
+      if (e <= P->ltol - P->werr)
+        P->werr += e; /* within the budget: counted there */
+      else
+        exact[k] = 1;
+    }
   }
 }
 
