@@ -679,7 +679,7 @@ static int bench_star(int argc, char **argv) {
   free(args);
   if (rc != CLI_OK)
     return rc;
-  char err[1024], why[512];
+  char err[1024], why[512] = "";
   if (json && io_output_check(json, err, sizeof err) != 0) {
     fprintf(stderr, "pencil bench star: --json: %s\n", err);
     return CLI_USAGE;

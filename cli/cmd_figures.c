@@ -331,13 +331,16 @@ static int parse(int argc, char **argv, val_figures_opts_t *o, int sweep) {
 }
 
 /* The progress bar, on stderr when it is a terminal: work items done of the run's, drawn before
- * each item and erased at the end. When stdout is that terminal too, the log reaches it through
- * log_write(), which erases the bar first, so that no log line starts after the bar. */
+ * each item and erased at the end. Meanwhile the process's messages reach the terminal through
+ * err_write() (stderr is a stream of it, glibc's stderr being an ordinary variable) and, when
+ * stdout is that terminal too, the log through log_write(): each erases the bar first, so that no
+ * line starts after it. A child process's own messages (POV-Ray's) still can. */
+static FILE *bar_out; /* the terminal's stderr */
 static int bar_drawn;
 
 static void bar_erase(void) {
   if (bar_drawn)
-    fputs("\r\033[K", stderr);
+    fputs("\r\033[K", bar_out);
   bar_drawn = 0;
 }
 
@@ -345,20 +348,31 @@ static void bar_progress(void *label, int done, int total) {
   bar_erase();
   if (done < total) {
     int w = 40, k = total > 0 ? (int)((long)w * done / total) : w;
-    fprintf(stderr, "%s [%.*s%*s] %d/%d work items", (const char *)label, k,
+    fprintf(bar_out, "%s [%.*s%*s] %d/%d work items", (const char *)label, k,
             "########################################", w - k, "", done, total);
     bar_drawn = 1;
   }
-  fflush(stderr);
+  fflush(bar_out);
+}
+
+/* A cookie stream's write: the bar erased, then buf to `to` (stdout or the terminal's stderr);
+ * the bytes written, 0 on an error (fopencookie(3)). */
+static ssize_t bar_then(FILE *to, const char *buf, size_t n) {
+  bar_erase();
+  fflush(bar_out);
+  size_t w = fwrite(buf, 1, n, to);
+  fflush(to);
+  return w == n ? (ssize_t)n : 0;
 }
 
 static ssize_t log_write(void *cookie, const char *buf, size_t n) {
   (void)cookie;
-  bar_erase();
-  fflush(stderr);
-  size_t w = fwrite(buf, 1, n, stdout);
-  fflush(stdout);
-  return w == n ? (ssize_t)n : -1;
+  return bar_then(stdout, buf, n);
+}
+
+static ssize_t err_write(void *cookie, const char *buf, size_t n) {
+  (void)cookie;
+  return bar_then(bar_out, buf, n);
 }
 
 static int run(int argc, char **argv, int sweep) {
@@ -368,8 +382,11 @@ static int run(int argc, char **argv, int sweep) {
   int p = parse(argc, argv, &o, sweep);
   if (p <= 0)
     return p < 0 ? CLI_OK : CLI_USAGE;
-  FILE *log = NULL;
-  if (isatty(2)) {
+  FILE *log = NULL, *err = NULL;
+  bar_out = stderr;
+  if (isatty(2) && (err = fopencookie(NULL, "w", (cookie_io_functions_t){.write = err_write}))) {
+    setvbuf(err, NULL, _IONBF, 0);
+    stderr = err;
     o.progress = bar_progress;
     o.progress_ctx = (void *)(sweep ? "pencil sweep" : "pencil figures");
     if (isatty(1) && (log = fopencookie(NULL, "w", (cookie_io_functions_t){.write = log_write}))) {
@@ -381,6 +398,10 @@ static int run(int argc, char **argv, int sweep) {
   if (log)
     fclose(log);
   bar_erase(); /* a run that failed part way */
+  if (err) {
+    stderr = bar_out;
+    fclose(err);
+  }
   return cli_exit_of(rc);
 }
 

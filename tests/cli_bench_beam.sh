@@ -72,6 +72,15 @@ check "--scenes without the scene: exit 2 naming the file, no line -1" "[ $rc -e
 # of 400 MB holds the scene but not a 4096 x 4096 image (before, exit 2 and no message).
 (ulimit -v 400000; $pencil bench beam --quick --size 4096 --threads 1 --runs 1) >"$tmp/o" 2>"$tmp/e"; rc=$?
 check "out of memory: exit 1 with the reason" "[ $rc -eq 1 ] && grep -q 'cannot allocate a 4096x4096 image' '$tmp/e'"
+mkdir "$tmp/ro" && chmod 555 "$tmp/ro"
+if [ -w "$tmp/ro" ]; then
+  echo "SKIP: an unwritable --out directory (this user writes in any directory)"
+else
+  $pencil bench beam --quick --out "$tmp/ro" >"$tmp/o" 2>"$tmp/e"; rc=$?
+  check "--out an existing directory it cannot write in: exit 2 before any rendering" \
+    "[ $rc -eq 2 ] && grep -q 'cannot write in directory' '$tmp/e' && [ ! -s '$tmp/o' ]"
+fi
+chmod 755 "$tmp/ro"
 $pencil bench beam --help >"$tmp/help"; rc=$?
 check "--help exits 0" "[ $rc -eq 0 ] && grep -q usage '$tmp/help'"
 finish cli_bench_beam

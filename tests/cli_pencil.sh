@@ -86,6 +86,12 @@ seen = re.sub(r'[^\\n]*\\r\\x1b\\[K', '', t)  # what the terminal shows once a b
 log = [l for l in open(sys.argv[2]).read().splitlines() if l.startswith('  Fig. 9:')]
 assert [l[:16] for l in log] == [l[:16] for l in seen.splitlines() if l.startswith('  Fig. 9:')], (log, seen)
 PY"
+# out of memory part way (a 400 MB address space, a 4096 x 4096 image): exit 1 with the reason,
+# on a terminal after the bar is erased (before, exit 1 and no message)
+script -qec "bash -c 'ulimit -v 400000; $pencil figures --quick --no-sweep --size 4096x4096 --fig9-spp 1,4 --out \"$tmp/fm\"'" \
+  /dev/null >"$tmp/tty" 2>&1; rc=$?
+check "figures out of memory on a terminal: exit 1, the reason after the bar is erased" \
+  "[ $rc -eq 1 ] && grep -aq \"work items\$(printf '\\r\\033')\\[Kpencil figures: a timed render at 1 spp: cannot allocate a 4096x4096 image\" '$tmp/tty'"
 $pencil figures --bogus >/dev/null 2>"$tmp/err"; rc=$?
 check "figures --bogus: exit 2" "[ $rc -eq 2 ] && grep -q -- '--bogus' '$tmp/err'"
 for cmd in figures sweep; do # a scene error is an input error, as for render; nothing written

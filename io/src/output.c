@@ -584,5 +584,9 @@ int io_make_dirs(const char *d) {
     fprintf(stderr, "%s: %s exists and is not a directory\n", io_command(), d);
     return -1;
   }
+  if (access(d, W_OK | X_OK) != 0) { /* found now, not at the first file after the work */
+    fprintf(stderr, "%s: cannot write in directory %s: %s\n", io_command(), d, strerror(errno));
+    return -1;
+  }
   return 0;
 }

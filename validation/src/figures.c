@@ -245,7 +245,9 @@ static int write_error_map(const val_figures_opts_t *o, const val_method_t *m,
   if (m->r->error_channel < 0 || m->r->method_channel < 0)
     return 0; /* the renderer has no per-pixel error to map */
   if (rt_image_alloc(&img, w, h) != RT_OK)
-    return -1;
+    return fprintf(stderr, "%s: the error map: cannot allocate a %dx%d image\n", io_command(), w,
+                   h),
+           -1;
   const float *e = channels[m->r->error_channel], *meth = channels[m->r->method_channel];
   for (size_t k = 0; k < (size_t)w * (size_t)h; k++) {
     float rgb[3];
@@ -724,7 +726,7 @@ static int run(const val_figures_opts_t *opts, int sweep_only) {
   results_t *r = calloc(1, sizeof *r);
   int width = 0, height = 0, rc = 0;
   if (!r)
-    return -1;
+    return fprintf(stderr, "pencil %s: out of memory\n", command), -1;
   if (o.merge) {
     json_t *keep = NULL;
     rc = val__shard_merge(&o, command, &width, &height, r, &keep);

@@ -29,7 +29,9 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   rt_plan_t plan = rn_plan_make(rn_find("pencil"), s, spp, NULL);
   rt_image_t img;
   if (rt_image_alloc(&img, s->camera.width, s->camera.height) != RT_OK)
-    return -1;
+    return fprintf(stderr, "%s: a timed render at %d spp: cannot allocate a %dx%d image\n",
+                   io_command(), spp, s->camera.width, s->camera.height),
+           -1;
   const rn_renderer_t *x = rn_exact();
   rn_common_t c = RN_COMMON_DEFAULT; /* timed renders: no auxiliary channels, no measure */
   c.spp_side = side_of(spp);
@@ -43,16 +45,27 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
   int rc = x->options_size <= sizeof xopt ? 0 : -1;
   if (rc == 0)
     rn_defaults(x, xopt);
+  else
+    fprintf(stderr, "%s: internal error: the exact renderer's options outgrow their buffer\n",
+            io_command());
   for (int r = 0; r < runs && rc == 0; r++) {
     double c0 = val_cpu_seconds(), w0 = val_wall_seconds();
-    if (x->render(s, &plan, &c, xopt, &out_x) != RT_OK)
+    rt_status_t st = x->render(s, &plan, &c, xopt, &out_x);
+    if (st != RT_OK) {
+      fprintf(stderr, "%s: the exact render at %d spp failed: %s%s%s\n", io_command(), spp,
+              rt_strerror(st), out_x.why[0] ? ": " : "", out_x.why);
       rc = -1;
+    }
     ec[r] = val_cpu_seconds() - c0;
     ew[r] = val_wall_seconds() - w0;
     c0 = val_cpu_seconds();
     w0 = val_wall_seconds();
-    if (rc == 0 && m.r->render(s, &plan, &c, m.options, &out_m) != RT_OK)
+    st = rc == 0 ? m.r->render(s, &plan, &c, m.options, &out_m) : RT_OK;
+    if (st != RT_OK) {
+      fprintf(stderr, "%s: the %s render at %d spp failed: %s%s%s\n", io_command(), m.r->name, spp,
+              rt_strerror(st), out_m.why[0] ? ": " : "", out_m.why);
       rc = -1;
+    }
     pc[r] = val_cpu_seconds() - c0;
     pw[r] = val_wall_seconds() - w0;
     w0 = val_wall_seconds();
@@ -61,10 +74,8 @@ int val_time_peer(const rt_scene_t *s, val_method_t m, int spp, int threads, int
     qw[r] = val_wall_seconds() - w0;
   }
   rt_image_free(&img);
-  if (rc != 0) {
-    fprintf(stderr, "%s: a timed render at %d spp failed\n", io_command(), spp);
-    return -1;
-  }
+  if (rc != 0)
+    return -1; /* it said why */
   out->exact_rays = rt_stats_total(&xst);
   if (!peer_ok)
     out->peer_rays = 0;

@@ -32,7 +32,8 @@ void io_command_set(const char *name);
 /** The name io_command_set() gave, or "pencil". */
 const char *io_command(void);
 
-/** Create directory d and its missing parents (as mkdir -p); 0, or -1 with the reason on stderr. */
+/** Create directory d and its missing parents (as mkdir -p), and check that files can be made in
+ *  it; 0, or -1 with the reason on stderr. */
 int io_make_dirs(const char *d);
 
 /** Check that `path` can be written as a regular file: it is not empty, it is not an existing
