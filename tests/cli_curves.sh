@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scripts/curves contracts (issue 26): --quick writes DIR/curves.csv with its provenance lines
-# ('# version:', '# date:', '# command_line:'), its header and a row per point and mode (default, certified) of each curve (spp, size, spheres, rho), every time and
+# ('# version:', '# commit:', '# date:', '# command_line:', as pencil's), its header and a row per point and mode (default, certified) of each curve (spp, size, spheres, rho), every time and
 # ratio positive and the ratio the times' quotient; with valgrind the rho curve's default rows carry
 # instruction counts (the counts' quotient), else those columns stay empty; curves.json records the
 # version, the command line and each bench command; a bad option exits 2 naming it, a pencil that
@@ -20,8 +20,9 @@ command -v valgrind >/dev/null && valgrind=1
 check "CSV: every curve's points, both modes, times and ratios consistent" "$py - '$out' $valgrind <<'PY'
 import csv, json, sys
 lines = open(sys.argv[1] + '/curves.csv').read().splitlines()
-assert lines[0].startswith('# version: pencil ') and lines[1].startswith('# date: 20'), lines[:3]
-assert lines[2].startswith('# command_line: ') and '--quick' in lines[2], lines[:3]
+assert lines[0].startswith('# version: 0.') and lines[1].startswith('# commit: '), lines[:4]
+assert lines[2].startswith('# date: 20') and lines[3].startswith('# command_line: '), lines[:4]
+assert '--quick' in lines[3], lines[:4]
 rows = list(csv.DictReader(l for l in lines if not l.startswith('#')))
 assert list(rows[0]) == ['curve', 'x', 'scene', 'size', 'spp', 'rho', 'mode', 'exact_s',
                          'pencil_s', 'ratio', 'exact_instructions', 'pencil_instructions',

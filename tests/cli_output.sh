@@ -142,7 +142,7 @@ check "sweep with an odd scene path and --out" "[ $rc -eq 0 ] && [ -s \"\$odd/ou
 check "sweep.json round-trips the scene path and records the command line" \
   "$py -c 'import json,sys; d=json.load(open(sys.argv[1])); sys.exit(not (d[\"scene\"] == sys.argv[2] and d[\"provenance\"][\"command_line\"].count(\"sweep\") == 1 and len(d[\"sweep\"]) == 3))' \"\$odd/out/sweep.json\" \"\$odd/scène'.json\""
 check "the plot was made in the odd directory" "[ -s \"\$odd/out/sweep.png\" ]"
-check "the plot carries its data's provenance in text chunks (once it had none)" "$py - \"\$odd/out/sweep.png\" <<'PY'
+check "the plot carries its data's provenance in text chunks (once it had none)" "$py - \"\$odd/out/sweep.png\" \"\$($pencil --version)\" <<'PY'
 import struct, sys, zlib
 d, i, t = open(sys.argv[1], 'rb').read(), 8, {}
 while i < len(d):
@@ -158,7 +158,7 @@ while i < len(d):
         t[k.decode('latin-1')] = (zlib.decompress(v) if comp else v).decode('utf-8')
     i += 12 + n
 assert 'pencil_plots.py' in t['Software'] and t['Source'] == 'sweep.csv', t
-assert t['pencil:version'].startswith('0.') or t['pencil:version'], t
+assert sys.argv[2] == 'pencil %s (%s)' % (t['pencil:version'], t['pencil:commit']), (sys.argv[2], t)
 assert ' sweep ' in t['pencil:command_line'] and 'scène' in t['pencil:command_line'], t
 assert t['pencil:date'].startswith('20') and t['pencil:commit'], t
 PY"
