@@ -1812,6 +1812,15 @@ static void measured_all_within(const rt_scene_t *s) {
   assert_int_equal(st.within, st.measured);
 }
 
+/* tests/data/pencil_star_tir.json, a glass star prism over a white floor at 192 x 192, 1 spp
+ * (not prepared). */
+static void load_star(rt_scene_t *s) {
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/tests/data/pencil_star_tir.json", PENCIL_SOURCE_DIR);
+  rt_scene_init(s);
+  assert_int_equal(io_scene_load(path, s, err, sizeof err), 0);
+}
+
 /* A total internal reflection inside a lattice cell (tests/data/pencil_star_tir.json, a glass star
  * prism without Fresnel): the reflected node's weight is kr at seven grid points and kr + kt at
  * two, its ray and surface the same at all nine, so the scene search confirmed it and the bilinear
@@ -1820,11 +1829,8 @@ static void measured_all_within(const rt_scene_t *s) {
  * differ does not confirm the node now. */
 static void weight_jump_not_interpolated(void **state) {
   (void)state;
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/tests/data/pencil_star_tir.json", PENCIL_SOURCE_DIR);
   rt_scene_t s;
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  load_star(&s);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   int star_px;
   double most = object_seen_off(&s, 1, 1, 0, &star_px);
@@ -1842,11 +1848,8 @@ static void weight_jump_not_interpolated(void **state) {
  * --brightness-tol 0). */
 static void fresnel_weight_near_the_critical_angle(void **state) {
   (void)state;
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/tests/data/pencil_star_tir.json", PENCIL_SOURCE_DIR);
   rt_scene_t s;
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  load_star(&s);
   int glass = rt_scene_find_material(&s, "glass");
   assert_true(glass >= 0 && s.nlight == 1);
   s.material[glass].fresnel = 1;
