@@ -75,6 +75,8 @@ refused "render --spectral-tol without --wavelengths pencil" \
   "spectral-tol has no effect with --wavelengths fan (only with --wavelengths pencil)" render --spectral-tol 0.2 -o "$o"
 refused "render --wavelength-axis with --wavelengths off" \
   "wavelength-axis has no effect with --wavelengths off" render --method pencil --wavelengths off --wavelength-axis lambda -o "$o"
+refused "render --no-spectral-lattice with --no-interp" \
+  "no-spectral-lattice has no effect with --no-interp" render --method pencil --no-interp --no-spectral-lattice -o "$o"
 refused "render --bins with --wavelengths pencil" "bins has no effect with --wavelengths pencil" \
   render --wavelengths pencil --bins 9 -o "$o"
 refused "render --weight-floor without --tolerance image" "weight-floor has no effect with --tolerance geometric" \

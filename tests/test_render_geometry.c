@@ -198,6 +198,55 @@ static void objects_alone(void **state) {
   }
 }
 
+/* rt_sweep_meets_others(): a slit, a polygon at x = 2 over y in [0.9, 1.1]. Segments from a small
+ * box about (0, 0, 0) to one about (4, 0, 0) pass below it; so do segments from about (0, 1.5, 0)
+ * down to about (4, -1.5, 0), which are at y = 0 where x = 2, though the two boxes' common bounds
+ * hold the slit (the test the sweep replaces); segments that cross y = 1 at x = 2 meet it. A listed
+ * primitive is skipped, and with it the rest of its object when that object is alone (the cube: its
+ * other faces), not otherwise; a plane counts where it cuts the sweep, not where it cuts only the
+ * common bounds. */
+static void sweep_meets_others(void **state) {
+  (void)state;
+  rt_scene_t s;
+  rt_scene_init(&s);
+  int m = mat_add(&s), cube, slit, floor_;
+  char why[200];
+  const px_vec3_t sv[4] = {{2, 0.9, -1}, {2, 1.1, -1}, {2, 1.1, 1}, {2, 0.9, 1}};
+  assert_int_equal(rt_scene_add_polygon(&s, sv, 4, m, &slit), RT_OK);
+  px_vec3_t v[8];
+  for (int i = 0; i < 8; i++) /* the unit cube moved to x in [10, 11] */
+    v[i] = px_v3_add(cube_v[i], px_vec3(10, 0, 0));
+  assert_int_equal(
+      rt_scene_add_polyhedron(&s, v, 8, cube_in, quad_len, 6, m, &cube, why, sizeof why), RT_OK);
+  assert_int_equal(rt_scene_add_plane(&s, px_vec3(0, -3, 0), px_vec3(0, 1, 0), px_vec3(1, 0, 0), m,
+                                      -1, 1.0, &floor_),
+                   RT_OK);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  int sp = s.object[slit].first_prim, cp = s.object[cube].first_prim,
+      fp = s.object[floor_].first_prim;
+  assert_true(s.object[cube].alone);
+  const double a[6] = {-0.05, -0.05, -0.05, 0.05, 0.05, 0.05};
+  const double b[6] = {3.95, -0.05, -0.05, 4.05, 0.05, 0.05};
+  const double up[6] = {3.95, 1.95, -0.05, 4.05, 2.05, 0.05};   /* crosses y = 1 at x = 2 */
+  const double down[6] = {3.95, -3.5, -0.05, 4.05, -2.5, 0.05}; /* below the floor at its end */
+  assert_int_equal(rt_sweep_meets_others(&s, a, b, NULL, 0), 0);
+  const double hi[6] = {-0.05, 1.45, -0.05, 0.05, 1.55, 0.05};
+  const double lo[6] = {3.95, -1.55, -0.05, 4.05, -1.45, 0.05};
+  assert_int_equal(rt_sweep_meets_others(&s, hi, lo, NULL, 0), 0);
+  assert_int_equal(rt_sweep_meets_others(&s, a, up, NULL, 0), 1);
+  assert_int_equal(rt_sweep_meets_others(&s, a, up, &sp, 1), 0); /* the slit listed */
+  assert_int_equal(rt_sweep_meets_others(&s, a, down, &fp, 1), 0);
+  assert_int_equal(rt_sweep_meets_others(&s, a, down, NULL, 0), 1); /* the floor cut */
+  /* into the cube from outside (x 9 to 10.5): its faces unless one of them is listed */
+  const double c0[6] = {9, 0.4, 0.4, 9.1, 0.6, 0.6}, c1[6] = {10.5, 0.4, 0.4, 10.6, 0.6, 0.6};
+  assert_int_equal(rt_sweep_meets_others(&s, c0, c1, NULL, 0), 1);
+  int other = cp + 3;
+  assert_int_equal(rt_sweep_meets_others(&s, c0, c1, &other, 1), 0);
+  const double bad[6] = {1, 0, 0, 0, 0, 0}; /* empty */
+  assert_int_equal(rt_sweep_meets_others(&s, bad, b, NULL, 0), 1);
+  rt_scene_free(&s);
+}
+
 static void open_or_inconsistent_polyhedron_rejected(void **state) {
   (void)state;
   rt_scene_t s;
@@ -301,6 +350,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(bent_polygon_rejected),
       cmocka_unit_test(polyhedron_is_oriented_outwards),
       cmocka_unit_test(objects_alone),
+      cmocka_unit_test(sweep_meets_others),
       cmocka_unit_test(open_or_inconsistent_polyhedron_rejected),
       cmocka_unit_test(polyhedron_entry_and_exit),
       cmocka_unit_test(bvh_matches_brute_force),

@@ -333,3 +333,100 @@ rt_status_t rt_scene_prepare(rt_scene_t *s) {
     s->object[o].alone = st == RT_OK && alone(s, o);
   return st;
 }
+
+int rt_scene_bounds(const rt_scene_t *s, double lo[3], double hi[3]) {
+  if (!s->bvh || s->bvh->nnode == 0)
+    return 0;
+  for (int a = 0; a < 3; a++) {
+    lo[a] = s->bvh->node[0].lo[a];
+    hi[a] = s->bvh->node[0].hi[a];
+  }
+  return 1;
+}
+
+/* The parameters t in [*t0, *t1] where p + q t <= 0 (narrowing them). */
+static void where_nonpositive(double p, double q, double *t0, double *t1) {
+  if (q > 0.0)
+    *t1 = fmin(*t1, -p / q);
+  else if (q < 0.0)
+    *t0 = fmax(*t0, -p / q);
+  else if (p > 0.0)
+    *t0 = INFINITY; /* never */
+}
+
+/* Whether the box swept from `from` to `to` (rt_sweep_meets_others()) meets the box [a, b]: on
+ * each axis its bounds lo(t), hi(t) are linear in t, and it meets where lo(t) <= b and
+ * hi(t) >= a on every axis for one t. */
+static int sweep_meets_box(const double from[6], const double to[6], px_vec3_t a, px_vec3_t b) {
+  double t0 = 0.0, t1 = 1.0;
+  for (int k = 0; k < 3; k++) {
+    where_nonpositive(from[k] - px_v3_at(b, k), to[k] - from[k], &t0, &t1);
+    where_nonpositive(px_v3_at(a, k) - from[3 + k], -(to[3 + k] - from[3 + k]), &t0, &t1);
+  }
+  return t0 <= t1;
+}
+
+/* Whether the swept box meets the plane through p with normal n: the smallest and the largest
+ * n.x - n.p over the box at t are linear in t; it meets where the one is <= 0 <= the other. */
+static int sweep_meets_plane(const double from[6], const double to[6], px_vec3_t n, px_vec3_t p) {
+  double m0 = -px_v3_dot(n, p), m1 = m0, M0 = m0, M1 = m0;
+  for (int k = 0; k < 3; k++) {
+    double nk = px_v3_at(n, k);
+    int lo = nk >= 0.0 ? k : 3 + k, hi = nk >= 0.0 ? 3 + k : k; /* where n.x is least, most */
+    m0 += nk * from[lo];
+    m1 += nk * to[lo];
+    M0 += nk * from[hi];
+    M1 += nk * to[hi];
+  }
+  double t0 = 0.0, t1 = 1.0;
+  where_nonpositive(m0, m1 - m0, &t0, &t1);
+  where_nonpositive(-M0, -(M1 - M0), &t0, &t1);
+  return t0 <= t1;
+}
+
+/* rt_sweep_meets_others()'s test of one primitive of the BVH. */
+typedef struct {
+  const rt_scene_t *s;
+  const double *from, *to;
+  const int *skip;
+  int nskip;
+} others_t;
+
+/* Whether q is listed, or a primitive of a listed primitive's object when that object is alone
+ * (rt_object_t.alone). */
+static int skipped(const rt_scene_t *s, const int *skip, int nskip, int q) {
+  int oq = s->prim[q].object;
+  for (int i = 0; i < nskip; i++)
+    if (skip[i] == q || (s->prim[skip[i]].object == oq && s->object[oq].alone))
+      return 1;
+  return 0;
+}
+
+static int others_meet(void *ctx, int q) {
+  const others_t *o = ctx;
+  px_vec3_t a, b;
+  if (skipped(o->s, o->skip, o->nskip, q))
+    return 0;
+  return !rt_prim_bounds(o->s, q, &a, &b) || sweep_meets_box(o->from, o->to, a, b);
+}
+
+int rt_sweep_meets_others(const rt_scene_t *s, const double from[6], const double to[6],
+                          const int *skip, int nskip) {
+  double lo[3], hi[3]; /* the swept box's bounds: its ends' */
+  for (int a = 0; a < 3; a++) {
+    if (!(from[a] <= from[3 + a]) || !(to[a] <= to[3 + a]))
+      return 1; /* NaN or an empty box: nothing known */
+    lo[a] = fmin(from[a], to[a]);
+    hi[a] = fmax(from[3 + a], to[3 + a]);
+  }
+  for (int u = 0; u < s->nunbounded; u++) {
+    int q = s->unbounded[u];
+    if (skipped(s, skip, nskip, q))
+      continue;
+    if (s->prim[q].kind != RT_PRIM_PLANE ||
+        sweep_meets_plane(from, to, s->prim[q].plane.n, s->prim[q].plane.p))
+      return 1;
+  }
+  others_t o = {s, from, to, skip, nskip};
+  return rt_bvh_box_query(s->bvh, lo, hi, others_meet, &o) >= 0;
+}

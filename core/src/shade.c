@@ -398,17 +398,23 @@ int rt_shade_spectral_at(const rt_plan_t *plan, const rt_material_t *m, int dept
          px_index_disperses(&m->index);
 }
 
-rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
-                           const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
-                           rt_child_t *mirror, int *nmirror) {
+rt_rgb_t rt_shade_spectral_rec(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                               const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
+                               rt_child_t *mirror, int *nmirror, rt_spectral_rec_t *rec) {
   const rt_material_t *m = sf->mat;
   rt_rgb_t wr = rt_rgb(0, 0, 0);
   if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
     wr = rt_rgb(m->kr, m->kr, m->kr);
   int all_tir;
-  rt_rgb_t c = rt__wp_refract(s, plan, sf, ray, depth, tr, &wr, &all_tir);
+  rt_rgb_t c = rt__wp_refract(s, plan, sf, ray, depth, tr, &wr, &all_tir, rec);
   *nmirror = reflect_child(s, sf, ray, wr, all_tir, mirror);
   return c;
+}
+
+rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                           const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
+                           rt_child_t *mirror, int *nmirror) {
+  return rt_shade_spectral_rec(s, plan, sf, ray, depth, tr, mirror, nmirror, NULL);
 }
 
 int rt_shade_spectral_mirror(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
@@ -418,7 +424,7 @@ int rt_shade_spectral_mirror(const rt_scene_t *s, const rt_plan_t *plan, const r
   if (rt_plan_has(plan, RT_EFFECT_REFLECTION))
     wr = rt_rgb(m->kr, m->kr, m->kr);
   int all_tir;
-  rt__wp_refract(s, plan, sf, ray, depth, NULL, &wr, &all_tir);
+  rt__wp_refract(s, plan, sf, ray, depth, NULL, &wr, &all_tir, NULL);
   return reflect_child(s, sf, ray, wr, all_tir, mirror);
 }
 

@@ -4,6 +4,7 @@
 #define RENDER_SHADE_IMPL_H
 
 #include "core/shade.h"
+#include "core/shade_paths.h"
 
 /** Offset origin for a secondary ray leaving the surface on the side `side` (+1: the side the
  *  incoming ray came from, -1: the far side). */
@@ -20,10 +21,11 @@ double rt__index_at(const rt_material_t *m, double lambda);
 /** Spectral pencils (wpencil.c) for the white ray `ray` refracting at the dispersive surface sf
  *  under a plan with RT_SPECTRAL_PENCIL: the transmitted radiance; adds to *wr what reflects
  *  instead (Fresnel shares, total internal reflection) and clears *all_tir unless every
- *  wavelength reflects totally. With tr NULL only the latter, nothing traced. */
+ *  wavelength reflects totally. With tr NULL only the latter, nothing traced. rec (with tr): what
+ *  the pencils met (rt_shade_spectral_rec()), or NULL. */
 rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                         const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
-                        int *all_tir);
+                        int *all_tir, rt_spectral_rec_t *rec);
 
 /** The refracted ray of rt__shade_refract() alone (0 under total internal reflection). */
 int rt__refract_ray(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,

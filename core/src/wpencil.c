@@ -35,6 +35,7 @@
  * ends included) are counted through the tracer's count().
  */
 #include <math.h>
+#include <string.h>
 
 #include "bvh.h"
 #include "colour/colour.h"
@@ -97,7 +98,103 @@ typedef struct {
   const rt_material_t *glass;
   int trace; /* 0: only the shares that reflect (rt__wp_refract with tr NULL) */
   int shows; /* the spectrum was cut, or spread over more than a quarter pixel somewhere */
+  rt_spectral_rec_t *rec; /* rt_shade_spectral_rec()'s record, or NULL */
 } wp_run_t;
+
+/* ---- the record of what the pencils met (rt_shade_spectral_rec()) --------------------------- */
+
+static void rec_unusable(const wp_run_t *R, int why) {
+  if (R->rec && !R->rec->unusable)
+    R->rec->unusable = why;
+}
+
+/* Grow box b (lo x, y, z, hi x, y, z) to hold p. */
+static void rec_grow(const wp_run_t *R, double b[6], px_vec3_t p) {
+  for (int a = 0; a < 3; a++) {
+    double v = px_v3_at(p, a);
+    if (!isfinite(v))
+      rec_unusable(R, 5);
+    b[a] = fmin(b[a], v);
+    b[3 + a] = fmax(b[3 + a], v);
+  }
+}
+
+/* A segment from o to e that ends at event i (rec_event()'s; -1: none). */
+static void rec_seg(const wp_run_t *R, int i, px_vec3_t o, px_vec3_t e) {
+  if (!R->rec || i < 0)
+    return;
+  rec_grow(R, R->rec->from[i], o);
+  rec_grow(R, R->rec->to[i], e);
+}
+
+/* A ray that meets nothing, event i: from its origin to where it leaves the scene's bounds
+ * (nothing bounded lies beyond; rt_sweep_meets_others() tests the planes), or to its origin when
+ * it never enters them. */
+static void rec_ray(const wp_run_t *R, int i, const rt_ray_t *ray) {
+  double lo[3], hi[3], t0 = 0.0, t1 = INFINITY;
+  if (!R->rec)
+    return;
+  px_vec3_t e = ray->o;
+  if (rt_scene_bounds(R->s, lo, hi)) {
+    for (int a = 0; a < 3; a++) {
+      double o = px_v3_at(ray->o, a), d = px_v3_at(ray->d, a);
+      if (d == 0.0) {
+        if (o < lo[a] || o > hi[a])
+          t1 = -INFINITY;
+        continue;
+      }
+      double ta = (lo[a] - o) / d, tb = (hi[a] - o) / d;
+      t0 = fmax(t0, fmin(ta, tb));
+      t1 = fmin(t1, fmax(ta, tb));
+    }
+    if (t0 <= t1 && isfinite(t1))
+      e = px_v3_axpy(t1, ray->d, ray->o);
+  }
+  rec_seg(R, i, ray->o, e);
+}
+
+static void rec_prim(wp_run_t *R, int q) {
+  rt_spectral_rec_t *r = R->rec;
+  if (!r)
+    return;
+  for (int i = 0; i < r->nprim; i++)
+    if (r->prim[i] == q)
+      return;
+  if (r->nprim == RT_SPECTRAL_REC_PRIMS)
+    rec_unusable(R, 1);
+  else
+    r->prim[r->nprim++] = q;
+}
+
+/* An event: a generation, a primitive (-1: a miss), a ray kind and a word of details, hashed
+ * (splitmix64's finaliser over their combination), kept once; its index in the record (-1: none
+ * kept). */
+static int rec_event(wp_run_t *R, int depth, int prim, int kind, uint64_t detail) {
+  rt_spectral_rec_t *r = R->rec;
+  if (!r)
+    return -1;
+  uint64_t h = ((uint64_t)(uint32_t)prim << 32 | (uint64_t)(uint32_t)depth << 8 | (uint64_t)kind);
+  h ^= detail * 0x9E3779B97F4A7C15ull;
+  h ^= h >> 30;
+  h *= 0xBF58476D1CE4E5B9ull;
+  h ^= h >> 27;
+  h *= 0x94D049BB133111EBull;
+  h ^= h >> 31;
+  for (int i = 0; i < r->nev; i++)
+    if (r->ev[i] == h)
+      return i;
+  if (r->nev == RT_SPECTRAL_REC_EVENTS) {
+    rec_unusable(R, 1);
+    return -1;
+  }
+  int i = r->nev++;
+  r->ev[i] = h;
+  for (int a = 0; a < 3; a++) {
+    r->from[i][a] = r->to[i][a] = INFINITY;
+    r->from[i][3 + a] = r->to[i][3 + a] = -INFINITY;
+  }
+  return i;
+}
 
 /* ---- the wavelength axis ------------------------------------------------------------------- */
 
@@ -202,6 +299,7 @@ typedef struct {
   const rt_material_t *next;  /* the medium beyond the surface */
   const rt_surface_t *sf;     /* the axial hit for shading */
   rt_rgb_t direct;            /* its direct term */
+  int ev;                     /* its event in the run's record (rec_event()), or -1 */
 } wp_hit_t;
 
 static void square_of(const rt_scene_t *s, int prim, px_vec3_t p, double *su, double *sv) {
@@ -463,6 +561,7 @@ static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int li
   if (!lin && *occ >= 0 && rt_prim_intersect(s, *occ, &q, q.tmax, &t2))
     return WP_OFF;
   *p = px_v3_axpy(t, r->d, r->o);
+  rec_seg(R, H->ev, r->o, *p);
   *me = px_v3_scale(rt_prim_normal(s, H->hit.prim, *p), H->side);
   if (!(px_v3_dot(*me, r->d) < 0.0))
     return WP_OFF;
@@ -571,8 +670,12 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth);
 static int cut_off(wp_run_t *R, wp_t *w, double cut, double ue, int depth, rt_rgb_t *c) {
   if (fabs(cut - w->uc) < 0.5 * R->min_width) /* the axial ray sits at the edge */
     cut = w->uc + copysign(0.5 * R->min_width, ue - w->uc);
-  if (fabs(ue - cut) < R->min_width || R->budget <= 0)
+  if (fabs(ue - cut) < R->min_width)
     return 0; /* too narrow to cut off: the pencil keeps it */
+  if (R->budget <= 0) {
+    rec_unusable(R, 4);
+    return 0;
+  }
   R->budget--;
   R->shows = 1;
   wp_t piece = recentre(R, w, fmin(cut, ue), fmax(cut, ue));
@@ -611,6 +714,13 @@ static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
       if (!cut_off(R, w, 0.5 * (a + b), ue, depth, &c))
         break;
     }
+  }
+  if (R->rec) {
+    int i = rec_event(R, depth, -1, w->kind, 0);
+    rt_ray_t ends[2] = {model_ray(w, w->ua), model_ray(w, w->ub)};
+    rec_ray(R, i, &w->ray);
+    rec_ray(R, i, &ends[0]);
+    rec_ray(R, i, &ends[1]);
   }
   return rt_rgb_add(c, rt_rgb_mul(rt_wave_weight(&R->plan->wave, w->ua, w->ub), R->s->background));
 }
@@ -694,6 +804,23 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
     H.tir = !wp_refract_du(w->ray.d, w->d_d, H.m, dm, n1 / n2, deta, &H.dt, &H.ddt, &cos_t);
   }
   H.sf = &sf;
+  H.ev = -1;
+  if (R->rec) {
+    rec_prim(R, hit.prim);
+    uint64_t sq = 0, su, sv; /* the square's indices, as their bits */
+    if (H.checker) {
+      memcpy(&su, &H.su, sizeof su);
+      memcpy(&sv, &H.sv, sizeof sv);
+      sq = (su * 0xC2B2AE3D27D4EB4Full ^ sv) & ~(3ull << 62);
+    }
+    H.ev = rec_event(R, depth, hit.prim, w->kind,
+                     sq ^ (uint64_t)(H.side > 0.0) << 62 ^ (uint64_t)H.tir << 63);
+    rec_seg(R, H.ev, w->ray.o, hit.p);
+    if (s->nlight > 0 && (mat->kd > 0.0 || mat->ks > 0.0))
+      rec_unusable(R, 2);
+    if (concave(s, hit.prim))
+      rec_unusable(R, 3);
+  }
   H.direct = rt_shade_direct(s, plan, &sf, &w->ray, &R->inner);
   /* the ends */
   rt_rgb_t c = rt_rgb(0, 0, 0);
@@ -746,6 +873,28 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   return c;
 }
 
+/* The record's events in the order of their hashes (two records of the same events then list
+ * them alike) and its signature: the sum of their distinct hashes, never 0. */
+static void rec_finish(rt_spectral_rec_t *r) {
+  for (int i = 1; i < r->nev; i++) /* insertion sort: a few events */
+    for (int j = i; j > 0 && r->ev[j - 1] > r->ev[j]; j--) {
+      uint64_t h = r->ev[j];
+      r->ev[j] = r->ev[j - 1];
+      r->ev[j - 1] = h;
+      for (int a = 0; a < 6; a++) {
+        double f = r->from[j][a], t = r->to[j][a];
+        r->from[j][a] = r->from[j - 1][a];
+        r->to[j][a] = r->to[j - 1][a];
+        r->from[j - 1][a] = f;
+        r->to[j - 1][a] = t;
+      }
+    }
+  uint64_t sig = 0x2545F4914F6CDD1Dull * (uint64_t)(r->nev + 1);
+  for (int i = 0; i < r->nev; i++)
+    sig += r->ev[i];
+  r->sig = r->unusable ? 0 : sig ? sig : 1;
+}
+
 /* ---- where a white ray refracts ------------------------------------------------------------ */
 
 /* Snell's law for the white ray at u: 1 and the direction, 0 on total internal reflection; the
@@ -790,6 +939,8 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
       cut = uc;
     }
   }
+  if (!isnan(cut) && ub - ua > 2.0 * R->min_width && R->wbudget <= 0)
+    rec_unusable(R, 4);
   if (!isnan(cut) && ub - ua > 2.0 * R->min_width && R->wbudget > 0) {
     cut = fmin(fmax(cut, ua + R->min_width), ub - R->min_width);
     R->wbudget--;
@@ -799,6 +950,11 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
   }
   rt_rgb_t W = rt_wave_weight(&plan->wave, ua, ub);
   rt_rgb_t wt = rt_rgb_scale(mat->transmittance, mat->kt);
+  if (R->rec) { /* the white ray's refraction, or its total internal reflection */
+    rec_prim(R, sf->hit.prim);
+    int i = rec_event(R, depth, sf->hit.prim, RT_RAY_REFRACT, 1u + (uint64_t)ok);
+    rec_seg(R, i, sf->hit.p, sf->hit.p);
+  }
   if (!ok) {
     *wr = rt_rgb_add(*wr, rt_rgb_mul(W, wt));
     return rt_rgb(0, 0, 0);
@@ -854,7 +1010,8 @@ static wp_run_t run_make(const rt_scene_t *s, const rt_plan_t *plan, const rt_tr
                 WP_MIN_FRACTION * (w->u_edge[RT_MAX_BINS] - w->u_edge[0]),
                 glass,
                 trace,
-                0};
+                0,
+                NULL};
   if (tr && tr->occluded)
     R.inner.occluded = occluded_cb;
   return R;
@@ -889,10 +1046,14 @@ rt_rgb_t rt_shade_spectral_ray(const rt_scene_t *s, const rt_plan_t *plan, const
 
 rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                         const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
-                        int *all_tir) {
+                        int *all_tir, rt_spectral_rec_t *rec) {
   const rt_wavescale_t *w = &plan->wave;
   wp_run_t R = run_make(s, plan, tr, NULL, tr != NULL);
   R.inner.ctx = &R;
+  if (rec && tr) {
+    rec->nev = rec->nprim = rec->unusable = 0;
+    R.rec = rec;
+  }
   if (w->scaled && px_index_disperses(&sf->mat->index))
     R.glass = sf->mat;
   *all_tir = 1;
@@ -900,5 +1061,7 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
   rt_rgb_t c = white(&R, sf, ray, w->u_edge[0], w->u_edge[RT_MAX_BINS], depth, wr, all_tir);
   if (R.trace && !R.shows)
     count(&R, RT_COUNT_SPECTRAL + 2);
+  if (R.rec)
+    rec_finish(rec);
   return c;
 }

@@ -103,8 +103,10 @@ static int plan_alloc(pt_lattice_plan_t *p, int cap) {
   p->traced = take0((size_t)cap, 1);
   p->biquadratic = take0((size_t)cap, 1);
   p->faint = take0((size_t)cap, 1);
+  p->spec_lin = take0((size_t)cap, 1);
+  p->spec = take((size_t)cap * sizeof *p->spec);
   return p->shaded && p->shaded_direct && p->shaded_exact && p->leaves && p->linear &&
-         p->exact_subtree && p->traced && p->biquadratic && p->faint;
+         p->exact_subtree && p->traced && p->biquadratic && p->faint && p->spec_lin && p->spec;
 }
 
 static void plan_free(pt_lattice_plan_t *p) {
@@ -117,6 +119,8 @@ static void plan_free(pt_lattice_plan_t *p) {
   free(p->traced);
   free(p->biquadratic);
   free(p->faint);
+  free(p->spec_lin);
+  free(p->spec);
   memset(p, 0, sizeof *p);
 }
 
@@ -153,14 +157,18 @@ int pt__lattice_alloc(pt_lattice_t *l, int cap, int n) {
   l->root = take(9 * (size_t)cap * sizeof *l->root);
   l->refine = take((size_t)PT_LATTICE_LEVELS * 5 * (size_t)cap * sizeof *l->refine);
   l->pixels = take((size_t)n * (size_t)n * sizeof *l->pixels);
+  l->spec.box = take((size_t)PT_SPEC_EVENTS * sizeof *l->spec.box);
+  l->spec_off = take0((size_t)cap, 1);
   int plan = plan_alloc(&l->plan, cap), memo = memo_alloc(&l->memo, cap);
-  return l->root && l->refine && l->pixels && plan && memo;
+  return l->root && l->refine && l->pixels && l->spec.box && l->spec_off && plan && memo;
 }
 
 void pt__lattice_free(pt_lattice_t *l) {
   free(l->root);
   free(l->refine);
   free(l->pixels);
+  free(l->spec.box);
+  free(l->spec_off);
   plan_free(&l->plan);
   memo_free(&l->memo);
   memset(l, 0, sizeof *l);
@@ -223,7 +231,8 @@ size_t pt_thread_bytes(int tree_nodes, int domain) {
   b += (9 + (size_t)PT_LATTICE_LEVELS * 5) * cap * geom +
        (size_t)domain * (size_t)domain * sizeof *C->lattice.pixels; /* lattice grids, pixels */
   b += cap * (sizeof *C->lattice.plan.shaded + 2 + sizeof *C->lattice.plan.leaves +
-              sizeof *C->lattice.plan.linear + 4);
+              sizeof *C->lattice.plan.linear + sizeof *C->lattice.plan.spec + 6);
+  b += (size_t)PT_SPEC_EVENTS * sizeof *C->lattice.spec.box; /* spectral events' boxes */
   size_t entries = PT_MEMO_BYTES / geom, nslot = 1;
   if (entries < cap)
     entries = cap;

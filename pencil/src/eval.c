@@ -325,7 +325,7 @@ static const pt_xgeom_t *exact_geom(pt_eval_t *E, int k) {
 /* Whether a child of node n is traced exactly per sample in this evaluation (the domain's tree
  * marks it exact, or the lattice cell's plan traces it below an edge). */
 static int spawns_exact(const pt_eval_t *E, const pt_node_t *n) {
-  if (n->spectral)
+  if (n->spectral && !(E->spec_lin && E->spec_lin[n - E->C->paths.node]))
     return 1;
   for (int c = 0; c < 2; c++) {
     int kc = n->child[c];
@@ -444,7 +444,7 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
      * exact child shaded per sample (the planner's has_exact_children()), never interpolated:
      * neither the corners' trees nor a lattice cell's brightness test alone could see an edge
      * behind the glass. The white mirror child goes on as any other. */
-    if ((E->shade || E->record_sub) && !E->lattice) {
+    if ((E->shade || E->record_sub) && !E->lattice && !(E->spec_lin && E->spec_lin[k])) {
       rt_tracer_t ex = xr_exact_tracer(&E->C->ex);
       sum = rt_rgb_mul(w,
                        rt_shade_spectral(E->C->s, E->C->plan, sf, ray, n->depth, &ex, &ch[0], &nc));
@@ -493,6 +493,42 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
 }
 
 /* The sample's ray left node n's path: an edge the domain's corners saw (verify node) or not. */
+/* A lattice point at spectral node k (weight w): the light of the spectral pencils traced from
+ * the point's exact hit (as a sample's, node_geometry()), weighted, with the bounds of their
+ * segments and the signature of what they met (pt_geom_t.sp, ssig), so that the lattice cells
+ * it is a corner of may interpolate that light (interp_plan.c's spectral_interpolable()). ssig
+ * stays 0 where the pencils cannot be interpolated (rt_spectral_rec_t.unusable) or the point
+ * leaves the path. */
+static void spectral_record(pt_eval_t *E, int k, rt_rgb_t w, pt_geom_t *g) {
+  pt_ctx_t *C = E->C;
+  const pt_node_t *n = &C->paths.node[k];
+  if (C->lattice.spec_off[k])
+    return;
+  const pt_xgeom_t *x = exact_geom(E, k);
+  if (!x->ok)
+    return;
+  rt_ray_t ray;
+  rt_surface_t sf;
+  node_surface(E, k, x->p, x->d, &ray, &sf);
+  if (!rt_shade_spectral_at(C->plan, sf.mat, n->depth))
+    return;
+  rt_tracer_t ex = xr_exact_tracer(&C->ex);
+  rt_spectral_rec_t rec;
+  rt_child_t m;
+  int nm;
+  rt_rgb_t ls = rt_shade_spectral_rec(C->s, C->plan, &sf, &ray, n->depth, &ex, &m, &nm, &rec);
+  C->st.spectral_points++;
+  if (!rec.sig) { /* no point of this domain will do better, as a rule: not traced again */
+    C->lattice.spec_off[k] = 1;
+    return;
+  }
+  if (!pt__spec_put(C, &rec, &g->sp.at))
+    return;
+  g->sp.ls = rt_rgb_mul(w, ls);
+  g->sp.nev = (uint32_t)rec.nev;
+  g->ssig = rec.sig;
+}
+
 static void left(pt_eval_t *E, const pt_node_t *n) {
   if (n->verify)
     E->vfail = E->partial = 1;
@@ -545,6 +581,7 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
     g->exact_kinds = 0;
     g->su = g->sv = 0;
     g->lit = g->dark = g->through = 0;
+    g->ssig = 0;
     if (n->textured)
       square_of(C->s, n->prim, hit, &g->su, &g->sv);
   }
@@ -574,6 +611,9 @@ static rt_rgb_t eval_node(pt_eval_t *E, int k, rt_rgb_t w, const rt_child_t *fro
       g->l = l;
   }
   rt_rgb_t sum = rt_rgb_add(l, children(E, k, &sf, &ray, w, 0));
+  if (g && E->lattice && E->shade && n->spectral && !n->textured && C->opt->spectral_lattice &&
+      !C->opt->certified)
+    spectral_record(E, k, w, g);
   E->cur = saved;
   return sum;
 }

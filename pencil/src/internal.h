@@ -19,12 +19,19 @@
 /** Where one node of one sample met its surface, as computed by the pencil, and what it
  *  contributes to the sample's radiance. */
 typedef struct {
-  px_vec3_t p;    /**< hit point */
-  px_vec3_t d;    /**< unit direction of the arriving ray */
-  rt_rgb_t w;     /**< W_k: product of the shade.h child weights from the eye to the node */
-  rt_rgb_t l;     /**< W_k * direct_k (W_k * background for a miss); shading only */
-  rt_rgb_t lt[2]; /**< textured nodes at lattice points: W_k * direct_k with the material of
-                       the even (0) and the odd (1) checker squares */
+  px_vec3_t p; /**< hit point */
+  px_vec3_t d; /**< unit direction of the arriving ray */
+  rt_rgb_t w;  /**< W_k: product of the shade.h child weights from the eye to the node */
+  rt_rgb_t l;  /**< W_k * direct_k (W_k * background for a miss); shading only */
+  union {
+    rt_rgb_t lt[2]; /**< textured nodes at lattice points: W_k * direct_k with the material of
+                         the even (0) and the odd (1) checker squares */
+    struct {
+      rt_rgb_t ls;  /**< W_k times the light its spectral pencils bring (rt_shade_spectral()) */
+      uint32_t at;  /**< their events' boxes: pt_spec_table_t.box[at .. at + nev) */
+      uint32_t nev; /**< (rt_spectral_rec_t.from and to, in the events' order) */
+    } sp;           /**< spectral nodes (not textured) at lattice points where ssig != 0 */
+  };
   int32_t su, sv; /**< checker square of the hit (textured nodes), else 0; PT_SQUARE_FAR
                        where the index does not fit */
   uint32_t lit;  /**< lattice points: bit l, light l's shadow ray was traced here and met nothing */
@@ -32,6 +39,9 @@ typedef struct {
   uint32_t through;    /**< lattice points: the lights traced here reached partly and the lights
                             blocked, hashed as rt_tree_node_t.through is (what blocks them, their
                             transmittances) */
+  uint64_t ssig;       /**< spectral nodes at lattice points: rt_spectral_rec_t.sig of the
+                            pencils traced from the point's exact hit (`sp` holds their light),
+                            0 where none was recorded or it cannot be interpolated */
   uint8_t ok;          /**< 0 not reached, 1 computed by the pencil, 2 traced exactly */
   uint8_t exact_kinds; /**< bit k: the child of rt_ray_kind_t k was traced exactly */
 } pt_geom_t;
@@ -109,7 +119,30 @@ typedef struct {
                              certified: its parent's) 3 x 3 grid */
   uint8_t *faint;       /**< per node: shading interpolated across a shadow edge, its
                              brightness being within a bound (interp_error.c) */
+  uint8_t *spec_lin;    /**< per node: a spectral node whose spectral pencils' light is
+                             interpolated from the lattice points' (pt_geom_t.sp), not traced per
+                             sample (interp_plan.c's spectral_interpolable()) */
+  int *spec;            /**< those nodes, listed */
 } pt_lattice_plan_t;
+
+/** Distinct signatures of spectral pencils (pt_geom_t.ssig) one domain's lattice points keep,
+ *  and their events' boxes. */
+#define PT_SPEC_SIGS 64
+#define PT_SPEC_EVENTS 16384
+
+/** The primitives the spectral pencils of each signature met, for the planner's guard: a point's
+ *  signature is a hash of what its pencils met, and points that share it met the same primitives
+ *  (open addressing; an entry is in use when its `gen` is the domain's). */
+typedef struct {
+  uint64_t sig[PT_SPEC_SIGS];
+  uint32_t gen[PT_SPEC_SIGS];
+  int nprim[PT_SPEC_SIGS];
+  int prim[PT_SPEC_SIGS][RT_SPECTRAL_REC_PRIMS];
+  uint32_t now;     /**< the current domain's generation */
+  float (*box)[12]; /**< PT_SPEC_EVENTS events' boxes, the segments' origins' (lo, hi) then their
+                         ends' (lo, hi), rounded outwards: the domain's lattice points' */
+  uint32_t nbox;    /**< in use this domain */
+} pt_spec_table_t;
 
 /** Ray interpolation's state for one accepted domain (interp*.c). */
 typedef struct {
@@ -118,6 +151,11 @@ typedef struct {
   pixel_t *pixels;        /**< the domain's pixels being accumulated, N^2 */
   pt_lattice_memo_t memo; /**< the domain's lattice points by position */
   pt_lattice_plan_t plan; /**< the current lattice cell's plan */
+  pt_spec_table_t spec;   /**< the domain's spectral signatures */
+  uint8_t *spec_off;      /**< per node (cap): a lattice point of the domain found its spectral
+                               pencils' light not to be interpolable (rt_spectral_rec_t.unusable:
+                               lights shading their hits, most often), so its other points do
+                               not trace them (eval.c's spectral_record()) */
 } pt_lattice_t;
 
 /** The exact trees one thread traces into (xr_exact_t.tree points at one while it traces). */
@@ -276,6 +314,8 @@ typedef struct {
                                      exactly) */
   const uint8_t *exact_subtree; /**< INTERP: nodes whose subtrees are traced exactly in this
                                      lattice cell (pt_lattice_plan_t) */
+  const uint8_t *spec_lin;      /**< INTERP: spectral nodes whose spectral light this lattice
+                                     cell interpolates (pt_lattice_plan_t), or NULL */
   const uint8_t *traced;        /**< INTERP: nodes whose hits come from their matrices (or path)
                                      per sample in this lattice cell (xi and primary set), not
                                      interpolated */
@@ -348,6 +388,13 @@ void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b);
 void pt__aux_matrix(pt_ctx_t *C, int i, int j);
 /** Every sample of pixel (i, j) through the domain's paths. */
 void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
+
+/* interp_memo.c */
+/** Keep the primitives of rec (its sig) for the current domain, and its events' boxes (at *at):
+ *  0 when the table is full. */
+int pt__spec_put(pt_ctx_t *C, const rt_spectral_rec_t *rec, uint32_t *at);
+/** The primitives kept for signature sig (*n of them), or NULL. */
+const int *pt__spec_get(const pt_ctx_t *C, uint64_t sig, int *n);
 
 /* interp.c */
 /** Step 4a with ray interpolation for the accepted domain [x0, x1) x [y0, y1) whose axial ray (its

@@ -50,6 +50,8 @@ static void emit_samples(pt_ctx_t *C, const domain_pixels_t *A, const lattice_ce
   C->st.biquad_lattice_cells += (uint64_t)(pl && pl->nbiquadratic);
   C->st.faint_lattice_cells += (uint64_t)(pl && pl->nfaint);
   C->st.highlight_lattice_cells += (uint64_t)(pl && pl->nhighlight);
+  if (pl && pl->nspectral)
+    C->st.spectral_samples += (uint64_t)(gx1 - gx0) * (uint64_t)(gy1 - gy0);
   for (int j = gy0 / s; j <= (gy1 - 1) / s; j++)
     for (int i = gx0 / s; i <= (gx1 - 1) / s; i++) {
       int a0 = gx0 - i * s, a1 = gx1 - i * s, b0 = gy0 - j * s, b1 = gy1 - j * s;
@@ -171,6 +173,12 @@ static void process_lattice_cell(pt_ctx_t *C, const domain_pixels_t *A, lattice_
 void pt__interp_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
   domain_pixels_t A = {x0, y0, x1, y1, C->lattice.pixels};
   pt__memo_reset(&C->lattice.memo, C->paths.n);
+  if (++C->lattice.spec.now == 0) { /* wrapped: old generations could look current */
+    memset(C->lattice.spec.gen, 0, sizeof C->lattice.spec.gen);
+    C->lattice.spec.now = 1;
+  }
+  C->lattice.spec.nbox = 0;
+  memset(C->lattice.spec_off, 0, (size_t)C->paths.n);
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++)
       *pixel_at(&A, i, j) = (pixel_t){i, j, {0, 0, 0}, NAN, {0, 0, 0}, 0};

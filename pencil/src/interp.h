@@ -49,6 +49,7 @@ typedef struct {
                        plan.biquadratic */
   int nfaint;       /* nodes interpolated across a shadow edge (pt__faint_bound) */
   int nhighlight;   /* nodes the highlight guard shaded per sample (interp_plan.c) */
+  int nspectral;    /* spectral nodes whose spectral light is interpolated, plan.spec_lin */
   double per_sample_cost; /* node evaluations per sample: traced nodes, nodes shaded per
                              sample, subtrees traced exactly (about 2 rays each) */
   int halve;              /* on failure: 1 (2) when halving the lattice cell across its columns

@@ -84,6 +84,8 @@ typedef struct {
   int *linear;  /* the nodes whose brightness is interpolated (C->lattice.plan.linear) ... */
   int nlinear;  /* ... and their number */
   double faint; /* the faint nodes' bounds, summed */
+  int *spec;    /* the spectral nodes whose light is interpolated (C->lattice.plan.spec) ... */
+  int nspec;    /* ... and their number */
   double werr;  /* the weight errors of the nodes shaded per sample, summed */
 } planning_t;
 
@@ -107,13 +109,15 @@ static void plan_begin(planning_t *P, pt_ctx_t *C, const lattice_cell_t *lc, int
     P->xi2 = px_max(P->xi2, corner_of(lc, i)->xi2);
   P->linear = C->lattice.plan.linear;
   pl->nshaded = pl->nleaves = pl->ntraced = pl->nbiquadratic = pl->nfaint = pl->halve = 0;
-  pl->nhighlight = 0;
+  pl->nhighlight = pl->nspectral = 0;
+  P->spec = C->lattice.plan.spec;
   pl->per_sample_cost = 0.0;
   for (int i = 0; i < 4; i++)
     pl->linear_corners[i] = rt_rgb(0, 0, 0);
   memset(C->lattice.plan.traced, 0, (size_t)C->paths.n);
   memset(C->lattice.plan.biquadratic, 0, (size_t)C->paths.n);
   memset(C->lattice.plan.faint, 0, (size_t)C->paths.n);
+  memset(C->lattice.plan.spec_lin, 0, (size_t)C->paths.n);
 }
 
 /* Step 3: a verify node (below an edge the corners saw) that some grid point did not confirm is
@@ -442,15 +446,79 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
   return smooth;
 }
 
-/* Whether a child of node n is traced exactly per sample (the domain's tree marks it exact, or
- * this lattice cell's plan traces it below an edge). */
-static int has_exact_children(const pt_ctx_t *C, const pt_node_t *n) {
-  int exact_children = n->spectral; /* spectral pencils from each sample's hit (eval.c) */
+/* Step 4b': whether spectral node k's spectral light is interpolated over the lattice cell from
+ * its grid's points (pt_geom_t.sp, recorded by eval.c's spectral_record()) instead of traced per
+ * sample from each sample's hit. The points' pencils must have met the same surfaces in the same
+ * way (one signature at all nine points: the same primitives, sides, checker squares and total
+ * internal reflections, no shading by lights, which could put a shadow or a highlight between
+ * them), their light must pass the grid error test at the faint nodes' share of the brightness
+ * tolerance, and no other primitive may come near the volume their pencils sweep: a thin object
+ * between the points' pencils (a slit in front of a screen, which every point misses) would
+ * otherwise be interpolated away, as a small object between a domain's corner rays would. That
+ * volume is bounded by the union of the nine points' boxes of their segments, grown by half
+ * again about its centre for the pencils' curvature between the points (as shadow_guarded()
+ * grows its pencil); the primitives the pencils met, and the other faces of a convex object
+ * that nothing else enters (rt_object_t.alone), are not tested against it
+ * (rt_box_meets_others()). */
+static int spectral_interpolable(planning_t *P, int k) {
+  pt_ctx_t *C = P->C;
+  const lattice_point_t(*R)[3] = P->R;
+  const uint64_t sig = R[0][0].g[k].ssig;
+  if (!sig || P->cert || !C->opt->spectral_lattice)
+    return 0;
+  grid3_t ls;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      if (R[r][c].g[k].ssig != sig)
+        return 0;
+      ls.v[r][c] = rgb_vec(R[r][c].g[k].sp.ls);
+    }
+  if (!(pt__grid_error(P->lc, &ls, norm_rgb, NULL) <= PT_FAINT_SHARE * P->ltol))
+    return 0; /* NaN too */
+  int np;
+  const int *prim = pt__spec_get(C, sig, &np);
+  if (!prim)
+    return 0;
+  const float(*box)[12] = C->lattice.spec.box;
+  for (int e = 0; e < (int)R[0][0].g[k].sp.nev; e++) { /* per event: its segments' sweep */
+    double b[12];
+    for (int a = 0; a < 12; a++)
+      b[a] = a % 6 < 3 ? INFINITY : -INFINITY;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) {
+        const float *x = box[R[r][c].g[k].sp.at + (uint32_t)e];
+        for (int a = 0; a < 12; a++)
+          b[a] = a % 6 < 3 ? fmin(b[a], x[a]) : fmax(b[a], x[a]);
+      }
+    for (int a = 0; a < 12; a++) { /* grown by half again about its centre */
+      int lo = a % 6 < 3, o = lo ? a + 3 : a - 3;
+      double m = 0.5 * (b[a] + b[o]);
+      b[a] = m + 1.5 * (b[a] - m);
+      (void)o;
+    }
+    if (rt_sweep_meets_others(C->s, b, b + 6, prim, np))
+      return 0;
+  }
+  return 1;
+}
+
+/* Whether a child of node k is traced exactly per sample (the domain's tree marks it exact, or
+ * this lattice cell's plan traces it below an edge), or its spectral pencils are. */
+static int has_exact_children(const pt_ctx_t *C, int k) {
+  const pt_node_t *n = &C->paths.node[k];
+  int exact_children = n->spectral && !C->lattice.plan.spec_lin[k]; /* from each sample's hit */
   for (int c = 0; c < 2; c++)
     exact_children |= n->child[c] >= 0 && (C->paths.node[n->child[c]].mode == PT_NODE_EXACT ||
                                            C->lattice.plan.exact_subtree[n->child[c]]);
   return exact_children;
 }
+
+/* What a sample's spectral pencils from a spectral node cost, in node evaluations (about two
+ * pencils of a few rays each), when the lattice could have interpolated their light
+ * (docs/tuning.md). */
+#ifndef PT_SPECTRAL_COST
+#define PT_SPECTRAL_COST 4.0
+#endif
 
 /* Step 4c: node k is shaded per sample at its interpolated hits (its direct term when `direct`,
  * its exactly traced children when `exact_children`); 0 when the per-sample work then costs more
@@ -465,6 +533,9 @@ static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_c
     for (int c = 0; c < 2; c++)
       pl->per_sample_cost +=
           n->child[c] >= 0 && C->lattice.plan.exact_subtree[n->child[c]] ? 2.0 : 0.0;
+  if (exact_children && n->spectral && !C->lattice.plan.spec_lin[k] && C->opt->spectral_lattice &&
+      !P->cert && !C->lattice.spec_off[k])
+    pl->per_sample_cost += PT_SPECTRAL_COST; /* cutting may let the quarters interpolate it */
   if (!pt__per_sample_pays(C, P->lc, pl, P->can_cut))
     return 0;
   pl->shaded[pl->nshaded] = k;
@@ -499,7 +570,14 @@ static int plan_node(planning_t *P, int k, int *why) {
       return 0;
     int squares = one_square(P, k);
     smooth = !traced && plan_linear(P, k, squares, &faint);
-    exact_children = has_exact_children(C, n);
+    if (n->spectral && spectral_interpolable(P, k)) {
+      C->lattice.plan.spec_lin[k] = 1;
+      pl->nspectral++;
+      P->spec[P->nspec++] = k;
+      for (int i = 0; i < 4; i++)
+        pl->linear_corners[i] = rt_rgb_add(pl->linear_corners[i], corner_of(P->lc, i)->g[k].sp.ls);
+    }
+    exact_children = has_exact_children(C, k);
     if (smooth && !squares && !traced) {
       /* the direct term is linear for each material: the sample's square picks one. Children
        * would be weighted by the material too, so only for leaves */
@@ -539,6 +617,10 @@ static double brightness_error(const planning_t *P, const uint8_t *skip) {
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++)
         sm.v[r][c] = px_v3_add(sm.v[r][c], rgb_vec(R[r][c].g[P->linear[j]].l));
+  for (int j = 0; j < P->nspec; j++) /* the spectral light interpolated with them */
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        sm.v[r][c] = px_v3_add(sm.v[r][c], rgb_vec(R[r][c].g[P->spec[j]].sp.ls));
   for (int j = 0; j < pl->nleaves; j++)
     for (int r = 0; r < 3 && !(skip && skip[pl->leaves[j]]); r++)
       for (int c = 0; c < 3; c++) {

@@ -21,6 +21,7 @@ void pt__sampling_begin(pt_ctx_t *C, const lattice_cell_t *lc, const interp_plan
                      .mode = PT_EV_INTERP,
                      .shade = 1,
                      .exact_subtree = C->lattice.plan.exact_subtree,
+                     .spec_lin = pl->nspectral ? C->lattice.plan.spec_lin : NULL,
                      .traced = pl->ntraced ? C->lattice.plan.traced : NULL};
   S->E.exact_spawn = pt__spawns_exact(&S->E);
   for (int i = 0; i < 4; i++)

@@ -58,6 +58,8 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
     a->matrix_samples[r] += b->matrix_samples[r];
   a->lattice_points += b->lattice_points;
   a->lattice_reused += b->lattice_reused;
+  a->spectral_points += b->spectral_points;
+  a->spectral_samples += b->spectral_samples;
   a->walk_steps += b->walk_steps;
   a->walk_lanes += b->walk_lanes;
   a->walk_left += b->walk_left;

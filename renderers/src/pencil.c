@@ -75,6 +75,12 @@ static const rn_option_t pencil_options[] = {
      "Lambda (default), the 1989 paper's scale of the scene's one dispersive\n"
      "glass, on which its index is linear (section 3.3); lambda, wavelength\n"
      "itself (as where glasses differ), to measure what the scale removes"},
+    {"--no-spectral-lattice", RN_OPT_FLAG, offsetof(pt_options_t, spectral_lattice), 0, 0, 0, 0,
+     NULL, NULL,
+     "spectral pencils: every interpolated sample traces its own from its\n"
+     "hit; by default a lattice cell whose points' pencils met the same\n"
+     "surfaces, with nothing else between them and no light shading them,\n"
+     "interpolates their light (not with --certified)"},
 };
 
 /* options that act only with others' values (rn_option_idle()): --no-interp stores interp = 0,
@@ -84,6 +90,9 @@ static const rn_needs_t needs[] = {
     {"--weight-floor", "--tolerance", 1u << PT_TOL_IMAGE, "--tolerance image"},
     {"--spectral-tol", "--wavelengths", 1u << 0, "--wavelengths pencil"},
     {"--wavelength-axis", "--wavelengths", 1u << 0, "--wavelengths pencil"},
+    {"--no-spectral-lattice", "--wavelengths", 1u << 0, "--wavelengths pencil"},
+    {"--no-spectral-lattice", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
+    {"--no-spectral-lattice", "--certified", 1u << 0, "the default checks, without --certified"},
     {"--brightness-tol", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
     {"--no-memo", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
     {"--no-simd", "--no-interp", 1u << 1, "ray interpolation, without --no-interp"},
@@ -144,7 +153,9 @@ static int describe(const void *options, rn_attr_t *attrs) {
   snprintf(attrs[6].value, sizeof attrs[6].value, "%.17g", o->weight_floor);
   attrs[7].key = "pencil:wavelength_axis";
   snprintf(attrs[7].value, sizeof attrs[7].value, "%s", axis_names[o->wavelength_axis]);
-  return 8;
+  attrs[8].key = "pencil:spectral_lattice";
+  snprintf(attrs[8].value, sizeof attrs[8].value, "%s", o->spectral_lattice ? "yes" : "no");
+  return 9;
 }
 
 static void report(FILE *f, const rn_report_t *r) {
@@ -192,6 +203,11 @@ static void report(FILE *f, const rn_report_t *r) {
   char line[256];
   rt_stats_spectral_line(&st->rays, line, sizeof line);
   fputs(line, f);
+  if (st->spectral_points)
+    fprintf(f,
+            "spectral light at lattice points: %llu points traced spectral pencils, %llu "
+            "samples took their interpolated light\n",
+            (unsigned long long)st->spectral_points, (unsigned long long)st->spectral_samples);
   if (r->common->measure)
     fprintf(f,
             "Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "

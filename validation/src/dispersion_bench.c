@@ -232,7 +232,8 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
                   "scene", path, "size", side, "spp", spp, "reference_bins", ref, "reference_spp",
                   ref_spp, "runs", runs, "quick", o->quick, "methods", rows, "dispersive_pencil",
                   "spectral pencils from each sample's hit (pencil-spectral, "
-                  "exact-spectral-pencil); the paths' wavelength column not built yet");
+                  "exact-spectral-pencil); the pencil renderer's lattice interpolates their "
+                  "light only where no light shades what they meet, never on this lit scene");
     json_object_set_new(root, "beams",
                         json_pack("{s:f, s:f, s:f, s:f, s:f}", "solids_over_beam",
                                   res[BM + 1].seconds / fmax(res[BM].seconds, 1e-9),

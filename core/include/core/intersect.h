@@ -40,6 +40,19 @@ static inline px_vec3_t rt_prim_normal_at(const rt_prim_t *pr, px_vec3_t p) {
 /** Axis-aligned bounds of a bounded primitive (sphere, polygon); 0 for a plane. */
 int rt_prim_bounds(const rt_scene_t *s, int prim, px_vec3_t *lo, px_vec3_t *hi);
 
+/** Bounds of the scene's bounded primitives (the BVH's root box); 0 when it has none. */
+int rt_scene_bounds(const rt_scene_t *s, double lo[3], double hi[3]);
+
+/** Whether a primitive other than skip[0 .. nskip) may meet a segment from the box `from` to
+ *  the box `to` (each lo x, y, z, hi x, y, z): such a segment lies in the box swept from `from`
+ *  to `to`, (1 - t) from + t to for t in [0, 1], which is tested against a bounded primitive's
+ *  own bounds and against a plane exactly. The other primitives of a listed primitive's object
+ *  are skipped too when that object is alone (rt_object_t.alone: convex, nothing else enters
+ *  its bounds), as a ray that leaves a convex body does not meet it again, and a ray inside it
+ *  meets the face it leaves by first. 1 for boxes that are empty or not numbers. */
+int rt_sweep_meets_others(const rt_scene_t *s, const double from[6], const double to[6],
+                          const int *skip, int nskip);
+
 /** Nearest hit of the ray with the scene (BVH plus unbounded planes). Returns 1 and fills *hit,
  *  or 0 on a miss. The scene must be prepared. */
 int rt_intersect(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit);

@@ -7,6 +7,7 @@
 #define CORE_SHADE_PATHS_H
 
 #include <math.h>
+#include <stdint.h>
 
 #include "core/shade.h"
 #include "paraxial/system.h"
@@ -134,6 +135,39 @@ int rt_shade_spectral_at(const rt_plan_t *plan, const rt_material_t *m, int dept
 rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                            const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
                            rt_child_t *mirror, int *nmirror);
+
+/** Primitives an rt_spectral_rec_t lists at most, and distinct events it keeps. */
+#define RT_SPECTRAL_REC_PRIMS 8
+#define RT_SPECTRAL_REC_EVENTS 48
+
+/** What rt_shade_spectral_rec() saw of the spectral pencils it traced, for a renderer that
+ *  interpolates their light between neighbouring white rays (the pencil renderer's lattice): two
+ *  white rays whose records have the same `sig` met the same surfaces in the same ways (the same
+ *  events); the light between them may still be met by an object that lies between their pencils,
+ *  which the boxes of each event's segments bound (rt_sweep_meets_others()). */
+typedef struct {
+  uint64_t sig; /**< a hash of the set of events (a pencil's hit: its generation, the primitive,
+                     the ray's kind, the side, the checker square, total internal reflection; a
+                     miss; the white ray's refraction or its total internal reflection); 0 when
+                     `unusable` */
+  int nev;      /**< distinct events, in the order of their hashes once traced */
+  uint64_t ev[RT_SPECTRAL_REC_EVENTS]; /**< their hashes */
+  /** per event, the bounds of the segments that end there: their origins (lo x, y, z, hi x, y,
+   *  z) and their ends (the hit; for a miss, where the ray leaves the scene's bounds), the rays
+   *  the checks at the pencils' ends traced included */
+  double from[RT_SPECTRAL_REC_EVENTS][6], to[RT_SPECTRAL_REC_EVENTS][6];
+  int prim[RT_SPECTRAL_REC_PRIMS]; /**< the primitives met, the white hit's included */
+  int nprim;
+  /** Why the light cannot be interpolated (0: it can): 1 more primitives or events than the
+   *  record holds, 2 a hit shaded by a light (a shadow or highlight may lie between two white
+   *  rays' pencils), 3 a concave polygon met, 4 the cut budget spent, 5 a point not finite. */
+  int unusable;
+} rt_spectral_rec_t;
+
+/** rt_shade_spectral() recording in *rec what its pencils met (rec NULL: rt_shade_spectral()). */
+rt_rgb_t rt_shade_spectral_rec(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
+                               const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
+                               rt_child_t *mirror, int *nmirror, rt_spectral_rec_t *rec);
 
 /** A spectral pencil that is already past the white ray's refraction: `ray` at the centre u_c of
  *  [ua, ub] on the plan's wavelength axis (its origin on the surface it leaves, ray->skip that

@@ -91,15 +91,20 @@ typedef struct {
   int simd; /**< 1: an interpolated sample's exact walks along the paths are carried for four
                  samples at once (AVX2 where the CPU has it: px_simd4_available()); 0: one at a
                  time. The image is the same bit for bit. */
-  int wavelength_axis; /**< read with `wavelengths` by the renderer table's entry: spectral
-                            pencils linear in 0 Lambda of the scene's one dispersive glass
-                            ([P89] 3.3), 1 lambda (rt_plan_spectral_pencils_axis()) */
+  int wavelength_axis;  /**< read with `wavelengths` by the renderer table's entry: spectral
+                             pencils linear in 0 Lambda of the scene's one dispersive glass
+                             ([P89] 3.3), 1 lambda (rt_plan_spectral_pencils_axis()) */
+  int spectral_lattice; /**< ray interpolation under spectral pencils: 1 lattice points trace
+                             the spectral pencils of dispersive glass too, and a lattice cell
+                             whose points' pencils met the same surfaces with nothing else near
+                             them interpolates their light (docs/pencil.md); 0 every sample
+                             traces its own */
 } pt_options_t;
 
 #define PT_OPTIONS_DEFAULT                                                                         \
   {                                                                                                \
     1, 0, 5, 0.5, PT_BOUND_CORRECTED, 0, 1, 0, 1, PT_BRIGHTNESS_TOL, 1, NULL, NULL, 0,             \
-        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR, 1, 0                                   \
+        RT_SPECTRAL_TOL, PT_TOL_GEOMETRIC, PT_WEIGHT_FLOOR, 1, 0, 1                                \
   }
 
 /** Extra per-pixel channels, float32, caller-owned (width x height each, either may be NULL). */
@@ -164,6 +169,10 @@ typedef struct {
   uint64_t halved_lattice_cells;    /**< certified mode: lattice cells made by halving a cell whose
                                  nodes were too curved in one direction (interp_error.c, counted in
                                  interp.c) */
+  uint64_t spectral_points;         /**< lattice points that traced the spectral pencils of a
+                                        dispersive node (opt->spectral_lattice) */
+  uint64_t spectral_samples;        /**< interpolated samples that took a dispersive node's spectral
+                                         light from their lattice cell's points, not tracing it */
   uint64_t walk_steps; /**< steps of exact walks carried for a group of up to four samples at once
                             (opt->simd): one node of the paths for the group */
   uint64_t walk_lanes; /**< the samples those steps carried (lanes per step: walk_lanes /

@@ -24,7 +24,7 @@
 /** Most extra channels an entry adds to the image. */
 #define RN_MAX_CHANNELS 4
 /** Most header attributes an entry adds to an image file (rn_renderer_t.describe). */
-#define RN_MAX_ATTRS 8
+#define RN_MAX_ATTRS 9
 /** Bins of the error histogram of rn_errors_t: bin k holds errors in [k, k+1) * RN_HIST_STEP
  *  pixel intervals, the last bin everything above (path mismatches count as infinite). */
 #define RN_HIST_BINS 256
