@@ -132,6 +132,35 @@ static void run_reports_exit_status_without_a_shell(void **state) {
   assert_int_equal(io_run(missing, err, sizeof err), -1);
 }
 
+/* A child run by io_run() writes to the same standard output after what this process wrote
+ * before it, though stdout to a file is fully buffered (its buffer is flushed first). */
+static void run_child_output_after_ours(void **state) {
+  (void)state;
+  char dir[512], out[600], err[256], text[64] = {0};
+  temp_dir(dir, sizeof dir);
+  snprintf(out, sizeof out, "%s/out", dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    if (!freopen(out, "w", stdout))
+      _exit(3);
+    fputs("ours\n", stdout);
+    char *argv[] = {"/bin/echo", "child", NULL};
+    _exit(io_run(argv, err, sizeof err) == 0 && fflush(stdout) == 0 ? 0 : 4);
+  }
+  int status = 0;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  FILE *f = fopen(out, "r");
+  assert_non_null(f);
+  size_t n = fread(text, 1, sizeof text - 1, f);
+  fclose(f);
+  text[n] = 0;
+  assert_string_equal(text, "ours\nchild\n");
+  remove(out);
+  rmdir(dir);
+}
+
 /* A logged child: its output and errors in the log, its environment the one given, its CPU
  * time reported (a busy loop of the shell's: more than nothing, less than the wall clock's
  * bound of the test). */
@@ -459,6 +488,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(atomic_write_replaces_whole_or_not_at_all),
       cmocka_unit_test(render_write_keeps_old_files_on_failure),
       cmocka_unit_test(run_reports_exit_status_without_a_shell),
+      cmocka_unit_test(run_child_output_after_ours),
       cmocka_unit_test(run_logged_keeps_output_environment_and_cpu),
       cmocka_unit_test(csv_fields_are_quoted_when_needed),
       cmocka_unit_test(json_round_trips_any_string_and_carries_provenance),

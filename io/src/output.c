@@ -390,6 +390,7 @@ static int spawn_wait(char *const argv[], char *const envp[], const posix_spawn_
 int io_run(char *const argv[], char *err, size_t cap) {
   int status = 0, started;
   struct rusage ru;
+  fflush(NULL); /* what this process wrote comes before the child's output on the same streams */
   int rc = spawn_wait(argv, environ, NULL, &status, &ru, &started);
   if (rc != 0)
     return snprintf(err, cap, "%s: %s%s", argv[0], started ? "" : "cannot start: ", strerror(rc)),
