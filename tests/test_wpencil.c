@@ -89,6 +89,9 @@ static void fig8(rt_scene_t *s, int glass, int w) {
 /* The pencil renderer's statistics of the last render_with("pencil", ...). */
 static pt_stats_t last_pencil;
 
+/* The threads render_with() uses. */
+static int render_threads = 2;
+
 /* Render s with renderer `name` and its options (name, value pairs, NULL-ended) at s->spp;
  * st: the exact renderer's statistics, or NULL. */
 static void render_with(const char *name, const rt_scene_t *s, const char *const *opts,
@@ -105,7 +108,7 @@ static void render_with(const char *name, const rt_scene_t *s, const char *const
   rt_plan_t p = rn_plan_make(x, s, s->spp, opt);
   rn_common_t c = RN_COMMON_DEFAULT;
   c.aux = 0;
-  c.threads = 2;
+  c.threads = render_threads;
   c.spp_side = (int)lrint(sqrt(s->spp));
   assert_int_equal(rt_image_alloc(img, s->camera.width, s->camera.height), RT_OK);
   rn_output_t out;
@@ -566,6 +569,40 @@ static void spectral_lattice_against_per_sample(void **state) {
   }
 }
 
+/* The lattice's spectral light depends on nothing but the points' positions: the prism at 64 x
+ * 64, 16 spp renders the same bit for bit with the lattice memo off (each cell traces its points
+ * again, and stores their events again) and on one thread against two. */
+static void spectral_lattice_memo_and_threads(void **state) {
+  (void)state;
+  rt_scene_t s;
+  load_scene("prism.json", 64, &s);
+  s.spp = 16;
+  const char *const on[] = {NULL};
+  const char *const no_memo[] = {"--no-memo", NULL, NULL};
+  rt_image_t im[3];
+  render_with("pencil", &s, on, &im[0], NULL);
+  pt_stats_t st = last_pencil;
+  render_with("pencil", &s, no_memo, &im[1], NULL);
+  pt_stats_t st2 = last_pencil;
+  render_threads = 1;
+  render_with("pencil", &s, on, &im[2], NULL);
+  render_threads = 2;
+  print_message("prism, 64 x 64, 16 spp: %llu samples took the lattice's light (%llu without the "
+                "memo, %llu on one thread)\n",
+                (unsigned long long)st.spectral_samples, (unsigned long long)st2.spectral_samples,
+                (unsigned long long)last_pencil.spectral_samples);
+  assert_true(st.spectral_samples > 0 && st.spectral_full == 0);
+  assert_true(st2.spectral_samples == st.spectral_samples &&
+              last_pencil.spectral_samples == st.spectral_samples);
+  for (int k = 1; k < 3; k++) {
+    int over;
+    assert_true(largest_difference(&im[0], &im[k], 0.0, &over) == 0.0);
+  }
+  for (int k = 0; k < 3; k++)
+    rt_image_free(&im[k]);
+  rt_scene_free(&s);
+}
+
 /* Where lights shade what the spectral pencils meet (the Fig. 8 ball of SF11 over the board), a
  * shadow or a highlight could lie between the points' pencils, unseen by their signatures: the
  * lattice never serves their light, the first point of each domain says so and the others do not
@@ -606,6 +643,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(pencil_renderer_draws_dispersion),
       cmocka_unit_test(spectral_lattice_against_per_sample),
       cmocka_unit_test(spectral_lattice_not_under_lights),
+      cmocka_unit_test(spectral_lattice_memo_and_threads),
       cmocka_unit_test(plan_for_spectral_pencils),
       cmocka_unit_test(shape_only_traces_no_spectral_pencil),
       cmocka_unit_test(alone_object_skips_searches),

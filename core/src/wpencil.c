@@ -119,18 +119,29 @@ static void rec_grow(const wp_run_t *R, double b[6], px_vec3_t p) {
   }
 }
 
-/* A segment from o to e that ends at event i (rec_event()'s; -1: none). */
-static void rec_seg(const wp_run_t *R, int i, px_vec3_t o, px_vec3_t e) {
-  if (!R->rec || i < 0)
+/* A segment from o, leaving primitive `from` (-1: none), to e, that ends at event i
+ * (rec_event()'s; -1: none). */
+static void rec_seg(const wp_run_t *R, int i, int from, px_vec3_t o, px_vec3_t e) {
+  rt_spectral_rec_t *r = R->rec;
+  if (!r || i < 0)
     return;
-  rec_grow(R, R->rec->from[i], o);
-  rec_grow(R, R->rec->to[i], e);
+  rec_grow(R, r->from[i], o);
+  rec_grow(R, r->to[i], e);
+  int k = 0;
+  while (k < RT_SPECTRAL_EVENT_PRIMS && r->prim[i][k] >= 0 && r->prim[i][k] != from)
+    k++;
+  if (from < 0 || (k < RT_SPECTRAL_EVENT_PRIMS && r->prim[i][k] == from))
+    return;
+  if (k == RT_SPECTRAL_EVENT_PRIMS)
+    rec_unusable(R, 1);
+  else
+    r->prim[i][k] = from;
 }
 
 /* A ray that meets nothing, event i: from its origin to where it leaves the scene's bounds
  * (nothing bounded lies beyond; rt_sweep_meets_others() tests the planes), or to its origin when
  * it never enters them. */
-static void rec_ray(const wp_run_t *R, int i, const rt_ray_t *ray) {
+static void rec_ray(const wp_run_t *R, int i, int from, const rt_ray_t *ray) {
   double lo[3], hi[3], t0 = 0.0, t1 = INFINITY;
   if (!R->rec)
     return;
@@ -150,36 +161,35 @@ static void rec_ray(const wp_run_t *R, int i, const rt_ray_t *ray) {
     if (t0 <= t1 && isfinite(t1))
       e = px_v3_axpy(t1, ray->d, ray->o);
   }
-  rec_seg(R, i, ray->o, e);
+  rec_seg(R, i, from, ray->o, e);
 }
 
-static void rec_prim(wp_run_t *R, int q) {
-  rt_spectral_rec_t *r = R->rec;
-  if (!r)
-    return;
-  for (int i = 0; i < r->nprim; i++)
-    if (r->prim[i] == q)
-      return;
-  if (r->nprim == RT_SPECTRAL_REC_PRIMS)
-    rec_unusable(R, 1);
-  else
-    r->prim[r->nprim++] = q;
-}
-
-/* An event: a generation, a primitive (-1: a miss), a ray kind and a word of details, hashed
- * (splitmix64's finaliser over their combination), kept once; its index in the record (-1: none
- * kept). */
-static int rec_event(wp_run_t *R, int depth, int prim, int kind, uint64_t detail) {
-  rt_spectral_rec_t *r = R->rec;
-  if (!r)
-    return -1;
-  uint64_t h = ((uint64_t)(uint32_t)prim << 32 | (uint64_t)(uint32_t)depth << 8 | (uint64_t)kind);
-  h ^= detail * 0x9E3779B97F4A7C15ull;
+/* splitmix64's finaliser. */
+static uint64_t mix64(uint64_t h) {
   h ^= h >> 30;
   h *= 0xBF58476D1CE4E5B9ull;
   h ^= h >> 27;
   h *= 0x94D049BB133111EBull;
-  h ^= h >> 31;
+  return h ^ (h >> 31);
+}
+
+/* A checker square's index as an integer (a far or undefined one as the same marker). */
+static uint64_t square_word(double x) {
+  return fabs(x) < 0x1p62 ? (uint64_t)(int64_t)x : 0x8000000000000000ull;
+}
+
+/* An event: a generation, a primitive (-1: a miss), a ray kind, flags (a side, total internal
+ * reflection, the white ray's fate) and a checker square (su, sv; 0 where none), hashed and kept
+ * once; its index in the record (-1: none kept). */
+static int rec_event(wp_run_t *R, int depth, int prim, int kind, unsigned flags, double su,
+                     double sv) {
+  rt_spectral_rec_t *r = R->rec;
+  if (!r)
+    return -1;
+  uint64_t h = mix64((uint64_t)(uint32_t)prim << 32 | (uint64_t)(uint32_t)depth << 16 |
+                     (uint64_t)(kind & 0xff) << 8 | (uint64_t)(flags & 0xff));
+  h = mix64(h ^ square_word(su));
+  h = mix64(h ^ square_word(sv) * 0x9E3779B97F4A7C15ull);
   for (int i = 0; i < r->nev; i++)
     if (r->ev[i] == h)
       return i;
@@ -193,6 +203,9 @@ static int rec_event(wp_run_t *R, int depth, int prim, int kind, uint64_t detail
     r->from[i][a] = r->to[i][a] = INFINITY;
     r->from[i][3 + a] = r->to[i][3 + a] = -INFINITY;
   }
+  r->prim[i][0] = prim;
+  for (int k = 1; k < RT_SPECTRAL_EVENT_PRIMS; k++)
+    r->prim[i][k] = -1;
   return i;
 }
 
@@ -561,7 +574,7 @@ static int meets(const wp_run_t *R, const wp_hit_t *H, const rt_ray_t *r, int li
   if (!lin && *occ >= 0 && rt_prim_intersect(s, *occ, &q, q.tmax, &t2))
     return WP_OFF;
   *p = px_v3_axpy(t, r->d, r->o);
-  rec_seg(R, H->ev, r->o, *p);
+  rec_seg(R, H->ev, H->w->from_prim, r->o, *p);
   *me = px_v3_scale(rt_prim_normal(s, H->hit.prim, *p), H->side);
   if (!(px_v3_dot(*me, r->d) < 0.0))
     return WP_OFF;
@@ -716,11 +729,11 @@ static rt_rgb_t miss(wp_run_t *R, wp_t *w, int depth) {
     }
   }
   if (R->rec) {
-    int i = rec_event(R, depth, -1, w->kind, 0);
+    int i = rec_event(R, depth, -1, w->kind, 0, 0.0, 0.0);
     rt_ray_t ends[2] = {model_ray(w, w->ua), model_ray(w, w->ub)};
-    rec_ray(R, i, &w->ray);
-    rec_ray(R, i, &ends[0]);
-    rec_ray(R, i, &ends[1]);
+    rec_ray(R, i, w->from_prim, &w->ray);
+    rec_ray(R, i, w->from_prim, &ends[0]);
+    rec_ray(R, i, w->from_prim, &ends[1]);
   }
   return rt_rgb_add(c, rt_rgb_mul(rt_wave_weight(&R->plan->wave, w->ua, w->ub), R->s->background));
 }
@@ -806,16 +819,9 @@ static rt_rgb_t trace(wp_run_t *R, wp_t *w, int depth) {
   H.sf = &sf;
   H.ev = -1;
   if (R->rec) {
-    rec_prim(R, hit.prim);
-    uint64_t sq = 0, su, sv; /* the square's indices, as their bits */
-    if (H.checker) {
-      memcpy(&su, &H.su, sizeof su);
-      memcpy(&sv, &H.sv, sizeof sv);
-      sq = (su * 0xC2B2AE3D27D4EB4Full ^ sv) & ~(3ull << 62);
-    }
-    H.ev = rec_event(R, depth, hit.prim, w->kind,
-                     sq ^ (uint64_t)(H.side > 0.0) << 62 ^ (uint64_t)H.tir << 63);
-    rec_seg(R, H.ev, w->ray.o, hit.p);
+    H.ev = rec_event(R, depth, hit.prim, w->kind, (H.side > 0.0) | (unsigned)H.tir << 1,
+                     H.checker ? H.su : 0.0, H.checker ? H.sv : 0.0);
+    rec_seg(R, H.ev, w->from_prim, w->ray.o, hit.p);
     if (s->nlight > 0 && (mat->kd > 0.0 || mat->ks > 0.0))
       rec_unusable(R, 2);
     if (concave(s, hit.prim))
@@ -888,6 +894,11 @@ static void rec_finish(rt_spectral_rec_t *r) {
         r->from[j - 1][a] = f;
         r->to[j - 1][a] = t;
       }
+      for (int k = 0; k < RT_SPECTRAL_EVENT_PRIMS; k++) {
+        int q = r->prim[j][k];
+        r->prim[j][k] = r->prim[j - 1][k];
+        r->prim[j - 1][k] = q;
+      }
     }
   uint64_t sig = 0x2545F4914F6CDD1Dull * (uint64_t)(r->nev + 1);
   for (int i = 0; i < r->nev; i++)
@@ -951,9 +962,8 @@ static rt_rgb_t white(wp_run_t *R, const rt_surface_t *sf, const rt_ray_t *ray, 
   rt_rgb_t W = rt_wave_weight(&plan->wave, ua, ub);
   rt_rgb_t wt = rt_rgb_scale(mat->transmittance, mat->kt);
   if (R->rec) { /* the white ray's refraction, or its total internal reflection */
-    rec_prim(R, sf->hit.prim);
-    int i = rec_event(R, depth, sf->hit.prim, RT_RAY_REFRACT, 1u + (uint64_t)ok);
-    rec_seg(R, i, sf->hit.p, sf->hit.p);
+    int i = rec_event(R, depth, sf->hit.prim, RT_RAY_REFRACT, 4u | (unsigned)ok << 3, 0.0, 0.0);
+    rec_seg(R, i, -1, sf->hit.p, sf->hit.p);
   }
   if (!ok) {
     *wr = rt_rgb_add(*wr, rt_rgb_mul(W, wt));
@@ -1050,9 +1060,10 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
   const rt_wavescale_t *w = &plan->wave;
   wp_run_t R = run_make(s, plan, tr, NULL, tr != NULL);
   R.inner.ctx = &R;
-  if (rec && tr) {
-    rec->nev = rec->nprim = rec->unusable = 0;
-    R.rec = rec;
+  if (rec) {
+    rec->nev = rec->unusable = 0;
+    rec->sig = 0;
+    R.rec = tr ? rec : NULL;
   }
   if (w->scaled && px_index_disperses(&sf->mat->index))
     R.glass = sf->mat;

@@ -157,17 +157,17 @@ int pt__lattice_alloc(pt_lattice_t *l, int cap, int n) {
   l->root = take(9 * (size_t)cap * sizeof *l->root);
   l->refine = take((size_t)PT_LATTICE_LEVELS * 5 * (size_t)cap * sizeof *l->refine);
   l->pixels = take((size_t)n * (size_t)n * sizeof *l->pixels);
-  l->spec.box = take((size_t)PT_SPEC_EVENTS * sizeof *l->spec.box);
+  l->spec.ev = take((size_t)PT_SPEC_EVENTS * sizeof *l->spec.ev);
   l->spec_off = take0((size_t)cap, 1);
   int plan = plan_alloc(&l->plan, cap), memo = memo_alloc(&l->memo, cap);
-  return l->root && l->refine && l->pixels && l->spec.box && l->spec_off && plan && memo;
+  return l->root && l->refine && l->pixels && l->spec.ev && l->spec_off && plan && memo;
 }
 
 void pt__lattice_free(pt_lattice_t *l) {
   free(l->root);
   free(l->refine);
   free(l->pixels);
-  free(l->spec.box);
+  free(l->spec.ev);
   free(l->spec_off);
   plan_free(&l->plan);
   memo_free(&l->memo);
@@ -232,7 +232,7 @@ size_t pt_thread_bytes(int tree_nodes, int domain) {
        (size_t)domain * (size_t)domain * sizeof *C->lattice.pixels; /* lattice grids, pixels */
   b += cap * (sizeof *C->lattice.plan.shaded + 2 + sizeof *C->lattice.plan.leaves +
               sizeof *C->lattice.plan.linear + sizeof *C->lattice.plan.spec + 6);
-  b += (size_t)PT_SPEC_EVENTS * sizeof *C->lattice.spec.box; /* spectral events' boxes */
+  b += (size_t)PT_SPEC_EVENTS * sizeof *C->lattice.spec.ev; /* spectral events */
   size_t entries = PT_MEMO_BYTES / geom, nslot = 1;
   if (entries < cap)
     entries = cap;

@@ -492,7 +492,6 @@ static rt_rgb_t children(pt_eval_t *E, int k, const rt_surface_t *sf, const rt_r
   return sum;
 }
 
-/* The sample's ray left node n's path: an edge the domain's corners saw (verify node) or not. */
 /* A lattice point at spectral node k (weight w): the light of the spectral pencils traced from
  * the point's exact hit (as a sample's, node_geometry()), weighted, with the bounds of their
  * segments and the signature of what they met (pt_geom_t.sp, ssig), so that the lattice cells
@@ -522,13 +521,17 @@ static void spectral_record(pt_eval_t *E, int k, rt_rgb_t w, pt_geom_t *g) {
     C->lattice.spec_off[k] = 1;
     return;
   }
-  if (!pt__spec_put(C, &rec, &g->sp.at))
+  if (!pt__spec_put(C, &rec, &g->sp.at)) { /* the domain's events are full: none kept after */
+    C->st.spectral_full++;
+    C->lattice.spec_off[k] = 1;
     return;
+  }
   g->sp.ls = rt_rgb_mul(w, ls);
   g->sp.nev = (uint32_t)rec.nev;
   g->ssig = rec.sig;
 }
 
+/* The sample's ray left node n's path: an edge the domain's corners saw (verify node) or not. */
 static void left(pt_eval_t *E, const pt_node_t *n) {
   if (n->verify)
     E->vfail = E->partial = 1;

@@ -28,8 +28,8 @@ typedef struct {
                          the even (0) and the odd (1) checker squares */
     struct {
       rt_rgb_t ls;  /**< W_k times the light its spectral pencils bring (rt_shade_spectral()) */
-      uint32_t at;  /**< their events' boxes: pt_spec_table_t.box[at .. at + nev) */
-      uint32_t nev; /**< (rt_spectral_rec_t.from and to, in the events' order) */
+      uint32_t at;  /**< their events: pt_spec_table_t.ev[at .. at + nev), in the order of */
+      uint32_t nev; /**< rt_spectral_rec_t's */
     } sp;           /**< spectral nodes (not textured) at lattice points where ssig != 0 */
   };
   int32_t su, sv; /**< checker square of the hit (textured nodes), else 0; PT_SQUARE_FAR
@@ -125,23 +125,21 @@ typedef struct {
   int *spec;            /**< those nodes, listed */
 } pt_lattice_plan_t;
 
-/** Distinct signatures of spectral pencils (pt_geom_t.ssig) one domain's lattice points keep,
- *  and their events' boxes. */
-#define PT_SPEC_SIGS 64
+/** Events of spectral pencils (rt_spectral_rec_t) one domain's lattice points keep. */
 #define PT_SPEC_EVENTS 16384
 
-/** The primitives the spectral pencils of each signature met, for the planner's guard: a point's
- *  signature is a hash of what its pencils met, and points that share it met the same primitives
- *  (open addressing; an entry is in use when its `gen` is the domain's). */
+/** One event of a lattice point's spectral pencils: the bounds of its segments' origins (lo x, y,
+ *  z, hi x, y, z) then of their ends, rounded outwards, and the primitives the guard may skip for
+ *  it (rt_spectral_rec_t.prim). */
 typedef struct {
-  uint64_t sig[PT_SPEC_SIGS];
-  uint32_t gen[PT_SPEC_SIGS];
-  int nprim[PT_SPEC_SIGS];
-  int prim[PT_SPEC_SIGS][RT_SPECTRAL_REC_PRIMS];
-  uint32_t now;     /**< the current domain's generation */
-  float (*box)[12]; /**< PT_SPEC_EVENTS events' boxes, the segments' origins' (lo, hi) then their
-                         ends' (lo, hi), rounded outwards: the domain's lattice points' */
-  uint32_t nbox;    /**< in use this domain */
+  float box[12];
+  int32_t prim[RT_SPECTRAL_EVENT_PRIMS];
+} pt_spec_event_t;
+
+/** The events of the current domain's lattice points (pt_geom_t.sp.at, nev). */
+typedef struct {
+  pt_spec_event_t *ev; /**< PT_SPEC_EVENTS of them */
+  uint32_t n;          /**< in use this domain */
 } pt_spec_table_t;
 
 /** Ray interpolation's state for one accepted domain (interp*.c). */
@@ -151,7 +149,7 @@ typedef struct {
   pixel_t *pixels;        /**< the domain's pixels being accumulated, N^2 */
   pt_lattice_memo_t memo; /**< the domain's lattice points by position */
   pt_lattice_plan_t plan; /**< the current lattice cell's plan */
-  pt_spec_table_t spec;   /**< the domain's spectral signatures */
+  pt_spec_table_t spec;   /**< the domain's lattice points' spectral events */
   uint8_t *spec_off;      /**< per node (cap): a lattice point of the domain found its spectral
                                pencils' light not to be interpolable (rt_spectral_rec_t.unusable:
                                lights shading their hits, most often), so its other points do
@@ -390,11 +388,8 @@ void pt__aux_matrix(pt_ctx_t *C, int i, int j);
 void pt__matrix_pixel(pt_ctx_t *C, int i, int j);
 
 /* interp_memo.c */
-/** Keep the primitives of rec (its sig) for the current domain, and its events' boxes (at *at):
- *  0 when the table is full. */
+/** Keep rec's events for the current domain from *at: 0 when the domain's are full. */
 int pt__spec_put(pt_ctx_t *C, const rt_spectral_rec_t *rec, uint32_t *at);
-/** The primitives kept for signature sig (*n of them), or NULL. */
-const int *pt__spec_get(const pt_ctx_t *C, uint64_t sig, int *n);
 
 /* interp.c */
 /** Step 4a with ray interpolation for the accepted domain [x0, x1) x [y0, y1) whose axial ray (its

@@ -173,11 +173,7 @@ static void process_lattice_cell(pt_ctx_t *C, const domain_pixels_t *A, lattice_
 void pt__interp_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial) {
   domain_pixels_t A = {x0, y0, x1, y1, C->lattice.pixels};
   pt__memo_reset(&C->lattice.memo, C->paths.n);
-  if (++C->lattice.spec.now == 0) { /* wrapped: old generations could look current */
-    memset(C->lattice.spec.gen, 0, sizeof C->lattice.spec.gen);
-    C->lattice.spec.now = 1;
-  }
-  C->lattice.spec.nbox = 0;
+  C->lattice.spec.n = 0;
   memset(C->lattice.spec_off, 0, (size_t)C->paths.n);
   for (int j = y0; j < y1; j++)
     for (int i = x0; i < x1; i++)

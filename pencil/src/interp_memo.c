@@ -76,16 +76,6 @@ void pt__memo_reset(pt_lattice_memo_t *M, int nnode) {
   }
 }
 
-/* Slot of signature sig in the domain's table of spectral signatures: its own, the empty one
- * where it would go, or -1 when the table is full without it. */
-static int spec_slot(const pt_spec_table_t *T, uint64_t sig) {
-  int i = (int)((sig >> 40) & (PT_SPEC_SIGS - 1));
-  for (int n = 0; n < PT_SPEC_SIGS; n++, i = (i + 1) & (PT_SPEC_SIGS - 1))
-    if (T->gen[i] != T->now || T->sig[i] == sig)
-      return i;
-  return -1;
-}
-
 /* x as a float no greater (down) or no less than it. */
 static float float_out(double x, int up) {
   float f = (float)x;
@@ -96,29 +86,17 @@ static float float_out(double x, int up) {
 
 int pt__spec_put(pt_ctx_t *C, const rt_spectral_rec_t *rec, uint32_t *at) {
   pt_spec_table_t *T = &C->lattice.spec;
-  int i = spec_slot(T, rec->sig);
-  if (i < 0 || rec->nprim > RT_SPECTRAL_REC_PRIMS || T->nbox + (uint32_t)rec->nev > PT_SPEC_EVENTS)
+  if (T->n + (uint32_t)rec->nev > PT_SPEC_EVENTS)
     return 0;
-  *at = T->nbox;
-  for (int e = 0; e < rec->nev; e++, T->nbox++)
+  *at = T->n;
+  for (int e = 0; e < rec->nev; e++, T->n++) {
+    pt_spec_event_t *x = &T->ev[T->n];
     for (int a = 0; a < 6; a++) {
-      T->box[T->nbox][a] = float_out(rec->from[e][a], a >= 3);
-      T->box[T->nbox][6 + a] = float_out(rec->to[e][a], a >= 3);
+      x->box[a] = float_out(rec->from[e][a], a >= 3);
+      x->box[6 + a] = float_out(rec->to[e][a], a >= 3);
     }
-  if (T->gen[i] != T->now) {
-    T->gen[i] = T->now;
-    T->sig[i] = rec->sig;
-    T->nprim[i] = rec->nprim;
-    memcpy(T->prim[i], rec->prim, (size_t)rec->nprim * sizeof *rec->prim);
+    for (int k = 0; k < RT_SPECTRAL_EVENT_PRIMS; k++)
+      x->prim[k] = rec->prim[e][k];
   }
   return 1;
-}
-
-const int *pt__spec_get(const pt_ctx_t *C, uint64_t sig, int *n) {
-  const pt_spec_table_t *T = &C->lattice.spec;
-  int i = spec_slot(T, sig);
-  if (i < 0 || T->gen[i] != T->now)
-    return NULL;
-  *n = T->nprim[i];
-  return T->prim[i];
 }

@@ -454,49 +454,51 @@ static int plan_linear(planning_t *P, int k, int squares, int *faint) {
  * them), their light must pass the grid error test at the faint nodes' share of the brightness
  * tolerance, and no other primitive may come near the volume their pencils sweep: a thin object
  * between the points' pencils (a slit in front of a screen, which every point misses) would
- * otherwise be interpolated away, as a small object between a domain's corner rays would. That
- * volume is bounded by the union of the nine points' boxes of their segments, grown by half
- * again about its centre for the pencils' curvature between the points (as shadow_guarded()
- * grows its pencil); the primitives the pencils met, and the other faces of a convex object
- * that nothing else enters (rt_object_t.alone), are not tested against it
- * (rt_box_meets_others()). */
+ * otherwise be interpolated away, as a small object between a domain's corner rays would. Per
+ * event, the segments between the points are taken to lie in the box swept from the union of
+ * the nine points' origin boxes to the union of their end boxes, each grown by half again about
+ * its centre for the pencils' curvature between the points (as shadow_guarded() grows its
+ * pencil: a margin, not a bound); only the primitives that event's segments leave and reach
+ * (and the other faces of a convex object among them that nothing else enters,
+ * rt_object_t.alone) are not tested against it (rt_sweep_meets_others()). The edges of the
+ * surfaces met are not guarded: there the light's grid test decides, as for any node. */
 static int spectral_interpolable(planning_t *P, int k) {
   pt_ctx_t *C = P->C;
   const lattice_point_t(*R)[3] = P->R;
   const uint64_t sig = R[0][0].g[k].ssig;
+  const uint32_t nev = R[0][0].g[k].sp.nev;
   if (!sig || P->cert || !C->opt->spectral_lattice)
     return 0;
   grid3_t ls;
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++) {
-      if (R[r][c].g[k].ssig != sig)
+      if (R[r][c].g[k].ssig != sig || R[r][c].g[k].sp.nev != nev)
         return 0;
       ls.v[r][c] = rgb_vec(R[r][c].g[k].sp.ls);
     }
   if (!(pt__grid_error(P->lc, &ls, norm_rgb, NULL) <= PT_FAINT_SHARE * P->ltol))
     return 0; /* NaN too */
-  int np;
-  const int *prim = pt__spec_get(C, sig, &np);
-  if (!prim)
-    return 0;
-  const float(*box)[12] = C->lattice.spec.box;
-  for (int e = 0; e < (int)R[0][0].g[k].sp.nev; e++) { /* per event: its segments' sweep */
+  const pt_spec_event_t *ev = C->lattice.spec.ev;
+  for (uint32_t e = 0; e < nev; e++) { /* per event: its segments' sweep */
     double b[12];
+    int skip[9 * RT_SPECTRAL_EVENT_PRIMS], nskip = 0;
     for (int a = 0; a < 12; a++)
       b[a] = a % 6 < 3 ? INFINITY : -INFINITY;
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++) {
-        const float *x = box[R[r][c].g[k].sp.at + (uint32_t)e];
+        const pt_spec_event_t *x = &ev[R[r][c].g[k].sp.at + e];
         for (int a = 0; a < 12; a++)
-          b[a] = a % 6 < 3 ? fmin(b[a], x[a]) : fmax(b[a], x[a]);
+          b[a] = a % 6 < 3 ? fmin(b[a], x->box[a]) : fmax(b[a], x->box[a]);
+        for (int q = 0; q < RT_SPECTRAL_EVENT_PRIMS && x->prim[q] >= 0; q++)
+          skip[nskip++] = x->prim[q];
       }
-    for (int a = 0; a < 12; a++) { /* grown by half again about its centre */
-      int lo = a % 6 < 3, o = lo ? a + 3 : a - 3;
-      double m = 0.5 * (b[a] + b[o]);
-      b[a] = m + 1.5 * (b[a] - m);
-      (void)o;
-    }
-    if (rt_sweep_meets_others(C->s, b, b + 6, prim, np))
+    for (int h = 0; h < 12; h += 6) /* each box grown by half again about its centre */
+      for (int a = 0; a < 3; a++) {
+        double m = 0.5 * (b[h + a] + b[h + 3 + a]), d = 0.75 * (b[h + 3 + a] - b[h + a]);
+        b[h + a] = m - d;
+        b[h + 3 + a] = m + d;
+      }
+    if (rt_sweep_meets_others(C->s, b, b + 6, skip, nskip))
       return 0;
   }
   return 1;
@@ -533,8 +535,8 @@ static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_c
     for (int c = 0; c < 2; c++)
       pl->per_sample_cost +=
           n->child[c] >= 0 && C->lattice.plan.exact_subtree[n->child[c]] ? 2.0 : 0.0;
-  if (exact_children && n->spectral && !C->lattice.plan.spec_lin[k] && C->opt->spectral_lattice &&
-      !P->cert && !C->lattice.spec_off[k])
+  if (exact_children && n->spectral && !n->textured && !C->lattice.plan.spec_lin[k] &&
+      C->opt->spectral_lattice && !P->cert && !C->lattice.spec_off[k])
     pl->per_sample_cost += PT_SPECTRAL_COST; /* cutting may let the quarters interpolate it */
   if (!pt__per_sample_pays(C, P->lc, pl, P->can_cut))
     return 0;

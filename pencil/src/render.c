@@ -60,6 +60,7 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->lattice_reused += b->lattice_reused;
   a->spectral_points += b->spectral_points;
   a->spectral_samples += b->spectral_samples;
+  a->spectral_full += b->spectral_full;
   a->walk_steps += b->walk_steps;
   a->walk_lanes += b->walk_lanes;
   a->walk_left += b->walk_left;

@@ -206,8 +206,11 @@ static void report(FILE *f, const rn_report_t *r) {
   if (st->spectral_points)
     fprintf(f,
             "spectral light at lattice points: %llu points traced spectral pencils, %llu "
-            "samples took their interpolated light\n",
-            (unsigned long long)st->spectral_points, (unsigned long long)st->spectral_samples);
+            "samples took their interpolated light%s\n",
+            (unsigned long long)st->spectral_points, (unsigned long long)st->spectral_samples,
+            st->spectral_full ? "; some domains' records overflowed (PT_SPEC_EVENTS): traced "
+                                "per sample there"
+                              : "");
   if (r->common->measure)
     fprintf(f,
             "Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "

@@ -136,9 +136,9 @@ rt_rgb_t rt_shade_spectral(const rt_scene_t *s, const rt_plan_t *plan, const rt_
                            const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
                            rt_child_t *mirror, int *nmirror);
 
-/** Primitives an rt_spectral_rec_t lists at most, and distinct events it keeps. */
-#define RT_SPECTRAL_REC_PRIMS 8
+/** Distinct events an rt_spectral_rec_t keeps, and primitives per event. */
 #define RT_SPECTRAL_REC_EVENTS 48
+#define RT_SPECTRAL_EVENT_PRIMS 4
 
 /** What rt_shade_spectral_rec() saw of the spectral pencils it traced, for a renderer that
  *  interpolates their light between neighbouring white rays (the pencil renderer's lattice): two
@@ -153,18 +153,23 @@ typedef struct {
   int nev;      /**< distinct events, in the order of their hashes once traced */
   uint64_t ev[RT_SPECTRAL_REC_EVENTS]; /**< their hashes */
   /** per event, the bounds of the segments that end there: their origins (lo x, y, z, hi x, y,
-   *  z) and their ends (the hit; for a miss, where the ray leaves the scene's bounds), the rays
-   *  the checks at the pencils' ends traced included */
+   *  z) and their ends (the hit; for a miss, where the ray leaves the bounds of the scene's
+   *  bounded primitives: beyond them a plane can meet a ray between two that miss it only if
+   *  their directions straddle its horizon, which they do not where they all miss), the rays the
+   *  checks at the pencils' ends traced included */
   double from[RT_SPECTRAL_REC_EVENTS][6], to[RT_SPECTRAL_REC_EVENTS][6];
-  int prim[RT_SPECTRAL_REC_PRIMS]; /**< the primitives met, the white hit's included */
-  int nprim;
-  /** Why the light cannot be interpolated (0: it can): 1 more primitives or events than the
-   *  record holds, 2 a hit shaded by a light (a shadow or highlight may lie between two white
-   *  rays' pencils), 3 a concave polygon met, 4 the cut budget spent, 5 a point not finite. */
+  /** per event, the primitive it hits (-1 for a miss) and those its segments leave, -1 after the
+   *  last: what rt_sweep_meets_others() may skip for that event's segments */
+  int prim[RT_SPECTRAL_REC_EVENTS][RT_SPECTRAL_EVENT_PRIMS];
+  /** Why the light cannot be interpolated (0: it can): 1 more events, or more primitives to an
+   *  event, than the record holds, 2 a hit shaded by a light (a shadow or highlight may lie
+   *  between two white rays' pencils), 3 a concave polygon met, 4 the cut budget spent, 5 a point
+   *  not finite. */
   int unusable;
 } rt_spectral_rec_t;
 
-/** rt_shade_spectral() recording in *rec what its pencils met (rec NULL: rt_shade_spectral()). */
+/** rt_shade_spectral() recording in *rec what its pencils met (rec NULL: rt_shade_spectral();
+ *  with tr NULL nothing is traced and rec->sig is 0). */
 rt_rgb_t rt_shade_spectral_rec(const rt_scene_t *s, const rt_plan_t *plan, const rt_surface_t *sf,
                                const rt_ray_t *ray, int depth, const rt_tracer_t *tr,
                                rt_child_t *mirror, int *nmirror, rt_spectral_rec_t *rec);

@@ -171,8 +171,11 @@ typedef struct {
                                  interp.c) */
   uint64_t spectral_points;         /**< lattice points that traced the spectral pencils of a
                                         dispersive node (opt->spectral_lattice) */
-  uint64_t spectral_samples;        /**< interpolated samples that took a dispersive node's spectral
-                                         light from their lattice cell's points, not tracing it */
+  uint64_t spectral_samples;        /**< samples of lattice cells that interpolated a dispersive
+                                         node's spectral light from their points, not tracing it */
+  uint64_t spectral_full;           /**< lattice points whose spectral record was not kept: their
+                                         domain's store of events was full (PT_SPEC_EVENTS); the
+                                         rest of the domain traces that node's light per sample */
   uint64_t walk_steps; /**< steps of exact walks carried for a group of up to four samples at once
                             (opt->simd): one node of the paths for the group */
   uint64_t walk_lanes; /**< the samples those steps carried (lanes per step: walk_lanes /
