@@ -515,13 +515,6 @@ static int has_exact_children(const pt_ctx_t *C, int k) {
   return exact_children;
 }
 
-/* What a sample's spectral pencils from a spectral node cost, in node evaluations (about two
- * pencils of a few rays each), when the lattice could have interpolated their light
- * (docs/tuning.md). */
-#ifndef PT_SPECTRAL_COST
-#define PT_SPECTRAL_COST 4.0
-#endif
-
 /* Step 4c: node k is shaded per sample at its interpolated hits (its direct term when `direct`,
  * its exactly traced children when `exact_children`); 0 when the per-sample work then costs more
  * than cutting the lattice cell. */
@@ -535,9 +528,6 @@ static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_c
     for (int c = 0; c < 2; c++)
       pl->per_sample_cost +=
           n->child[c] >= 0 && C->lattice.plan.exact_subtree[n->child[c]] ? 2.0 : 0.0;
-  if (exact_children && n->spectral && !n->textured && !C->lattice.plan.spec_lin[k] &&
-      C->opt->spectral_lattice && !P->cert && !C->lattice.spec_off[k])
-    pl->per_sample_cost += PT_SPECTRAL_COST; /* cutting may let the quarters interpolate it */
   if (!pt__per_sample_pays(C, P->lc, pl, P->can_cut))
     return 0;
   pl->shaded[pl->nshaded] = k;
