@@ -202,6 +202,15 @@ static void load_scene(const char *name, int side, rt_scene_t *s) {
   s->spp = 1;
 }
 
+/* tests/data/NAME as it is (its own size and samples). */
+static void load_data_scene(const char *name, rt_scene_t *s) {
+  char path[1024], err[512];
+  snprintf(path, sizeof path, "%s/tests/data/%s", PENCIL_SOURCE_DIR, name);
+  rt_scene_init(s);
+  if (io_scene_load(path, s, err, sizeof err) != 0)
+    fail_msg("%s", err);
+}
+
 /* Spectral pencils against the 400-bin fan, beside the 9- and 40-bin fans, on scene s. */
 static void against_reference(rt_scene_t *s, const char *what, double max_mean, double *pencil_mean,
                               double *fan9_mean) {
@@ -582,12 +591,8 @@ static void spectral_lattice_against_per_sample(void **state) {
  * the needle); it stays as the probe's scene, the lattice held to the per-sample render. */
 static void spectral_lattice_needle_on_two_routes(void **state) {
   (void)state;
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/tests/data/spectral_needle_two_routes.json", PENCIL_SOURCE_DIR);
   rt_scene_t s;
-  rt_scene_init(&s);
-  if (io_scene_load(path, &s, err, sizeof err) != 0)
-    fail_msg("%s", err);
+  load_data_scene("spectral_needle_two_routes.json", &s);
   s.spp = 16;
   const char *const on[] = {NULL};
   const char *const off[] = {"--no-spectral-lattice", NULL, NULL};
@@ -650,12 +655,8 @@ static void spectral_lattice_memo_and_threads(void **state) {
  * the shadow was lost: 5 pixels off by more than 1/8, up to 0.59. */
 static void spectral_lattice_not_under_lights(void **state) {
   (void)state;
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/tests/data/spectral_lit_shadow.json", PENCIL_SOURCE_DIR);
   rt_scene_t s;
-  rt_scene_init(&s);
-  if (io_scene_load(path, &s, err, sizeof err) != 0)
-    fail_msg("%s", err);
+  load_data_scene("spectral_lit_shadow.json", &s);
   const char *const on[] = {NULL};
   const char *const off[] = {"--no-spectral-lattice", NULL, NULL};
   rt_image_t im[2];
