@@ -256,9 +256,9 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
 double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
                         int k);
 /* With a Fresnel split: node k's weight's interpolation error times a bound on what its subtree
- * brings unweighted (interp_error.c). */
+ * brings unweighted, the node's own term left out when `below` (interp_error.c). */
 double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
-                                const lattice_point_t (*R)[3], int k);
+                                const lattice_point_t (*R)[3], int k, int below);
 int pt__halving(const pt_ctx_t *C, const lattice_cell_t *lc, double rho, double xi2);
 
 /* interp_plan.c */

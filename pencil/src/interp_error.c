@@ -149,7 +149,7 @@ double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattic
  * own interpolation error times the node's unweighted brightness (direct_k, both materials of a
  * checkerboard; a miss node's background), at most. Without it W_k is constant over a lattice cell
  * whose points reached the same nodes, and this is 0. (The children a node traces exactly per
- * sample take that W_k too; their error is not counted.) */
+ * sample take that W_k too: pt__subtree_weight_error() bounds theirs.) */
 double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
                         int k) {
   if (!C->weights_vary)
@@ -174,17 +174,22 @@ double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const latti
 
 /* With a Fresnel split: the error of node k's weight W_k interpolated over lattice cell lc (the
  * grid's interpolation error of W_k) times a bound on what the node and its subtree bring
- * unweighted: the larger of the background (a miss) and the largest direct term of any material,
- * D (as pt__faint_bound() bounds a node's), once for each level from the node's depth to the depth
- * limit, a level's weights at most g = max(1, kr + kt max(1, T)) of the level above (a total
- * internal reflection hands the mirror child kt untinted, refract.c). Near a total internal
- * reflection at an ancestor W_k rises steeply to the whole share (F -> 1 as the angle nears the
- * critical one), which a bilinear interpolation misses, and the subtree a verify node traces per
- * sample takes the interpolated W_k, unseen by the brightness test
- * (docs/journal/2026-12-06-self-crossing.md). */
+ * unweighted (from its children down when `below`): the larger of the background (a miss) and
+ * the largest direct term of any material, D (as pt__faint_bound() bounds a node's, with the
+ * caustic maps' largest value per light as a receiver's kd colour E), once for
+ * each level from the node's depth (its children's, depth + 1, when `below`) to the depth limit,
+ * a level's weights at most g = max(1, kr + kt max(1, T)) of the level above (a total internal
+ * reflection hands the mirror child kt untinted, refract.c). Near a total internal reflection at
+ * an ancestor W_k rises steeply to the whole share (F -> 1 as the angle nears the critical one),
+ * which a bilinear interpolation misses, and the subtree a node traces per sample takes the
+ * interpolated W_k, unseen by the brightness test (docs/journal/2026-12-06-self-crossing.md,
+ * docs/journal/2026-12-06-weight-below.md). */
 double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
-                                const lattice_point_t (*R)[3], int k) {
+                                const lattice_point_t (*R)[3], int k, int below) {
   const rt_scene_t *s = C->s;
+  const int depth = C->paths.node[k].depth;
+  if (below && depth >= C->plan->max_depth)
+    return 0.0; /* no level below */
   grid3_t w;
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++)
@@ -195,7 +200,14 @@ double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
   if (!(e > 0.0))
     return INFINITY; /* a NaN error is never accepted */
   int spec = rt_plan_has(C->plan, RT_EFFECT_SPECULAR);
-  double d = norm_rgb(NULL, rgb_vec(s->background)), g = 1.0;
+  double d = norm_rgb(NULL, rgb_vec(s->background)), g = 1.0, ce = 0.0;
+  const rt_caustic_maps_t *maps = C->plan->maps;
+  for (int l = 0; maps && l < s->nlight; l++) { /* a receiver's kd colour E, per light at most */
+    double el = 0.0;                            /* the largest of light l's maps */
+    for (int i = 0; i < maps->n; i++)
+      el = maps->map[i].light == l ? px_max(el, maps->map[i].emax) : el;
+    ce += el;
+  }
   for (int m = 0; m < s->nmaterial; m++) {
     const rt_material_t *mt = &s->material[m];
     double dm = mt->ka * norm_rgb(NULL, rgb_vec(rt_rgb_mul(s->ambient, mt->color)));
@@ -204,14 +216,13 @@ double pt__subtree_weight_error(const pt_ctx_t *C, const lattice_cell_t *lc,
       dm += s->light[l].falloff != RT_FALLOFF_NONE
                 ? INFINITY
                 : norm_rgb(NULL, rgb_vec(s->light[l].intensity)) * lit;
+    dm += ce * mt->kd * norm_rgb(NULL, rgb_vec(mt->color));
     d = px_max(d, dm);
     double t = px_max(px_max(mt->transmittance.r, mt->transmittance.g), mt->transmittance.b);
     g = px_max(g, mt->kr + mt->kt * px_max(1.0, t));
   }
-  if (C->plan->maps) /* caustic maps add light no direct term bounds */
-    return INFINITY;
-  double sub = 0.0, gl = 1.0;
-  for (int lv = C->paths.node[k].depth; lv <= C->plan->max_depth; lv++, gl *= g)
+  double sub = 0.0, gl = below ? g : 1.0;
+  for (int lv = depth + (below ? 1 : 0); lv <= C->plan->max_depth; lv++, gl *= g)
     sub += d * gl;
   return e * sub;
 }

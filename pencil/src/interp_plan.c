@@ -150,7 +150,7 @@ static void mark_exact_subtrees(planning_t *P) {
         }
     }
     if (n->verify && !exact[k] && C->weights_vary) { /* with Fresnel: by the weight's error */
-      double e = pt__subtree_weight_error(C, P->lc, R, k);
+      double e = pt__subtree_weight_error(C, P->lc, R, k, 0);
       if (e <= P->ltol - P->werr)
         P->werr += e; /* within the budget: counted there */
       else
@@ -517,7 +517,10 @@ static int has_exact_children(const pt_ctx_t *C, int k) {
 
 /* Step 4c: node k is shaded per sample at its interpolated hits (its direct term when `direct`,
  * its exactly traced children when `exact_children`); 0 when the per-sample work then costs more
- * than cutting the lattice cell. */
+ * than cutting the lattice cell, or when, with a Fresnel split, the error of the interpolated W_k
+ * that the children traced per sample take, times a bound on what they bring
+ * (pt__subtree_weight_error()), exceeds what is left of the brightness tolerance (a verify node's
+ * was counted with its own in step 3). */
 static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_children) {
   pt_ctx_t *C = P->C;
   const pt_node_t *n = &C->paths.node[k];
@@ -530,6 +533,12 @@ static int plan_shaded(planning_t *P, int k, int direct, int traced, int exact_c
           n->child[c] >= 0 && C->lattice.plan.exact_subtree[n->child[c]] ? 2.0 : 0.0;
   if (!pt__per_sample_pays(C, P->lc, pl, P->can_cut))
     return 0;
+  if (exact_children && C->weights_vary && !n->verify) { /* they take the interpolated W_k */
+    double e = pt__subtree_weight_error(C, P->lc, P->R, k, 1);
+    if (!(e <= P->ltol - P->werr))
+      return 0; /* NaN too */
+    P->werr += e;
+  }
   pl->shaded[pl->nshaded] = k;
   pl->shaded_direct[pl->nshaded] = (uint8_t)direct;
   pl->shaded_exact[pl->nshaded++] = (uint8_t)exact_children;
