@@ -136,6 +136,78 @@ static int run(int runs, long w, long h, int side, const char *json) {
   return json && !write_json(json, res, n, (int)w, (int)h, side * side, runs) ? CLI_FAIL : CLI_OK;
 }
 
+/* The options the benchmark drivers of validation/ share (bench illuminance, caustics, area,
+ * beam, dispersion), by the ids their specs give them; a driver's own options take ids from
+ * B_OWN on. */
+enum { B_JSON = 1, B_OUT, B_RUNS, B_THREADS, B_QUICK, B_SCENES, B_OWN };
+typedef struct {
+  const char *json, *out, *scenes;
+  long runs, threads; /* runs: the driver's default until given */
+  int quick, runs_given;
+} bench_common_t;
+
+/* Apply parsed argument g when it is a shared option (or no option at all: a usage error naming
+ * `cmd`, "bench beam"); 1 when it was, with *rc the result, 0 when it is the driver's own. */
+static int common_arg(const char *cmd, const cli_arg_t *g, bench_common_t *c, int *rc) {
+  if (!g->spec) {
+    fprintf(stderr, "pencil %s: unexpected argument '%s'\n", cmd, g->value);
+    *rc = CLI_USAGE;
+    return 1;
+  }
+  switch (g->spec->id) {
+  case B_JSON:
+    c->json = g->value;
+    return 1;
+  case B_OUT:
+    c->out = g->value;
+    return 1;
+  case B_RUNS:
+    *rc = cli_parse_long("--runs", g->value, 1, 15, &c->runs) ? CLI_OK : CLI_USAGE;
+    c->runs_given = 1;
+    return 1;
+  case B_THREADS:
+    *rc = cli_parse_long("--threads", g->value, 1, 1024, &c->threads) ? CLI_OK : CLI_USAGE;
+    return 1;
+  case B_QUICK:
+    c->quick = 1;
+    return 1;
+  case B_SCENES:
+    c->scenes = g->value;
+    return 1;
+  default:
+    return 0;
+  }
+}
+
+/* --case LIST of `cmd`: comma-separated names that ok() accepts (names: the list for the
+ * message); CLI_OK or CLI_USAGE after a message. */
+static int case_list(const char *cmd, const char *value, int (*ok)(const char *, char *, size_t),
+                     const char *names) {
+  char bad[256], buf[256];
+  const char *item[16];
+  int nc;
+  if (!cli_split_list("--case", value, buf, sizeof buf, item, 16, &nc))
+    return CLI_USAGE;
+  if (!ok(value, bad, sizeof bad)) {
+    fprintf(stderr, "pencil %s: --case: no case '%s' (%s)\n", cmd, bad, names);
+    return CLI_USAGE;
+  }
+  return CLI_OK;
+}
+
+/* The outputs of `cmd` checked before minutes of work: --out (or another directory option,
+ * `dir`) made, --json writable; CLI_OK or CLI_USAGE after a message. */
+static int common_outputs(const char *cmd, const char *dir, const char *json) {
+  char err[1024];
+  if (dir && io_make_dirs(dir) != 0)
+    return CLI_USAGE;
+  if (json && io_output_check(json, err, sizeof err) != 0) {
+    fprintf(stderr, "pencil %s: --json: %s\n", cmd, err);
+    return CLI_USAGE;
+  }
+  return CLI_OK;
+}
+
 static void help_illum(FILE *f) {
   fprintf(f,
           "usage: pencil bench illuminance [--json FILE] [--maps DIR] [--threads N] [--quick]\n"
@@ -164,12 +236,14 @@ static void help_illum(FILE *f) {
 }
 
 static int bench_illuminance(int argc, char **argv) {
-  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},       {"--threads", 0, 1, 2},
-                                     {"--quick", 0, 0, 3},      {"--max-split", 0, 1, 4},
-                                     {"--linear-tol", 0, 1, 5}, {"--uniform-tol", 0, 1, 6},
-                                     {"--maps", 0, 1, 7},       {"--fig11", 0, 1, 8}};
+  static const cli_spec_t specs[] = {
+      {"--json", 0, 1, B_JSON},          {"--threads", 0, 1, B_THREADS},
+      {"--quick", 0, 0, B_QUICK},        {"--max-split", 0, 1, B_OWN},
+      {"--linear-tol", 0, 1, B_OWN + 1}, {"--uniform-tol", 0, 1, B_OWN + 2},
+      {"--maps", 0, 1, B_OWN + 3},       {"--fig11", 0, 1, B_OWN + 4}};
+  const char *cmd = "bench illuminance";
   int n, rc;
-  cli_arg_t *args = cli_args("bench illuminance", argc, argv, specs, 8, help_illum, &n, &rc);
+  cli_arg_t *args = cli_args(cmd, argc, argv, specs, 8, help_illum, &n, &rc);
   if (!args)
     return rc;
   lt_options_t d = LT_OPTIONS_DEFAULT;
@@ -179,47 +253,38 @@ static int bench_illuminance(int argc, char **argv) {
   o.linear_tol = d.linear_tol;
   o.uniform_tol = d.uniform_tol;
   o.report = stdout;
-  long threads = 0, split = d.max_split;
+  bench_common_t c = {0};
+  long split = d.max_split;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
-    if (!g->spec) {
-      fprintf(stderr, "pencil bench illuminance: unexpected argument '%s'\n", g->value);
-      rc = CLI_USAGE;
-    } else if (g->spec->id == 1) {
-      o.json = g->value;
-    } else if (g->spec->id == 2) {
-      rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 7) {
+    if (common_arg(cmd, g, &c, &rc))
+      continue;
+    if (g->spec->id == B_OWN + 3) {
       o.maps = g->value;
-    } else if (g->spec->id == 8) {
+    } else if (g->spec->id == B_OWN + 4) {
       o.fig11 = g->value;
-    } else if (g->spec->id == 4) {
+    } else if (g->spec->id == B_OWN) {
       rc = cli_parse_long("--max-split", g->value, 0, 12, &split) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 5 || g->spec->id == 6) {
-      double *t = g->spec->id == 5 ? &o.linear_tol : &o.uniform_tol;
-      rc = cli_parse_double_in(g->spec->name, g->value, 0, 1e6, t) ? CLI_OK : CLI_USAGE;
     } else {
-      o.quick = 1;
+      double *t = g->spec->id == B_OWN + 1 ? &o.linear_tol : &o.uniform_tol;
+      rc = cli_parse_double_in(g->spec->name, g->value, 0, 1e6, t) ? CLI_OK : CLI_USAGE;
     }
   }
   free(args);
   if (rc != CLI_OK)
     return rc;
-  if (o.quick && o.fig11) {
+  if (c.quick && o.fig11) {
     fprintf(stderr,
             "pencil bench illuminance: --fig11 has no effect with --quick (which leaves out "
             "Fig. 11)\n");
     return CLI_USAGE;
   }
-  o.threads = (int)threads;
+  o.json = c.json;
+  o.quick = c.quick;
+  o.threads = (int)c.threads;
   o.max_split = (int)split;
-  char err[1024]; /* the outputs before minutes of tracing */
-  if (o.maps && io_make_dirs(o.maps) != 0)
-    return CLI_USAGE;
-  if (o.json && io_output_check(o.json, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil bench illuminance: --json: %s\n", err);
-    return CLI_USAGE;
-  }
+  if ((rc = common_outputs(cmd, o.maps, o.json)) != CLI_OK) /* before minutes of tracing */
+    return rc;
   return cli_exit_of(val_bench_illuminance(&o));
 }
 
@@ -260,64 +325,41 @@ static void help_caustics(FILE *f) {
 }
 
 static int bench_caustics(int argc, char **argv) {
-  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},           {"--out", 0, 1, 2},
-                                     {"--runs", 0, 1, 3},           {"--threads", 0, 1, 4},
-                                     {"--quick", 0, 0, 5},          {"--scenes", 0, 1, 6},
-                                     {"--reference-rays", 0, 1, 7}, {"--case", 0, 1, 8}};
+  static const cli_spec_t specs[] = {
+      {"--json", 0, 1, B_JSON},          {"--out", 0, 1, B_OUT},     {"--runs", 0, 1, B_RUNS},
+      {"--threads", 0, 1, B_THREADS},    {"--quick", 0, 0, B_QUICK}, {"--scenes", 0, 1, B_SCENES},
+      {"--reference-rays", 0, 1, B_OWN}, {"--case", 0, 1, B_OWN + 1}};
+  const char *cmd = "bench caustics";
   int n, rc;
-  cli_arg_t *args = cli_args("bench caustics", argc, argv, specs, 8, help_caustics, &n, &rc);
+  cli_arg_t *args = cli_args(cmd, argc, argv, specs, 8, help_caustics, &n, &rc);
   if (!args)
     return rc;
   val_caustic_bench_opts_t o;
   memset(&o, 0, sizeof o);
   o.report = stdout;
-  long runs = 3, threads = 0, ref_rays = 0;
+  bench_common_t c = {.runs = 3};
+  long ref_rays = 0;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
-    if (!g->spec) {
-      fprintf(stderr, "pencil bench caustics: unexpected argument '%s'\n", g->value);
-      rc = CLI_USAGE;
-    } else if (g->spec->id == 1) {
-      o.json = g->value;
-    } else if (g->spec->id == 2) {
-      o.out = g->value;
-    } else if (g->spec->id == 3) {
-      rc = cli_parse_long("--runs", g->value, 1, 15, &runs) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 4) {
-      rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 5) {
-      o.quick = 1;
-    } else if (g->spec->id == 7) {
+    if (common_arg(cmd, g, &c, &rc))
+      continue;
+    if (g->spec->id == B_OWN) {
       rc = cli_parse_long("--reference-rays", g->value, 3, LT_MAX_GRID, &ref_rays) ? CLI_OK
                                                                                    : CLI_USAGE;
-    } else if (g->spec->id == 8) {
-      char bad[256], buf[256];
-      const char *item[16];
-      int nc;
-      o.cases = g->value;
-      if (!cli_split_list("--case", g->value, buf, sizeof buf, item, 16, &nc))
-        rc = CLI_USAGE;
-      else if (!val_bench_caustics_cases_ok(g->value, bad, sizeof bad)) {
-        fprintf(stderr,
-                "pencil bench caustics: --case: no case '%s' (fig8, fig11, pool or glass)\n", bad);
-        rc = CLI_USAGE;
-      }
     } else {
-      o.scenes = g->value;
+      o.cases = g->value;
+      rc = case_list(cmd, g->value, val_bench_caustics_cases_ok, "fig8, fig11, pool or glass");
     }
   }
   free(args);
-  if (rc != CLI_OK)
+  if (rc != CLI_OK || (rc = common_outputs(cmd, c.out, c.json)) != CLI_OK)
     return rc;
-  if (o.out && io_make_dirs(o.out) != 0)
-    return CLI_USAGE;
-  char err[1024];
-  if (o.json && io_output_check(o.json, err, sizeof err) != 0) { /* before minutes of rendering */
-    fprintf(stderr, "pencil bench caustics: --json: %s\n", err);
-    return CLI_USAGE;
-  }
-  o.runs = (int)runs;
-  o.threads = (int)threads;
+  o.json = c.json;
+  o.out = c.out;
+  o.scenes = c.scenes;
+  o.quick = c.quick;
+  o.runs = (int)c.runs;
+  o.threads = (int)c.threads;
   o.ref_rays = (int)ref_rays;
   return cli_exit_of(val_bench_caustics(&o));
 }
@@ -352,49 +394,33 @@ static void help_area(FILE *f) {
 }
 
 static int bench_area(int argc, char **argv) {
-  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},  {"--out", 0, 1, 2},
-                                     {"--runs", 0, 1, 3},  {"--threads", 0, 1, 4},
-                                     {"--quick", 0, 0, 5}, {"--reference-mesh", 0, 1, 7}};
+  static const cli_spec_t specs[] = {{"--json", 0, 1, B_JSON},   {"--out", 0, 1, B_OUT},
+                                     {"--runs", 0, 1, B_RUNS},   {"--threads", 0, 1, B_THREADS},
+                                     {"--quick", 0, 0, B_QUICK}, {"--reference-mesh", 0, 1, B_OWN}};
+  const char *cmd = "bench area";
   int n, rc;
-  cli_arg_t *args = cli_args("bench area", argc, argv, specs, 6, help_area, &n, &rc);
+  cli_arg_t *args = cli_args(cmd, argc, argv, specs, 6, help_area, &n, &rc);
   if (!args)
     return rc;
   val_area_bench_opts_t o;
   memset(&o, 0, sizeof o);
   o.report = stdout;
-  long runs = 1, threads = 0, ref_mesh = 0;
+  bench_common_t c = {.runs = 1};
+  long ref_mesh = 0;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
-    if (!g->spec) {
-      fprintf(stderr, "pencil bench area: unexpected argument '%s'\n", g->value);
-      rc = CLI_USAGE;
-    } else if (g->spec->id == 1) {
-      o.json = g->value;
-    } else if (g->spec->id == 2) {
-      o.out = g->value;
-    } else if (g->spec->id == 3) {
-      rc = cli_parse_long("--runs", g->value, 1, 15, &runs) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 4) {
-      rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 5) {
-      o.quick = 1;
-    } else {
+    if (!common_arg(cmd, g, &c, &rc))
       rc = cli_parse_long("--reference-mesh", g->value, 2, LT_MAX_AREA_MESH, &ref_mesh) ? CLI_OK
                                                                                         : CLI_USAGE;
-    }
   }
   free(args);
-  if (rc != CLI_OK)
+  if (rc != CLI_OK || (rc = common_outputs(cmd, c.out, c.json)) != CLI_OK)
     return rc;
-  if (o.out && io_make_dirs(o.out) != 0)
-    return CLI_USAGE;
-  char err[1024];
-  if (o.json && io_output_check(o.json, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil bench area: --json: %s\n", err);
-    return CLI_USAGE;
-  }
-  o.runs = (int)runs;
-  o.threads = (int)threads;
+  o.json = c.json;
+  o.out = c.out;
+  o.quick = c.quick;
+  o.runs = (int)c.runs;
+  o.threads = (int)c.threads;
   o.ref_mesh = (int)ref_mesh;
   return cli_exit_of(val_bench_area(&o));
 }
@@ -434,65 +460,42 @@ static void help_beam(FILE *f) {
 
 static int bench_beam(int argc, char **argv) {
   static const cli_spec_t specs[] = {
-      {"--json", 0, 1, 1},    {"--out", 0, 1, 2},   {"--runs", 0, 1, 3},
-      {"--threads", 0, 1, 4}, {"--quick", 0, 0, 5}, {"--scenes", 0, 1, 6},
-      {"--size", 0, 1, 7},    {"--case", 0, 1, 8},  {"--rho", 0, 1, 9}};
+      {"--json", 0, 1, B_JSON},       {"--out", 0, 1, B_OUT},      {"--runs", 0, 1, B_RUNS},
+      {"--threads", 0, 1, B_THREADS}, {"--quick", 0, 0, B_QUICK},  {"--scenes", 0, 1, B_SCENES},
+      {"--size", 0, 1, B_OWN},        {"--case", 0, 1, B_OWN + 1}, {"--rho", 0, 1, B_OWN + 2}};
+  const char *cmd = "bench beam";
   int n, rc;
-  cli_arg_t *args = cli_args("bench beam", argc, argv, specs, 9, help_beam, &n, &rc);
+  cli_arg_t *args = cli_args(cmd, argc, argv, specs, 9, help_beam, &n, &rc);
   if (!args)
     return rc;
   val_beam_bench_opts_t o;
   memset(&o, 0, sizeof o);
   o.report = stdout;
   o.rho = 0.5;
-  long runs = 3, threads = 0, size = 0;
+  bench_common_t c = {.runs = 3};
+  long size = 0;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
-    if (!g->spec) {
-      fprintf(stderr, "pencil bench beam: unexpected argument '%s'\n", g->value);
-      rc = CLI_USAGE;
-    } else if (g->spec->id == 1) {
-      o.json = g->value;
-    } else if (g->spec->id == 2) {
-      o.out = g->value;
-    } else if (g->spec->id == 3) {
-      rc = cli_parse_long("--runs", g->value, 1, 15, &runs) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 4) {
-      rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 5) {
-      o.quick = 1;
-    } else if (g->spec->id == 7) {
+    if (common_arg(cmd, g, &c, &rc))
+      continue;
+    if (g->spec->id == B_OWN) {
       rc = cli_parse_long("--size", g->value, 8, 4096, &size) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 9) {
+    } else if (g->spec->id == B_OWN + 2) {
       rc = cli_parse_double_in("--rho", g->value, 1e-6, 1e6, &o.rho) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 8) {
-      char bad[256], buf[256];
-      const char *item[16];
-      int nc;
-      o.cases = g->value;
-      if (!cli_split_list("--case", g->value, buf, sizeof buf, item, 16, &nc))
-        rc = CLI_USAGE;
-      else if (!val_bench_beam_cases_ok(g->value, bad, sizeof bad)) {
-        fprintf(stderr, "pencil bench beam: --case: no case '%s' (%s)\n", bad,
-                val_bench_beam_case_names());
-        rc = CLI_USAGE;
-      }
     } else {
-      o.scenes = g->value;
+      o.cases = g->value;
+      rc = case_list(cmd, g->value, val_bench_beam_cases_ok, val_bench_beam_case_names());
     }
   }
   free(args);
-  if (rc != CLI_OK)
+  if (rc != CLI_OK || (rc = common_outputs(cmd, c.out, c.json)) != CLI_OK)
     return rc;
-  if (o.out && io_make_dirs(o.out) != 0)
-    return CLI_USAGE;
-  char err[1024];
-  if (o.json && io_output_check(o.json, err, sizeof err) != 0) { /* before minutes of rendering */
-    fprintf(stderr, "pencil bench beam: --json: %s\n", err);
-    return CLI_USAGE;
-  }
-  o.runs = (int)runs;
-  o.threads = (int)threads;
+  o.json = c.json;
+  o.out = c.out;
+  o.scenes = c.scenes;
+  o.quick = c.quick;
+  o.runs = (int)c.runs;
+  o.threads = (int)c.threads;
   o.size = (int)size;
   return cli_exit_of(val_bench_beam(&o));
 }
@@ -542,61 +545,44 @@ static void help_dispersion(FILE *f) {
 }
 
 static int bench_dispersion(int argc, char **argv) {
-  static const cli_spec_t specs[] = {{"--json", 0, 1, 1},  {"--out", 0, 1, 2},
-                                     {"--runs", 0, 1, 3},  {"--threads", 0, 1, 4},
-                                     {"--quick", 0, 0, 5}, {"--scenes", 0, 1, 6},
-                                     {"--size", 0, 1, 7},  {"--reference-bins", 0, 1, 8},
-                                     {"--spp", 0, 1, 9},   {"--reference-spp", 0, 1, 10}};
+  static const cli_spec_t specs[] = {
+      {"--json", 0, 1, B_JSON},   {"--out", 0, 1, B_OUT},
+      {"--runs", 0, 1, B_RUNS},   {"--threads", 0, 1, B_THREADS},
+      {"--quick", 0, 0, B_QUICK}, {"--scenes", 0, 1, B_SCENES},
+      {"--size", 0, 1, B_OWN},    {"--reference-bins", 0, 1, B_OWN + 1},
+      {"--spp", 0, 1, B_OWN + 2}, {"--reference-spp", 0, 1, B_OWN + 3}};
+  const char *cmd = "bench dispersion";
   int n, rc;
-  cli_arg_t *args = cli_args("bench dispersion", argc, argv, specs, 10, help_dispersion, &n, &rc);
+  cli_arg_t *args = cli_args(cmd, argc, argv, specs, 10, help_dispersion, &n, &rc);
   if (!args)
     return rc;
   val_dispersion_bench_opts_t o;
   memset(&o, 0, sizeof o);
   o.report = stdout;
-  long runs = 3, threads = 0, size = 0, bins = 0, spp = 0, ref_spp = 0;
-  int quick_runs = 1;
+  bench_common_t c = {.runs = 3};
+  long size = 0, bins = 0, spp = 0, ref_spp = 0;
   for (int k = 0; k < n && rc == CLI_OK; k++) {
     const cli_arg_t *g = &args[k];
-    if (!g->spec) {
-      fprintf(stderr, "pencil bench dispersion: unexpected argument '%s'\n", g->value);
-      rc = CLI_USAGE;
-    } else if (g->spec->id == 1) {
-      o.json = g->value;
-    } else if (g->spec->id == 2) {
-      o.out = g->value;
-    } else if (g->spec->id == 3) {
-      rc = cli_parse_long("--runs", g->value, 1, 15, &runs) ? CLI_OK : CLI_USAGE;
-      quick_runs = 0;
-    } else if (g->spec->id == 4) {
-      rc = cli_parse_long("--threads", g->value, 1, 1024, &threads) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 5) {
-      o.quick = 1;
-    } else if (g->spec->id == 7) {
+    if (common_arg(cmd, g, &c, &rc))
+      continue;
+    if (g->spec->id == B_OWN) {
       rc = cli_parse_long("--size", g->value, 8, 4096, &size) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 8) {
+    } else if (g->spec->id == B_OWN + 1) {
       rc = cli_parse_long("--reference-bins", g->value, 8, 400, &bins) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 9) {
-      rc = cli_parse_spp("bench dispersion", "--spp", g->value, &spp) ? CLI_OK : CLI_USAGE;
-    } else if (g->spec->id == 10) {
-      rc = cli_parse_spp("bench dispersion", "--reference-spp", g->value, &ref_spp) ? CLI_OK
-                                                                                    : CLI_USAGE;
     } else {
-      o.scenes = g->value;
+      long *v = g->spec->id == B_OWN + 2 ? &spp : &ref_spp;
+      rc = cli_parse_spp(cmd, g->spec->name, g->value, v) ? CLI_OK : CLI_USAGE;
     }
   }
   free(args);
-  if (rc != CLI_OK)
+  if (rc != CLI_OK || (rc = common_outputs(cmd, c.out, c.json)) != CLI_OK)
     return rc;
-  if (o.out && io_make_dirs(o.out) != 0)
-    return CLI_USAGE;
-  char err[1024];
-  if (o.json && io_output_check(o.json, err, sizeof err) != 0) { /* before minutes of rendering */
-    fprintf(stderr, "pencil bench dispersion: --json: %s\n", err);
-    return CLI_USAGE;
-  }
-  o.runs = o.quick && quick_runs ? 1 : (int)runs;
-  o.threads = (int)threads;
+  o.json = c.json;
+  o.out = c.out;
+  o.scenes = c.scenes;
+  o.quick = c.quick;
+  o.runs = c.quick && !c.runs_given ? 1 : (int)c.runs;
+  o.threads = (int)c.threads;
   o.size = (int)size;
   o.ref_bins = (int)bins;
   o.spp = (int)spp;
