@@ -1,10 +1,11 @@
 /* test_verify.c -- the verification sweep on a small configuration: every corrected matrix
  * agrees with exact tracing, every expected TIR is reported by both sides, and the printed
- * Eq. (2) disagrees where docs/errata.md says it does. */
+ * Eq. (2) disagrees where docs/errata.md says it does; and the benchmarks' per-pixel difference. */
 #include <math.h>
 #include <stdlib.h>
 
 #include "cmocka_main.h"
+#include "validation/compare.h"
 #include "validation/illum_bench.h"
 #include "validation/illuminance.h"
 #include "validation/verify.h"
@@ -121,9 +122,41 @@ static void ring_map_reference_without_refraction(void **state) {
   }
 }
 
+/* The benchmarks' per-pixel difference (validation/compare.h): per pixel the largest channel of
+ * |a - b|, its mean, RMS, 99th percentile and largest, on 100 pixels whose differences are known:
+ * pixel k differs by k / 100 in one channel (which channel turns with k) and by less in another. */
+static void image_diff_by_largest_channel(void **state) {
+  (void)state;
+  rt_image_t a, b;
+  assert_int_equal(rt_image_alloc(&a, 10, 10), RT_OK);
+  assert_int_equal(rt_image_alloc(&b, 10, 10), RT_OK);
+  double sum = 0.0, s2 = 0.0;
+  for (int k = 0; k < 100; k++) {
+    int c = RT_CH_R + k % 3;
+    double e = k / 100.0;
+    for (int q = RT_CH_R; q <= RT_CH_B; q++)
+      a.ch[q][k] = b.ch[q][k] = 0.5f;
+    a.ch[c][k] = (float)(0.5 + (k % 2 ? e : -e));
+    a.ch[RT_CH_R + (k + 1) % 3][k] = (float)(0.5 + 0.5 * e);
+    sum += (double)fabsf(a.ch[c][k] - 0.5f);
+    s2 += (double)(a.ch[c][k] - 0.5f) * (a.ch[c][k] - 0.5f);
+  }
+  val_diff_t d;
+  assert_int_equal(val_image_diff(&a, &b, &d), 0);
+  assert_float_equal(d.mean, sum / 100.0, 1e-12);
+  assert_float_equal(d.rms, sqrt(s2 / 100.0), 1e-12);
+  assert_float_equal(d.max, (double)fabsf(a.ch[RT_CH_R + 99 % 3][99] - 0.5f), 1e-12);
+  assert_float_equal(d.p99, (double)fabsf(a.ch[RT_CH_R + 98 % 3][98] - 0.5f), 1e-12);
+  assert_int_equal(val_image_diff(&a, &a, &d), 0);
+  assert_true(d.mean == 0.0 && d.rms == 0.0 && d.p99 == 0.0 && d.max == 0.0);
+  rt_image_free(&a);
+  rt_image_free(&b);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(quick_sweep_passes),
+      cmocka_unit_test(image_diff_by_largest_channel),
       cmocka_unit_test(illuminance_quick_sweep_passes),
       cmocka_unit_test(ring_map_reference_without_refraction),
       cmocka_unit_test(full_sweep_has_over_2000_systems),

@@ -12,6 +12,7 @@
 #include "io/scene_json.h"
 #include "renderers/renderer.h"
 #include "validation/beam_bench.h"
+#include "validation/compare.h"
 #include "validation/timing.h"
 
 #ifndef PENCIL_SOURCE_DIR
@@ -69,24 +70,12 @@ typedef struct {
 
 /* Per-pixel differences (largest channel) of a against b: mean, 99th percentile, largest. */
 static int compare(const rt_image_t *a, const rt_image_t *b, result_t *r) {
-  size_t n = (size_t)a->width * a->height;
-  double *d = malloc(n * sizeof *d);
-  if (!d)
+  val_diff_t d;
+  if (val_image_diff(a, b, &d) != 0)
     return fprintf(stderr, "pencil bench beam: out of memory\n"), VAL_EFAIL;
-  double sum = 0.0, mx = 0.0;
-  for (size_t k = 0; k < n; k++) {
-    double e = 0.0;
-    for (int c = RT_CH_R; c <= RT_CH_B; c++)
-      e = fmax(e, fabs((double)a->ch[c][k] - b->ch[c][k]));
-    d[k] = e;
-    sum += e;
-    mx = fmax(mx, e);
-  }
-  r->mean = sum / n;
-  r->max = mx;
-  val_sort(d, n);
-  r->p99 = val_quantile(d, n, 0.99);
-  free(d);
+  r->mean = d.mean;
+  r->p99 = d.p99;
+  r->max = d.max;
   return 0;
 }
 
@@ -195,17 +184,6 @@ static int render(const rt_scene_t *s, const variant_t *v, const val_beam_bench_
   return 0;
 }
 
-static int save(const char *dir, const char *name, const char *variant, const rt_image_t *img) {
-  char path[4096], err[1024];
-  snprintf(path, sizeof path, "%s/%s-%s.exr", dir, name, variant);
-  io_attr_t a[2] = {{"pencil:case", name}, {"pencil:variant", variant}};
-  if (io_render_write(path, img, NULL, 0, a, 2, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil bench beam: %s\n", err);
-    return -1;
-  }
-  return 0;
-}
-
 /* The exact renderer's time at mean error e, by log-log interpolation between the rungs of the
  * ladder (errors falling with the samples); *where is "inside", or "below" when e is below the
  * finest rung's error (the finest rung's time is returned: the exact renderer needs more) or
@@ -248,7 +226,7 @@ static int save_diff(const char *dir, const char *name, const char *variant, con
       d.ch[c][k] = fabsf(a->ch[c][k] - b->ch[c][k]);
   char v[64];
   snprintf(v, sizeof v, "%s-diff", variant);
-  int r = save(dir, name, v, &d);
+  int r = val_save_case("bench beam", dir, name, v, &d);
   rt_image_free(&d);
   return r;
 }
@@ -334,7 +312,7 @@ static json_t *run_case(const bench_case_t *bc, const val_beam_bench_opts_t *o, 
     if (!bad && v != V_REF)
       bad = compare(&img[v], &img[V_REF], &res[v]) != 0;
     if (!bad && o->out)
-      bad = save(o->out, bc->name, vs[v].name, &img[v]) != 0;
+      bad = val_save_case("bench beam", o->out, bc->name, vs[v].name, &img[v]) != 0;
     if (!bad && o->out && v == V_BEAM)
       bad = save_diff(o->out, bc->name, vs[v].name, &img[v], &img[V_REF]) != 0;
   }

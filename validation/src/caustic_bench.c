@@ -11,6 +11,7 @@
 #include "light/illuminance.h"
 #include "renderers/renderer.h"
 #include "validation/caustic_bench.h"
+#include "validation/compare.h"
 #include "validation/timing.h"
 
 #ifndef PENCIL_SOURCE_DIR
@@ -81,24 +82,12 @@ typedef struct {
 /* Per-pixel differences (largest channel) of a against b: RMS, 99th percentile, largest. */
 static int compare(const rt_image_t *a, const rt_image_t *b, double *rms, double *p99,
                    double *max) {
-  size_t n = (size_t)a->width * a->height;
-  double *d = malloc(n * sizeof *d);
-  if (!d)
+  val_diff_t d;
+  if (val_image_diff(a, b, &d) != 0)
     return fprintf(stderr, "pencil bench caustics: out of memory\n"), VAL_EFAIL;
-  double s2 = 0.0, mx = 0.0;
-  for (size_t k = 0; k < n; k++) {
-    double e = 0.0;
-    for (int c = RT_CH_R; c <= RT_CH_B; c++)
-      e = fmax(e, fabs((double)a->ch[c][k] - b->ch[c][k]));
-    d[k] = e;
-    s2 += e * e;
-    mx = fmax(mx, e);
-  }
-  *rms = sqrt(s2 / n);
-  *max = mx;
-  val_sort(d, n); /* for the 99th percentile; cheap at these sizes */
-  *p99 = val_quantile(d, n, 0.99);
-  free(d);
+  *rms = d.rms;
+  *p99 = d.p99;
+  *max = d.max;
   return 0;
 }
 
@@ -156,17 +145,6 @@ static int render(const rt_scene_t *s0, const variant_t *v, const val_caustic_be
   r->method = cs.maps ? cs.method : "none";
   r->rays = cs.maps ? cs.rays : 0;
   r->done = 1;
-  return 0;
-}
-
-static int save(const char *dir, const char *name, const char *variant, const rt_image_t *img) {
-  char path[4096], err[1024];
-  snprintf(path, sizeof path, "%s/%s-%s.exr", dir, name, variant);
-  io_attr_t a[2] = {{"pencil:case", name}, {"pencil:variant", variant}};
-  if (io_render_write(path, img, NULL, 0, a, 2, err, sizeof err) != 0) {
-    fprintf(stderr, "pencil bench caustics: %s\n", err);
-    return -1;
-  }
   return 0;
 }
 
@@ -247,7 +225,7 @@ static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *
         compare(&img[v], &img[vs[v].against], &res[v].rms, &res[v].p99, &res[v].max) != 0)
       bad = 1;
     if (!bad && o->out)
-      bad = save(o->out, bc->name, vs[v].name, &img[v]) != 0;
+      bad = val_save_case("bench caustics", o->out, bc->name, vs[v].name, &img[v]) != 0;
   }
   json_t *j = NULL;
   if (!bad) {
