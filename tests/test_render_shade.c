@@ -463,6 +463,18 @@ static void fresnel_limits(void **state) {
   assert_close(rt_fresnel(1, 1, 1.5, 1.0), 0.04, 1e-15, 0);
   assert_close(rt_fresnel(1e-9, 0.5, 1.0, 1.5), 1.0, 0, 1e-8); /* grazing: total */
   assert_true(rt_fresnel(0.5, -1, 1.5, 1.0) == 1.0);
+  /* an index-matched surface (a ball of index 1 in air, or the far side of one ball inside
+   * another): nothing reflects, exactly, whatever rounding does to the transmitted cosine. Left
+   * to rounding F was 0 at some angles and about 1e-32 at others, and a reflected child was
+   * spawned at some of a pencil's rays and not at its axial ray's. */
+  int tiny = 0;
+  for (int k = 0; k <= 1000; k++) {
+    double ci = k / 1000.0, n = k % 2 ? 1.0 : 1.5;
+    double ct = sqrt(1.0 - (n / n) * (n / n) * (1.0 - ci * ci));
+    tiny += rt_fresnel(ci, ct, n, n) != 0.0;
+    tiny += rt_fresnel(ci, nextafter(ci, 2.0), n, n) != 0.0;
+  }
+  assert_int_equal(tiny, 0);
 }
 
 /* Children of a hit on glass: with Fresnel the weights split kt; from inside beyond the critical

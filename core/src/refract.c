@@ -11,6 +11,8 @@
 double rt_fresnel(double ci, double ct, double n1, double n2) {
   if (ct < 0.0 || !(ci >= 0.0))
     return 1.0;
+  if (n1 == n2) /* no interface: ct is ci up to rounding, which would leave F at 1e-32 or 0 */
+    return 0.0;
   double rs = (n1 * ci - n2 * ct) / (n1 * ci + n2 * ct);
   double rp = (n1 * ct - n2 * ci) / (n1 * ct + n2 * ci);
   double f = 0.5 * (rs * rs + rp * rp);

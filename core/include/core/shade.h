@@ -135,7 +135,8 @@ rt_rgb_t rt_shade_hit(const rt_scene_t *s, const rt_plan_t *plan, const rt_surfa
                       const rt_ray_t *ray, int depth, const rt_tracer_t *tr);
 
 /** Unpolarised Fresnel reflectance for cosines ci (incident) and ct (transmitted), indices
- *  n1 -> n2; 1 for total internal reflection (ct < 0 is not allowed). */
+ *  n1 -> n2; 1 for total internal reflection (ct < 0 is not allowed); exactly 0 when n1 == n2
+ *  (an index-matched surface reflects nothing, and no reflected child is spawned). */
 double rt_fresnel(double ci, double ct, double n1, double n2);
 
 #endif
