@@ -119,6 +119,12 @@ static int save(const char *dir, const char *method, const rt_image_t *img) {
   return 0;
 }
 
+/* How the pencil renderer draws dispersion, said in the report and the JSON alike. */
+#define DISPERSIVE_PENCIL                                                                          \
+  "spectral pencils from each sample's hit (pencil-spectral, exact-spectral-pencil); the pencil "  \
+  "renderer's lattice interpolates their light only where no light shades what they meet, never "  \
+  "on this lit scene"
+
 int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
   FILE *f = o->report;
   int side = o->size > 0 ? o->size : o->quick ? QUICK_SIZE : SIZE;
@@ -190,9 +196,7 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
     fprintf(f, "%-21s %-7s %-8s %5d %9.3f %8.3f %12llu  (the reference)\n", ms[0].name,
             ms[0].renderer, ms[0].wavelengths, ms[0].bins, res[0].seconds,
             res[0].seconds / res[ND].seconds, res[0].rays);
-    fprintf(f, "dispersive pencil tracing: spectral pencils from each sample's hit "
-               "(pencil-spectral; exact-spectral-pencil in the exact renderer); the paths' "
-               "wavelength column is not built yet (issue 22)\n");
+    fprintf(f, "dispersive pencil tracing: %s\n", DISPERSIVE_PENCIL);
     fprintf(f,
             "polyhedra by beams (1987 4.1 (3), 1989 3.2): dispersion image solids (beam-solids) "
             "%.2f times the beams' time with the glass at n_d (the paper: about 1.2), spectral "
@@ -227,13 +231,10 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
                           "delta_e2000_mean", m ? json_real(res[m].mean) : json_null(),
                           "delta_e2000_p99", m ? json_real(res[m].p99) : json_null(),
                           "delta_e2000_max", m ? json_real(res[m].max) : json_null()));
-    json_t *root =
-        json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:i, s:b, s:o, s:s}", "benchmark", "dispersion",
-                  "scene", path, "size", side, "spp", spp, "reference_bins", ref, "reference_spp",
-                  ref_spp, "runs", runs, "quick", o->quick, "methods", rows, "dispersive_pencil",
-                  "spectral pencils from each sample's hit (pencil-spectral, "
-                  "exact-spectral-pencil); the pencil renderer's lattice interpolates their "
-                  "light only where no light shades what they meet, never on this lit scene");
+    json_t *root = json_pack("{s:s, s:s, s:i, s:i, s:i, s:i, s:i, s:b, s:o, s:s}", "benchmark",
+                             "dispersion", "scene", path, "size", side, "spp", spp,
+                             "reference_bins", ref, "reference_spp", ref_spp, "runs", runs, "quick",
+                             o->quick, "methods", rows, "dispersive_pencil", DISPERSIVE_PENCIL);
     json_object_set_new(root, "beams",
                         json_pack("{s:f, s:f, s:f, s:f, s:f}", "solids_over_beam",
                                   res[BM + 1].seconds / fmax(res[BM].seconds, 1e-9),
