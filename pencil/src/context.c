@@ -30,12 +30,18 @@ static void *take0(size_t n, size_t size) {
 int pt__trees_alloc(pt_trees_t *t, int cap, int probe_cap) {
   t->axial = rt_tree_make(take((size_t)cap * sizeof(rt_tree_node_t)), cap);
   t->probe = rt_tree_make(take((size_t)probe_cap * sizeof(rt_tree_node_t)), probe_cap);
-  return t->axial.node && t->probe.node;
+  t->side = rt_tree_make(take((size_t)cap * sizeof(rt_tree_node_t)), cap);
+  t->side_p = take(4 * (size_t)cap * sizeof *t->side_p);
+  t->side_ok = take(4 * (size_t)cap);
+  return t->axial.node && t->probe.node && t->side.node && t->side_p && t->side_ok;
 }
 
 void pt__trees_free(pt_trees_t *t) {
   free(t->axial.node);
   free(t->probe.node);
+  free(t->side.node);
+  free(t->side_p);
+  free(t->side_ok);
   memset(t, 0, sizeof *t);
 }
 
@@ -222,7 +228,7 @@ size_t pt_thread_bytes(int tree_nodes, int domain) {
   size_t cap = (size_t)(tree_nodes < PT_MAX_TREE_NODES ? tree_nodes : PT_MAX_TREE_NODES);
   size_t full = (size_t)tree_nodes, side = (size_t)domain + 1, corners = side * side;
   size_t node = sizeof(rt_tree_node_t), geom = sizeof(pt_geom_t);
-  size_t b = (cap + full) * node; /* trees */
+  size_t b = (2 * cap + full) * node + 4 * cap * (sizeof *C->trees.side_p + 1); /* trees */
   b += PT_SUB_TREES * cap * node +
        cap * (sizeof *C->sub.root + sizeof *C->sub.from + sizeof *C->sub.exact_node); /* subtrees */
   b += corners * (sizeof *C->corners.tree + cap * sizeof *C->corners.nodes) +

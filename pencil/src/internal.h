@@ -158,10 +158,15 @@ typedef struct {
 
 /** The exact trees one thread traces into (xr_exact_t.tree points at one while it traces). */
 typedef struct {
-  rt_tree_t axial; /**< the current domain's axial ray's tree (step 2) */
-  rt_tree_t probe; /**< single rays': corners, auxiliary channels, the measure's exact tree;
-                        the plan's whole tree (plan->tree_nodes), as the exact renderer records,
-                        so that auxiliary channels and the measure see every node */
+  rt_tree_t axial;   /**< the current domain's axial ray's tree (step 2) */
+  rt_tree_t probe;   /**< single rays': corners, auxiliary channels, the measure's exact tree;
+                          the plan's whole tree (plan->tree_nodes), as the exact renderer records,
+                          so that auxiliary channels and the measure see every node */
+  rt_tree_t side;    /**< the measure's side rays (measure.c), as large as the domain's paths may
+                          be (pt_ctx_t.cap): a measured point deeper in the probe's tree has no
+                          local footprint (pt_stats_t.local_unknown) */
+  px_vec3_t *side_p; /**< their points per probe node, 4 x side.cap */
+  uint8_t *side_ok;  /**< ... whether the side ray has the point, 4 x side.cap */
 } pt_trees_t;
 
 /** Ray-tree nodes a domain's paths may have (a full binary tree of depth 9). A domain whose
@@ -396,14 +401,25 @@ int pt__spec_put(pt_ctx_t *C, const rt_spectral_rec_t *rec, uint32_t *at);
  *  centre's) is `axial`. */
 void pt__interp_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1, const rt_ray_t *axial);
 
-/** Fig. 10 errors of one sample with pencil geometry rec (see pencil.h) and the subtrees its
- *  evaluation traced exactly (C->sub), tracing it exactly: e[0] the largest over its measured
- *  points (rt_object_measured) in pixels (|J+ e|), e[1] the same on the transmission-first path
- *  only, e[2] the largest |e| / sigma_min (strict). Returns the number of pencil points
- *  compared. */
-int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, double e[3]);
+/** The Fig. 10 errors of one sample (measure.c): in pixel intervals, the larger of the domain's
+ *  axial footprint's and the point's own (the measure); the same on the transmission-first path
+ *  only; |e| / sigma_min (strict); in the axial footprint's intervals alone (the measure of
+ *  versions before the local footprint). */
+enum { PT_E_PIXELS = 0, PT_E_T = 1, PT_E_STRICT = 2, PT_E_AXIAL = 3, PT_MEASURE_ERRORS = 4 };
 
-/** Record a finished sample's errors in the statistics (and e[0] in the caller's buffer). */
-void pt__account(pt_ctx_t *C, const double e[3], int has_points, float *slot);
+/** The step, in a sample's spacing, of the side rays that give a measured point its own pixel
+ *  footprint (measure.c). */
+#define PT_LOCAL_STEP 0.25
+
+/** Fig. 10 errors of the sample at (sx, sy) in pixels, with primary ray `ray` and pencil geometry
+ *  rec (see pencil.h) and the subtrees its evaluation traced exactly (C->sub), tracing it
+ *  exactly: e[PT_E_*], each the largest over its measured points (rt_object_measured). Returns
+ *  the number of pencil points compared. */
+int pt__measure(pt_ctx_t *C, const rt_ray_t *ray, double sx, double sy, const pt_geom_t *rec,
+                double e[PT_MEASURE_ERRORS]);
+
+/** Record a finished sample's errors in the statistics (and e[PT_E_PIXELS] in the caller's
+ *  buffer). */
+void pt__account(pt_ctx_t *C, const double e[PT_MEASURE_ERRORS], int has_points, float *slot);
 
 #endif

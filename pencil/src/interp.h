@@ -187,6 +187,22 @@ static inline double norm_pixels(const void *node, px_vec3_t e) {
   return pt_pixels(node, e);
 }
 
+/* A node's hit error over a lattice cell in pixel intervals, as Fig. 10's measure counts it
+ * (measure.c): the larger of its pixel count in the domain's axial footprint (pt_pixels) and |e|
+ * over the largest extent of one pixel on the surface in the lattice cell's own footprint. The
+ * axial footprint alone misses where the footprint changes by orders of magnitude inside one domain
+ * (a floor seen through a glass ball near the horizon the lens inverts: the axial ray sees the far
+ * floor, whose pixels are large, and a sample the near one). */
+typedef struct {
+  const pt_node_t *n; /* the node, for its axial footprint */
+  double inv_s;       /* 1 / the lattice cell's pixel extent on the surface (pt__cell_scale) */
+} cell_norm_t;
+
+static inline double norm_cell(const void *ctx, px_vec3_t e) {
+  const cell_norm_t *c = ctx;
+  return px_max(pt_pixels(c->n, e), px_v3_norm(e) * c->inv_s);
+}
+
 static inline double norm_rgb(const void *unused, px_vec3_t e) {
   (void)unused;
   return px_max(fabs(e.x), px_max(fabs(e.y), fabs(e.z)));
@@ -214,10 +230,14 @@ static inline void hits_of(const lattice_point_t (*R)[3], int k, grid3_t *p) {
 }
 
 /* A node's matrix error at a point with |xi|^2 = xi2 (the worst corner's), in pixel intervals
- * on its surface: C |xi|^2 / |cos| (Eq. 4), or the certified check's; 0 for a path traced
+ * on its surface, the smallest interval of the axial footprint's and the lattice cell's
+ * (inv_s, norm_cell): C |xi|^2 / |cos| (Eq. 4), or the certified check's; 0 for a path traced
  * exactly. */
-static inline double matrix_error(const pt_node_t *n, double xi2) {
-  return n->mode == PT_NODE_PATH ? 0.0 : px_max(n->c * xi2 / n->cos_in, n->e_check) / n->interval;
+static inline double matrix_error(const pt_node_t *n, double xi2, double inv_s) {
+  if (n->mode == PT_NODE_PATH)
+    return 0.0;
+  double e = px_max(n->c * xi2 / n->cos_in, n->e_check); /* on the surface */
+  return px_max(e / n->interval, e * inv_s);
 }
 
 /* Samples of the grid (global sample indices g = i s + a, at (g + 0.5) / s) in [x0, x0 + w). */
@@ -248,9 +268,10 @@ static inline void grid_weights(const sampling_t *S, double u, double v, double 
 /* interp_error.c */
 double pt__grid_error(const lattice_cell_t *lc, const grid3_t *G,
                       double (*norm)(const void *, px_vec3_t), const void *ctx);
-double pt__biquad_deviation(const lattice_cell_t *lc, const pt_node_t *n, int k);
+double pt__cell_scale(const lattice_cell_t *lc, const grid3_t *p);
+double pt__biquad_deviation(const lattice_cell_t *lc, const cell_norm_t *cn, int k);
 double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lattice_cell_t *lc, const grid3_t *G,
-                                     const pt_node_t *n);
+                                     const cell_norm_t *cn);
 double pt__faint_bound(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],
                        int k);
 double pt__weight_error(const pt_ctx_t *C, const lattice_cell_t *lc, const lattice_point_t (*R)[3],

@@ -14,10 +14,44 @@
 
 #include "interp.h"
 
-/* The largest deviation, in pixel intervals of node n, of the biquadratic through the parent's
- * grid lc->pg from the measured quarter lc's five new grid points; INFINITY when a point of
- * either grid did not reach node k along the domain's paths. */
-double pt__biquad_deviation(const lattice_cell_t *lc, const pt_node_t *n, int k) {
+/* 1 / the largest extent of one pixel, on a node's surface, in lattice cell lc's own footprint,
+ * from the node's hits p on the grid the lattice cell's error comes from. For each quarter of that
+ * grid inside the lattice cell, a pixel step along screen x moves the hit by about the shorter of
+ * the quarter's two horizontal edges over their length in pixels (likewise along y); the larger
+ * of the two is an estimate of sigma_max of the quarter's footprint at its narrower side. Where
+ * the footprint changes across the quarter (the ratio of the longer edge to the shorter) it can
+ * change as much again inside it (near a horizon seen through a lens, or where a path focuses), so
+ * the estimate is divided by that ratio. The smallest over the quarters is taken. Without the
+ * ratio, or with the mean of the two edges, samples were left more than rho of their own pixels
+ * off (Fig. 8: docs/journal/2026-12-06-local-footprint.md). A measured lattice cell has four such
+ * quarters; an estimated one is itself one quarter of its parent's grid. INFINITY (every error
+ * then too large) for a degenerate footprint. */
+static double edge2(const px_vec3_t (*v)[3], int r0, int c0, int r1, int c1) {
+  px_vec3_t d = px_v3_sub(v[r1][c1], v[r0][c0]);
+  return px_v3_dot(d, d);
+}
+
+double pt__cell_scale(const lattice_cell_t *lc, const grid3_t *p) {
+  const px_vec3_t(*v)[3] = p->v;
+  int r0 = lc->measured ? 0 : lc->qy, r1 = lc->measured ? 2 : lc->qy + 1;
+  int c0 = lc->measured ? 0 : lc->qx, c1 = lc->measured ? 2 : lc->qx + 1;
+  double dx = lc->measured ? 0.5 * lc->w : lc->w, dy = lc->measured ? 0.5 * lc->h : lc->h;
+  double smin2 = INFINITY;
+  for (int r = r0; r < r1; r++)
+    for (int c = c0; c < c1; c++) {
+      double h0 = edge2(v, r, c, r, c + 1), h1 = edge2(v, r + 1, c, r + 1, c + 1);
+      double v0 = edge2(v, r, c, r + 1, c), v1 = edge2(v, r, c + 1, r + 1, c + 1);
+      double hx = px_min(h0, h1), hy = px_min(v0, v1);
+      double q = px_max(px_max(h0, h1) / hx, px_max(v0, v1) / hy); /* the change, squared */
+      smin2 = px_min(smin2, px_max(hx / (dx * dx), hy / (dy * dy)) / q);
+    }
+  return smin2 > 0.0 && isfinite(smin2) ? 1.0 / sqrt(smin2) : INFINITY;
+}
+
+/* The largest deviation, in pixel intervals of node n (norm_cell), of the biquadratic through the
+ * parent's grid lc->pg from the measured quarter lc's five new grid points; INFINITY when a point
+ * of either grid did not reach node k along the domain's paths. */
+double pt__biquad_deviation(const lattice_cell_t *lc, const cell_norm_t *cn, int k) {
   static const int at[5][2] = {{0, 1}, {1, 0}, {1, 1}, {1, 2}, {2, 1}};
   double d = 0.0;
   /* every point of both grids must have met the node through the domain's paths (a parent can
@@ -32,7 +66,7 @@ double pt__biquad_deviation(const lattice_cell_t *lc, const pt_node_t *n, int k)
     px_vec3_t b = {0, 0, 0};
     for (int i = 0; i < 9; i++)
       b = px_v3_axpy(w[i], lc->pg[i / 3][i % 3].g[k].p, b);
-    d = px_max(d, pt_pixels(n, px_v3_sub(lc->g[at[m][0]][at[m][1]].g[k].p, b)));
+    d = px_max(d, norm_cell(cn, px_v3_sub(lc->g[at[m][0]][at[m][1]].g[k].p, b)));
   }
   return d;
 }
@@ -78,9 +112,9 @@ double pt__grid_error(const lattice_cell_t *lc, const grid3_t *G,
  * the five non-corner grid points (d_i in node n's pixel intervals), largest over the samples.
  * The basis is separable: L_i(u, v) = l_c(u) l_r(v) for grid column c and row r. */
 double pt__bilinear_bound_at_samples(const pt_ctx_t *C, const lattice_cell_t *lc, const grid3_t *G,
-                                     const pt_node_t *n) {
+                                     const cell_norm_t *cn) {
   double d[5];
-  grid_deviations(G, norm_pixels, n, d);
+  grid_deviations(G, norm_cell, cn, d);
   double dt = d[0], db = d[1], dl = d[2], dr = d[3], dc = d[4];
   int s = C->opt->spp_side, gx0, gx1, gy0, gy1;
   sample_range(lc->x0, lc->w, s, &gx0, &gx1);
@@ -256,9 +290,10 @@ int pt__halving(const pt_ctx_t *C, const lattice_cell_t *lc, double rho, double 
       return 0;
     grid3_t p;
     hits_of(R, k, &p);
-    double e_mat = matrix_error(n, xi2);
+    cell_norm_t cn = {n, pt__cell_scale(lc, &p)};
+    double e_mat = matrix_error(n, xi2, cn.inv_s);
     double d[5];
-    grid_deviations(&p, norm_pixels, n, d);
+    grid_deviations(&p, norm_cell, &cn, d);
     double eu = px_max(d[0], d[1]), ev = px_max(d[2], d[3]);
     double hx = f * (eu / 4.0 + ev) + e_mat, hy = f * (eu + ev / 4.0) + e_mat;
     okx = okx && hx <= rho;

@@ -172,17 +172,18 @@ static int plan_hits(planning_t *P, int k) {
   double rho = P->rho * n->tol_scale; /* this node's share (the image-space tolerance) */
   grid3_t p;
   hits_of(P->R, k, &p);
-  double e_mat = matrix_error(n, P->xi2);
-  double eg = pt__grid_error(lc, &p, norm_pixels, n);
+  cell_norm_t cn = {n, pt__cell_scale(lc, &p)};
+  double e_mat = matrix_error(n, P->xi2, cn.inv_s);
+  double eg = pt__grid_error(lc, &p, norm_cell, &cn);
   int traced = !((cert ? PT_BILINEAR_CERT : 1.0) * eg + e_mat <= rho); /* NaN: traced */
   if (traced && cert && lc->measured && eg + e_mat <= rho) /* the bound at the samples */
-    traced = !(pt__bilinear_bound_at_samples(C, lc, &p, n) + e_mat <= rho);
+    traced = !(pt__bilinear_bound_at_samples(C, lc, &p, &cn) + e_mat <= rho);
   /* or biquadratic over a measured quarter (textured nodes: leaves only, whose square is then
    * found per sample); certified: the parent's biquadratic itself, over this quarter, where its
    * deviation from the quarter's five new points - its measured error - is within the margin */
   int q2 =
       traced && lc->measured && lc->pg && (!n->textured || n->child[0] < 0) &&
-      (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(lc, n, k) + e_mat <= rho;
+      (cert ? PT_BIQUAD_CERT : PT_BIQUAD_FACTOR) * pt__biquad_deviation(lc, &cn, k) + e_mat <= rho;
   if (q2) {
     traced = 0;
     C->lattice.plan.biquadratic[k] = 1;

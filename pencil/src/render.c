@@ -77,6 +77,9 @@ static void stats_add(pt_stats_t *a, const pt_stats_t *b) {
   a->max_error_t = fmax(a->max_error_t, b->max_error_t);
   a->max_error_strict = fmax(a->max_error_strict, b->max_error_strict);
   a->within_strict += b->within_strict;
+  a->max_error_axial = fmax(a->max_error_axial, b->max_error_axial);
+  a->within_axial += b->within_axial;
+  a->local_unknown += b->local_unknown;
   for (int k = 0; k < PT_HIST_BINS; k++)
     a->hist[k] += b->hist[k];
 }

@@ -99,7 +99,7 @@ void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
             have_centre = 1;
           }
           if (C->opt->measure) {
-            const double zero[3] = {0.0, 0.0, 0.0};
+            const double zero[PT_MEASURE_ERRORS] = {0.0, 0.0, 0.0, 0.0};
             pt__account(C, zero, 0, pt__error_slot(C, i, j, a, b));
           }
         }
@@ -113,11 +113,12 @@ void pt__exact_domain(pt_ctx_t *C, int x0, int y0, int x1, int y1) {
 /* Per-sample bookkeeping of the Fig. 10 measurement; returns the pixel's running maximum. */
 double pt__measure_sample(pt_ctx_t *C, const rt_ray_t *ray, const pt_geom_t *rec, int i, int j,
                           int a, int b, double pmax) {
-  double e[3];
-  int points = pt__measure(C, ray, rec, e);
+  int s = C->opt->spp_side;
+  double e[PT_MEASURE_ERRORS];
+  int points = pt__measure(C, ray, i + (a + 0.5) / s, j + (b + 0.5) / s, rec, e);
   pt__account(C, e, points, pt__error_slot(C, i, j, a, b));
-  if (points && (isnan(pmax) || e[0] > pmax))
-    pmax = e[0];
+  if (points && (isnan(pmax) || e[PT_E_PIXELS] > pmax))
+    pmax = e[PT_E_PIXELS];
   return pmax;
 }
 
@@ -179,7 +180,7 @@ void pt__matrix_sample(pt_ctx_t *C, pixel_t *P, int a, int b) {
     P->sum = rt_rgb_add(P->sum, xr_exact_primary(&C->ex, &E.primary));
     P->n[PT_METHOD_EXACT]++;
     if (C->opt->measure) {
-      const double zero[3] = {0.0, 0.0, 0.0};
+      const double zero[PT_MEASURE_ERRORS] = {0.0, 0.0, 0.0, 0.0};
       pt__account(C, zero, 0, pt__error_slot(C, P->i, P->j, a, b));
     }
     return;

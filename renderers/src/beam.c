@@ -185,6 +185,8 @@ static void errors(const void *stats, rn_errors_t *e) {
   e->within_t = st->within_t;
   e->max_error_t = st->fig10_max_t;
   e->within_strict = st->within_strict;
+  e->within_axial = st->within; /* one footprint: the beam's own (beam/src/render.c) */
+  e->max_error_axial = st->fig10_max;
   e->max_error_strict = st->fig10_max_strict;
   memcpy(e->hist, st->hist, sizeof e->hist);
   e->samples_exact = st->samples_exact;

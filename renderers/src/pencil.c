@@ -214,13 +214,15 @@ static void report(FILE *f, const rn_report_t *r) {
   if (r->common->measure)
     fprintf(f,
             "Fig. 10 error: %llu samples (%llu with measured points), %.4f%% within rho = %g, max "
-            "%.4g (transmission path: %.4f%% within, max %.4g; strict: %.4f%% within, max %.4g), "
-            "%llu path mismatches\n",
+            "%.4g (transmission path: %.4f%% within, max %.4g; strict: %.4f%% within, max %.4g; "
+            "axial footprint alone: %.4f%% within, max %.4g), %llu path mismatches, %llu points "
+            "without a local footprint\n",
             (unsigned long long)st->measured, (unsigned long long)st->with_points,
             100.0 * st->within / st->measured, o->rho, st->max_error,
             100.0 * st->within_t / st->measured, st->max_error_t,
             100.0 * st->within_strict / st->measured, st->max_error_strict,
-            (unsigned long long)st->mismatches);
+            100.0 * st->within_axial / st->measured, st->max_error_axial,
+            (unsigned long long)st->mismatches, (unsigned long long)st->local_unknown);
 }
 
 static void errors(const void *stats, rn_errors_t *e) {
@@ -233,6 +235,9 @@ static void errors(const void *stats, rn_errors_t *e) {
   e->within_t = st->within_t;
   e->max_error_t = st->max_error_t;
   e->within_strict = st->within_strict;
+  e->within_axial = st->within_axial;
+  e->max_error_axial = st->max_error_axial;
+  e->local_unknown = st->local_unknown;
   e->max_error_strict = st->max_error_strict;
   memcpy(e->hist, st->hist, sizeof e->hist);
   e->samples_exact = st->samples[PT_METHOD_EXACT];

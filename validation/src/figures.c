@@ -290,6 +290,10 @@ static json_t *json_errors(const val_errors_t *e, int spp) {
   json_object_set_new(j, "max_error_strict", io_json_number(e->max_error_strict));
   json_object_set_new(j, "fraction_within_transmission", io_json_number(e->fraction_within_t));
   json_object_set_new(j, "max_error_transmission", io_json_number(e->max_error_t));
+  json_object_set_new(j, "fraction_within_axial", io_json_number(e->fraction_within_axial));
+  json_object_set_new(j, "max_error_axial", io_json_number(e->max_error_axial));
+  json_object_set_new(j, "points_without_local_footprint",
+                      json_integer((json_int_t)e->counts.local_unknown));
   json_object_set_new(j, "image_rms", io_json_number(e->image_rms));
   json_object_set_new(j, "image_max", io_json_number(e->image_max));
   json_object_set_new(j, "image_bias", io_json_number(e->image_bias));
@@ -534,6 +538,8 @@ static int print_table(const val_figures_opts_t *o, const results_t *r) {
           r->fig10.p99);
   fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "  strict (|e| / smallest interval): within",
           "-", 100.0 * r->fig10.fraction_within_strict);
+  fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "  axial footprint alone: within", "-",
+          100.0 * r->fig10.fraction_within_axial);
   fprintf(f, "%-8s %-46s %12s %11.4f%%\n", "Fig. 10", "samples with a measured point", "-",
           100.0 * (double)r->fig10.samples_with_points / (double)r->fig10.samples);
   fprintf(f, "%-8s %-46s %12s %12.4f\n", "Fig. 8", "image against exact: RMS difference", "-",

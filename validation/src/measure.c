@@ -155,6 +155,8 @@ static void compare(const rt_scene_t *s, const float *err, size_t n, const rt_im
   out->max_error_strict = e->max_error_strict;
   out->fraction_within_t = (double)e->within_t / (double)e->measured;
   out->max_error_t = e->max_error_t;
+  out->fraction_within_axial = (double)e->within_axial / (double)e->measured;
+  out->max_error_axial = e->max_error_axial;
   float *sorted = malloc(n * sizeof *sorted);
   if (sorted) {
     memcpy(sorted, err, n * sizeof *sorted);

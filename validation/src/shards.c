@@ -141,12 +141,12 @@ static int timing_in(json_t *j, val_timing_t *t) {
 // clang-format off
 #define ERR_DOUBLES(X) \
   X(rho) X(fraction_within) X(p99) X(max_error) X(fraction_within_strict) X(max_error_strict) \
-  X(fraction_within_t) X(max_error_t) X(image_rms) X(image_max) X(image_bias)
+  X(fraction_within_t) X(max_error_t) X(fraction_within_axial) X(max_error_axial) X(image_rms) X(image_max) X(image_bias)
 #define ERR_COUNTS(X) X(samples) X(samples_with_points) X(mismatches)
-#define CNT_DOUBLES(X) X(max_error) X(max_error_t) X(max_error_strict)
+#define CNT_DOUBLES(X) X(max_error) X(max_error_t) X(max_error_strict) X(max_error_axial)
 #define CNT_COUNTS(X) \
   X(measured) X(with_points) X(within) X(mismatches) X(within_t) X(within_strict) \
-  X(samples_exact) X(samples_matrix) X(samples_interpolated)
+  X(within_axial) X(local_unknown) X(samples_exact) X(samples_matrix) X(samples_interpolated)
 // clang-format on
 
 static json_t *errors_json(const val_errors_t *e) {

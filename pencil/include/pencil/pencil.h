@@ -197,6 +197,11 @@ typedef struct {
   double max_error_strict; /**< largest finite error measured as |e| / sigma_min (the smallest
                                 pixel interval over all screen directions) instead of |J+ e| */
   uint64_t within_strict;  /**< samples within rho by that measure */
+  double max_error_axial;  /**< largest finite error in the axial footprint's pixel intervals
+                                alone (the measure before the local footprint: measure.c) */
+  uint64_t within_axial;   /**< samples within rho by that measure */
+  uint64_t local_unknown;  /**< measured points without a local footprint (both sides of a
+                                screen direction left the path): their axial error stands */
   uint64_t hist[PT_HIST_BINS];
   rt_stats_t rays; /**< rays traced by the exact tracer (axial, corner, edge, fallback,
                         measurement) and shadow rays, as the reference renderer counts */

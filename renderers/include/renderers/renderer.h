@@ -137,6 +137,11 @@ typedef struct {
   double max_error_t;          /**< largest error on that path */
   uint64_t within_strict;      /**< samples within rho measured as |e| / smallest pixel interval */
   double max_error_strict;     /**< largest error by that measure */
+  uint64_t within_axial;       /**< samples within rho in the axial footprint's pixel intervals
+                                    alone (pencil: the measure before the local footprint; beam:
+                                    the same as within) */
+  double max_error_axial;      /**< largest error by that measure */
+  uint64_t local_unknown;      /**< measured points without a local footprint */
   uint64_t hist[RN_HIST_BINS]; /**< error histogram (RN_HIST_STEP bins) */
   uint64_t samples_exact;      /**< samples traced exactly */
   uint64_t samples_matrix;     /**< samples traced by system matrices */

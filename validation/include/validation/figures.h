@@ -80,6 +80,8 @@ typedef struct {
   uint64_t mismatches;          /**< samples whose exact tree lacks a path the pencil used */
   double fraction_within_strict, max_error_strict; /**< |e| / sigma_min instead */
   double fraction_within_t, max_error_t;           /**< transmission-first path only */
+  double fraction_within_axial, max_error_axial;   /**< in the axial footprint's pixel intervals
+                                                        alone (before the local footprint) */
   double image_rms;      /**< RMS of the RGB difference from the exact image */
   double image_max;      /**< largest per-pixel |RGB difference| */
   double image_bias;     /**< largest |mean RGB difference| over the pixels whose centre ray (in the
