@@ -183,10 +183,6 @@ static inline const lattice_point_t (*grid_of(const lattice_cell_t *lc))[3] {
   return lc->measured ? (const lattice_point_t(*)[3])lc->g : lc->pg;
 }
 
-static inline double norm_pixels(const void *node, px_vec3_t e) {
-  return pt_pixels(node, e);
-}
-
 /* A node's hit error over a lattice cell in pixel intervals, as Fig. 10's measure counts it
  * (measure.c): the larger of its pixel count in the domain's axial footprint (pt_pixels) and |e|
  * over the largest extent of one pixel on the surface in the lattice cell's own footprint. The

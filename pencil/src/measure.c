@@ -160,7 +160,8 @@ static void point_errors(pt_ctx_t *C, const rt_tree_t *X, int x, const pt_node_t
   if (!n)
     return;
   px_vec3_t v = px_v3_sub(p, X->node[x].point);
-  double ax = pt_pixels(n, v) / n->tol_scale, loc = local_pixels(C, X, x, v, S);
+  int same = v.x == 0.0 && v.y == 0.0 && v.z == 0.0; /* a point traced exactly: no side rays */
+  double ax = pt_pixels(n, v) / n->tol_scale, loc = same ? 0.0 : local_pixels(C, X, x, v, S);
   if (loc < 0.0)
     C->st.local_unknown++;
   d[PT_E_AXIAL] = ax;
