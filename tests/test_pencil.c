@@ -14,6 +14,7 @@
 #include "core/camera.h"
 #include "exact/trace.h"
 #include "internal.h"
+#include "interp.h"
 #include "io/scene_json.h"
 #include "pencil/edge.h"
 #include "pencil/path.h"
@@ -1959,6 +1960,48 @@ static void floor_through_a_lens_near_its_horizon(void **state) {
   rt_scene_free(&s);
 }
 
+/* pt__cell_scale() on an affine footprint (a pixel step along x moves a hit by a, along y by b):
+ * every edge per pixel is a or b and nothing changes across a quarter, so the lattice cell's pixel
+ * is exactly max(|a|, |b|), for a measured lattice cell (its own grid, steps of half its size) and
+ * an estimated one (a quarter of its parent's grid, steps of its whole size), in cells wider than
+ * high (steps taken along the wrong axis would give 0.3 instead of 0.2); where the footprint
+ * changes across a quarter the pixel is divided by the change; a grid whose points coincide has
+ * no pixel (every error infinite). */
+static void lattice_cell_pixel(void **state) {
+  (void)state;
+  const px_vec3_t o = {1.0, 0.0, 2.0}, a = {0.09, 0.0, 0.12}, b = {0.0, 0.0, -0.2};
+  lattice_cell_t lc;
+  memset(&lc, 0, sizeof lc);
+  grid3_t p;
+  for (int kind = 0; kind < 2; kind++) {
+    lc.measured = kind == 0;
+    lc.w = 4.0;
+    lc.h = 2.0;
+    lc.qx = 1;
+    lc.qy = 0;
+    double sx = lc.measured ? 0.5 * lc.w : lc.w, sy = lc.measured ? 0.5 * lc.h : lc.h;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        p.v[r][c] = px_v3_axpy(c * sx, a, px_v3_axpy(r * sy, b, o));
+    double inv_s = pt__cell_scale(&lc, &p);
+    print_message("%s lattice cell: 1 / pixel %.15g, expected %.15g\n",
+                  lc.measured ? "measured" : "estimated", inv_s, 1.0 / px_v3_norm(b));
+    assert_true(fabs(inv_s * px_v3_norm(b) - 1.0) <= 1e-12);
+    /* the y steps grow by half from one grid column to the next: a quarter's right edge is 1.5
+     * times its left one, and the pixel is the shorter edge's over that ratio or less */
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        p.v[r][c] = px_v3_axpy(c * sx, a, px_v3_axpy(r * sy * (1.0 + 0.5 * c), b, o));
+    double c0 = lc.measured ? 0.0 : lc.qx, shorter = 1.0 + 0.5 * c0,
+           ratio = (shorter + 0.5) / shorter;
+    assert_true(pt__cell_scale(&lc, &p) * px_v3_norm(b) * shorter >= ratio - 1e-12);
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        p.v[r][c] = o;
+    assert_true(isinf(pt__cell_scale(&lc, &p)));
+  }
+}
+
 /* Thin things seen directly, which the bounding spheres do not tell of: a domain's corner rays all
  * meet one face, and the guard of what primary rays see (pt_guard_view()) finds what lies in
  * front of it in the domain's pyramid though no corner ray met it. At 96 x 96, 9 spp:
@@ -2323,6 +2366,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(fresnel_weight_near_the_critical_angle),
       cmocka_unit_test(index_matched_fresnel_surface_measured),
       cmocka_unit_test(floor_through_a_lens_near_its_horizon),
+      cmocka_unit_test(lattice_cell_pixel),
       cmocka_unit_test(thin_objects_seen),
       cmocka_unit_test(thin_objects_keep_their_shadows),
       cmocka_unit_test(gaps_between_shadows_kept),
