@@ -1817,11 +1817,16 @@ static void measured_all_within(const rt_scene_t *s) {
 
 /* tests/data/pencil_star_tir.json, a glass star prism over a white floor at 192 x 192, 1 spp
  * (not prepared). */
-static void load_star(rt_scene_t *s) {
+/* Scene tests/data/NAME into s. */
+static void load_data_scene(const char *name, rt_scene_t *s) {
   char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/tests/data/pencil_star_tir.json", PENCIL_SOURCE_DIR);
+  snprintf(path, sizeof path, "%s/tests/data/%s", PENCIL_SOURCE_DIR, name);
   rt_scene_init(s);
   assert_int_equal(io_scene_load(path, s, err, sizeof err), 0);
+}
+
+static void load_star(rt_scene_t *s) {
+  load_data_scene("pencil_star_tir.json", s);
 }
 
 /* A total internal reflection inside a lattice cell (tests/data/pencil_star_tir.json, a glass star
@@ -1935,10 +1940,7 @@ static void index_matched_fresnel_surface_measured(void **state) {
 static void floor_through_a_lens_near_its_horizon(void **state) {
   (void)state;
   rt_scene_t s;
-  char path[1024], err[512];
-  snprintf(path, sizeof path, "%s/tests/data/pencil_ball_horizon.json", PENCIL_SOURCE_DIR);
-  rt_scene_init(&s);
-  assert_int_equal(io_scene_load(path, &s, err, sizeof err), 0);
+  load_data_scene("pencil_ball_horizon.json", &s);
   assert_int_equal(rt_scene_prepare(&s), RT_OK);
   pt_options_t o = PT_OPTIONS_DEFAULT;
   o.measure = 1;

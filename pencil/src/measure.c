@@ -126,12 +126,12 @@ static void trace_sides(pt_ctx_t *C, const rt_tree_t *X, sides_t *S) {
  * largest extent on the surface, which is finite there and, where the footprint is round,
  * the same as |J+ v|. */
 static double local_pixels(pt_ctx_t *C, const rt_tree_t *X, int x, px_vec3_t v, sides_t *S) {
+  const pt_trees_t *T = &C->trees;
+  if (x >= T->side.cap) /* deeper than the side trees hold: no side rays for it */
+    return -1.0;
   if (!S->traced)
     trace_sides(C, X, S);
-  const pt_trees_t *T = &C->trees;
   size_t stride = (size_t)T->side.cap;
-  if (x >= T->side.cap)
-    return -1.0;
   px_vec3_t c = X->node[x].point, j[2];
   for (int a = 0; a < 2; a++) {
     size_t ip = (size_t)(2 * a) * stride + (size_t)x, im = ip + stride;
