@@ -15,6 +15,7 @@
 #include "pencil/pencil.h"
 #include "render/render.h"
 #include "renderers/renderer.h"
+#include "shade_impl.h"
 #include "wpencil_math.h"
 
 static px_vec3_t perp(px_vec3_t a, px_vec3_t v) { /* v without its component along unit a */
@@ -678,6 +679,62 @@ static void spectral_lattice_not_under_lights(void **state) {
   rt_scene_free(&s);
 }
 
+/* The band between a pencil's rays skips the other faces of a convex polyhedron when its corners
+ * lie on the outer side of the face the rays leave or reach (rt__wp_beside_face()): a faceted
+ * sphere's face with corners above it, on it and far to the side, but not with one corner below;
+ * never for a non-convex polyhedron, an L whose inner corner a band from one arm's face to above
+ * the other arm crosses (its faces are then tested as before); never for a sphere or no face. */
+static void band_skips_a_convex_body_only(void **state) {
+  (void)state;
+  static const char json[] =
+      "{\"camera\": {\"eye\": [0, 2, -12], \"look_at\": [0, 1, 0], \"fov\": 40, \"width\": 8,"
+      " \"height\": 8}, \"settings\": {\"max_depth\": 4, \"spp\": 1},"
+      " \"materials\": {\"g\": {\"kt\": 0.9, \"ior\": 1.5}},"
+      " \"objects\": ["
+      "  {\"type\": \"faceted_sphere\", \"name\": \"gem\", \"center\": [-5, 1, 0], \"radius\": 1,"
+      "   \"stacks\": 6, \"slices\": 8, \"material\": \"g\"},"
+      "  {\"type\": \"polyhedron\", \"name\": \"ell\", \"material\": \"g\", \"vertices\":"
+      "   [[0,0,0],[2,0,0],[2,1,0],[1,1,0],[1,2,0],[0,2,0],"
+      "    [0,0,1],[2,0,1],[2,1,1],[1,1,1],[1,2,1],[0,2,1]],"
+      "   \"faces\": [[6,7,8,9,10,11],[5,4,3,2,1,0],[0,1,7,6],[1,2,8,7],[2,3,9,8],[3,4,10,9],"
+      "    [4,5,11,10],[5,0,6,11]]},"
+      "  {\"type\": \"sphere\", \"name\": \"ball\", \"center\": [5, 1, 0], \"radius\": 1,"
+      "   \"material\": \"g\"}]}";
+  rt_scene_t s;
+  rt_scene_init(&s);
+  char err[512];
+  assert_int_equal(io_scene_load_buffer("band.json", json, sizeof json - 1, &s, err, sizeof err),
+                   0);
+  assert_int_equal(rt_scene_prepare(&s), RT_OK);
+  const rt_object_t *gem = &s.object[0], *ell = &s.object[1], *ball = &s.object[2];
+  assert_true(gem->alone && !ell->alone && ball->alone);
+  /* a face of the gem: its centroid, outward normal and a direction along it */
+  int q = gem->first_prim + gem->nprim / 2;
+  const rt_polygon_t *pg = &s.prim[q].polygon;
+  px_vec3_t c = {0, 0, 0};
+  for (int i = 0; i < pg->count; i++)
+    c = px_v3_axpy(1.0 / pg->count, s.vertex[pg->first + i], c);
+  px_vec3_t n = pg->n, t = px_v3_sub(s.vertex[pg->first], c);
+  assert_true(px_v3_dot(n, px_v3_sub(c, (px_vec3_t){-5, 1, 0})) > 0.0); /* outward */
+  px_vec3_t up[4] = {c, px_v3_axpy(0.5, n, c), px_v3_axpy(3.0, t, px_v3_axpy(0.2, n, c)),
+                     px_v3_axpy(2.0, n, px_v3_axpy(-3.0, t, c))};
+  assert_int_equal(rt__wp_beside_face(&s, q, up, 4), 0);
+  up[3] = px_v3_axpy(-0.01, n, c); /* a corner below the face's plane */
+  assert_int_equal(rt__wp_beside_face(&s, q, up, 4), -1);
+  /* the L: a band from the face y = 1 of its lower arm (x in 1..2) to above it, past its
+   * upper arm's face x = 1 */
+  int face_y1 = -1;
+  for (int k = ell->first_prim; k < ell->first_prim + ell->nprim; k++)
+    if (fabs(s.prim[k].polygon.n.y - 1.0) < 1e-12 && fabs(s.prim[k].polygon.d - 1.0) < 1e-12)
+      face_y1 = k;
+  assert_true(face_y1 >= 0);
+  px_vec3_t band[4] = {{1.5, 1, 0.5}, {1.6, 1, 0.5}, {0.5, 1.5, 0.5}, {0.6, 1.5, 0.5}};
+  assert_int_equal(rt__wp_beside_face(&s, face_y1, band, 4), -1);
+  assert_int_equal(rt__wp_beside_face(&s, ball->first_prim, up, 3), -1);
+  assert_int_equal(rt__wp_beside_face(&s, -1, up, 3), -1);
+  rt_scene_free(&s);
+}
+
 int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(column_matches_differences),
@@ -694,6 +751,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(plan_for_spectral_pencils),
       cmocka_unit_test(shape_only_traces_no_spectral_pencil),
       cmocka_unit_test(alone_object_skips_searches),
+      cmocka_unit_test(band_skips_a_convex_body_only),
   };
   if (argc > 1)
     cmocka_set_test_filter(argv[1]);

@@ -27,6 +27,11 @@ rt_rgb_t rt__wp_refract(const rt_scene_t *s, const rt_plan_t *plan, const rt_sur
                         const rt_ray_t *ray, int depth, const rt_tracer_t *tr, rt_rgb_t *wr,
                         int *all_tir, rt_spectral_rec_t *rec);
 
+/** The object of face q when q is a face of a convex polyhedron (rt_object_t.alone) and the n
+ *  points v lie on the outer side of its plane (touching at most), else -1: no other face of
+ *  that object can meet a triangle of those points (wpencil.c's band between a pencil's rays). */
+int rt__wp_beside_face(const rt_scene_t *s, int q, const px_vec3_t *v, int n);
+
 /** The refracted ray of rt__shade_refract() alone (0 under total internal reflection). */
 int rt__refract_ray(const rt_scene_t *s, const rt_surface_t *sf, const rt_ray_t *ray,
                     rt_ray_t *out);

@@ -487,13 +487,43 @@ static int triangle_meets(const rt_scene_t *s, int q, const px_vec3_t v[3]) {
 typedef struct {
   const rt_scene_t *s;
   px_vec3_t tri[6]; /* the band's two triangles */
-  int skip0, skip1;
+  int skip[2];      /* the hit's primitive and the one the rays leave */
+  /* per skip[i]: its object when none of that object's faces can meet the band
+   * (rt__wp_beside_face()), -1 when they can, -2 until a face of it is met in the BVH */
+  int skip_obj[2];
 } wedge_t;
 
 static int wedge_meets(void *ctx, int q) {
-  const wedge_t *w = ctx;
-  return q != w->skip0 && q != w->skip1 &&
-         (triangle_meets(w->s, q, w->tri) || triangle_meets(w->s, q, w->tri + 3));
+  wedge_t *w = ctx;
+  if (q == w->skip[0] || q == w->skip[1])
+    return 0;
+  for (int i = 0; i < 2; i++)
+    if (w->skip[i] >= 0 && w->s->prim[q].object == w->s->prim[w->skip[i]].object) {
+      if (w->skip_obj[i] == -2) {
+        const px_vec3_t corner[4] = {w->tri[0], w->tri[1], w->tri[2], w->tri[5]};
+        w->skip_obj[i] = rt__wp_beside_face(w->s, w->skip[i], corner, 4);
+      }
+      if (w->skip_obj[i] >= 0)
+        return 0;
+    }
+  return triangle_meets(w->s, q, w->tri) || triangle_meets(w->s, q, w->tri + 3);
+}
+
+/* shade_impl.h. The band's triangles are the convex hull of the points, so they lie in that
+ * closed half-space, where the convex body has nothing but face q itself: no other face of it can
+ * come between the band's rays (a pencil leaving a face outward, or reaching one from outside).
+ * rt_polyhedron_convex() makes the faces' normals point outward. */
+int rt__wp_beside_face(const rt_scene_t *s, int q, const px_vec3_t *v, int n) {
+  if (q < 0 || s->prim[q].kind != RT_PRIM_POLYGON || !s->object[s->prim[q].object].alone)
+    return -1;
+  const rt_polygon_t *pg = &s->prim[q].polygon;
+  for (int i = 0; i < n; i++) {
+    double d = px_v3_dot(pg->n, v[i]) - pg->d;
+    double eps = 1e-9 * (1.0 + fabs(px_v3_dot(pg->n, v[i])) + fabs(pg->d));
+    if (d < -eps)
+      return -1;
+  }
+  return s->prim[q].object;
 }
 
 /* A primitive other than the hit's and the one the rays leave that lies between the axial ray
@@ -525,8 +555,8 @@ static int wedge_blocker(const wp_run_t *R, const wp_hit_t *H, px_vec3_t o, px_v
   }
   wedge_t q = {s,
                {tri[0][0], tri[0][1], tri[0][2], tri[1][0], tri[1][1], tri[1][2]},
-               skip0,
-               skip1}; /* the planes' test in triangle_meets() rejects most */
+               {skip0, skip1},
+               {-2, -2}}; /* the planes' test in triangle_meets() rejects most */
   return rt_bvh_box_query(s->bvh, lo, hi, wedge_meets, &q);
 }
 
