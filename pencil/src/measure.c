@@ -26,13 +26,14 @@
  * all directions (of the axial footprint) instead. The sample's error is the largest over its
  * measured points; a measured point of either tree without a counterpart in the other (the
  * pencil missed an edge) is an infinite error. A subtree the pencil traced exactly per sample
- * starts at the pencil's hit of the node it hangs from, which may be interpolated: its points
- * (recorded in C->sub.tree) are compared in the same way, in the pixel intervals of the domain's
- * node on the same path and of the exact point's own (a subtree off the domain's paths has none:
- * there only its surfaces are compared). Samples traced exactly from the eye have no error. With
- * the image-space tolerance (pencil.h, pt_tolerance_t) a point's error is divided by its node's
- * tol_scale, so that "within rho" means within the node's own tolerance; the geometric
- * tolerance's scale is 1. */
+ * starts at the sample's own exact hit of the node it hangs from (pt_eval_t.exact_spawn; it once
+ * started at the interpolated one): its points (recorded in C->sub.tree) are compared in the same
+ * way, a check of that, in the pixel intervals of the domain's node on the same path and of the
+ * exact point's own (a subtree off the domain's paths has none: there only its surfaces are
+ * compared; its points were all found exact, docs/journal/2026-12-06-convex-band.md). Samples
+ * traced exactly from the eye have no error. With the image-space tolerance (pencil.h,
+ * pt_tolerance_t) a point's error is divided by its node's tol_scale, so that "within rho" means
+ * within the node's own tolerance; the geometric tolerance's scale is 1. */
 #include <math.h>
 
 #include "internal.h"
