@@ -259,13 +259,17 @@ void cli_progress(void *label, int done, int total) {
 int cli_load_scene(const char *cmd, const char *path, long width, long height, rt_scene_t *s) {
   char err[1024];
   rt_scene_init(s);
-  if (path && io_scene_load(path, s, err, sizeof err) != 0)
-    return fprintf(stderr, "pencil %s: %s\n", cmd, err), 0;
-  if (!path && rt_builtin_fig8(s) != RT_OK)
-    return fprintf(stderr, "pencil %s: cannot build the built-in Fig. 8 scene\n", cmd), 0;
+  int rc = path ? io_scene_load(path, s, err, sizeof err) : 0;
+  if (rc != 0) /* -2: out of memory, the work failed; else the input was wrong */
+    return fprintf(stderr, "pencil %s: %s\n", cmd, err), rc == -2 ? CLI_FAIL : CLI_USAGE;
+  rt_status_t st = path ? RT_OK : rt_builtin_fig8(s);
+  if (st != RT_OK)
+    return fprintf(stderr, "pencil %s: cannot build the built-in Fig. 8 scene: %s\n", cmd,
+                   rt_strerror(st)),
+           CLI_FAIL;
   if (width > 0) {
     s->camera.width = (int)width;
     s->camera.height = (int)height;
   }
-  return 1;
+  return CLI_OK;
 }

@@ -59,8 +59,9 @@ cli_arg_t *cli_args(const char *cmd, int argc, char **argv, const cli_spec_t *sp
 int cli_is_help(const char *arg);
 
 /** Load SCENE.json (path) or, when path is NULL, the built-in Fig. 8 scene into s, and override
- *  its image size when width > 0. On failure prints "pencil CMD: why" on stderr (the file and
- *  line for a bad scene) and returns 0. */
+ *  its image size when width > 0. Returns CLI_OK; on failure prints "pencil CMD: why" on stderr
+ *  (the file and line for a bad scene) and returns CLI_USAGE for a bad scene, CLI_FAIL when
+ *  memory ran out. */
 int cli_load_scene(const char *cmd, const char *path, long width, long height, rt_scene_t *s);
 /** A progress bar on stderr for long work: "\rLABEL [####    ]  42%", a newline when done.
  *  The signature is the renderers' and drivers' progress callback, with ctx = the label (a

@@ -229,9 +229,7 @@ static int parse(int argc, char **argv, args_t *a) {
 }
 
 static int load(const args_t *a, rt_scene_t *s) {
-  if (!cli_load_scene("bench pencil", a->scene, a->width, a->height, s))
-    return 0;
-  return 1;
+  return cli_load_scene("bench pencil", a->scene, a->width, a->height, s);
 }
 
 static uint64_t over_rho(const row_t *r) {
@@ -505,9 +503,10 @@ static void peer_export(peer_t *p, const rt_scene_t *s, const args_t *a, int spp
 
 static int run(const args_t *a) {
   rt_scene_t s;
-  if (!load(a, &s)) {
+  int loaded = load(a, &s);
+  if (loaded != CLI_OK) {
     rt_scene_free(&s);
-    return CLI_USAGE;
+    return loaded;
   }
   /* check the JSON path first, so that an unwritable path fails before minutes of rendering */
   char err[1024];

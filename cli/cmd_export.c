@@ -109,9 +109,10 @@ static int export_pov(int argc, char **argv) {
     return CLI_USAGE;
   }
   rt_scene_t s;
-  if (!cli_load_scene("export pov", a.scene, a.width, a.height, &s)) {
+  rc = cli_load_scene("export pov", a.scene, a.width, a.height, &s);
+  if (rc != CLI_OK) {
     rt_scene_free(&s);
-    return CLI_USAGE;
+    return rc;
   }
   io_pov_options_t o = IO_POV_OPTIONS_DEFAULT;
   o.flat = a.flat;

@@ -310,8 +310,9 @@ int cmd_illuminance(int argc, char **argv) {
     return CLI_USAGE;
   }
   rt_scene_t s;
-  if (!cli_load_scene("illuminance", a.scene, 0, 0, &s))
-    return CLI_USAGE;
+  rc = cli_load_scene("illuminance", a.scene, 0, 0, &s);
+  if (rc != CLI_OK)
+    return rc;
   int objs[LT_MAX_RECEIVERS];
   lt_receiver_t rcv;
   rc = CLI_USAGE;

@@ -561,7 +561,9 @@ int cmd_render(int argc, char **argv) {
     return CLI_USAGE; /* an input error, found before rendering */
   }
   rt_scene_t s;
-  int rc = cli_load_scene("render", a.scene, a.width, a.height, &s) ? render(&a, &s) : CLI_USAGE;
+  int rc = cli_load_scene("render", a.scene, a.width, a.height, &s);
+  if (rc == CLI_OK)
+    rc = render(&a, &s);
   rt_scene_free(&s);
   free(a.opt);
   return rc;

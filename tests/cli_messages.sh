@@ -2,7 +2,8 @@
 # Messages of the pencil command (docs/journal/2026-12-06-cli-mends.md): the benchmarks listed
 # from one table; every error names its command ("pencil CMD: ...", never a plain "pencil: "
 # once a command is known); numbers echoed as they read back (not %g: 89.9999999999 is not 90);
-# a UTF-8 byte order mark at the start of a scene skipped.
+# a UTF-8 byte order mark at the start of a scene skipped; out of memory while loading a scene
+# exits 1 and says so.
 source "$(dirname "${BASH_SOURCE[0]}")/cli_lib.sh"
 pencil=$(realpath "$1")
 src=$(cd "$(dirname "$0")/.." && pwd)
@@ -69,5 +70,25 @@ check "a scene starting with a UTF-8 BOM renders (once 'invalid JSON')" "[ $rc -
 printf '\xef\xbb\xbf{\n "camera": 3}\n' >"$tmp/bom2.json"
 $pencil render "$tmp/bom2.json" -o "$tmp/bom.exr" >/dev/null 2>"$tmp/err"; rc=$?
 check "... and its errors keep the file's lines" "[ $rc -eq 2 ] && grep -q 'bom2.json:2: camera: expected an object' '$tmp/err'"
+
+# --- out of memory while loading a scene is a failure of the work (1), not of the input (2), and
+# says so (once: exit 2 and "cannot build the faceted sphere"): three faceted spheres of 512 x 512
+# facets need some 300 MB, the address space is limited to 200 MB
+big='{"camera": {"eye": [0, 2, -10], "look_at": [0, 1, 0], "fov": 40, "width": 8, "height": 8},
+ "materials": {"m": {"kd": 0.8}}, "objects": ['
+for i in 0 1 2; do
+  big="$big$([ $i -gt 0 ] && echo ,){\"type\": \"faceted_sphere\", \"center\": [$((3 * i)), 1, 0], \"radius\": 1, \"stacks\": 512, \"slices\": 512, \"material\": \"m\"}"
+done
+printf '%s]}\n' "$big" >"$tmp/big.json"
+mkdir -p "$tmp/bigdir" && cp "$tmp/big.json" "$tmp/bigdir/fig14.json"
+(ulimit -v 200000; $pencil render "$tmp/big.json" -o "$tmp/big.exr" --threads 1) >/dev/null 2>"$tmp/err"; rc=$?
+check "render: out of memory loading a scene exits 1 naming the file and 'out of memory'" \
+  "[ $rc -eq 1 ] && grep -q 'big.json:[0-9]*: objects\[[0-9]\]: out of memory' '$tmp/err' && [ ! -e '$tmp/big.exr' ]"
+$pencil render "$tmp/big.json" -o "$tmp/big.exr" --threads 1 --method exact >/dev/null 2>&1; rc=$?
+check "... and the same scene renders with the memory it needs" "[ $rc -eq 0 ] && [ -s '$tmp/big.exr' ]"
+(ulimit -v 200000; $pencil bench dispersion --quick --threads 1 --runs 1 --scenes "$tmp/bigdir") \
+  >/dev/null 2>"$tmp/err"; rc=$?
+check "bench dispersion: out of memory loading its scene exits 1 (once 2)" \
+  "[ $rc -eq 1 ] && grep -q 'out of memory' '$tmp/err'"
 
 finish cli_messages

@@ -39,6 +39,12 @@ static void format_path(const io_parse_t *P, char *out, size_t cap) {
   }
 }
 
+int io_enomem(io_parse_t *P) {
+  if (!P->failed)
+    P->oom = 1;
+  return io_fail(P, "out of memory");
+}
+
 int io_fail(io_parse_t *P, const char *fmt, ...) {
   if (P->failed)
     return 0;

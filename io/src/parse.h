@@ -19,6 +19,7 @@ typedef struct {
   char *err; /**< message buffer (caller-owned) */
   size_t cap;
   int failed; /**< 1 after the first error; later errors are not reported */
+  int oom;    /**< that error was running out of memory (io_enomem()) */
   io_json_step_t step[IO_PATH_MAX];
   int depth;
   rt_scene_t *scene;
@@ -30,6 +31,9 @@ void io_pop(io_parse_t *P);
 
 /** Report an error at the current path (first error only); returns 0 for `return io_fail()`. */
 int io_fail(io_parse_t *P, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/** io_fail() with "out of memory", marking the error as that (io_parse_t.oom); returns 0. */
+int io_enomem(io_parse_t *P);
 
 /** 1 when every key of object `o` is in the NULL-terminated list `allowed` ("comment" is always
  *  allowed); otherwise reports the first unknown key. */

@@ -190,8 +190,9 @@ static int parse_material(io_parse_t *P, const char *name, json_t *o) {
            io_get_number(P, o, "kt", 0, m.kt, 0, 1, 0, &m.kt) && parse_ior(P, o, &m) &&
            io_get_bool(P, o, "fresnel", 0, &m.fresnel) &&
            io_get_rgb(P, o, "transmittance", m.transmittance, &m.transmittance);
-  if (ok && rt_scene_add_material(P->scene, &m, NULL) != RT_OK)
-    return io_fail(P, "out of memory");
+  rt_status_t st = ok ? rt_scene_add_material(P->scene, &m, NULL) : RT_OK;
+  if (st != RT_OK)
+    return st == RT_ENOMEM ? io_enomem(P) : io_fail(P, "invalid material");
   return ok;
 }
 
@@ -282,7 +283,8 @@ static int parse_light(io_parse_t *P, json_t *o) {
     io_pop(P);
     return 0;
   }
-  return rt_scene_add_light(P->scene, &l) == RT_OK ? 1 : io_fail(P, "invalid light");
+  rt_status_t st = rt_scene_add_light(P->scene, &l);
+  return st == RT_OK ? 1 : st == RT_ENOMEM ? io_enomem(P) : io_fail(P, "invalid light");
 }
 
 static int parse_lights(io_parse_t *P, json_t *arr) {
@@ -363,8 +365,10 @@ static int parse_root(io_parse_t *P, json_t *root) {
 }
 
 /* A JSON syntax error as "NAME:LINE:COLUMN: invalid JSON: ..." (or "NAME: ..." without a line,
- * e.g. a file that cannot be opened); returns -1. */
+ * e.g. a file that cannot be opened); returns -1, or -2 when jansson ran out of memory. */
 static int json_syntax_error(const char *name, const json_error_t *je, char *err, size_t cap) {
+  if (json_error_code(je) == json_error_out_of_memory)
+    return snprintf(err, cap, "%s: out of memory", name), -2;
   if (je->line > 0)
     snprintf(err, cap, "%s:%d:%d: invalid JSON: %s", name, je->line, je->column, je->text);
   else
@@ -386,7 +390,7 @@ static int load_root(const char *name, const char *text, size_t len, json_t *roo
   }
   if (!ok)
     rt_scene_free(s);
-  return ok ? 0 : -1;
+  return ok ? 0 : P.oom || st == RT_ENOMEM ? -2 : -1;
 }
 
 /* The length of a UTF-8 byte order mark at data[0 .. len-1] (3), or 0. Editors on Windows write

@@ -16,7 +16,8 @@ static int parse_sphere(io_parse_t *P, json_t *o, int mat, int *obj) {
   if (!io_check_keys(P, o, keys) || !io_get_vec3(P, o, "center", 1, px_vec3(0, 0, 0), &c) ||
       !io_get_number(P, o, "radius", 1, 0, 0, 1e12, 1, &r))
     return 0;
-  return rt_scene_add_sphere(P->scene, c, r, mat, obj) == RT_OK || io_fail(P, "invalid sphere");
+  rt_status_t st = rt_scene_add_sphere(P->scene, c, r, mat, obj);
+  return st == RT_OK || (st == RT_ENOMEM ? io_enomem(P) : io_fail(P, "invalid sphere"));
 }
 
 static int parse_plane(io_parse_t *P, json_t *o, int mat, int *obj) {
@@ -55,8 +56,8 @@ static int parse_plane(io_parse_t *P, json_t *o, int mat, int *obj) {
     if (!ok)
       return 0;
   }
-  return rt_scene_add_plane(P->scene, p, n, u, mat, mat2, size, obj) == RT_OK ||
-         io_fail(P, "invalid plane");
+  rt_status_t st = rt_scene_add_plane(P->scene, p, n, u, mat, mat2, size, obj);
+  return st == RT_OK || (st == RT_ENOMEM ? io_enomem(P) : io_fail(P, "invalid plane"));
 }
 
 /* Member `key`: an array of at least `min` points [x, y, z]; *v is malloc'ed (caller frees). */
@@ -69,7 +70,7 @@ static int get_points(io_parse_t *P, json_t *o, const char *key, int min, px_vec
   *n = (int)json_array_size(arr);
   int ok = *n >= min || io_fail(P, "expected at least %d points [x, y, z], got %d", min, *n);
   if (ok && !(*v = malloc((size_t)*n * sizeof **v)))
-    ok = io_fail(P, "out of memory");
+    ok = io_enomem(P);
   for (int i = 0; ok && i < *n; i++) {
     io_push_index(P, i);
     ok = io_as_vec3(P, json_array_get(arr, (size_t)i), &(*v)[i]);
@@ -83,7 +84,10 @@ static int parse_polygon(io_parse_t *P, json_t *o, int mat, int *obj) {
   static const char *const keys[] = {"type", "name", "material", "vertices", NULL};
   px_vec3_t *v = NULL;
   int n = 0, ok = io_check_keys(P, o, keys) && get_points(P, o, "vertices", 3, &v, &n);
-  if (ok && rt_scene_add_polygon(P->scene, v, n, mat, obj) != RT_OK) {
+  rt_status_t st = ok ? rt_scene_add_polygon(P->scene, v, n, mat, obj) : RT_OK;
+  if (st == RT_ENOMEM)
+    ok = io_enomem(P);
+  else if (st != RT_OK) {
     io_push_key(P, "vertices");
     ok = io_fail(P, "degenerate polygon: the vertices must lie in one plane (within 1e-9 of its "
                     "size) and enclose a non-zero area");
@@ -106,7 +110,7 @@ static int get_faces(io_parse_t *P, json_t *o, int nv, int **idx, int **len, int
     total += json_array_size(json_array_get(arr, (size_t)f));
   *idx = malloc((total ? total : 1) * sizeof **idx);
   *len = malloc((*nface ? (size_t)*nface : 1) * sizeof **len);
-  int ok = (*idx && *len) || io_fail(P, "out of memory");
+  int ok = (*idx && *len) || io_enomem(P);
   for (int f = 0, off = 0; ok && f < *nface; f++) {
     json_t *face = json_array_get(arr, (size_t)f);
     io_push_index(P, f);
@@ -140,8 +144,12 @@ static int parse_polyhedron(io_parse_t *P, json_t *o, int mat, int *obj) {
     io_pop(P);
   }
   char why[200];
-  if (ok &&
-      rt_scene_add_polyhedron(P->scene, v, nv, idx, len, nf, mat, obj, why, sizeof why) != RT_OK) {
+  rt_status_t st =
+      ok ? rt_scene_add_polyhedron(P->scene, v, nv, idx, len, nf, mat, obj, why, sizeof why)
+         : RT_OK;
+  if (st == RT_ENOMEM)
+    ok = io_enomem(P);
+  else if (st != RT_OK) {
     io_push_key(P, "faces");
     ok = io_fail(P, "not a closed polyhedron: %s", why);
     io_pop(P);
@@ -166,8 +174,9 @@ static int parse_faceted(io_parse_t *P, json_t *o, int mat, int *obj) {
   if (st * sl > IO_MAX_PRIMITIVES - P->scene->nprim)
     return io_fail(P, "%d x %d facets would give the scene more than %d primitives", st, sl,
                    IO_MAX_PRIMITIVES);
-  return rt_scene_add_faceted_sphere(P->scene, c, r, st, sl, mat, obj) == RT_OK ||
-         io_fail(P, "cannot build the faceted sphere");
+  rt_status_t rs = rt_scene_add_faceted_sphere(P->scene, c, r, st, sl, mat, obj);
+  return rs == RT_OK ||
+         (rs == RT_ENOMEM ? io_enomem(P) : io_fail(P, "cannot build the faceted sphere"));
 }
 
 /* An object's "name": 1 to RT_NAME_MAX - 1 bytes (it is kept whole, never cut), and no other

@@ -105,10 +105,11 @@ static int make_scene(const bench_case_t *bc, const val_beam_bench_opts_t *o, in
     }
   char *text = json_dumps(root, JSON_COMPACT);
   json_decref(root);
-  if (!text || io_scene_load_buffer(path, text, strlen(text), s, err, sizeof err) != 0) {
+  int bad = text ? io_scene_load_buffer(path, text, strlen(text), s, err, sizeof err) : -2;
+  if (bad) {
     fprintf(stderr, "pencil bench beam: %s\n", text ? err : "out of memory");
     free(text);
-    return text ? VAL_ESCENE : VAL_EFAIL;
+    return bad == -2 ? VAL_EFAIL : VAL_ESCENE;
   }
   free(text);
   int glass = rt_scene_find_material(s, "glass"), obj = -1;

@@ -170,7 +170,9 @@ static json_t *run_case(const bench_case_t *bc, const val_caustic_bench_opts_t *
   rt_scene_t s;
   rt_scene_init(&s);
   *rc = VAL_ESCENE;
-  if (io_scene_load(path, &s, err, sizeof err) != 0) {
+  int lr = io_scene_load(path, &s, err, sizeof err);
+  if (lr) {
+    *rc = lr == -2 ? VAL_EFAIL : VAL_ESCENE;
     fprintf(stderr, "pencil bench caustics: %s\n", err);
     rt_scene_free(&s);
     return NULL;

@@ -136,9 +136,10 @@ int val_bench_dispersion(const val_dispersion_bench_opts_t *o) {
   snprintf(path, sizeof path, "%s/fig14.json", o->scenes ? o->scenes : PENCIL_SOURCE_DIR "/scenes");
   rt_scene_t s;
   rt_scene_init(&s);
-  if (io_scene_load(path, &s, err, sizeof err) != 0) {
+  int lr = io_scene_load(path, &s, err, sizeof err);
+  if (lr) {
     fprintf(stderr, "pencil bench dispersion: %s\n", err);
-    return VAL_ESCENE;
+    return lr == -2 ? VAL_EFAIL : VAL_ESCENE;
   }
   s.camera.width = s.camera.height = side;
   rt_status_t st = rt_scene_prepare(&s);

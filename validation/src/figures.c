@@ -90,13 +90,14 @@ static int write_json(const val_figures_opts_t *o, const char *name, json_t *roo
 static int load_scene(const val_figures_opts_t *o, rt_scene_t *s) {
   char err[1024];
   rt_scene_init(s);
-  if (o->scene && io_scene_load(o->scene, s, err, sizeof err) != 0) {
+  int bad = o->scene ? io_scene_load(o->scene, s, err, sizeof err) : 0;
+  if (bad) {
     fprintf(stderr, "%s: %s\n", io_command(), err);
-    return VAL_ESCENE;
+    return bad == -2 ? VAL_EFAIL : VAL_ESCENE;
   }
-  if (!o->scene && rt_builtin_fig8(s) != RT_OK) {
-    fprintf(stderr, "%s: cannot build the built-in Fig. 8 scene\n", io_command());
-    return VAL_ESCENE;
+  if (!o->scene && rt_builtin_fig8(s) != RT_OK) { /* only out of memory */
+    fprintf(stderr, "%s: cannot build the built-in Fig. 8 scene: out of memory\n", io_command());
+    return VAL_EFAIL;
   }
   int w = o->width, h = o->height;
   if (o->quick && w == 0)

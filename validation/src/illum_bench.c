@@ -432,11 +432,11 @@ int val_bench_illuminance(const val_illum_bench_opts_t *o) {
     char err[1024];
     rt_scene_t t;
     rt_scene_init(&t);
-    int bad = io_scene_load(path, &t, err, sizeof err) != 0;
+    int bad = io_scene_load(path, &t, err, sizeof err);
     rt_scene_free(&t);
     if (bad) {
       fprintf(stderr, "pencil bench illuminance: cannot read the Fig. 11 scene: %s\n", err);
-      return VAL_ESCENE;
+      return bad == -2 ? VAL_EFAIL : VAL_ESCENE;
     }
   }
   int grid = o->quick ? 32 : 128;

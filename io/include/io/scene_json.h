@@ -12,8 +12,9 @@
 
 #include "core/scene.h"
 
-/** Load the scene in `path` into s (any previous content is freed) and prepare it. Returns 0,
- *  or -1 with the message in err[cap] and s left empty. Duplicate keys are errors. */
+/** Load the scene in `path` into s (any previous content is freed) and prepare it. Returns 0;
+ *  -1 for a file that is not a valid scene, or -2 when memory ran out, with the message in
+ *  err[cap] and s left empty. Duplicate keys are errors. */
 int io_scene_load(const char *path, rt_scene_t *s, char *err, size_t cap);
 
 /** io_scene_load() of a scene held in memory: the len bytes at data (not NUL-terminated; a NUL
