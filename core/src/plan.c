@@ -114,6 +114,17 @@ static void plan_caustics(rt_plan_t *p, const rt_scene_t *s) {
     return;
   }
   char a[32], b[32], c[32];
+  if (!s->shadows && cp->via >= 0 && nmaps > 0) {
+    /* every light reaches every point unblocked: the light a map carries through the objects
+     * would be counted twice, and the objects' shadows it replaces are not drawn */
+    cp->nplane = 0;
+    cp->lights = 0;
+    set(p, RT_EFFECT_CAUSTICS, 0,
+        "off: shadows are off (\"shadows\": false), so every light reaches every point "
+        "directly; light through '%s' would be counted twice",
+        object_label(s, cp->via, a, sizeof a));
+    return;
+  }
   if (cp->via < 0 || (cp->nplane == 0 && cp->unmapped < 0)) {
     set(p, RT_EFFECT_CAUSTICS, 0,
         "off: no light reaches a diffuse surface through a reflecting or transparent object");
