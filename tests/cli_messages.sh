@@ -91,4 +91,14 @@ check "... and the same scene renders with the memory it needs" "[ $rc -eq 0 ] &
 check "bench dispersion: out of memory loading its scene exits 1 (once 2)" \
   "[ $rc -eq 1 ] && grep -q 'out of memory' '$tmp/err'"
 
+# --- the eye inside a closed object: refused when the object transmits light (its surface would
+# not refract rays leaving it from inside; tests/scenes_bad/camera_eye_inside_glass.json), accepted
+# inside an opaque one, whose inside is what is seen (a room)
+sed 's/"material": "glass"}/"material": "white"}/' "$src/tests/scenes_bad/camera_eye_inside_glass.json" >"$tmp/room.json"
+$pencil render "$tmp/room.json" --size 8x8 --spp 1 -o "$tmp/room.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "the eye inside an opaque closed object renders" "[ $rc -eq 0 ] && [ -s '$tmp/room.exr' ]"
+$pencil render "$src/tests/scenes_bad/camera_eye_inside_glass.json" -o "$tmp/g.exr" >/dev/null 2>"$tmp/err"; rc=$?
+check "the eye inside glass: exit 2 naming camera.eye and the object" \
+  "[ $rc -eq 2 ] && grep -q \"camera.eye: the eye is inside 'globe'\" '$tmp/err' && [ ! -e '$tmp/g.exr' ]"
+
 finish cli_messages

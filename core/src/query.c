@@ -184,6 +184,24 @@ int rt_intersect(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit) {
   return 1;
 }
 
+/* rt_medium_object()'s probe: the hit, or 0 when p is in no closed object. */
+static int medium_hit(const rt_scene_t *s, px_vec3_t p, rt_hit_t *h) {
+  /* a direction along no axis or diagonal, so that the probe seldom grazes an edge */
+  const px_vec3_t d = {0.3713906763541037, 0.8356290217967333, 0.4045580306149813};
+  rt_ray_t r = {p, d, 0.0, INFINITY, s->ior, -1, 0.0f};
+  return rt_intersect(s, &r, h) && s->object[h->object].closed && px_v3_dot(h->n, d) > 0.0;
+}
+
+int rt_medium_object(const rt_scene_t *s, px_vec3_t p) {
+  rt_hit_t h;
+  return medium_hit(s, p, &h) ? h.object : -1;
+}
+
+double rt_medium_ior(const rt_scene_t *s, px_vec3_t p) {
+  rt_hit_t h;
+  return medium_hit(s, p, &h) ? rt_scene_material_at(s, h.prim, h.p, NULL)->ior : s->ior;
+}
+
 int rt_intersect_brute(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit) {
   double best = ray->tmax;
   int found = -1;

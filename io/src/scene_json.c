@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "core/camera.h"
+#include "core/intersect.h"
 #include "io/output.h"
 #include "io/scene_json.h"
 #include "parse.h"
@@ -376,6 +377,34 @@ static int json_syntax_error(const char *name, const json_error_t *je, char *err
   return -1;
 }
 
+/* The eye must not be inside a closed object that transmits light: every renderer starts its
+ * primary rays in the scene's medium (settings.ior), and rays leaving such an object from inside
+ * would pass its surface unrefracted. An opaque one (a room) is fine: its inside is what is seen.
+ */
+static int eye_outside(io_parse_t *P) {
+  const rt_scene_t *s = P->scene;
+  int o = rt_medium_object(s, s->camera.eye);
+  if (o < 0)
+    return 1;
+  const rt_object_t *ob = &s->object[o];
+  int clear = s->material[ob->material].kt > 0.0 ||
+              (ob->material2 >= 0 && s->material[ob->material2].kt > 0.0);
+  if (!clear)
+    return 1;
+  char label[32];
+  if (!ob->name[0])
+    snprintf(label, sizeof label, "object %d", o);
+  io_push_key(P, "camera");
+  io_push_key(P, "eye");
+  io_fail(P,
+          "the eye is inside '%s', which transmits light; the eye must be in the scene's medium "
+          "(rays leaving the object from inside would not refract)",
+          ob->name[0] ? ob->name : label);
+  io_pop(P);
+  io_pop(P);
+  return 0;
+}
+
 /* Parse the document `root` (released here) into s and prepare it; text[len] is the source when
  * it is in memory (NULL: errors read `name` again to find their line). */
 static int load_root(const char *name, const char *text, size_t len, json_t *root, rt_scene_t *s,
@@ -388,6 +417,8 @@ static int load_root(const char *name, const char *text, size_t len, json_t *roo
     snprintf(err, cap, "%s: the scene cannot be prepared: %s", name, rt_strerror(st));
     ok = 0;
   }
+  if (ok)
+    ok = eye_outside(&P);
   if (!ok)
     rt_scene_free(s);
   return ok ? 0 : P.oom || st == RT_ENOMEM ? -2 : -1;

@@ -408,8 +408,9 @@ static int linear(const worker_t *W, const lt_face_t *f, double p[3][2], double 
 }
 
 /* The receiver landing of path `sig` of the ray from `origin` along d (or 0 when it has none). */
-static int landing(worker_t *W, px_vec3_t origin, px_vec3_t d, uint64_t sig, double uv[2]) {
-  rt_ray_t r = {origin, d, 0.0, INFINITY, W->C.s->ior, -1, 0.0f};
+static int landing(worker_t *W, px_vec3_t origin, px_vec3_t d, double ior, uint64_t sig,
+                   double uv[2]) {
+  rt_ray_t r = {origin, d, 0.0, INFINITY, ior, -1, 0.0f};
   lt_arrivals_t x;
   lt__trace(&W->C, &r, &x);
   const lt_arrival_t *e = find(&x, sig, -1);
@@ -438,7 +439,7 @@ static void resample(worker_t *W, const lt_face_t *f, double p[3][2], uint64_t s
       double a = (i + 0.5) / n - 0.5, b = (j + 0.5) / n - 0.5, at[2], tri[3][2];
       px_vec3_t o =
           px_v3_add(c.o, px_v3_add(px_v3_scale(f->step[0], a), px_v3_scale(f->step[1], b)));
-      int ok = landing(W, o, c.d, sig, at);
+      int ok = landing(W, o, c.d, c.ior, sig, at);
       for (int v = 0; v < 3; v++)
         for (int e = 0; e < 2; e++)
           tri[v][e] = ok ? uv[v][e] + at[e] - c0[e] : uv[v][e];
@@ -482,7 +483,7 @@ static void deposit_filtered(worker_t *W, const lt_face_t *f, double p[3][2], ui
       q[3][3][2]; /* the centre ray's landing; q[i][j]: from s = i/2 - 1/2, t = j/2 - 1/2 */
   rt_ray_t c =
       lt__face_ray(W->C.s, f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
-  if (!landing(W, c.o, c.d, sig, c0)) {
+  if (!landing(W, c.o, c.d, c.ior, sig, c0)) {
     W->C.st.unshifted++;
     lt__deposit_triangle(&W->A, uv, phi);
     return;
@@ -493,7 +494,7 @@ static void deposit_filtered(worker_t *W, const lt_face_t *f, double p[3][2], ui
       if ((i != 1 && j != 1) || (quad && (i != 1 || j != 1))) {
         px_vec3_t o = px_v3_add(c.o, px_v3_add(px_v3_scale(f->step[0], 0.5 * i - 0.5),
                                                px_v3_scale(f->step[1], 0.5 * j - 0.5)));
-        ok = landing(W, o, c.d, sig, q[i][j]);
+        ok = landing(W, o, c.d, c.ior, sig, q[i][j]);
       }
   double du = (m->u1 - m->u0) / m->width, dv = (m->v1 - m->v0) / m->height, reach = 0.0, bend = 0.0;
   for (int i = 0; i < 3 && ok; i++)

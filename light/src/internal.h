@@ -53,6 +53,9 @@ typedef struct {
   px_vec3_t step[2]; /**< an area light's mesh point: the source's move to its neighbours along
                           each edge (edge / mesh), for the shift vectors of the 1989 Eqs. (9)-(10);
                           zero otherwise */
+  double ior;        /**< the index of the medium its rays start in (rt_medium_ior() at a point
+                          light or mesh point: a lamp inside a glass globe; the scene's for a
+                          parallel light, which starts behind everything) */
 } lt_face_t;
 
 /** Faces of light l that cover every ray that can reach the receiver's map (at most 6); 0 when

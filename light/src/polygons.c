@@ -372,7 +372,7 @@ void lt__polygons_tile(lt_ctx_t *C, lt_accum_t *A, const lt_options_t *o, const 
             A,
             o,
             faces,
-            {f->parallel, f->origin, f->x, f->y, f->z, C->s->ior},
+            {f->parallel, f->origin, f->x, f->y, f->z, f->ior},
             f->power,
             fmin((mp->u1 - mp->u0) / mp->width, (mp->v1 - mp->v0) / mp->height),
             1e-9 * (box[1] - box[0]) * (box[3] - box[2])};

@@ -86,8 +86,9 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
   }
   px_vec3_t c = px_v3_scale(px_v3_add(lo, hi), 0.5);
   if (L->kind == RT_LIGHT_PARALLEL) {
-    lt_face_t f = {1, c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v,
-                   0, 0, L->intensity,   lambert,        {step[0], step[1]}};
+    lt_face_t f = {1,     c, px_v3(0, 0, 0), px_v3(0, 0, 0), L->v,
+                   0,     0, L->intensity,   lambert,        {step[0], step[1]},
+                   s->ior};
     frame_of(L->v, &f.x, &f.y);
     double far = 0.0;
     for (int k = 0; k < 8; k++) {
@@ -132,15 +133,17 @@ int lt__faces(const rt_scene_t *s, const lt_receiver_t *rc, const lt_map_t *m, i
                            h * (1 + 1e-6),
                            L->intensity,
                            lambert,
-                           {step[0], step[1]}};
+                           {step[0], step[1]},
+                           rt_medium_ior(s, L->v)};
       return 1;
     }
   }
   static const px_vec3_t axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  double ior = rt_medium_ior(s, L->v);
   for (int k = 0; k < 6; k++) {
-    lt_face_t f = {0,   L->v, px_v3(0, 0, 0), px_v3(0, 0, 0), axes[k],
-                   1.0, 1.0,  L->intensity,   lambert,        {step[0], step[1]}};
+    lt_face_t f = {0,   L->v,         px_v3(0, 0, 0), px_v3(0, 0, 0),     axes[k], 1.0,
+                   1.0, L->intensity, lambert,        {step[0], step[1]}, ior};
     frame_of(axes[k], &f.x, &f.y);
     out[k] = f;
   }
@@ -157,7 +160,8 @@ double lt__face_weight(const lt_face_t *f, double a, double b) {
 
 rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b) {
   double x = (2 * a - 1) * f->hx, y = (2 * b - 1) * f->hy;
-  rt_ray_t r = {f->origin, f->z, 0.0, INFINITY, s->ior, -1, 0.0f};
+  rt_ray_t r = {f->origin, f->z, 0.0, INFINITY, f->ior, -1, 0.0f};
+  (void)s;
   if (f->parallel)
     r.o = px_v3_add(f->origin, px_v3_add(px_v3_scale(f->x, x), px_v3_scale(f->y, y)));
   else

@@ -53,12 +53,20 @@ static int refract2(double d[2], const double nn[2], double n1, double n2) {
 }
 
 /* Where the ray from o along d (y up, the ball at (0, h)) lands on the floor y = 0: 1 with *rho,
- * 0 when it leaves upwards or sideways. */
+ * 0 when it leaves upwards or sideways. From inside the ball (a source there) it leaves first. */
 static int land(double o[2], double d[2], double r, double n, double h, double *rho) {
   double c[2] = {0.0, h}, oc[2] = {o[0] - c[0], o[1] - c[1]};
   double bq = oc[0] * d[0] + oc[1] * d[1], cq = oc[0] * oc[0] + oc[1] * oc[1] - r * r;
   double disc = bq * bq - cq;
-  if (disc > 0 && -bq - sqrt(disc) > 0) { /* enters the ball */
+  if (cq < 0) { /* inside: to the exit, t = -bq + sqrt(disc) */
+    double t = -bq + sqrt(disc);
+    double p[2] = {o[0] + t * d[0], o[1] + t * d[1]};
+    double nx[2] = {-(p[0] - c[0]) / r, -(p[1] - c[1]) / r}; /* facing the ray, inside */
+    if (!refract2(d, nx, n, 1.0))
+      return 0;
+    o[0] = p[0];
+    o[1] = p[1];
+  } else if (disc > 0 && -bq - sqrt(disc) > 0) { /* enters the ball */
     double t = -bq - sqrt(disc);
     double p[2] = {o[0] + t * d[0], o[1] + t * d[1]};
     double nn[2] = {(p[0] - c[0]) / r, (p[1] - c[1]) / r};
@@ -94,8 +102,10 @@ void val_ring_map(double r, double n, double h, double source_height, long rays,
   double *bin = calloc(NB, sizeof *bin);
   /* parameters: b in [0, rmax] (beyond, rays land beyond the map); theta up to the direction
    * that reaches rmax directly or just grazes the ball, whichever is larger */
-  double tmax =
-      parallel ? rmax : fmax(atan(rmax / source_height), asin(fmin(1.0, r / (source_height - h))));
+  double tmax = parallel ? rmax
+                : fabs(source_height - h) < r
+                    ? M_PI /* inside the ball: every direction */
+                    : fmax(atan(rmax / source_height), asin(fmin(1.0, r / (source_height - h))));
   double prev_rho = 0.0, prev_t = 0.0;
   int prev_ok = 0;
   for (long k = 0; k <= rays && flux && bin; k++) {

@@ -57,6 +57,15 @@ int rt_sweep_meets_others(const rt_scene_t *s, const double from[6], const doubl
  *  or 0 on a miss. The scene must be prepared. */
 int rt_intersect(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit);
 
+/** The closed object that holds point p: the one whose surface a ray from p meets first from
+ *  inside (the innermost, when closed objects nest without crossing), or -1. A point on a surface
+ *  counts on the side the probe ray leaves by. */
+int rt_medium_object(const rt_scene_t *s, px_vec3_t p);
+
+/** The refractive index of the medium at p: rt_medium_object()'s material's, or the scene's
+ *  (settings.ior). A light's rays start in it. */
+double rt_medium_ior(const rt_scene_t *s, px_vec3_t p);
+
 /** The same by testing every primitive (no BVH); for tests of the BVH. */
 int rt_intersect_brute(const rt_scene_t *s, const rt_ray_t *ray, rt_hit_t *hit);
 

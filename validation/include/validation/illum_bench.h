@@ -17,11 +17,11 @@
 
 /** A glass ball (radius r, index n, transmitting everything: kt 1, kr 0) with its centre at height
  *  h above a floor, lit from above along the axis by a parallel light (source_height <= 0) or a
- *  point light at that height, intensity 1: the exact cell averages of the floor's illuminance
- *  over map m's cells (u = x, v = -z; m->e receives R = G = B), from `rays` meridional rays
- *  traced exactly whose flux is spread over the annulus each pair of neighbours bounds. The
- *  radial profile's smoothness per cell goes to smooth[] (1 where the exact E varies by less
- *  than 10% over the cell's radii and has no jump), when not NULL. */
+ *  point light at that height (above the ball or inside it), intensity 1: the exact cell averages
+ * of the floor's illuminance over map m's cells (u = x, v = -z; m->e receives R = G = B), from
+ * `rays` meridional rays traced exactly whose flux is spread over the annulus each pair of
+ * neighbours bounds. The radial profile's smoothness per cell goes to smooth[] (1 where the exact E
+ * varies by less than 10% over the cell's radii and has no jump), when not NULL. */
 void val_ring_map(double r, double n, double h, double source_height, long rays, lt_map_t *m,
                   unsigned char *smooth);
 
