@@ -315,7 +315,7 @@ static void photon_row(worker_t *W, const lt_face_t *f, int side, int j) {
     double p00[2] = {a0, b0}, p10[2] = {a1, b0}, p11[2] = {a1, b1}, p01[2] = {a0, b1};
     double meas = (lt__face_measure(f, p00, p10, p11) + lt__face_measure(f, p00, p11, p01)) *
                   lt__face_weight(f, a0 + 0.5 * h, b0 + 0.5 * h);
-    rt_ray_t r = lt__face_ray(W->C.s, f, a0 + 0.5 * h, b0 + 0.5 * h);
+    rt_ray_t r = lt__face_ray(f, a0 + 0.5 * h, b0 + 0.5 * h);
     lt__trace(&W->C, &r, &arr);
     for (int k = 0; k < arr.n; k++)
       settle(W, &arr.a[k], flux_of(f, meas, arr.a[k].w), 1);
@@ -433,7 +433,7 @@ static void resample(worker_t *W, const lt_face_t *f, double p[3][2], uint64_t s
   int n = (int)fmin(8.0, fmax(3.0, ceil(reach / 2.0)));
   rt_rgb_t share = rt_rgb_scale(phi, 1.0 / ((double)n * n));
   rt_ray_t c =
-      lt__face_ray(W->C.s, f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
+      lt__face_ray(f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
   for (int i = 0; i < n; i++)
     for (int j = 0; j < n; j++) {
       double a = (i + 0.5) / n - 0.5, b = (j + 0.5) / n - 0.5, at[2], tri[3][2];
@@ -482,7 +482,7 @@ static void deposit_filtered(worker_t *W, const lt_face_t *f, double p[3][2], ui
   double c0[2],
       q[3][3][2]; /* the centre ray's landing; q[i][j]: from s = i/2 - 1/2, t = j/2 - 1/2 */
   rt_ray_t c =
-      lt__face_ray(W->C.s, f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
+      lt__face_ray(f, (p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3);
   if (!landing(W, c.o, c.d, c.ior, sig, c0)) {
     W->C.st.unshifted++;
     lt__deposit_triangle(&W->A, uv, phi);
@@ -571,7 +571,7 @@ static void pencil(worker_t *W, const lt_face_t *f, double p[3][2], const lt_arr
     for (int e = 0; e < 3; e++) {
       m[e][0] = 0.5 * (p[e][0] + p[(e + 1) % 3][0]);
       m[e][1] = 0.5 * (p[e][1] + p[(e + 1) % 3][1]);
-      rt_ray_t r = lt__face_ray(W->C.s, f, m[e][0], m[e][1]);
+      rt_ray_t r = lt__face_ray(f, m[e][0], m[e][1]);
       lt__trace(&W->C, &r, &xm[e]);
     }
     traced = 1;
@@ -784,7 +784,7 @@ rt_status_t lt_illuminance(const rt_scene_t *s, const lt_receiver_t *rc, const l
             me = omp_get_thread_num();
 #endif
             for (int i = 0; i < side; i++) {
-              rt_ray_t r = lt__face_ray(s, f, (double)i / (side - 1), (double)j / (side - 1));
+              rt_ray_t r = lt__face_ray(f, (double)i / (side - 1), (double)j / (side - 1));
               lt__trace(&W[me].C, &r, &grid[(size_t)(j - j0) * side + i]);
             }
           }

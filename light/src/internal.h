@@ -76,7 +76,7 @@ static inline int lt__subsources(const rt_scene_t *s, int l, int mesh) {
 }
 
 /** The ray of grid parameters (a, b) in [0, 1]^2 of face f. */
-rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b);
+rt_ray_t lt__face_ray(const lt_face_t *f, double a, double b);
 
 /** The source measure (solid angle, or area across the beam) of the triangle of face parameters
  *  p0, p1, p2 (each [a, b]). */

@@ -158,10 +158,9 @@ double lt__face_weight(const lt_face_t *f, double a, double b) {
   return fmax(0.0, px_v3_dot(d, f->lambert));
 }
 
-rt_ray_t lt__face_ray(const rt_scene_t *s, const lt_face_t *f, double a, double b) {
+rt_ray_t lt__face_ray(const lt_face_t *f, double a, double b) {
   double x = (2 * a - 1) * f->hx, y = (2 * b - 1) * f->hy;
   rt_ray_t r = {f->origin, f->z, 0.0, INFINITY, f->ior, -1, 0.0f};
-  (void)s;
   if (f->parallel)
     r.o = px_v3_add(f->origin, px_v3_add(px_v3_scale(f->x, x), px_v3_scale(f->y, y)));
   else
